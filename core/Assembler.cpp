@@ -1,0 +1,209 @@
+#include "core/Assembler.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+namespace keller {
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+Status item_failure(const Term& t, int item, const Status& st) {
+  return {st.code(), fmt::format("term '{}' item {}: {}", t.name(), item, st.message())};
+}
+
+}  // namespace
+
+std::vector<int> non_finite_entries(const Vector& v, int limit) {
+  std::vector<int> out;
+  for (int i = 0; i < v.size() && static_cast<int>(out.size()) < limit; ++i)
+    if (!std::isfinite(v[i])) out.push_back(i);
+  return out;
+}
+
+Assembler::Assembler(int n, std::vector<std::shared_ptr<const Term>> terms, std::vector<std::pair<int, int>> redirects)
+    : n_(n), terms_(std::move(terms)), target_(n), owned_(n, -1) {
+  for (int r = 0; r < n; ++r) target_[r] = r;
+  std::vector<int> dofs;
+  for (size_t ti = 0; ti < terms_.size(); ++ti) {
+    const Term& t = *terms_[ti];
+    dofs.resize(t.local_size());
+    for (int item = 0; item < t.num_items(); ++item) {
+      t.item_dofs(item, dofs.data());
+      for (int d : dofs)
+        if (d < 0 || d >= n)
+          throw std::invalid_argument(fmt::format("term '{}' item {}: unknown index {} out of range", t.name(), item, d));
+      if (!t.owns_rows()) continue;
+      for (int i = 0; i < t.local_rows(); ++i) {
+        const int r = dofs[i];
+        if (owned_[r] >= 0)
+          throw std::invalid_argument(fmt::format("row {} is owned by both '{}' and '{}'", r,
+                                                  terms_[owned_[r]]->name(), t.name()));
+        owned_[r] = static_cast<int>(ti);
+        target_[r] = -1;
+      }
+    }
+  }
+  for (const auto& [from, to] : redirects) {
+    if (from < 0 || from >= n || to < 0 || to >= n) throw std::invalid_argument("redirect: row out of range");
+    if (owned_[from] < 0) throw std::invalid_argument(fmt::format("redirect: row {} is not owned by a strong term", from));
+    target_[from] = to;
+  }
+
+  std::vector<std::vector<int>> cols(n);
+  for (int c = 0; c < n; ++c) cols[c].push_back(c);
+  for (const auto& tp : terms_) {
+    const Term& t = *tp;
+    dofs.resize(t.local_size());
+    for (int item = 0; item < t.num_items(); ++item) {
+      t.item_dofs(item, dofs.data());
+      for (int i = 0; i < t.local_rows(); ++i) {
+        const int r = destination(t, dofs[i]);
+        if (r < 0) continue;
+        for (int c : dofs) cols[c].push_back(r);
+      }
+    }
+    // keep memory bounded on big meshes: compact once per term
+    for (auto& col : cols) {
+      std::sort(col.begin(), col.end());
+      col.erase(std::unique(col.begin(), col.end()), col.end());
+    }
+  }
+  long nnz = 0;
+  for (const auto& col : cols) nnz += static_cast<long>(col.size());
+  pattern_.resize(n, n);
+  pattern_.resizeNonZeros(nnz);
+  int* outer = pattern_.outerIndexPtr();
+  int* inner = pattern_.innerIndexPtr();
+  double* val = pattern_.valuePtr();
+  long k = 0;
+  for (int c = 0; c < n; ++c) {
+    outer[c] = static_cast<int>(k);
+    for (int r : cols[c]) {
+      inner[k] = r;
+      val[k] = 0.0;
+      ++k;
+    }
+  }
+  outer[n] = static_cast<int>(k);
+  pattern_.makeCompressed();
+}
+
+int Assembler::position(int row, int col) const {
+  const int* outer = pattern_.outerIndexPtr();
+  const int* inner = pattern_.innerIndexPtr();
+  const int* b = inner + outer[col];
+  const int* e = inner + outer[col + 1];
+  const int* it = std::lower_bound(b, e, row);
+  return (it != e && *it == row) ? static_cast<int>(it - inner) : -1;
+}
+
+Status Assembler::residual(const Vector& u, Vector& F) const {
+  const auto t0 = std::chrono::steady_clock::now();
+  F.setZero(n_);
+  std::vector<int> dofs;
+  std::vector<double> ul, rl;
+  for (const auto& tp : terms_) {
+    const Term& t = *tp;
+    dofs.resize(t.local_size());
+    ul.resize(t.local_size());
+    rl.resize(t.local_rows());
+    for (int item = 0; item < t.num_items(); ++item) {
+      t.item_dofs(item, dofs.data());
+      for (int j = 0; j < t.local_size(); ++j) ul[j] = u[dofs[j]];
+      Status st = t.residual(item, ul.data(), rl.data());
+      if (!st.is_ok()) return item_failure(t, item, st);
+      for (int i = 0; i < t.local_rows(); ++i) {
+        const int r = destination(t, dofs[i]);
+        if (r >= 0) F[r] += rl[i];
+      }
+    }
+  }
+  timing_.residual_seconds += seconds_since(t0);
+  ++timing_.residual_calls;
+  if (auto bad = non_finite_entries(F, 1); !bad.empty())
+    return {StatusCode::NotFinite, fmt::format("residual is not finite in row {}", bad[0])};
+  return {};
+}
+
+Status Assembler::jacobian(const Vector& u, Vector& F, SparseMatrix& J) const {
+  const auto t0 = std::chrono::steady_clock::now();
+  if (J.nonZeros() != pattern_.nonZeros() || J.rows() != n_) J = pattern_;
+  std::fill(J.valuePtr(), J.valuePtr() + J.nonZeros(), 0.0);
+  F.setZero(n_);
+  double* val = J.valuePtr();
+  std::vector<int> dofs, rows;
+  std::vector<double> ul, rl, Jl;
+  for (const auto& tp : terms_) {
+    const Term& t = *tp;
+    const int m = t.local_size(), k = t.local_rows();
+    dofs.resize(m);
+    rows.resize(k);
+    ul.resize(m);
+    rl.resize(k);
+    Jl.resize(static_cast<size_t>(k) * m);
+    for (int item = 0; item < t.num_items(); ++item) {
+      t.item_dofs(item, dofs.data());
+      for (int j = 0; j < m; ++j) ul[j] = u[dofs[j]];
+      Status st = t.jacobian(item, ul.data(), rl.data(), Jl.data());
+      if (!st.is_ok()) return item_failure(t, item, st);
+      for (int i = 0; i < k; ++i) {
+        rows[i] = destination(t, dofs[i]);
+        if (rows[i] >= 0) F[rows[i]] += rl[i];
+      }
+      for (int j = 0; j < m; ++j) {
+        const int c = dofs[j];
+        for (int i = 0; i < k; ++i) {
+          if (rows[i] < 0) continue;
+          val[position(rows[i], c)] += Jl[static_cast<size_t>(i) * m + j];
+        }
+      }
+    }
+  }
+  timing_.jacobian_seconds += seconds_since(t0);
+  ++timing_.jacobian_calls;
+  if (auto bad = non_finite_entries(F, 1); !bad.empty())
+    return {StatusCode::NotFinite, fmt::format("residual is not finite in row {}", bad[0])};
+  for (int c = 0; c < n_; ++c)
+    for (int p = J.outerIndexPtr()[c]; p < J.outerIndexPtr()[c + 1]; ++p)
+      if (!std::isfinite(val[p]))
+        return {StatusCode::NotFinite, fmt::format("Jacobian is not finite at ({}, {})", J.innerIndexPtr()[p], c)};
+  return {};
+}
+
+Status Assembler::parameter_derivative(int p, const Vector& u, Vector& dF) const {
+  const auto t0 = std::chrono::steady_clock::now();
+  dF.setZero(n_);
+  std::vector<int> dofs;
+  std::vector<double> ul, rl;
+  for (const auto& tp : terms_) {
+    const Term& t = *tp;
+    dofs.resize(t.local_size());
+    ul.resize(t.local_size());
+    rl.resize(t.local_rows());
+    for (int item = 0; item < t.num_items(); ++item) {
+      t.item_dofs(item, dofs.data());
+      for (int j = 0; j < t.local_size(); ++j) ul[j] = u[dofs[j]];
+      Status st = t.parameter_derivative(item, p, ul.data(), rl.data());
+      if (!st.is_ok()) return item_failure(t, item, st);
+      for (int i = 0; i < t.local_rows(); ++i) {
+        const int r = destination(t, dofs[i]);
+        if (r >= 0) dF[r] += rl[i];
+      }
+    }
+  }
+  timing_.parameter_seconds += seconds_since(t0);
+  ++timing_.parameter_calls;
+  if (auto bad = non_finite_entries(dF, 1); !bad.empty())
+    return {StatusCode::NotFinite, fmt::format("dF/dp is not finite in row {}", bad[0])};
+  return {};
+}
+
+}  // namespace keller

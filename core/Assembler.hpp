@@ -1,0 +1,65 @@
+// Global assembly of residuals, Jacobians and parameter derivatives from a list of Terms into
+// a sparsity pattern computed once. Strong terms own their rows; weak contributions to an owned
+// row are dropped, or added to another row when redirected (redirect_row). The pattern always
+// holds the full diagonal, so shifted matrices J - s B and bordered systems share it.
+#pragma once
+
+#include <memory>
+#include <utility>
+#include <vector>
+
+#include "core/Term.hpp"
+#include "core/Types.hpp"
+
+namespace keller {
+
+class Assembler {
+ public:
+  struct Timing {
+    double residual_seconds = 0.0;
+    double jacobian_seconds = 0.0;
+    double parameter_seconds = 0.0;
+    long residual_calls = 0;
+    long jacobian_calls = 0;
+    long parameter_calls = 0;
+  };
+
+  // n: number of global unknowns. redirects: (from, to) pairs; the weak contributions to row
+  // `from` (which a strong term must own) are added to row `to`. Throws std::invalid_argument on
+  // rows owned twice, redirects of unowned rows, or dofs out of range.
+  Assembler(int n, std::vector<std::shared_ptr<const Term>> terms,
+            std::vector<std::pair<int, int>> redirects = {});
+
+  int size() const { return n_; }
+  // The Jacobian's sparsity pattern (values zero).
+  const SparseMatrix& pattern() const { return pattern_; }
+  // Position of entry (row, col) in the pattern's value array, or -1.
+  int position(int row, int col) const;
+
+  Status residual(const Vector& u, Vector& F) const;
+  // J must have been copied from pattern() (same structure).
+  Status jacobian(const Vector& u, Vector& F, SparseMatrix& J) const;
+  // dF/dp for parameter index p.
+  Status parameter_derivative(int p, const Vector& u, Vector& dF) const;
+
+  const Timing& timing() const { return timing_; }
+  void reset_timing() { timing_ = {}; }
+  const std::vector<std::shared_ptr<const Term>>& terms() const { return terms_; }
+  // Row that receives weak contributions meant for row r (r itself, another row, or -1).
+  int row_target(int r) const { return target_[r]; }
+  bool row_owned(int r) const { return owned_[r] >= 0; }
+
+ private:
+  int destination(const Term& t, int dof) const { return t.owns_rows() ? dof : target_[dof]; }
+  int n_;
+  std::vector<std::shared_ptr<const Term>> terms_;
+  std::vector<int> target_;
+  std::vector<int> owned_;  // index of the owning strong term, or -1
+  SparseMatrix pattern_;
+  mutable Timing timing_;
+};
+
+// Indices of the non-finite entries of a vector (at most `limit`), for error messages.
+std::vector<int> non_finite_entries(const Vector& v, int limit = 5);
+
+}  // namespace keller

@@ -1,0 +1,55 @@
+#include "core/DirichletTerm.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace keller {
+
+void DirichletTerm::add(int dof, ValueFunction g) {
+  if (dof < 0) throw std::invalid_argument(name_ + ": constraint on a non-existent unknown");
+  dofs_.push_back(dof);
+  values_.push_back(std::move(g));
+  constant_.push_back(0);
+}
+
+void DirichletTerm::add(int dof, double value) {
+  add(dof, [value](const ParameterSet&) { return value; });
+  constant_.back() = 1;
+}
+
+double DirichletTerm::value(int item) const { return values_[item](*params_); }
+
+bool DirichletTerm::constrains(int dof) const { return std::find(dofs_.begin(), dofs_.end(), dof) != dofs_.end(); }
+
+Status DirichletTerm::residual(int item, const double* u, double* r) const {
+  r[0] = u[0] - value(item);
+  return {};
+}
+
+Status DirichletTerm::jacobian(int item, const double* u, double* r, double* J) const {
+  r[0] = u[0] - value(item);
+  J[0] = 1.0;
+  return {};
+}
+
+Status DirichletTerm::parameter_derivative(int item, int p, const double*, double* dr) const {
+  if (constant_[item]) {
+    dr[0] = 0.0;
+    return {};
+  }
+  ParameterSet probe = *params_;
+  const double v = probe.value(p);
+  const double h = 1e-6 * std::max(1.0, std::abs(v));
+  const Parameter& info = probe.info(p);
+  // one-sided at a bound of the admissible range, central otherwise
+  const double hi = std::min(v + h, info.upper), lo = std::max(v - h, info.lower);
+  probe.set(p, hi);
+  const double ghi = values_[item](probe);
+  probe.set(p, lo);
+  const double glo = values_[item](probe);
+  dr[0] = hi > lo ? -(ghi - glo) / (hi - lo) : 0.0;
+  return {};
+}
+
+}  // namespace keller

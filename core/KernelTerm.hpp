@@ -1,0 +1,73 @@
+// The bridge from an element kernel written once, templated on its scalar types, to a Term
+// with an exact Jacobian and exact parameter derivatives by forward-mode dual numbers.
+//
+// A Kernel provides
+//   static constexpr int kSize;                       // local unknowns per item
+//   std::string name() const;
+//   int num_items() const;
+//   void item_dofs(int item, int* dofs) const;
+//   template <class T, class P>
+//   Status evaluate(int item, const T* u, const P* params, T* r) const;
+// where T is the scalar of the unknowns and residual and P that of the parameter values.
+// evaluate is instantiated with (double, double) for residuals, (Dual<kSize>, double) for the
+// Jacobian and (Dual<1>, Dual<1>) for dF/dp, so kernels must only mix T with P and double in
+// ways that give T.
+#pragma once
+
+#include <array>
+#include <utility>
+#include <vector>
+
+#include "core/Dual.hpp"
+#include "core/ParameterSet.hpp"
+#include "core/Term.hpp"
+
+namespace keller {
+
+template <class Kernel>
+class KernelTerm final : public Term {
+ public:
+  static constexpr int N = Kernel::kSize;
+  using JacobianScalar = Dual<N>;
+  using DerivativeScalar = Dual<1>;
+
+  KernelTerm(Kernel kernel, const ParameterSet& params) : kernel_(std::move(kernel)), params_(&params) {}
+
+  std::string name() const override { return kernel_.name(); }
+  int num_items() const override { return kernel_.num_items(); }
+  int local_size() const override { return N; }
+  void item_dofs(int item, int* dofs) const override { kernel_.item_dofs(item, dofs); }
+
+  Status residual(int item, const double* u, double* r) const override {
+    return kernel_.template evaluate<double, double>(item, u, params_->values(), r);
+  }
+
+  Status jacobian(int item, const double* u, double* r, double* J) const override {
+    std::array<JacobianScalar, N> ud, rd;
+    for (int i = 0; i < N; ++i) ud[i] = make_variable<N>(u[i], i);
+    Status st = kernel_.template evaluate<JacobianScalar, double>(item, ud.data(), params_->values(), rd.data());
+    for (int i = 0; i < N; ++i) {
+      r[i] = rd[i].v;
+      for (int j = 0; j < N; ++j) J[i * N + j] = rd[i].d[j];
+    }
+    return st;
+  }
+
+  Status parameter_derivative(int item, int p, const double* u, double* dr) const override {
+    std::array<DerivativeScalar, N> ud, rd;
+    for (int i = 0; i < N; ++i) ud[i] = DerivativeScalar(u[i]);
+    std::vector<DerivativeScalar> pd(params_->values(), params_->values() + params_->size());
+    pd[p].d[0] = 1.0;
+    Status st = kernel_.template evaluate<DerivativeScalar, DerivativeScalar>(item, ud.data(), pd.data(), rd.data());
+    for (int i = 0; i < N; ++i) dr[i] = rd[i].d[0];
+    return st;
+  }
+
+  const Kernel& kernel() const { return kernel_; }
+
+ private:
+  Kernel kernel_;
+  const ParameterSet* params_;
+};
+
+}  // namespace keller

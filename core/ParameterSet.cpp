@@ -1,0 +1,46 @@
+#include "core/ParameterSet.hpp"
+
+#include <fmt/format.h>
+
+#include <stdexcept>
+
+namespace keller {
+
+int ParameterSet::add(std::string name, double value, std::string doc, double lower, double upper) {
+  if (has(name)) throw std::invalid_argument("parameter '" + name + "' declared twice");
+  if (!(value >= lower && value <= upper))
+    throw std::out_of_range(fmt::format("parameter '{}' = {} outside its range [{}, {}]", name, value, lower, upper));
+  params_.push_back({std::move(name), value, lower, upper, std::move(doc)});
+  values_.push_back(value);
+  ++version_;
+  return size() - 1;
+}
+
+bool ParameterSet::has(const std::string& name) const {
+  for (const auto& p : params_)
+    if (p.name == name) return true;
+  return false;
+}
+
+int ParameterSet::index(const std::string& name) const {
+  for (int i = 0; i < size(); ++i)
+    if (params_[i].name == name) return i;
+  throw std::invalid_argument("unknown parameter '" + name + "'; this problem has: " + names());
+}
+
+void ParameterSet::set(int i, double v) {
+  const Parameter& p = params_.at(static_cast<size_t>(i));
+  if (!(v >= p.lower && v <= p.upper))
+    throw std::out_of_range(fmt::format("parameter '{}' = {} outside its range [{}, {}]", p.name, v, p.lower, p.upper));
+  values_[i] = v;
+  params_[i].value = v;
+  ++version_;
+}
+
+std::string ParameterSet::names() const {
+  std::string s;
+  for (const auto& p : params_) s += (s.empty() ? "" : ", ") + p.name;
+  return s;
+}
+
+}  // namespace keller

@@ -1,0 +1,57 @@
+#include "core/Problem.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace keller {
+
+Status Problem::jacobian(const Vector& u, Vector& F, SparseMatrix& J) {
+  Status st = residual(u, F);
+  if (!st.is_ok()) return st;
+  J = jacobian_pattern();
+  Vector up = u, Fp;
+  for (int c = 0; c < J.outerSize(); ++c) {
+    const double h = 1e-7 * std::max(1.0, std::abs(u[c]));
+    up[c] = u[c] + h;
+    st = residual(up, Fp);
+    up[c] = u[c];
+    if (!st.is_ok()) return st;
+    for (SparseMatrix::InnerIterator it(J, c); it; ++it) it.valueRef() = (Fp[it.row()] - F[it.row()]) / h;
+  }
+  return {};
+}
+
+Status Problem::parameter_derivative(int p, const Vector& u, Vector& dF) {
+  ParameterSet& ps = parameters();
+  const double v = ps.value(p);
+  const double h = 1e-6 * std::max(1.0, std::abs(v));
+  const Parameter& info = ps.info(p);
+  const double hi = std::min(v + h, info.upper), lo = std::max(v - h, info.lower);
+  Vector Fhi, Flo;
+  ps.set(p, hi);
+  Status st = residual(u, Fhi);
+  if (st.is_ok()) {
+    ps.set(p, lo);
+    st = residual(u, Flo);
+  }
+  ps.set(p, v);
+  if (!st.is_ok()) return st;
+  dF = (Fhi - Flo) / (hi - lo);
+  return {};
+}
+
+Status Problem::mass_matrix(const Vector&, SparseMatrix&) {
+  throw std::logic_error("problem '" + name() + "' has no mass matrix (no time-dependent form)");
+}
+
+Status Problem::observables(const Vector&, std::vector<double>& values) {
+  values.clear();
+  return {};
+}
+
+Status Problem::monitors(const Vector&, std::vector<double>& values) {
+  values.clear();
+  return {};
+}
+
+}  // namespace keller

@@ -1,0 +1,382 @@
+#include "core/Scene.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <toml++/toml.h>
+
+namespace keller {
+
+// ---------------------------------------------------------------- Range
+
+bool Range::contains(double v) const {
+  if (std::isnan(v)) return false;
+  if (lo_open ? !(v > lo) : !(v >= lo)) return false;
+  if (hi_open ? !(v < hi) : !(v <= hi)) return false;
+  return true;
+}
+
+std::string Range::describe() const {
+  const bool has_lo = std::isfinite(lo), has_hi = std::isfinite(hi);
+  if (!has_lo && !has_hi) return "any number";
+  if (has_lo && !has_hi) return fmt::format("{} {}", lo_open ? ">" : ">=", lo);
+  if (!has_lo && has_hi) return fmt::format("{} {}", hi_open ? "<" : "<=", hi);
+  return fmt::format("in {}{}, {}{}", lo_open ? "(" : "[", lo, hi, hi_open ? ")" : "]");
+}
+
+// ---------------------------------------------------------------- KeySpec
+
+std::string KeySpec::section() const {
+  const auto dot = path.rfind('.');
+  return dot == std::string::npos ? std::string() : path.substr(0, dot);
+}
+
+std::string KeySpec::key() const {
+  const auto dot = path.rfind('.');
+  return dot == std::string::npos ? path : path.substr(dot + 1);
+}
+
+std::string KeySpec::type_name() const {
+  switch (type) {
+    case Type::Real: return "a number";
+    case Type::Integer: return "an integer";
+    case Type::Boolean: return "true or false";
+    case Type::String: return "a string";
+    case Type::RealList: return "a list of numbers";
+  }
+  return "?";
+}
+
+namespace {
+
+std::string quote(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') out += '\\';
+    out += c;
+  }
+  return out + "\"";
+}
+
+std::string format_value(const SceneValue& v) {
+  return std::visit(
+      [](const auto& x) -> std::string {
+        using X = std::decay_t<decltype(x)>;
+        if constexpr (std::is_same_v<X, double>) {
+          std::string s = fmt::format("{}", x);
+          if (s.find_first_of(".eEn") == std::string::npos) s += ".0";  // keep it a TOML float
+          return s;
+        } else if constexpr (std::is_same_v<X, long>) {
+          return fmt::format("{}", x);
+        } else if constexpr (std::is_same_v<X, bool>) {
+          return x ? "true" : "false";
+        } else if constexpr (std::is_same_v<X, std::string>) {
+          return quote(x);
+        } else {
+          std::string s = "[";
+          for (size_t i = 0; i < x.size(); ++i) s += (i ? ", " : "") + format_value(SceneValue(x[i]));
+          return s + "]";
+        }
+      },
+      v);
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------- SceneSchema
+
+void SceneSchema::section(const std::string& name, const std::string& doc) {
+  for (const auto& s : sections_)
+    if (s.first == name) return;
+  sections_.emplace_back(name, doc);
+}
+
+void SceneSchema::add(KeySpec spec) {
+  if (find(spec.path)) throw std::logic_error("scene key '" + spec.path + "' declared twice");
+  if (spec.section().empty()) throw std::logic_error("scene key '" + spec.path + "' must be inside a section");
+  if (!has_section(spec.section())) section(spec.section(), "");
+  keys_.push_back(std::move(spec));
+}
+
+void SceneSchema::real(const std::string& path, double def, const std::string& doc, Range range) {
+  add({path, KeySpec::Type::Real, def, doc, range, {}});
+}
+void SceneSchema::integer(const std::string& path, long def, const std::string& doc, Range range) {
+  add({path, KeySpec::Type::Integer, def, doc, range, {}});
+}
+void SceneSchema::boolean(const std::string& path, bool def, const std::string& doc) {
+  add({path, KeySpec::Type::Boolean, def, doc, {}, {}});
+}
+void SceneSchema::string(const std::string& path, const std::string& def, const std::string& doc,
+                         std::vector<std::string> choices) {
+  add({path, KeySpec::Type::String, def, doc, {}, std::move(choices)});
+}
+void SceneSchema::real_list(const std::string& path, std::vector<double> def, const std::string& doc, Range range) {
+  add({path, KeySpec::Type::RealList, std::move(def), doc, range, {}});
+}
+
+const KeySpec* SceneSchema::find(const std::string& path) const {
+  for (const auto& k : keys_)
+    if (k.path == path) return &k;
+  return nullptr;
+}
+
+bool SceneSchema::has_section(const std::string& name) const {
+  return std::any_of(sections_.begin(), sections_.end(), [&](const auto& s) { return s.first == name; });
+}
+
+std::vector<std::string> SceneSchema::keys_in(const std::string& section) const {
+  std::vector<std::string> out;
+  for (const auto& k : keys_)
+    if (k.section() == section) out.push_back(k.key());
+  return out;
+}
+
+std::string SceneSchema::help() const {
+  std::string out;
+  for (const auto& [name, doc] : sections_) {
+    out += fmt::format("[{}]{}\n", name, doc.empty() ? "" : "  # " + doc);
+    for (const auto& k : keys_) {
+      if (k.section() != name) continue;
+      std::string allowed;
+      if (k.type == KeySpec::Type::String && !k.choices.empty()) {
+        allowed = "one of:";
+        for (const auto& c : k.choices) allowed += " " + c;
+      } else if (k.type == KeySpec::Type::Real || k.type == KeySpec::Type::Integer || k.type == KeySpec::Type::RealList) {
+        if (k.range.describe() != "any number") allowed = k.range.describe();
+      }
+      out += fmt::format("  {} = {}\n      {}; {}{}\n", k.key(), format_value(k.default_value), k.doc, k.type_name(),
+                         allowed.empty() ? "" : ", " + allowed);
+    }
+    out += "\n";
+  }
+  return out;
+}
+
+// ---------------------------------------------------------------- Scene
+
+namespace {
+
+struct Leaf {
+  std::string path;
+  const toml::node* node;
+  int line;
+};
+
+void flatten(const toml::table& t, const std::string& prefix, std::vector<Leaf>& out,
+             std::vector<std::pair<std::string, int>>& tables) {
+  for (auto&& [k, v] : t) {
+    const std::string path = prefix.empty() ? std::string(k.str()) : prefix + "." + std::string(k.str());
+    const int line = static_cast<int>(v.source().begin.line);
+    if (const toml::table* sub = v.as_table()) {
+      tables.emplace_back(path, line);
+      flatten(*sub, path, out, tables);
+    } else {
+      out.push_back({path, &v, line});
+    }
+  }
+}
+
+std::string node_kind(const toml::node& n) {
+  switch (n.type()) {
+    case toml::node_type::string: return "a string";
+    case toml::node_type::integer: return "an integer";
+    case toml::node_type::floating_point: return "a number";
+    case toml::node_type::boolean: return "a boolean";
+    case toml::node_type::array: return "a list";
+    case toml::node_type::table: return "a table";
+    default: return "a date/time";
+  }
+}
+
+std::string node_text(const toml::node& n) {
+  if (const auto s = n.value<std::string>()) return quote(s->size() > 40 ? s->substr(0, 37) + "..." : *s);
+  std::ostringstream os;
+  n.visit([&](auto&& x) { os << x; });
+  std::string s = os.str();
+  if (s.size() > 40) s = s.substr(0, 37) + "...";
+  return s;
+}
+
+toml::table parse_toml(const std::string& text, const std::string& source) {
+  try {
+    return toml::parse(text, source);
+  } catch (const toml::parse_error& e) {
+    throw SceneError(fmt::format("{}:{}:{}: not valid TOML: {}", source, e.source().begin.line,
+                                 e.source().begin.column, e.description()));
+  }
+}
+
+std::string read_file(const std::string& file) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (!fs::exists(file, ec)) throw SceneError(fmt::format("scene file '{}' does not exist", file));
+  if (fs::is_directory(file, ec)) throw SceneError(fmt::format("scene file '{}' is a directory", file));
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw SceneError(fmt::format("scene file '{}' cannot be read", file));
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+}  // namespace
+
+std::string Scene::peek_string(const std::string& file, const std::string& path, const std::string& fallback) {
+  const toml::table t = parse_toml(read_file(file), file);
+  const toml::node_view<const toml::node> v = t.at_path(path);
+  if (!v) return fallback;
+  if (const auto s = v.value<std::string>()) return *s;
+  throw SceneError(fmt::format("{}:{}: key '{}' must be a string, got {}", file, v.node()->source().begin.line, path,
+                               node_kind(*v.node())));
+}
+
+Scene Scene::load(const std::string& file, const SceneSchema& schema) {
+  return parse(read_file(file), file, schema);
+}
+
+Scene Scene::parse(const std::string& text, const std::string& source, const SceneSchema& schema) {
+  Scene scene;
+  scene.schema_ = schema;
+  scene.source_ = source;
+  const toml::table t = parse_toml(text, source);
+  std::vector<Leaf> leaves;
+  std::vector<std::pair<std::string, int>> tables;
+  flatten(t, "", leaves, tables);
+
+  auto section_list = [&]() {
+    std::string s;
+    for (const auto& [name, doc] : schema.sections()) s += (s.empty() ? "" : ", ") + name;
+    return s;
+  };
+  for (const auto& [path, line] : tables) {
+    if (schema.has_section(path)) continue;
+    bool prefix_of_section = false;
+    for (const auto& [name, doc] : schema.sections())
+      if (name.rfind(path + ".", 0) == 0) prefix_of_section = true;
+    if (!prefix_of_section)
+      throw SceneError(fmt::format("{}:{}: unknown section [{}]; allowed sections: {}", source, line, path, section_list()));
+  }
+  for (const Leaf& leaf : leaves) {
+    const KeySpec* spec = schema.find(leaf.path);
+    if (!spec) {
+      const auto dot = leaf.path.rfind('.');
+      const std::string sec = dot == std::string::npos ? "" : leaf.path.substr(0, dot);
+      if (sec.empty() || !schema.has_section(sec))
+        throw SceneError(fmt::format("{}:{}: unknown key '{}' outside any known section; allowed sections: {}", source,
+                                     leaf.line, leaf.path, section_list()));
+      std::string allowed;
+      for (const auto& k : schema.keys_in(sec)) allowed += (allowed.empty() ? "" : ", ") + k;
+      throw SceneError(fmt::format("{}:{}: unknown key '{}'; keys allowed in [{}]: {}", source, leaf.line, leaf.path,
+                                   sec, allowed));
+    }
+    const toml::node& n = *leaf.node;
+    auto wrong_type = [&]() {
+      return SceneError(fmt::format("{}:{}: key '{}' must be {}, got {} ({})", source, leaf.line, leaf.path,
+                                    spec->type_name(), node_kind(n), node_text(n)));
+    };
+    auto out_of_range = [&](double v) {
+      return SceneError(fmt::format("{}:{}: key '{}' = {} is out of range: must be {}", source, leaf.line, leaf.path, v,
+                                    spec->range.describe()));
+    };
+    SceneValue value;
+    switch (spec->type) {
+      case KeySpec::Type::Real: {
+        double v = 0;
+        if (n.is_floating_point()) v = *n.value<double>();
+        else if (n.is_integer()) v = static_cast<double>(*n.value<int64_t>());
+        else throw wrong_type();
+        if (!spec->range.contains(v)) throw out_of_range(v);
+        value = v;
+        break;
+      }
+      case KeySpec::Type::Integer: {
+        if (!n.is_integer()) throw wrong_type();
+        const long v = static_cast<long>(*n.value<int64_t>());
+        if (!spec->range.contains(static_cast<double>(v))) throw out_of_range(static_cast<double>(v));
+        value = v;
+        break;
+      }
+      case KeySpec::Type::Boolean: {
+        if (!n.is_boolean()) throw wrong_type();
+        value = *n.value<bool>();
+        break;
+      }
+      case KeySpec::Type::String: {
+        if (!n.is_string()) throw wrong_type();
+        const std::string v = *n.value<std::string>();
+        if (!spec->choices.empty() && std::find(spec->choices.begin(), spec->choices.end(), v) == spec->choices.end()) {
+          std::string allowed;
+          for (const auto& c : spec->choices) allowed += (allowed.empty() ? "" : ", ") + c;
+          throw SceneError(fmt::format("{}:{}: key '{}' = \"{}\" is not one of: {}", source, leaf.line, leaf.path, v,
+                                       allowed));
+        }
+        value = v;
+        break;
+      }
+      case KeySpec::Type::RealList: {
+        const toml::array* arr = n.as_array();
+        if (!arr) throw wrong_type();
+        std::vector<double> v;
+        for (const toml::node& e : *arr) {
+          double x = 0;
+          if (e.is_floating_point()) x = *e.value<double>();
+          else if (e.is_integer()) x = static_cast<double>(*e.value<int64_t>());
+          else throw wrong_type();
+          if (!spec->range.contains(x)) throw out_of_range(x);
+          v.push_back(x);
+        }
+        value = std::move(v);
+        break;
+      }
+    }
+    scene.values_[leaf.path] = std::move(value);
+    scene.lines_[leaf.path] = leaf.line;
+  }
+  for (const KeySpec& k : schema.keys())
+    if (!scene.values_.count(k.path)) scene.values_[k.path] = k.default_value;
+  return scene;
+}
+
+const SceneValue& Scene::get(const std::string& path, KeySpec::Type type) const {
+  const KeySpec* spec = schema_.find(path);
+  if (!spec) throw std::logic_error("scene key '" + path + "' read but never declared");
+  if (spec->type != type) throw std::logic_error("scene key '" + path + "' read with the wrong type");
+  return values_.at(path);
+}
+
+double Scene::real(const std::string& path) const { return std::get<double>(get(path, KeySpec::Type::Real)); }
+long Scene::integer(const std::string& path) const { return std::get<long>(get(path, KeySpec::Type::Integer)); }
+bool Scene::boolean(const std::string& path) const { return std::get<bool>(get(path, KeySpec::Type::Boolean)); }
+const std::string& Scene::string(const std::string& path) const {
+  return std::get<std::string>(get(path, KeySpec::Type::String));
+}
+const std::vector<double>& Scene::real_list(const std::string& path) const {
+  return std::get<std::vector<double>>(get(path, KeySpec::Type::RealList));
+}
+
+bool Scene::given(const std::string& path) const { return lines_.count(path) > 0; }
+
+SceneError Scene::error(const std::string& path, const std::string& what) const {
+  auto it = lines_.find(path);
+  if (it != lines_.end()) return SceneError(fmt::format("{}:{}: key '{}': {}", source_, it->second, path, what));
+  return SceneError(fmt::format("{}: key '{}' (default): {}", source_, path, what));
+}
+
+std::string Scene::resolved_toml() const {
+  std::string out = fmt::format("# resolved scene from {}\n", source_);
+  for (const auto& [name, doc] : schema_.sections()) {
+    std::string body;
+    for (const auto& k : schema_.keys()) {
+      if (k.section() != name) continue;
+      body += fmt::format("{} = {}{}\n", k.key(), format_value(values_.at(k.path)), given(k.path) ? "" : "  # default");
+    }
+    if (!body.empty()) out += fmt::format("\n[{}]\n{}", name, body);
+  }
+  return out;
+}
+
+}  // namespace keller

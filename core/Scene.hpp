@@ -1,0 +1,112 @@
+// Scene files: TOML, validated against a schema before anything runs. Every key is declared by
+// the code that consumes it (type, default, admissible range or choices, one-line doc); unknown
+// keys, wrong types and out-of-range values are SceneErrors naming the file, the line, the key
+// and what is allowed. The resolved scene (every key, explicit or default) is printable as TOML
+// and stored with every output.
+#pragma once
+
+#include <limits>
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <variant>
+#include <vector>
+
+namespace keller {
+
+class SceneError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// Admissible interval of a number: [lo, hi], either end open or infinite.
+struct Range {
+  double lo = -std::numeric_limits<double>::infinity();
+  double hi = std::numeric_limits<double>::infinity();
+  bool lo_open = false, hi_open = false;
+
+  static Range any() { return {}; }
+  static Range positive() { return {0.0, std::numeric_limits<double>::infinity(), true, false}; }
+  static Range non_negative() { return {0.0, std::numeric_limits<double>::infinity(), false, false}; }
+  static Range at_least(double v) { return {v, std::numeric_limits<double>::infinity(), false, false}; }
+  static Range above(double v) { return {v, std::numeric_limits<double>::infinity(), true, false}; }
+  static Range between(double a, double b) { return {a, b, false, false}; }
+  bool contains(double v) const;
+  std::string describe() const;  // "> 0", "in [0.1, 0.4]", ">= 1", "any number"
+};
+
+using SceneValue = std::variant<double, long, bool, std::string, std::vector<double>>;
+
+struct KeySpec {
+  enum class Type { Real, Integer, Boolean, String, RealList };
+  std::string path;   // "section.key" (sections may nest: "a.b.key")
+  Type type = Type::Real;
+  SceneValue default_value;
+  std::string doc;
+  Range range;                       // Real, Integer, RealList entries
+  std::vector<std::string> choices;  // String: allowed values (empty = any)
+  std::string section() const;       // "mesh" for "mesh.nx"
+  std::string key() const;           // "nx"
+  std::string type_name() const;     // "a number", "an integer", ...
+};
+
+class SceneSchema {
+ public:
+  // Declare a section (a TOML table) with a one-line doc; keys are added with full paths.
+  void section(const std::string& name, const std::string& doc);
+  void real(const std::string& path, double def, const std::string& doc, Range range = Range::any());
+  void integer(const std::string& path, long def, const std::string& doc, Range range = Range::any());
+  void boolean(const std::string& path, bool def, const std::string& doc);
+  void string(const std::string& path, const std::string& def, const std::string& doc,
+              std::vector<std::string> choices = {});
+  void real_list(const std::string& path, std::vector<double> def, const std::string& doc,
+                 Range range = Range::any());
+
+  const KeySpec* find(const std::string& path) const;
+  bool has_section(const std::string& name) const;
+  const std::vector<KeySpec>& keys() const { return keys_; }
+  const std::vector<std::pair<std::string, std::string>>& sections() const { return sections_; }
+  std::vector<std::string> keys_in(const std::string& section) const;
+  // Human-readable listing of every section and key: type, default, range, doc.
+  std::string help() const;
+
+ private:
+  void add(KeySpec spec);
+  std::vector<KeySpec> keys_;
+  std::vector<std::pair<std::string, std::string>> sections_;
+};
+
+class Scene {
+ public:
+  // Reads and validates a scene file; throws SceneError (missing file, TOML syntax, unknown
+  // key or section, wrong type, value out of range).
+  static Scene load(const std::string& file, const SceneSchema& schema);
+  static Scene parse(const std::string& text, const std::string& source, const SceneSchema& schema);
+  // Reads one string key without validating the rest (to pick the schema, e.g. problem.type);
+  // returns `fallback` when absent. Throws SceneError on a missing file or bad TOML.
+  static std::string peek_string(const std::string& file, const std::string& path, const std::string& fallback);
+
+  double real(const std::string& path) const;
+  long integer(const std::string& path) const;
+  bool boolean(const std::string& path) const;
+  const std::string& string(const std::string& path) const;
+  const std::vector<double>& real_list(const std::string& path) const;
+  // Whether the file set this key explicitly (rather than taking the default).
+  bool given(const std::string& path) const;
+  // An error about a key, in the same format as validation errors (for cross-key checks).
+  SceneError error(const std::string& path, const std::string& what) const;
+
+  const std::string& source() const { return source_; }
+  // Every declared key with its resolved value, as TOML, with the docs as comments.
+  std::string resolved_toml() const;
+  const SceneSchema& schema() const { return schema_; }
+
+ private:
+  const SceneValue& get(const std::string& path, KeySpec::Type type) const;
+  SceneSchema schema_;
+  std::string source_;
+  std::map<std::string, SceneValue> values_;
+  std::map<std::string, int> lines_;  // line of each explicitly given key
+};
+
+}  // namespace keller

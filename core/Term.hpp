@@ -1,0 +1,35 @@
+// One kind of local contribution to a global residual: an element kernel over a set of
+// elements, a boundary kernel over boundary edges, or a strong (row-replacing) constraint such
+// as a Dirichlet condition. The Assembler sums terms into F and J without knowing any physics.
+//
+// Each item (element, edge, constrained node) touches local_size() global unknowns; it writes
+// residual rows for the first local_rows() of them. A term that owns_rows() replaces those rows
+// entirely: weak (integrated) contributions to them are dropped, or redirected elsewhere when
+// the Assembler is told to (the consistent reaction force at a fluid-solid interface).
+#pragma once
+
+#include <string>
+
+#include "core/Status.hpp"
+
+namespace keller {
+
+class Term {
+ public:
+  virtual ~Term() = default;
+  virtual std::string name() const = 0;
+  virtual int num_items() const = 0;
+  virtual int local_size() const = 0;
+  virtual int local_rows() const { return local_size(); }
+  virtual bool owns_rows() const { return false; }
+  // Global unknown indices of an item (local_size() entries, all >= 0).
+  virtual void item_dofs(int item, int* dofs) const = 0;
+  // r (local_rows()) at the item's unknown values u (local_size()).
+  virtual Status residual(int item, const double* u, double* r) const = 0;
+  // r and dr/du, row-major local_rows() x local_size().
+  virtual Status jacobian(int item, const double* u, double* r, double* J) const = 0;
+  // dr/dp for parameter index p of the problem's ParameterSet.
+  virtual Status parameter_derivative(int item, int p, const double* u, double* dr) const = 0;
+};
+
+}  // namespace keller

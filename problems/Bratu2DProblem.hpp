@@ -1,0 +1,59 @@
+// The 2D Bratu problem  Laplace(u) + lambda e^u = 0 on the unit square, u = 0 on the boundary,
+// with Q2 finite elements on a uniform n x n mesh (weak form: int grad u . grad phi
+// - lambda e^u phi = 0). Fold at lambda_c = 6.8081244226 with max u = 1.39166121 there.
+// Exercises the whole finite-element path (mesh, dof map, AD kernel, assembly, UMFPACK).
+#pragma once
+
+#include <memory>
+
+#include "core/Assembler.hpp"
+#include "core/DirichletTerm.hpp"
+#include "core/DofMap.hpp"
+#include "core/Problem.hpp"
+#include "core/Scene.hpp"
+
+namespace keller {
+
+class Bratu2DProblem final : public Problem {
+ public:
+  Bratu2DProblem(int elements_per_side, double lambda);
+  Bratu2DProblem(const Bratu2DProblem&) = delete;
+  Bratu2DProblem& operator=(const Bratu2DProblem&) = delete;
+
+  std::string name() const override { return "bratu2d"; }
+  int size() const override { return dofs_->size(); }
+  ParameterSet& parameters() override { return params_; }
+  const ParameterSet& parameters() const override { return params_; }
+  const SparseMatrix& jacobian_pattern() const override { return assembler_->pattern(); }
+  Status residual(const Vector& u, Vector& F) override { return assembler_->residual(u, F); }
+  Status jacobian(const Vector& u, Vector& F, SparseMatrix& J) override { return assembler_->jacobian(u, F, J); }
+  Status parameter_derivative(int p, const Vector& u, Vector& dF) override {
+    return assembler_->parameter_derivative(p, u, dF);
+  }
+  Status mass_matrix(const Vector& u, SparseMatrix& B) override;
+  Vector initial_guess() override { return Vector::Zero(size()); }
+  std::vector<std::string> observable_names() const override { return {"u_max", "u_centre"}; }
+  Status observables(const Vector& u, std::vector<double>& values) override;
+  SolutionFields fields(const Vector& u) const override { return extract_fields(mesh_, *dofs_, u); }
+  std::string summary() const override;
+
+  const Mesh& mesh() const { return mesh_; }
+  const DofMap& dofs() const { return *dofs_; }
+  // Value of the finite-element solution at a point (x, y) in the unit square.
+  double evaluate(const Vector& u, double x, double y) const;
+
+  static constexpr double kLambdaCritical = 6.8081244226;
+  // Reads the [bratu] keys that Bratu1DProblem::declare declares for both problems.
+  static std::unique_ptr<Problem> from_scene(const Scene& scene);
+
+ private:
+  int n_;
+  Mesh mesh_;
+  std::unique_ptr<DofMap> dofs_;
+  ParameterSet params_;
+  std::vector<std::array<QpGeometry<double>, ref::kQp>> geometry_;
+  std::shared_ptr<DirichletTerm> dirichlet_;
+  std::unique_ptr<Assembler> assembler_;
+};
+
+}  // namespace keller

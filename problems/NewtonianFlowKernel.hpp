@@ -1,0 +1,110 @@
+// Element kernel of steady incompressible Newtonian flow on one 9-node element of a fixed mesh:
+// Q2 velocity, P1-discontinuous pressure in physical coordinates.
+//
+// Residual (model.md notation, stresses in units of G, velocities in units of G W / eta0):
+//   momentum   R_ai = int [ phi_a (Re/Gamma) (v . grad v)_i + dphi_a/dx_j T_ij ] dA
+//              with T = -P I + beta (K + K^T), K_ij = d v_i / d x_j
+//   continuity R_k  = - int psi_k div v dA,  psi = (1, x - xc, y - yc)
+// The traction boundary term is absent: on the outflow it is the natural condition
+// T_xx = 0 (-P + 2 beta dv_x/dx = 0), i.e. P = 0 for fully developed flow.
+//
+// Local unknowns (21): v_x at nodes 0..8, v_y at nodes 0..8, P coefficients 0..2.
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "core/DofMap.hpp"
+#include "core/ElementGeometry.hpp"
+#include "core/Mesh.hpp"
+#include "core/Status.hpp"
+
+namespace keller {
+
+struct NewtonianFlowParameters {
+  int Re = -1;     // index of Re in the ParameterSet
+  int Gamma = -1;  // index of Gamma (mean inflow velocity)
+  int beta = -1;   // index of the solvent viscosity ratio; -1: beta = 1 (Newtonian)
+};
+
+class NewtonianFlowKernel {
+ public:
+  static constexpr int kSize = 21;
+
+  // elements: the fluid elements; geometry: their cached Gauss-point geometry (same order).
+  NewtonianFlowKernel(const Mesh& mesh, const DofMap& dofs, std::vector<int> elements,
+                      const std::vector<std::array<QpGeometry<double>, ref::kQp>>* geometry,
+                      NewtonianFlowParameters params, bool inertia)
+      : mesh_(&mesh), geometry_(geometry), elements_(std::move(elements)), p_(params), inertia_(inertia) {
+    const int fv = dofs.field_index("velocity"), fp = dofs.field_index("pressure");
+    dofs_.resize(elements_.size() * kSize);
+    for (size_t k = 0; k < elements_.size(); ++k) {
+      dofs.element_dofs(fv, elements_[k], &dofs_[k * kSize]);
+      dofs.element_dofs(fp, elements_[k], &dofs_[k * kSize + 18]);
+    }
+  }
+
+  std::string name() const { return "newtonian-flow"; }
+  int num_items() const { return static_cast<int>(elements_.size()); }
+  void item_dofs(int item, int* out) const {
+    std::copy_n(&dofs_[static_cast<size_t>(item) * kSize], kSize, out);
+  }
+
+  template <class T, class P>
+  Status evaluate(int item, const T* u, const P* params, T* r) const {
+    const int e = elements_[item];
+    const auto& geo = (*geometry_)[item];
+    const auto& centre = mesh_->node(mesh_->element(e)[4]);
+    const ref::Tables& tb = ref::tables();
+    const P beta = p_.beta >= 0 ? params[p_.beta] : P(1.0);
+    const T* vx = u;
+    const T* vy = u + 9;
+    const T* pc = u + 18;
+    for (int i = 0; i < kSize; ++i) r[i] = 0.0;
+    for (int q = 0; q < ref::kQp; ++q) {
+      const QpGeometry<double>& g = geo[q];
+      T v[2] = {T(0.0), T(0.0)};
+      T K[2][2] = {{T(0.0), T(0.0)}, {T(0.0), T(0.0)}};
+      for (int a = 0; a < 9; ++a) {
+        const double N = tb.N2[q][a];
+        v[0] += N * vx[a];
+        v[1] += N * vy[a];
+        for (int j = 0; j < 2; ++j) {
+          K[0][j] += g.dN2dx[a][j] * vx[a];
+          K[1][j] += g.dN2dx[a][j] * vy[a];
+        }
+      }
+      const double psi[3] = {1.0, g.x[0] - centre[0], g.x[1] - centre[1]};
+      const T pressure = pc[0] + psi[1] * pc[1] + psi[2] * pc[2];
+      const T shear = beta * (K[0][1] + K[1][0]);
+      const T Txx = 2.0 * beta * K[0][0] - pressure;
+      const T Tyy = 2.0 * beta * K[1][1] - pressure;
+      const double w = g.wdetJ;
+      T conv[2] = {T(0.0), T(0.0)};
+      if (inertia_) {
+        const P rho = params[p_.Re] / params[p_.Gamma];
+        conv[0] = rho * (v[0] * K[0][0] + v[1] * K[0][1]);
+        conv[1] = rho * (v[0] * K[1][0] + v[1] * K[1][1]);
+      }
+      for (int a = 0; a < 9; ++a) {
+        const double N = tb.N2[q][a], dx = g.dN2dx[a][0], dy = g.dN2dx[a][1];
+        r[a] += w * (N * conv[0] + dx * Txx + dy * shear);
+        r[9 + a] += w * (N * conv[1] + dx * shear + dy * Tyy);
+      }
+      const T div = K[0][0] + K[1][1];
+      for (int k = 0; k < 3; ++k) r[18 + k] -= (w * psi[k]) * div;
+    }
+    return {};
+  }
+
+ private:
+  const Mesh* mesh_;
+  const std::vector<std::array<QpGeometry<double>, ref::kQp>>* geometry_;
+  std::vector<int> elements_;
+  std::vector<int> dofs_;
+  NewtonianFlowParameters p_;
+  bool inertia_;
+};
+
+}  // namespace keller

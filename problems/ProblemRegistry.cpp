@@ -1,0 +1,39 @@
+#include "problems/ProblemRegistry.hpp"
+
+#include <stdexcept>
+
+#include "problems/Bratu1DProblem.hpp"
+#include "problems/Bratu2DProblem.hpp"
+#include "problems/ChannelProblem.hpp"
+
+namespace keller {
+
+const std::vector<ProblemType>& problem_types() {
+  static const std::vector<ProblemType> types = {
+      {"channel", "steady flow in the 19 x 1 channel of model.md", ChannelOptions::declare,
+       [](const Scene& s) -> std::unique_ptr<Problem> {
+         return std::make_unique<ChannelProblem>(ChannelOptions::from_scene(s));
+       }},
+      {"bratu1d", "1D Bratu problem by central differences (test problem)", Bratu1DProblem::declare,
+       Bratu1DProblem::from_scene},
+      {"bratu2d", "2D Bratu problem with Q2 elements (test problem)", Bratu1DProblem::declare,
+       Bratu2DProblem::from_scene},
+  };
+  return types;
+}
+
+const ProblemType& problem_type(const std::string& name) {
+  for (const auto& t : problem_types())
+    if (t.name == name) return t;
+  std::string known;
+  for (const auto& t : problem_types()) known += (known.empty() ? "" : ", ") + t.name;
+  throw std::invalid_argument("unknown problem type '" + name + "' (" + known + ")");
+}
+
+std::vector<std::string> problem_type_names() {
+  std::vector<std::string> out;
+  for (const auto& t : problem_types()) out.push_back(t.name);
+  return out;
+}
+
+}  // namespace keller

@@ -1,0 +1,27 @@
+// The registry of problem types a scene can name in [problem] type: each declares its scene
+// keys and builds itself from a validated scene. The driver in runs/ is the only user.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/Problem.hpp"
+#include "core/Scene.hpp"
+
+namespace keller {
+
+struct ProblemType {
+  std::string name;
+  std::string doc;
+  std::function<void(SceneSchema&)> declare;
+  std::function<std::unique_ptr<Problem>(const Scene&)> build;
+};
+
+const std::vector<ProblemType>& problem_types();
+// Throws std::invalid_argument listing the known types.
+const ProblemType& problem_type(const std::string& name);
+std::vector<std::string> problem_type_names();
+
+}  // namespace keller

@@ -1,0 +1,48 @@
+#include "runs/SceneLoader.hpp"
+
+#include <fmt/format.h>
+
+#include "core/Newton.hpp"
+#include "core/SparseLU.hpp"
+
+namespace keller {
+
+void declare_common_keys(SceneSchema& s) {
+  s.section("problem", "which problem the scene describes");
+  s.string("problem.type", "channel", "problem type", problem_type_names());
+  declare_newton_keys(s);
+  declare_linear_solver_keys(s);
+  s.section("output", "what is written besides the HDF5 file");
+  s.boolean("output.xdmf", true, "write an XDMF file next to the HDF5 file for ParaView");
+}
+
+LoadedScene load_scene(const std::string& file, const std::function<void(SceneSchema&)>& extra) {
+  const std::string type_name = Scene::peek_string(file, "problem.type", "channel");
+  const ProblemType* type = nullptr;
+  try {
+    type = &problem_type(type_name);
+  } catch (const std::invalid_argument& e) {
+    throw SceneError(fmt::format("{}: key 'problem.type': {}", file, e.what()));
+  }
+  SceneSchema schema;
+  declare_common_keys(schema);
+  type->declare(schema);
+  if (extra) extra(schema);
+  return {Scene::load(file, schema), type};
+}
+
+std::string scene_help(const std::function<void(SceneSchema&)>& extra) {
+  std::string out = "Keys common to every scene:\n\n";
+  SceneSchema common;
+  declare_common_keys(common);
+  if (extra) extra(common);
+  out += common.help();
+  for (const ProblemType& t : problem_types()) {
+    SceneSchema s;
+    t.declare(s);
+    out += fmt::format("Keys of problem type '{}' ({}):\n\n{}", t.name, t.doc, s.help());
+  }
+  return out;
+}
+
+}  // namespace keller

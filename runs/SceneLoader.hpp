@@ -1,0 +1,29 @@
+// Assembles the full scene schema for a run (the chosen problem type's keys plus the keys of
+// every algorithm the command uses) and loads a scene file against it.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "core/Scene.hpp"
+#include "problems/ProblemRegistry.hpp"
+
+namespace keller {
+
+// Declares the keys every run has: [problem], [newton], [linear_solver], [output].
+void declare_common_keys(SceneSchema& schema);
+
+struct LoadedScene {
+  Scene scene;
+  const ProblemType* type = nullptr;
+};
+
+// Reads problem.type, builds the schema (common keys, the type's keys, and `extra` for the
+// command's own sections) and validates the file. Throws SceneError.
+LoadedScene load_scene(const std::string& file, const std::function<void(SceneSchema&)>& extra = {});
+
+// The full listing of every key of every problem type, for --help-scene.
+std::string scene_help(const std::function<void(SceneSchema&)>& extra = {});
+
+}  // namespace keller

@@ -1,0 +1,18 @@
+// `keller solve SCENE.toml -o OUT.h5`: one steady state by Newton's method, written as HDF5
+// (resolved scene, mesh, fields, parameters, observables, Newton history) plus XDMF.
+#pragma once
+
+#include <string>
+
+namespace keller {
+
+struct SolveArguments {
+  std::string scene;
+  std::string output;  // empty: <scene stem>.h5 in the current directory
+};
+
+// Returns the process exit code: 0 converged, 1 Newton failed (no output written),
+// 2 bad input (no output written).
+int run_solve(const SolveArguments& args);
+
+}  // namespace keller

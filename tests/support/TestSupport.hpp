@@ -1,0 +1,42 @@
+// Helpers shared by the tests: finite-difference Jacobian checks with a reported maximum
+// relative error, mesh distortion that keeps elements bilinear, running the keller binary.
+#pragma once
+
+#include <functional>
+#include <random>
+#include <string>
+
+#include "core/Mesh.hpp"
+#include "core/Problem.hpp"
+#include "core/Term.hpp"
+
+namespace keller::test {
+
+struct JacobianCheck {
+  double max_relative_error = 0;  // max |J - J_fd| / (|J_fd|_max of that row + tiny)
+  int worst_row = -1, worst_col = -1;
+};
+
+// Central differences of a local term item against its Jacobian. Relative errors are taken
+// against the largest entry of each row, so rounding in tiny entries does not dominate.
+JacobianCheck check_term_jacobian(const Term& term, int item, const std::vector<double>& u, double h = 1e-6);
+// The same for a whole problem, and for dF/dp.
+JacobianCheck check_problem_jacobian(Problem& problem, const Vector& u, double h = 1e-7);
+double check_parameter_derivative(Problem& problem, int p, const Vector& u, double h = 1e-6);
+
+// Moves interior vertex nodes randomly by up to `amplitude` times the local element size
+// (vertices on straight boundaries slide along them), then puts mid-side and centre nodes at
+// the bilinear positions, so every element stays a general (non-parallelogram) bilinear quad.
+void distort_bilinear(Mesh& mesh, double amplitude, unsigned seed);
+
+struct CommandResult {
+  int exit_code = -1;
+  std::string out, err;
+};
+// Runs the keller binary with the given arguments (a shell word list).
+CommandResult run_keller(const std::string& args);
+std::string source_path(const std::string& relative);
+// A fresh empty directory for a test's files.
+std::string scratch_dir(const std::string& name);
+
+}  // namespace keller::test

@@ -1,0 +1,103 @@
+// Every element kernel's AD Jacobian and every dF/dp against central finite differences, on
+// distorted (curved, non-parallelogram) elements. Fails above a relative error of 1e-6; the
+// central-difference truncation and rounding error at h = 1e-6 is about 1e-9 here.
+#include <gtest/gtest.h>
+
+#include <iostream>
+#include <random>
+
+#include "problems/Bratu2DProblem.hpp"
+#include "problems/ChannelProblem.hpp"
+#include "support/TestSupport.hpp"
+
+using namespace keller;
+
+namespace {
+
+// Moves every node (curving the edges) by up to `amplitude` of the element size.
+void distort_all_nodes(Mesh& m, double amplitude, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> U(-1, 1);
+  for (int n = 0; n < m.num_nodes(); ++n) {
+    auto p = m.node(n);
+    p[0] += amplitude * U(rng);
+    p[1] += amplitude * U(rng);
+    m.set_node(n, p);
+  }
+}
+
+ChannelOptions small_channel(double Re) {
+  ChannelOptions o;
+  o.mesh.name = "custom";
+  o.mesh.nx_upstream = 2;
+  o.mesh.nx_deformable = 3;
+  o.mesh.nx_downstream = 2;
+  o.mesh.ny_fluid = 2;
+  o.Re = Re;
+  o.Gamma = 0.7;
+  o.inertia = Re > 0;
+  return o;
+}
+
+Vector random_state(int n, unsigned seed, double scale) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> U(-1, 1);
+  Vector u(n);
+  for (int i = 0; i < n; ++i) u[i] = scale * U(rng);
+  return u;
+}
+
+}  // namespace
+
+TEST(KernelJacobian, NewtonianFlowOnDistortedElements) {
+  for (double Re : {0.0, 10.0}) {
+    const ChannelOptions o = small_channel(Re);
+    Mesh mesh = build_channel_mesh(o.geometry, o.mesh, false);
+    distort_all_nodes(mesh, 0.08, 7);  // elements are >= 0.5 wide: curved but valid
+    ASSERT_GT(mesh.jacobian_range().first, 0.0);
+    ChannelProblem problem(o, mesh);
+    const Term& kernel = *problem.assembler().terms()[0];
+    ASSERT_EQ(kernel.name(), "newtonian-flow");
+    double worst = 0;
+    for (int item = 0; item < kernel.num_items(); ++item) {
+      const Vector u = random_state(kernel.local_size(), 100 + item, 1.0);
+      const auto c = test::check_term_jacobian(kernel, item, std::vector<double>(u.data(), u.data() + u.size()));
+      worst = std::max(worst, c.max_relative_error);
+    }
+    std::cout << "newtonian-flow kernel (Re = " << Re << "): max relative error " << worst << "\n";
+    RecordProperty("max_relative_error_Re" + std::to_string(int(Re)), std::to_string(worst));
+    EXPECT_LT(worst, 1e-6);
+  }
+}
+
+TEST(KernelJacobian, WholeChannelProblemAndParameterDerivatives) {
+  const ChannelOptions o = small_channel(10.0);
+  Mesh mesh = build_channel_mesh(o.geometry, o.mesh, false);
+  distort_all_nodes(mesh, 0.05, 3);
+  ChannelProblem problem(o, mesh);
+  const Vector u = random_state(problem.size(), 11, 1.0);
+  const auto c = test::check_problem_jacobian(problem, u);
+  std::cout << "channel problem Jacobian: max relative error " << c.max_relative_error << " at (" << c.worst_row
+            << ", " << c.worst_col << ")\n";
+  EXPECT_LT(c.max_relative_error, 1e-6);
+  for (const char* p : {"Re", "Gamma"}) {
+    const double e = test::check_parameter_derivative(problem, problem.parameters().index(p), u);
+    std::cout << "dF/d" << p << ": max relative error " << e << "\n";
+    EXPECT_LT(e, 1e-6) << p;
+  }
+  // dF/dGamma is not zero (inflow values and the inertia coefficient Re/Gamma depend on it)
+  Vector dF;
+  problem.parameter_derivative(problem.parameters().index("Gamma"), u, dF);
+  EXPECT_GT(dF.cwiseAbs().maxCoeff(), 1e-3);
+}
+
+TEST(KernelJacobian, Bratu2D) {
+  Bratu2DProblem problem(3, 2.5);
+  const Vector u = random_state(problem.size(), 5, 0.5);
+  const auto c = test::check_problem_jacobian(problem, u);
+  std::cout << "bratu2d Jacobian: max relative error " << c.max_relative_error << "\n";
+  EXPECT_LT(c.max_relative_error, 1e-6);
+  const double e = test::check_parameter_derivative(problem, 0, u);
+  std::cout << "bratu2d dF/dlambda: max relative error " << e << "\n";
+  EXPECT_LT(e, 1e-6);
+}

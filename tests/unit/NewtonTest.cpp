@@ -1,0 +1,158 @@
+// Newton's method: quadratic convergence (residual history printed to the test log), the line
+// search, and failures reported as statuses.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+
+#include "core/Newton.hpp"
+#include "problems/Bratu1DProblem.hpp"
+#include "problems/Bratu2DProblem.hpp"
+#include "problems/ChannelProblem.hpp"
+
+using namespace keller;
+
+namespace {
+
+std::vector<double> residual_history(const NewtonResult& res, const char* label) {
+  std::vector<double> r;
+  std::cout << label << " residual history:";
+  for (const auto& it : res.history) {
+    r.push_back(it.residual_norm);
+    std::cout << " " << it.residual_norm;
+  }
+  r.push_back(res.residual_norm);
+  std::cout << " -> " << res.residual_norm << "\n";
+  return r;
+}
+
+// Quadratic convergence: in the asymptotic regime (residual below 10% of the first one) and
+// above rounding (100x the final residual), r_{k+1} = C r_k^2 with C roughly constant. A
+// linearly convergent iteration has r_{k+1} / r_k^2 growing like 1 / r_k, i.e. by orders of
+// magnitude over these steps, so a spread of C within a factor 10 cannot come from it.
+void expect_quadratic(const std::vector<double>& r) {
+  std::vector<double> C;
+  for (size_t k = 0; k + 1 < r.size(); ++k) {
+    if (r[k] > 0.1 * r[0] || r[k + 1] < 100 * r.back()) continue;
+    C.push_back(r[k + 1] / (r[k] * r[k]));
+    std::cout << "  r_{k+1}/r_k^2 = " << C.back() << ", observed order "
+              << (k > 0 ? std::log(r[k + 1] / r[k]) / std::log(r[k] / r[k - 1]) : NAN) << "\n";
+  }
+  ASSERT_GE(C.size(), 2u) << "too few asymptotic steps to judge the order";
+  EXPECT_LT(*std::max_element(C.begin(), C.end()) / *std::min_element(C.begin(), C.end()), 10.0);
+}
+
+}  // namespace
+
+TEST(Newton, ConvergesQuadraticallyOnBratu2D) {
+  Bratu2DProblem problem(8, 6.5);  // close to the fold at 6.808: strongly nonlinear
+  NewtonOptions opt;
+  opt.residual_tolerance = 1e-13;
+  NewtonSolver newton(problem, opt);
+  Vector u = problem.initial_guess();
+  const NewtonResult res = newton.solve(u);
+  ASSERT_TRUE(res.converged()) << res.status.describe();
+  expect_quadratic(residual_history(res, "bratu2d"));
+  EXPECT_EQ(newton.lu().statistics().analyses, 1);  // symbolic analysis reused
+}
+
+TEST(Newton, ConvergesQuadraticallyOnNavierStokes) {
+  ChannelOptions o;
+  o.mesh = ChannelMeshSpec::preset("M1");
+  o.Re = 50.0;
+  o.Gamma = 1.0;
+  o.inertia = true;
+  ChannelProblem problem(o);
+  Vector u = problem.initial_guess();
+  // a large swirl on top of Poiseuille flow makes the convective term matter
+  const int fv = problem.dofs().field_index("velocity");
+  for (int n = 0; n < problem.mesh().num_nodes(); ++n) {
+    const auto& p = problem.mesh().node(n);
+    const double bump = std::sin(M_PI * p[1]) * std::sin(M_PI * p[0] / 19.0);
+    u[problem.dofs().node_dof(fv, n, 0)] += 2.0 * bump;
+    u[problem.dofs().node_dof(fv, n, 1)] -= 3.0 * bump;
+  }
+  NewtonOptions opt;
+  opt.residual_tolerance = 1e-13;
+  NewtonSolver newton(problem, opt);
+  const NewtonResult res = newton.solve(u);
+  ASSERT_TRUE(res.converged()) << res.status.describe();
+  expect_quadratic(residual_history(res, "navier-stokes Re=50"));
+}
+
+namespace {
+
+// F_i = atan(u_i - i): full Newton steps diverge from |u_i - i| > 1.39 (the classic example),
+// damped steps converge.
+class ArctanProblem final : public Problem {
+ public:
+  explicit ArctanProblem(int n) : pattern_(n, n) {
+    pattern_.setIdentity();
+    pattern_.makeCompressed();
+    params_.add("shift", 0.0, "unused");
+  }
+  std::string name() const override { return "arctan"; }
+  int size() const override { return static_cast<int>(pattern_.rows()); }
+  ParameterSet& parameters() override { return params_; }
+  const ParameterSet& parameters() const override { return params_; }
+  const SparseMatrix& jacobian_pattern() const override { return pattern_; }
+  Status residual(const Vector& u, Vector& F) override {
+    F.resize(size());
+    for (int i = 0; i < size(); ++i) F[i] = std::atan(u[i] - i);
+    return {};
+  }
+  Status jacobian(const Vector& u, Vector& F, SparseMatrix& J) override {
+    residual(u, F);
+    J = pattern_;
+    for (int i = 0; i < size(); ++i) J.coeffRef(i, i) = 1.0 / (1.0 + (u[i] - i) * (u[i] - i));
+    return {};
+  }
+  Vector initial_guess() override { return Vector::Zero(size()); }
+  SolutionFields fields(const Vector&) const override { return {}; }
+
+ private:
+  SparseMatrix pattern_;
+  ParameterSet params_;
+};
+
+}  // namespace
+
+TEST(Newton, LineSearchRescuesAPoorStart) {
+  ArctanProblem problem(3);
+  Vector start(3);
+  start << 1.5, 1.0 - 2.0, 2.0 + 3.0;  // offsets 1.5, -2, 3 from the roots 0, 1, 2
+  NewtonOptions full;
+  full.line_search = false;
+  full.max_iterations = 30;
+  Vector u = start;
+  const NewtonResult undamped = NewtonSolver(problem, full).solve(u);
+  EXPECT_FALSE(undamped.converged());  // plain Newton diverges from here...
+  u = start;
+  NewtonOptions damped;
+  damped.max_iterations = 30;
+  const NewtonResult res = NewtonSolver(problem, damped).solve(u);
+  ASSERT_TRUE(res.converged()) << res.status.describe();  // ... the line search brings it home
+  bool shortened = false;
+  for (const auto& it : res.history) shortened |= it.step_length < 1.0;
+  EXPECT_TRUE(shortened);
+  // |atan(x)| <= 1e-10 (the residual tolerance) means |x| <= 1e-10
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(u[i], i, 1e-10);
+}
+
+TEST(Newton, FailuresAreStatuses) {
+  // no solution beyond the fold: Newton must stop with a reason, not crash or loop
+  Bratu1DProblem problem(32, 4.0);
+  Vector u = problem.initial_guess();
+  NewtonOptions opt;
+  opt.max_iterations = 15;
+  NewtonSolver newton(problem, opt);
+  const NewtonResult res = newton.solve(u);
+  EXPECT_FALSE(res.converged());
+  EXPECT_FALSE(res.status.message().empty());
+  EXPECT_TRUE(u.allFinite());  // the last accepted iterate is kept
+  // a non-finite start is reported as such
+  Vector bad = Vector::Constant(problem.size(), 800.0);
+  const NewtonResult nf = newton.solve(bad);
+  EXPECT_EQ(nf.status.code(), StatusCode::NotFinite);
+}

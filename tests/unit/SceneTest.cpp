@@ -1,0 +1,81 @@
+// Scenes: validation errors name the file, line, key and what is allowed; defaults fill in;
+// the resolved scene parses back to the same values.
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "core/Scene.hpp"
+#include "runs/SceneLoader.hpp"
+#include "support/TestSupport.hpp"
+
+using namespace keller;
+
+namespace {
+
+SceneSchema schema() {
+  SceneSchema s;
+  s.section("mesh", "mesh");
+  s.integer("mesh.n", 4, "elements", Range::at_least(1));
+  s.real("mesh.length", 7.0, "a length", Range::positive());
+  s.string("mesh.kind", "uniform", "kind", {"uniform", "graded"});
+  s.boolean("mesh.flag", false, "a flag");
+  s.real_list("mesh.stops", {0.5}, "stops", Range::non_negative());
+  return s;
+}
+
+std::string error_of(const std::string& text) {
+  try {
+    Scene::parse(text, "s.toml", schema());
+  } catch (const SceneError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST(Scene, DefaultsAndValues) {
+  const Scene s = Scene::parse("[mesh]\nn = 8\nlength = 3\nstops = [1, 2.5]\n", "s.toml", schema());
+  EXPECT_EQ(s.integer("mesh.n"), 8);
+  EXPECT_DOUBLE_EQ(s.real("mesh.length"), 3.0);  // an integer is accepted as a number
+  EXPECT_EQ(s.string("mesh.kind"), "uniform");
+  EXPECT_FALSE(s.boolean("mesh.flag"));
+  EXPECT_EQ(s.real_list("mesh.stops"), (std::vector<double>{1.0, 2.5}));
+  EXPECT_TRUE(s.given("mesh.n"));
+  EXPECT_FALSE(s.given("mesh.kind"));
+}
+
+TEST(Scene, ResolvedSceneParsesBackToTheSameValues) {
+  const Scene s = Scene::parse("[mesh]\nn = 8\nlength = 1e-3\nkind = \"graded\"\n", "s.toml", schema());
+  const Scene t = Scene::parse(s.resolved_toml(), "resolved", schema());
+  EXPECT_EQ(t.integer("mesh.n"), 8);
+  EXPECT_DOUBLE_EQ(t.real("mesh.length"), 1e-3);
+  EXPECT_EQ(t.string("mesh.kind"), "graded");
+  EXPECT_EQ(t.real_list("mesh.stops"), (std::vector<double>{0.5}));
+}
+
+TEST(Scene, EachKindOfErrorHasItsOwnMessage) {
+  EXPECT_EQ(error_of("[mesh]\nnn = 3\n"),
+            "s.toml:2: unknown key 'mesh.nn'; keys allowed in [mesh]: n, length, kind, flag, stops");
+  EXPECT_EQ(error_of("[mesh]\nn = \"ten\"\n"), "s.toml:2: key 'mesh.n' must be an integer, got a string (\"ten\")");
+  EXPECT_EQ(error_of("[mesh]\nn = 2.5\n"), "s.toml:2: key 'mesh.n' must be an integer, got a number (2.5)");
+  EXPECT_EQ(error_of("[mesh]\n\nlength = -7\n"), "s.toml:3: key 'mesh.length' = -7 is out of range: must be > 0");
+  EXPECT_EQ(error_of("[mesh]\nkind = \"curved\"\n"), "s.toml:2: key 'mesh.kind' = \"curved\" is not one of: uniform, graded");
+  EXPECT_EQ(error_of("[meshes]\nn = 3\n"), "s.toml:1: unknown section [meshes]; allowed sections: mesh");
+  EXPECT_EQ(error_of("n = 3\n"), "s.toml:1: unknown key 'n' outside any known section; allowed sections: mesh");
+  EXPECT_EQ(error_of("[mesh]\nstops = [1, -1]\n"), "s.toml:2: key 'mesh.stops' = -1 is out of range: must be >= 0");
+  const std::string syntax = error_of("[mesh\nn = 3\n");
+  EXPECT_EQ(syntax.rfind("s.toml:1:", 0), 0u) << syntax;
+  EXPECT_NE(syntax.find("not valid TOML"), std::string::npos) << syntax;
+  EXPECT_THROW(Scene::load("/nonexistent/scene.toml", schema()), SceneError);
+}
+
+TEST(Scene, FullChannelSchemaValidatesTheShippedScene) {
+  const LoadedScene l = load_scene(test::source_path("runs/scenes/channel_stokes.toml"));
+  EXPECT_EQ(l.type->name, "channel");
+  EXPECT_EQ(l.scene.string("mesh.name"), "M2");
+  EXPECT_DOUBLE_EQ(l.scene.real("parameters.Gamma"), 4.95e-4);
+  const std::string help = scene_help();
+  EXPECT_NE(help.find("upstream_length = 7.0"), std::string::npos);
+  EXPECT_NE(help.find("Lu, length of the rigid channel upstream"), std::string::npos);
+}
