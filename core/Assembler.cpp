@@ -94,6 +94,22 @@ Assembler::Assembler(int n, std::vector<std::shared_ptr<const Term>> terms, std:
   }
   outer[n] = static_cast<int>(k);
   pattern_.makeCompressed();
+
+  for (const auto& tp : terms_) {
+    const Term& t = *tp;
+    const int m = t.local_size(), kr = t.local_rows();
+    std::vector<int> pos(static_cast<size_t>(t.num_items()) * kr * m);
+    dofs.resize(m);
+    for (int item = 0; item < t.num_items(); ++item) {
+      t.item_dofs(item, dofs.data());
+      int* p = &pos[static_cast<size_t>(item) * kr * m];
+      for (int i = 0; i < kr; ++i) {
+        const int r = destination(t, dofs[i]);
+        for (int j = 0; j < m; ++j) p[i * m + j] = r < 0 ? -1 : position(r, dofs[j]);
+      }
+    }
+    positions_.push_back(std::move(pos));
+  }
 }
 
 int Assembler::position(int row, int col) const {
@@ -139,13 +155,12 @@ Status Assembler::jacobian(const Vector& u, Vector& F, SparseMatrix& J) const {
   std::fill(J.valuePtr(), J.valuePtr() + J.nonZeros(), 0.0);
   F.setZero(n_);
   double* val = J.valuePtr();
-  std::vector<int> dofs, rows;
+  std::vector<int> dofs;
   std::vector<double> ul, rl, Jl;
-  for (const auto& tp : terms_) {
-    const Term& t = *tp;
+  for (size_t ti = 0; ti < terms_.size(); ++ti) {
+    const Term& t = *terms_[ti];
     const int m = t.local_size(), k = t.local_rows();
     dofs.resize(m);
-    rows.resize(k);
     ul.resize(m);
     rl.resize(k);
     Jl.resize(static_cast<size_t>(k) * m);
@@ -154,16 +169,12 @@ Status Assembler::jacobian(const Vector& u, Vector& F, SparseMatrix& J) const {
       for (int j = 0; j < m; ++j) ul[j] = u[dofs[j]];
       Status st = t.jacobian(item, ul.data(), rl.data(), Jl.data());
       if (!st.is_ok()) return item_failure(t, item, st);
+      const int* pos = &positions_[ti][static_cast<size_t>(item) * k * m];
       for (int i = 0; i < k; ++i) {
-        rows[i] = destination(t, dofs[i]);
-        if (rows[i] >= 0) F[rows[i]] += rl[i];
-      }
-      for (int j = 0; j < m; ++j) {
-        const int c = dofs[j];
-        for (int i = 0; i < k; ++i) {
-          if (rows[i] < 0) continue;
-          val[position(rows[i], c)] += Jl[static_cast<size_t>(i) * m + j];
-        }
+        const int r = destination(t, dofs[i]);
+        if (r < 0) continue;
+        F[r] += rl[i];
+        for (int j = 0; j < m; ++j) val[pos[i * m + j]] += Jl[static_cast<size_t>(i) * m + j];
       }
     }
   }

@@ -56,6 +56,10 @@ class Assembler {
   std::vector<int> target_;
   std::vector<int> owned_;  // index of the owning strong term, or -1
   SparseMatrix pattern_;
+  // For each term: per item, the value-array position of local entry (i, j) (row-major,
+  // local_rows x local_size), -1 where the row is dropped. Costs 4 bytes per local entry and
+  // saves a search per entry in every Jacobian assembly.
+  std::vector<std::vector<int>> positions_;
   mutable Timing timing_;
 };
 

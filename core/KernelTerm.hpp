@@ -18,7 +18,7 @@
 #include <utility>
 #include <vector>
 
-#include "core/Dual.hpp"
+#include "core/AutoDiff.hpp"
 #include "core/ParameterSet.hpp"
 #include "core/Term.hpp"
 
@@ -47,8 +47,8 @@ class KernelTerm final : public Term {
     for (int i = 0; i < N; ++i) ud[i] = make_variable<N>(u[i], i);
     Status st = kernel_.template evaluate<JacobianScalar, double>(item, ud.data(), params_->values(), rd.data());
     for (int i = 0; i < N; ++i) {
-      r[i] = rd[i].v;
-      for (int j = 0; j < N; ++j) J[i * N + j] = rd[i].d[j];
+      r[i] = rd[i].value();
+      for (int j = 0; j < N; ++j) J[i * N + j] = rd[i].derivatives()[j];
     }
     return st;
   }
@@ -57,9 +57,9 @@ class KernelTerm final : public Term {
     std::array<DerivativeScalar, N> ud, rd;
     for (int i = 0; i < N; ++i) ud[i] = DerivativeScalar(u[i]);
     std::vector<DerivativeScalar> pd(params_->values(), params_->values() + params_->size());
-    pd[p].d[0] = 1.0;
+    pd[p].derivatives()[0] = 1.0;
     Status st = kernel_.template evaluate<DerivativeScalar, DerivativeScalar>(item, ud.data(), pd.data(), rd.data());
-    for (int i = 0; i < N; ++i) dr[i] = rd[i].d[0];
+    for (int i = 0; i < N; ++i) dr[i] = rd[i].derivatives()[0];
     return st;
   }
 

@@ -84,6 +84,10 @@ void write_fields(H5File& file, const std::string& group, const SolutionFields& 
     file.set_attribute(ds, "basis", f.basis);
     file.set_attribute(ds, "components", join(f.components));
     file.set_attribute(ds, "groups", join(f.groups));
+    for (long k = 0; k < f.values.cols(); ++k) {  // one dataset per component for the XDMF readers
+      const Eigen::VectorXd col = f.values.col(k);
+      file.write_matrix(group + "/xdmf/" + f.name + "_" + f.components[k], col.data(), col.size(), 1);
+    }
     if (f.values.cols() == 2) {  // ParaView wants 3-component vectors
       std::vector<double> v3;
       for (long i = 0; i < f.values.rows(); ++i) {
@@ -106,11 +110,12 @@ void write_fields(H5File& file, const std::string& group, const SolutionFields& 
     if (mesh) {
       for (int g = 0; g < static_cast<int>(mesh->group_names().size()); ++g) {
         const auto els = group_elements(*mesh, g);
-        std::vector<double> cv;
-        for (int e : els)
-          for (long c = 0; c < f.centre_values.cols(); ++c) cv.push_back(f.centre_values(e, c));
-        file.write_matrix(group + "/xdmf/" + f.name + "_" + mesh->group_names()[g], cv.data(),
-                          static_cast<long>(els.size()), f.centre_values.cols());
+        for (long c = 0; c < f.centre_values.cols(); ++c) {
+          std::vector<double> cv;
+          for (int e : els) cv.push_back(f.centre_values(e, c));
+          file.write_matrix(group + "/xdmf/" + f.components[c] + "_" + mesh->group_names()[g], cv.data(),
+                            static_cast<long>(els.size()), 1);
+        }
       }
     }
   }
@@ -160,31 +165,22 @@ void write_xdmf(const std::string& xdmf_path, const std::string& h5_name, const 
               "      <DataItem Dimensions=\"{} 3\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">{}:/{}/xdmf/{}_vector"
               "</DataItem>\n     </Attribute>\n",
               f.name, N, h5_name, s.group, f.name);
-        for (long c = 0; c < nc; ++c) {
-          const std::string name = nc == 1 ? f.name : f.components[c];
-          // pick column c of the N x nc dataset with a hyperslab
+        for (long c = 0; c < nc; ++c)
           x += fmt::format(
               "     <Attribute Name=\"{}\" AttributeType=\"Scalar\" Center=\"Node\">\n"
-              "      <DataItem ItemType=\"HyperSlab\" Dimensions=\"{} 1\" Type=\"HyperSlab\">\n"
-              "       <DataItem Dimensions=\"3 2\" Format=\"XML\">0 {} 1 1 {} 1</DataItem>\n"
-              "       <DataItem Dimensions=\"{} {}\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">{}:/{}/{}"
-              "</DataItem>\n      </DataItem>\n     </Attribute>\n",
-              name, N, c, N, N, nc, h5_name, s.group, f.name);
-        }
+              "      <DataItem Dimensions=\"{}\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">{}:/{}/xdmf/{}_{}"
+              "</DataItem>\n     </Attribute>\n",
+              f.components[c], N, h5_name, s.group, f.name, f.components[c]);
       }
       for (const ElementField& f : layout.element) {
         if (!lives_here(f.groups)) continue;
         const long nc = f.centre_values.cols();
-        for (long c = 0; c < nc; ++c) {
-          const std::string name = nc == 1 ? f.name : f.components[c];
+        for (long c = 0; c < nc; ++c)
           x += fmt::format(
               "     <Attribute Name=\"{}\" AttributeType=\"Scalar\" Center=\"Cell\">\n"
-              "      <DataItem ItemType=\"HyperSlab\" Dimensions=\"{} 1\" Type=\"HyperSlab\">\n"
-              "       <DataItem Dimensions=\"3 2\" Format=\"XML\">0 {} 1 1 {} 1</DataItem>\n"
-              "       <DataItem Dimensions=\"{} {}\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">{}:/{}/xdmf/{}_{}"
-              "</DataItem>\n      </DataItem>\n     </Attribute>\n",
-              name, E, c, E, E, nc, h5_name, s.group, f.name, gname);
-        }
+              "      <DataItem Dimensions=\"{}\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">{}:/{}/xdmf/{}_{}"
+              "</DataItem>\n     </Attribute>\n",
+              f.components[c], E, h5_name, s.group, f.components[c], gname);
       }
       x += "    </Grid>\n";
     }

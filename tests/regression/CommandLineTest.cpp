@@ -34,7 +34,8 @@ TEST(CommandLine, SolvesTheDefaultScene) {
   std::ifstream x(dir + "/out.xdmf");
   const std::string xdmf((std::istreambuf_iterator<char>(x)), std::istreambuf_iterator<char>());
   EXPECT_NE(xdmf.find("Quadrilateral_9"), std::string::npos);
-  EXPECT_NE(xdmf.find("out.h5:/solution/fields/velocity"), std::string::npos);
+  EXPECT_NE(xdmf.find("out.h5:/solution/fields/xdmf/velocity_vector"), std::string::npos);
+  EXPECT_NE(xdmf.find("<Attribute Name=\"p\" AttributeType=\"Scalar\" Center=\"Cell\">"), std::string::npos);
 }
 
 namespace {
