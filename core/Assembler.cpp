@@ -189,6 +189,34 @@ Status Assembler::jacobian(const Vector& u, Vector& F, SparseMatrix& J) const {
   return {};
 }
 
+Status Assembler::mass_matrix(const Vector& u, SparseMatrix& B) const {
+  if (B.nonZeros() != pattern_.nonZeros() || B.rows() != n_) B = pattern_;
+  std::fill(B.valuePtr(), B.valuePtr() + B.nonZeros(), 0.0);
+  double* val = B.valuePtr();
+  std::vector<int> dofs;
+  std::vector<double> ul, Bl;
+  for (size_t ti = 0; ti < terms_.size(); ++ti) {
+    const Term& t = *terms_[ti];
+    if (!t.has_mass()) continue;
+    const int m = t.local_size(), k = t.local_rows();
+    dofs.resize(m);
+    ul.resize(m);
+    Bl.resize(static_cast<size_t>(k) * m);
+    for (int item = 0; item < t.num_items(); ++item) {
+      t.item_dofs(item, dofs.data());
+      for (int j = 0; j < m; ++j) ul[j] = u[dofs[j]];
+      Status st = t.mass(item, ul.data(), Bl.data());
+      if (!st.is_ok()) return item_failure(t, item, st);
+      const int* pos = &positions_[ti][static_cast<size_t>(item) * k * m];
+      for (int i = 0; i < k; ++i) {
+        if (destination(t, dofs[i]) < 0) continue;
+        for (int j = 0; j < m; ++j) val[pos[i * m + j]] += Bl[static_cast<size_t>(i) * m + j];
+      }
+    }
+  }
+  return {};
+}
+
 Status Assembler::parameter_derivative(int p, const Vector& u, Vector& dF) const {
   const auto t0 = std::chrono::steady_clock::now();
   dF.setZero(n_);

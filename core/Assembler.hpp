@@ -41,6 +41,8 @@ class Assembler {
   Status jacobian(const Vector& u, Vector& F, SparseMatrix& J) const;
   // dF/dp for parameter index p.
   Status parameter_derivative(int p, const Vector& u, Vector& dF) const;
+  // Mass matrix B of B du/dt = -F (structure of pattern()); rows owned by strong terms are zero.
+  Status mass_matrix(const Vector& u, SparseMatrix& B) const;
 
   const Timing& timing() const { return timing_; }
   void reset_timing() { timing_ = {}; }

@@ -9,6 +9,9 @@
 //   template <class T, class P>
 //   Status evaluate(int item, const T* u, const P* params, T* r) const;
 // where T is the scalar of the unknowns and residual and P that of the parameter values.
+// A kernel whose equations carry time derivatives also provides
+//   Status mass(int item, const double* u, const double* params, double* B) const;
+// the local block of B in B du/dt = -F (row-major kSize x kSize).
 // evaluate is instantiated with (double, double) for residuals, (Dual<kSize>, double) for the
 // Jacobian and (Dual<1>, Dual<1>) for dF/dp, so kernels must only mix T with P and double in
 // ways that give T.
@@ -61,6 +64,16 @@ class KernelTerm final : public Term {
     Status st = kernel_.template evaluate<DerivativeScalar, DerivativeScalar>(item, ud.data(), pd.data(), rd.data());
     for (int i = 0; i < N; ++i) dr[i] = rd[i].derivatives()[0];
     return st;
+  }
+
+  bool has_mass() const override {
+    return requires(const Kernel& k, const double* x, double* y) { k.mass(0, x, x, y); };
+  }
+  Status mass(int item, const double* u, double* B) const override {
+    if constexpr (requires(const Kernel& k, const double* x, double* y) { k.mass(0, x, x, y); })
+      return kernel_.mass(item, u, params_->values(), B);
+    else
+      return {};
   }
 
   const Kernel& kernel() const { return kernel_; }

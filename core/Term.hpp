@@ -30,6 +30,9 @@ class Term {
   virtual Status jacobian(int item, const double* u, double* r, double* J) const = 0;
   // dr/dp for parameter index p of the problem's ParameterSet.
   virtual Status parameter_derivative(int item, int p, const double* u, double* dr) const = 0;
+  // Whether the item's equations carry time derivatives: B du/dt = -F (B row-major like J).
+  virtual bool has_mass() const { return false; }
+  virtual Status mass(int item, const double* u, double* B) const { return {}; }
 };
 
 }  // namespace keller

@@ -49,6 +49,7 @@ class ChannelProblem final : public Problem {
   Status residual(const Vector& u, Vector& F) override;
   Status jacobian(const Vector& u, Vector& F, SparseMatrix& J) override;
   Status parameter_derivative(int p, const Vector& u, Vector& dF) override;
+  Status mass_matrix(const Vector& u, SparseMatrix& B) override { return assembler_->mass_matrix(u, B); }
   Vector initial_guess() override;
   double residual_scale() const override;
   std::vector<std::string> observable_names() const override;

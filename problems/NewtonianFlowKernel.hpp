@@ -9,6 +9,8 @@
 // T_xx = 0 (-P + 2 beta dv_x/dx = 0), i.e. P = 0 for fully developed flow.
 //
 // Local unknowns (21): v_x at nodes 0..8, v_y at nodes 0..8, P coefficients 0..2.
+// Time-dependent form: (Re/Gamma) dv/dt adds the mass block (Re/Gamma) int phi_a phi_b to the
+// velocity rows; continuity has no time derivative. With Re = 0 the mass matrix is zero.
 #pragma once
 
 #include <array>
@@ -49,6 +51,22 @@ class NewtonianFlowKernel {
   int num_items() const { return static_cast<int>(elements_.size()); }
   void item_dofs(int item, int* out) const {
     std::copy_n(&dofs_[static_cast<size_t>(item) * kSize], kSize, out);
+  }
+
+  Status mass(int item, const double*, const double* params, double* B) const {
+    const ref::Tables& tb = ref::tables();
+    const double rho = p_.Re >= 0 ? params[p_.Re] / params[p_.Gamma] : 0.0;
+    std::fill(B, B + kSize * kSize, 0.0);
+    for (int q = 0; q < ref::kQp; ++q) {
+      const double w = rho * (*geometry_)[item][q].wdetJ;
+      for (int a = 0; a < 9; ++a)
+        for (int b = 0; b < 9; ++b) {
+          const double m = w * tb.N2[q][a] * tb.N2[q][b];
+          B[a * kSize + b] += m;
+          B[(9 + a) * kSize + 9 + b] += m;
+        }
+    }
+    return {};
   }
 
   template <class T, class P>

@@ -101,3 +101,39 @@ TEST(KernelJacobian, Bratu2D) {
   std::cout << "bratu2d dF/dlambda: max relative error " << e << "\n";
   EXPECT_LT(e, 1e-6);
 }
+
+// Mass matrices against exact integrals of Q2 basis functions on an hx x hy rectangle: the
+// centre node's function integrates to (2/3)^2 hx hy, a vertex node's to (1/6)^2 hx hy per
+// element. Row sums of B are these integrals (times Re/Gamma for velocity rows); Dirichlet and
+// continuity rows carry no time derivative.
+TEST(MassMatrix, RowSumsAreBasisIntegrals) {
+  ChannelOptions o = small_channel(4.0);
+  ChannelProblem channel(o);
+  SparseMatrix B;
+  ASSERT_TRUE(channel.mass_matrix(channel.initial_guess(), B).is_ok());
+  const Vector rows = B * Vector::Ones(channel.size());
+  const double rho = o.Re / o.Gamma;
+  const int fv = channel.dofs().field_index("velocity"), fp = channel.dofs().field_index("pressure");
+  const Mesh& m = channel.mesh();
+  for (int e = 0; e < m.num_elements(); ++e) {
+    const auto& el = m.element(e);
+    const double hx = m.node(el[2])[0] - m.node(el[0])[0], hy = m.node(el[6])[1] - m.node(el[0])[1];
+    for (int c = 0; c < 2; ++c) EXPECT_NEAR(rows[channel.dofs().node_dof(fv, el[4], c)], rho * 4.0 / 9.0 * hx * hy, 1e-12);
+    EXPECT_EQ(rows[channel.dofs().element_dof(fp, e, 0, 0)], 0.0);
+  }
+  for (int i = 0; i < channel.size(); ++i)
+    if (channel.assembler().row_owned(i)) EXPECT_EQ(rows[i], 0.0);
+
+  Bratu2DProblem bratu(4, 1.0);
+  ASSERT_TRUE(bratu.mass_matrix(bratu.initial_guess(), B).is_ok());
+  const Vector brows = B * Vector::Ones(bratu.size());
+  const double h = 0.25;
+  for (int n = 0; n < bratu.mesh().num_nodes(); ++n) {
+    const auto& p = bratu.mesh().node(n);
+    if (std::abs(p[0] - 0.5) < 1e-12 && std::abs(p[1] - 0.5) < 1e-12)  // interior vertex, 4 elements
+      EXPECT_NEAR(brows[bratu.dofs().node_dof(0, n, 0)], 4 * h * h / 36.0, 1e-15);
+    if (std::abs(p[0] - 0.125) < 1e-12 && std::abs(p[1] - 0.625) < 1e-12)  // an element centre
+      EXPECT_NEAR(brows[bratu.dofs().node_dof(0, n, 0)], 4 * h * h / 9.0, 1e-15);
+    if (p[0] < 1e-12) EXPECT_EQ(brows[bratu.dofs().node_dof(0, n, 0)], 0.0);  // Dirichlet row
+  }
+}
