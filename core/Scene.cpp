@@ -171,7 +171,9 @@ void flatten(const toml::table& t, const std::string& prefix, std::vector<Leaf>&
              std::vector<std::pair<std::string, int>>& tables) {
   for (auto&& [k, v] : t) {
     const std::string path = prefix.empty() ? std::string(k.str()) : prefix + "." + std::string(k.str());
-    const int line = static_cast<int>(v.source().begin.line);
+    // keys set by --set overrides come from a document named "override": line 0
+    const bool overridden = v.source().path && *v.source().path == "override";
+    const int line = overridden ? 0 : static_cast<int>(v.source().begin.line);
     if (const toml::table* sub = v.as_table()) {
       tables.emplace_back(path, line);
       flatten(*sub, path, out, tables);
@@ -200,6 +202,10 @@ std::string node_text(const toml::node& n) {
   std::string s = os.str();
   if (s.size() > 40) s = s.substr(0, 37) + "...";
   return s;
+}
+
+std::string location(const std::string& source, int line) {
+  return line > 0 ? fmt::format("{}:{}", source, line) : fmt::format("{} (--set)", source);
 }
 
 toml::table parse_toml(const std::string& text, const std::string& source) {
@@ -234,15 +240,49 @@ std::string Scene::peek_string(const std::string& file, const std::string& path,
                                node_kind(*v.node())));
 }
 
-Scene Scene::load(const std::string& file, const SceneSchema& schema) {
-  return parse(read_file(file), file, schema);
+Scene Scene::load(const std::string& file, const SceneSchema& schema, const std::vector<std::string>& overrides) {
+  return parse(read_file(file), file, schema, overrides);
 }
 
-Scene Scene::parse(const std::string& text, const std::string& source, const SceneSchema& schema) {
+Scene Scene::parse(const std::string& text, const std::string& source, const SceneSchema& schema,
+                   const std::vector<std::string>& overrides) {
   Scene scene;
   scene.schema_ = schema;
   scene.source_ = source;
-  const toml::table t = parse_toml(text, source);
+  toml::table t = parse_toml(text, source);
+  // overrides: parse each as a one-key TOML document and insert it at its path
+  std::vector<toml::table> override_docs;
+  for (const std::string& o : overrides) {
+    const auto eq = o.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw SceneError(fmt::format("override '{}' is not of the form section.key=value", o));
+    const std::string path = o.substr(0, eq), value = o.substr(eq + 1);
+    const auto dot = path.rfind('.');
+    if (dot == std::string::npos) throw SceneError(fmt::format("override '{}': the key needs its section", o));
+    toml::table doc;
+    try {
+      doc = toml::parse(std::string_view("v = " + value), std::string_view("override"));
+    } catch (const toml::parse_error&) {
+      try {  // a bare word is taken as a string: --set mesh.name=M1
+        doc = toml::parse(std::string_view("v = \"" + value + "\""), std::string_view("override"));
+      } catch (const toml::parse_error& e) {
+        throw SceneError(fmt::format("override '{}': not a TOML value: {}", o, e.description()));
+      }
+    }
+    toml::table* sec = &t;
+    const std::string section = path.substr(0, dot);
+    size_t start = 0;
+    while (start <= section.size()) {
+      const size_t end = section.find('.', start);
+      const std::string part = section.substr(start, end == std::string::npos ? std::string::npos : end - start);
+      auto [it, inserted] = sec->insert(part, toml::table{});
+      sec = it->second.as_table();
+      if (!sec) throw SceneError(fmt::format("override '{}': '{}' is not a section", o, part));
+      if (end == std::string::npos) break;
+      start = end + 1;
+    }
+    sec->insert_or_assign(path.substr(dot + 1), *doc.get("v"));
+  }
   std::vector<Leaf> leaves;
   std::vector<std::pair<std::string, int>> tables;
   flatten(t, "", leaves, tables);
@@ -258,7 +298,7 @@ Scene Scene::parse(const std::string& text, const std::string& source, const Sce
     for (const auto& [name, doc] : schema.sections())
       if (name.rfind(path + ".", 0) == 0) prefix_of_section = true;
     if (!prefix_of_section)
-      throw SceneError(fmt::format("{}:{}: unknown section [{}]; allowed sections: {}", source, line, path, section_list()));
+      throw SceneError(fmt::format("{}: unknown section [{}]; allowed sections: {}", location(source, line), path, section_list()));
   }
   for (const Leaf& leaf : leaves) {
     const KeySpec* spec = schema.find(leaf.path);
@@ -266,21 +306,21 @@ Scene Scene::parse(const std::string& text, const std::string& source, const Sce
       const auto dot = leaf.path.rfind('.');
       const std::string sec = dot == std::string::npos ? "" : leaf.path.substr(0, dot);
       if (sec.empty() || !schema.has_section(sec))
-        throw SceneError(fmt::format("{}:{}: unknown key '{}' outside any known section; allowed sections: {}", source,
-                                     leaf.line, leaf.path, section_list()));
+        throw SceneError(fmt::format("{}: unknown key '{}' outside any known section; allowed sections: {}",
+                                     location(source, leaf.line), leaf.path, section_list()));
       std::string allowed;
       for (const auto& k : schema.keys_in(sec)) allowed += (allowed.empty() ? "" : ", ") + k;
-      throw SceneError(fmt::format("{}:{}: unknown key '{}'; keys allowed in [{}]: {}", source, leaf.line, leaf.path,
-                                   sec, allowed));
+      throw SceneError(fmt::format("{}: unknown key '{}'; keys allowed in [{}]: {}", location(source, leaf.line),
+                                   leaf.path, sec, allowed));
     }
     const toml::node& n = *leaf.node;
     auto wrong_type = [&]() {
-      return SceneError(fmt::format("{}:{}: key '{}' must be {}, got {} ({})", source, leaf.line, leaf.path,
+      return SceneError(fmt::format("{}: key '{}' must be {}, got {} ({})", location(source, leaf.line), leaf.path,
                                     spec->type_name(), node_kind(n), node_text(n)));
     };
     auto out_of_range = [&](double v) {
-      return SceneError(fmt::format("{}:{}: key '{}' = {} is out of range: must be {}", source, leaf.line, leaf.path, v,
-                                    spec->range.describe()));
+      return SceneError(fmt::format("{}: key '{}' = {} is out of range: must be {}", location(source, leaf.line),
+                                    leaf.path, v, spec->range.describe()));
     };
     SceneValue value;
     switch (spec->type) {
@@ -311,8 +351,8 @@ Scene Scene::parse(const std::string& text, const std::string& source, const Sce
         if (!spec->choices.empty() && std::find(spec->choices.begin(), spec->choices.end(), v) == spec->choices.end()) {
           std::string allowed;
           for (const auto& c : spec->choices) allowed += (allowed.empty() ? "" : ", ") + c;
-          throw SceneError(fmt::format("{}:{}: key '{}' = \"{}\" is not one of: {}", source, leaf.line, leaf.path, v,
-                                       allowed));
+          throw SceneError(fmt::format("{}: key '{}' = \"{}\" is not one of: {}", location(source, leaf.line),
+                                       leaf.path, v, allowed));
         }
         value = v;
         break;
@@ -362,7 +402,7 @@ bool Scene::given(const std::string& path) const { return lines_.count(path) > 0
 
 SceneError Scene::error(const std::string& path, const std::string& what) const {
   auto it = lines_.find(path);
-  if (it != lines_.end()) return SceneError(fmt::format("{}:{}: key '{}': {}", source_, it->second, path, what));
+  if (it != lines_.end()) return SceneError(fmt::format("{}: key '{}': {}", location(source_, it->second), path, what));
   return SceneError(fmt::format("{}: key '{}' (default): {}", source_, path, what));
 }
 

@@ -80,8 +80,11 @@ class Scene {
  public:
   // Reads and validates a scene file; throws SceneError (missing file, TOML syntax, unknown
   // key or section, wrong type, value out of range).
-  static Scene load(const std::string& file, const SceneSchema& schema);
-  static Scene parse(const std::string& text, const std::string& source, const SceneSchema& schema);
+  // `overrides` are "section.key=value" strings (value in TOML syntax) applied on top of the
+  // file and validated like it; errors name them as "override 'mesh.name=M1'".
+  static Scene load(const std::string& file, const SceneSchema& schema, const std::vector<std::string>& overrides = {});
+  static Scene parse(const std::string& text, const std::string& source, const SceneSchema& schema,
+                     const std::vector<std::string>& overrides = {});
   // Reads one string key without validating the rest (to pick the schema, e.g. problem.type);
   // returns `fallback` when absent. Throws SceneError on a missing file or bad TOML.
   static std::string peek_string(const std::string& file, const std::string& path, const std::string& fallback);

@@ -16,8 +16,15 @@ void declare_common_keys(SceneSchema& s) {
   s.boolean("output.xdmf", true, "write an XDMF file next to the HDF5 file for ParaView");
 }
 
-LoadedScene load_scene(const std::string& file, const std::function<void(SceneSchema&)>& extra) {
-  const std::string type_name = Scene::peek_string(file, "problem.type", "channel");
+LoadedScene load_scene(const std::string& file, const std::function<void(SceneSchema&)>& extra,
+                       const std::vector<std::string>& overrides) {
+  std::string type_name = Scene::peek_string(file, "problem.type", "channel");
+  for (const std::string& o : overrides)
+    if (o.rfind("problem.type=", 0) == 0) {
+      type_name = o.substr(13);
+      if (type_name.size() >= 2 && type_name.front() == '"' && type_name.back() == '"')
+        type_name = type_name.substr(1, type_name.size() - 2);
+    }
   const ProblemType* type = nullptr;
   try {
     type = &problem_type(type_name);
@@ -28,7 +35,7 @@ LoadedScene load_scene(const std::string& file, const std::function<void(SceneSc
   declare_common_keys(schema);
   type->declare(schema);
   if (extra) extra(schema);
-  return {Scene::load(file, schema), type};
+  return {Scene::load(file, schema, overrides), type};
 }
 
 std::string scene_help(const std::function<void(SceneSchema&)>& extra) {

@@ -20,8 +20,10 @@ struct LoadedScene {
 };
 
 // Reads problem.type, builds the schema (common keys, the type's keys, and `extra` for the
-// command's own sections) and validates the file. Throws SceneError.
-LoadedScene load_scene(const std::string& file, const std::function<void(SceneSchema&)>& extra = {});
+// command's own sections) and validates the file with the overrides ("section.key=value")
+// applied. Throws SceneError.
+LoadedScene load_scene(const std::string& file, const std::function<void(SceneSchema&)>& extra = {},
+                       const std::vector<std::string>& overrides = {});
 
 // The full listing of every key of every problem type, for --help-scene.
 std::string scene_help(const std::function<void(SceneSchema&)>& extra = {});

@@ -18,7 +18,7 @@ int run_solve(const SolveArguments& args) {
   std::unique_ptr<Problem> problem;
   std::string out = args.output;
   try {
-    loaded = load_scene(args.scene);
+    loaded = load_scene(args.scene, {}, args.overrides);
     if (out.empty()) out = fs::path(args.scene).stem().string() + ".h5";
     check_output_path(out);
     fmt::print("{}\n", loaded.scene.resolved_toml());

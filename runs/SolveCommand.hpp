@@ -3,12 +3,14 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 namespace keller {
 
 struct SolveArguments {
   std::string scene;
   std::string output;  // empty: <scene stem>.h5 in the current directory
+  std::vector<std::string> overrides;  // "section.key=value"
 };
 
 // Returns the process exit code: 0 converged, 1 Newton failed (no output written),

@@ -1,0 +1,221 @@
+#include "continuation/BranchFile.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <stdexcept>
+
+#include "core/SolutionWriter.hpp"
+
+namespace keller {
+
+namespace {
+
+std::string join(const std::vector<std::string>& v) {
+  std::string s;
+  for (const auto& x : v) s += (s.empty() ? "" : ",") + x;
+  return s;
+}
+
+std::vector<std::string> split(const std::string& s) {
+  std::vector<std::string> out;
+  if (s.empty()) return out;
+  size_t start = 0;
+  while (true) {
+    const size_t pos = s.find(',', start);
+    out.push_back(s.substr(start, pos - start));
+    if (pos == std::string::npos) break;
+    start = pos + 1;
+  }
+  return out;
+}
+
+constexpr const char* kKinds = "0 point, 1 start, 2 requested, 3 event, 4 fold, 5 branch-point, 6 end";
+
+}  // namespace
+
+BranchFile::BranchFile(const std::string& path, const Problem& problem, const ContinuationOptions& options,
+                       const std::vector<std::string>& monitor_names, double state_scale,
+                       const std::function<void(H5File&)>& header)
+    : path_(path), n_(problem.size()) {
+  file_ = std::make_unique<H5File>(path, H5File::Mode::Create);
+  if (header) header(*file_);
+  file_->create_group("/branch");
+  columns_ = {"row", "kind", "s", options.parameter};
+  for (const auto& o : problem.observable_names()) columns_.push_back(o);
+  for (const auto& m : monitor_names) columns_.push_back("monitor:" + m);
+  for (const char* c : {"iterations", "step", "seconds", "det_sign", "tangent_parameter", "saved_slot"})
+    columns_.push_back(c);
+  file_->set_attribute("/branch", "parameter", options.parameter);
+  file_->set_attribute("/branch", "columns", join(columns_));
+  file_->set_attribute("/branch", "observables", join(problem.observable_names()));
+  file_->set_attribute("/branch", "monitors", join(monitor_names));
+  file_->set_attribute("/branch", "kinds", std::string(kKinds));
+  file_->set_attribute("/branch", "state_scale", state_scale);
+  file_->set_attribute("/branch", "theta", options.theta);
+  file_->set_attribute("/branch", "method",
+                       std::string(options.method == ContinuationOptions::Method::Arclength ? "arclength" : "natural"));
+  file_->create_appendable("/branch/table", static_cast<long>(columns_.size()));
+  file_->create_appendable("/branch/saved", 6, 16);
+  file_->set_attribute("/branch/saved", "columns", std::string("row,kind,parameter,tangent_parameter,step,s"));
+  file_->create_appendable("/branch/solutions", n_, 1);
+  file_->create_appendable("/branch/tangents", n_, 1);
+  file_->create_appendable("/branch/events", 4, 16);
+  file_->set_attribute("/branch/events", "columns", std::string("row,kind,parameter,monitor"));
+  file_->create_fixed_string("/branch/status", 2048);
+  file_->write_fixed_string("/branch/status", "running");
+  file_->start_swmr();
+}
+
+BranchFile::~BranchFile() { close(); }
+
+void BranchFile::close() {
+  if (file_) file_->close();
+  file_.reset();
+}
+
+void BranchFile::save_solution(const BranchPoint& p) {
+  file_->append_rows("/branch/solutions", p.u.data(), 1);
+  file_->append_rows("/branch/tangents", p.tu.data(), 1);
+  const double row[6] = {static_cast<double>(p.index), static_cast<double>(p.kind), p.lambda, p.tlambda, p.step, p.s};
+  file_->append_rows("/branch/saved", row, 1);
+  last_saved_row_ = p.index;
+  ++saved_;
+}
+
+void BranchFile::on_point(const BranchPoint& p) {
+  if (!file_) return;
+  const int slot = p.save ? saved_ : -1;
+  if (p.save) save_solution(p);
+  std::vector<double> row = {static_cast<double>(p.index), static_cast<double>(p.kind), p.s, p.lambda};
+  row.insert(row.end(), p.observables.begin(), p.observables.end());
+  row.insert(row.end(), p.monitors.begin(), p.monitors.end());
+  // stop monitors are not in p.monitors: pad so that every row has every column
+  while (row.size() + 6 < columns_.size()) row.push_back(NAN);
+  row.insert(row.end(), {static_cast<double>(p.iterations), p.step, p.seconds, static_cast<double>(p.det_sign),
+                         p.tlambda, static_cast<double>(slot)});
+  file_->append_rows("/branch/table", row.data(), 1);
+  if (p.kind != PointKind::Regular && p.kind != PointKind::Start) {
+    double monitor = -1;
+    if (p.kind == PointKind::Event) {
+      const auto names = split(file_->read_string_attribute("/branch", "monitors"));
+      auto it = std::find(names.begin(), names.end(), p.label);
+      if (it != names.end()) monitor = static_cast<double>(it - names.begin());
+    }
+    const double ev[4] = {static_cast<double>(p.index), static_cast<double>(p.kind), p.lambda, monitor};
+    file_->append_rows("/branch/events", ev, 1);
+  }
+  file_->flush();
+}
+
+void BranchFile::on_finish(const std::string& reason, const BranchPoint& last) {
+  if (!file_) return;
+  // the last point is always stored (for restarts); /branch/saved lists it
+  if (last.index >= 0 && last.index != last_saved_row_ && last.u.size() == n_) save_solution(last);
+  file_->write_fixed_string("/branch/status", reason);
+  file_->flush();
+  close();
+}
+
+int BranchTable::column(const std::string& name) const {
+  auto it = std::find(columns.begin(), columns.end(), name);
+  if (it == columns.end()) throw std::invalid_argument("branch table has no column '" + name + "'");
+  return static_cast<int>(it - columns.begin());
+}
+
+BranchTable read_branch_table(const std::string& path) {
+  H5File f(path, H5File::Mode::Read);
+  if (!f.exists("/branch/table")) throw std::runtime_error("'" + path + "' is not a branch file (no /branch/table)");
+  BranchTable t;
+  t.parameter = f.read_string_attribute("/branch", "parameter");
+  t.columns = split(f.read_string_attribute("/branch", "columns"));
+  t.observables = split(f.read_string_attribute("/branch", "observables"));
+  t.monitors = split(f.read_string_attribute("/branch", "monitors"));
+  t.state_scale = f.read_double_attribute("/branch", "state_scale");
+  t.theta = f.read_double_attribute("/branch", "theta");
+  t.status = f.read_string("/branch/status");
+  long r = 0, c = 0;
+  const auto data = f.read_matrix("/branch/table", &r, &c);
+  t.rows.resize(r, c);
+  for (long i = 0; i < r; ++i)
+    for (long j = 0; j < c; ++j) t.rows(i, j) = data[static_cast<size_t>(i * c + j)];
+  const auto saved = f.read_matrix("/branch/saved", &r, &c);
+  // a killed run may have appended a solution whose table row never got written: keep only
+  // solutions whose row exists
+  for (long i = 0; i < r; ++i) t.saved_rows.push_back(static_cast<int>(saved[static_cast<size_t>(i * c)]));
+  return t;
+}
+
+BranchPoint read_branch_point(const std::string& path, int row) {
+  H5File f(path, H5File::Mode::Read);
+  long r = 0, c = 0;
+  const auto saved = f.read_matrix("/branch/saved", &r, &c);
+  long solutions = 0, n = 0;
+  f.read_matrix("/branch/solutions", &solutions, &n);
+  long tangents = 0;
+  f.read_matrix("/branch/tangents", &tangents, nullptr);
+  const long usable = std::min({r, solutions, tangents});
+  if (usable == 0) throw std::invalid_argument("'" + path + "' holds no stored solution");
+  long slot = -1;
+  if (row < 0) {
+    slot = usable - 1;
+  } else {
+    for (long i = 0; i < usable; ++i)
+      if (static_cast<int>(saved[static_cast<size_t>(i * c)]) == row) slot = i;
+  }
+  if (slot < 0) {
+    std::string rows;
+    for (long i = 0; i < usable; ++i) rows += (rows.empty() ? "" : ", ") + std::to_string(static_cast<int>(saved[i * c]));
+    throw std::invalid_argument(fmt::format("row {} of '{}' has no stored solution; stored rows: {}", row, path, rows));
+  }
+  const auto U = f.read_matrix("/branch/solutions", &solutions, &n);
+  const auto T = f.read_matrix("/branch/tangents", nullptr, nullptr);
+  BranchPoint p;
+  p.index = static_cast<int>(saved[static_cast<size_t>(slot * c)]);
+  p.kind = static_cast<PointKind>(static_cast<int>(saved[static_cast<size_t>(slot * c + 1)]));
+  p.lambda = saved[static_cast<size_t>(slot * c + 2)];
+  p.tlambda = saved[static_cast<size_t>(slot * c + 3)];
+  p.step = saved[static_cast<size_t>(slot * c + 4)];
+  p.s = saved[static_cast<size_t>(slot * c + 5)];
+  p.u = Eigen::Map<const Vector>(&U[static_cast<size_t>(slot * n)], n);
+  p.tu = Eigen::Map<const Vector>(&T[static_cast<size_t>(slot * n)], n);
+  return p;
+}
+
+void write_branch_fields(const std::string& branch_path, const std::string& fields_path, const std::string& xdmf_path,
+                         const std::function<SolutionFields(const Vector& u, double lambda)>& fields) {
+  H5File f(branch_path, H5File::Mode::Read);
+  long r = 0, c = 0, n = 0, sol = 0;
+  const auto saved = f.read_matrix("/branch/saved", &r, &c);
+  const auto U = f.read_matrix("/branch/solutions", &sol, &n);
+  const std::string parameter = f.read_string_attribute("/branch", "parameter");
+  f.close();
+  const bool same_file = std::filesystem::absolute(fields_path) == std::filesystem::absolute(branch_path);
+  H5File out(fields_path, same_file ? H5File::Mode::ReadWrite : H5File::Mode::Create);
+  std::vector<XdmfSolution> steps;
+  SolutionFields layout;
+  for (long i = 0; i < std::min(r, sol); ++i) {
+    const double lambda = saved[static_cast<size_t>(i * c + 2)];
+    const int row = static_cast<int>(saved[static_cast<size_t>(i * c)]);
+    const Vector u = Eigen::Map<const Vector>(&U[static_cast<size_t>(i * n)], n);
+    SolutionFields sf = fields(u, lambda);
+    const std::string group = fmt::format("/branch/fields/{}", i);
+    if (out.exists(group)) continue;
+    write_fields(out, group, sf);
+    out.set_attribute(group, "row", static_cast<long>(row));
+    out.set_attribute(group, parameter, lambda);
+    if (sf.mesh) {
+      if (!out.exists("/mesh")) write_mesh(out, "/mesh", *sf.mesh);
+      // time = table row: the parameter need not be monotone along a branch with folds
+      steps.push_back({group.substr(1), fmt::format("row {} ({} = {:.6g})", row, parameter, lambda),
+                       static_cast<double>(row)});
+      layout = sf;
+    }
+  }
+  out.close();
+  if (!steps.empty() && layout.mesh)
+    write_xdmf(xdmf_path, std::filesystem::path(fields_path).filename().string(), "mesh", *layout.mesh, steps, layout);
+}
+
+}  // namespace keller

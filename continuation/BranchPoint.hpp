@@ -1,0 +1,43 @@
+// A point of a solution branch as the continuation engine reports it: the solution, its unit
+// tangent, where it lies along the branch, what kind of point it is, and the problem's
+// observables and monitors there.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/Types.hpp"
+
+namespace keller {
+
+enum class PointKind {
+  Regular = 0,      // an accepted continuation step
+  Start = 1,        // the first point of a run (or of a restart)
+  Requested = 2,    // located at a requested parameter value
+  Event = 3,        // located zero of a monitor
+  Fold = 4,         // located turning point in the parameter
+  BranchPoint = 5,  // located sign change of det of the bordered Jacobian
+  End = 6,          // located end of the branch (parameter bound or stop observable)
+};
+const char* to_string(PointKind k);
+
+struct BranchPoint {
+  int index = -1;           // row in the branch table
+  PointKind kind = PointKind::Regular;
+  std::string label;        // monitor name for events, "max"/"min" for folds, bound for ends
+  double s = 0.0;           // arclength from the start of the branch (weighted norm)
+  double lambda = 0.0;      // parameter value
+  Vector u;                 // solution
+  Vector tu;                // unit tangent: state part
+  double tlambda = 0.0;     //               parameter part
+  double step = 0.0;        // step size the controller chose for the next step
+  int iterations = 0;       // corrector iterations (location: corrector solves)
+  double seconds = 0.0;     // wall time since the run started
+  int det_sign = 0;         // sign of det(dF/du) (0: not known)
+  int bordered_det_sign = 0;
+  std::vector<double> observables;
+  std::vector<double> monitors;
+  bool save = false;        // store the full solution
+};
+
+}  // namespace keller

@@ -1,0 +1,506 @@
+#include "continuation/Continuation.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <stdexcept>
+
+namespace keller {
+
+const char* to_string(PointKind k) {
+  switch (k) {
+    case PointKind::Regular: return "point";
+    case PointKind::Start: return "start";
+    case PointKind::Requested: return "requested";
+    case PointKind::Event: return "event";
+    case PointKind::Fold: return "fold";
+    case PointKind::BranchPoint: return "branch-point";
+    case PointKind::End: return "end";
+  }
+  return "?";
+}
+
+const char* to_string(StopCode c) {
+  switch (c) {
+    case StopCode::UpperBound: return "upper-bound";
+    case StopCode::LowerBound: return "lower-bound";
+    case StopCode::StopObservable: return "stop-observable";
+    case StopCode::MaxSteps: return "max-steps";
+    case StopCode::StepFloor: return "step-floor";
+    case StopCode::Interrupted: return "interrupted";
+  }
+  return "?";
+}
+
+namespace {
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+int sign_of(double x) { return x > 0 ? 1 : (x < 0 ? -1 : 0); }
+}  // namespace
+
+Continuation::Continuation(Problem& problem, ContinuationOptions options, NewtonOptions newton, SparseLUOptions lu)
+    : problem_(problem), options_(std::move(options)), newton_(newton) {
+  options_.validate();
+  p_ = problem_.parameters().index(options_.parameter);
+  if (!options_.stop_observable.empty()) {
+    const auto names = problem_.observable_names();
+    auto it = std::find(names.begin(), names.end(), options_.stop_observable);
+    if (it == names.end()) {
+      std::string known;
+      for (const auto& n : names) known += (known.empty() ? "" : ", ") + n;
+      throw std::invalid_argument("unknown observable '" + options_.stop_observable + "'; this problem has: " + known);
+    }
+    stop_index_ = static_cast<int>(it - names.begin());
+  }
+  monitor_names_ = problem_.monitor_names();
+  if (stop_index_ >= 0) {
+    if (std::isfinite(options_.stop_above)) monitor_names_.push_back(options_.stop_observable + " > stop_above");
+    if (std::isfinite(options_.stop_below)) monitor_names_.push_back(options_.stop_observable + " < stop_below");
+  }
+  bordered_ = std::make_unique<BorderedSystem>(problem_.jacobian_pattern(), lu);
+  J_ = problem_.jacobian_pattern();
+}
+
+double Continuation::dot(const Vector& u1, double l1, const Vector& u2, double l2) const {
+  return wu_ * u1.dot(u2) + wl_ * l1 * l2;
+}
+
+Status Continuation::set_parameter(double lambda) {
+  ParameterSet& ps = problem_.parameters();
+  if (!std::isfinite(lambda)) return {StatusCode::NotFinite, "parameter is not finite"};
+  if (!ps.admissible(p_, lambda))
+    return {StatusCode::InvalidState, fmt::format("{} = {} is outside its admissible range [{}, {}]", options_.parameter,
+                                                  lambda, ps.info(p_).lower, ps.info(p_).upper)};
+  ps.set(p_, lambda);
+  return {};
+}
+
+Continuation::Constraint Continuation::arclength_constraint(const BranchPoint& from, const Vector& tu, double tl,
+                                                            double sigma) const {
+  Constraint c;
+  c.cu = wu_ * tu;
+  c.cl = wl_ * tl;
+  c.u0 = &from.u;
+  c.l0 = from.lambda;
+  c.target = sigma;
+  return c;
+}
+
+Continuation::Constraint Continuation::lambda_constraint(double lambda) const {
+  Constraint c;
+  c.cl = 1.0;
+  c.l0 = 0.0;
+  c.target = lambda;
+  return c;
+}
+
+Status Continuation::correct(Vector& u, double& lambda, const Constraint& c, int& iterations) {
+  iterations = 0;
+  const double tol = newton_.residual_tolerance * problem_.residual_scale();
+  double previous = INFINITY, update = INFINITY;
+  Vector du;
+  double dl = 0;
+  for (int k = 0;; ++k) {
+    Status st = set_parameter(lambda);
+    if (!st.is_ok()) return st;
+    st = problem_.residual(u, F_);
+    if (!st.is_ok()) return st;
+    const double normF = F_.lpNorm<Eigen::Infinity>();
+    if (k > 0) {
+      const bool small_update = update <= newton_.update_tolerance * std::max(u.lpNorm<Eigen::Infinity>(), 1.0);
+      if (normF <= tol || (small_update && normF <= 1e3 * tol)) return {};
+      if (normF > 1e3 * previous) return {StatusCode::Diverged, fmt::format("corrector diverged (|F| = {:.3e})", normF)};
+    }
+    if (k >= options_.max_iterations)
+      return {StatusCode::NotConverged,
+              fmt::format("corrector did not converge in {} iterations (|F| = {:.3e})", k, normF)};
+    previous = normF;
+    double N = c.cl * (lambda - c.l0) - c.target;
+    if (c.cu.size()) N += c.cu.dot(u - *c.u0);
+    st = problem_.jacobian(u, F_, J_);
+    if (!st.is_ok()) return st;
+    st = problem_.parameter_derivative(p_, u, Fp_);
+    if (!st.is_ok()) return st;
+    bordered_->set(J_, Fp_, c.cu, c.cl);
+    st = bordered_->factorize();
+    if (!st.is_ok()) return st;
+    st = bordered_->solve(-F_, -N, du, dl);
+    if (!st.is_ok()) return st;
+    u += du;
+    lambda += dl;
+    ++iterations;
+    update = std::max(du.lpNorm<Eigen::Infinity>(), std::abs(dl));
+    if (!u.allFinite() || !std::isfinite(lambda)) return {StatusCode::NotFinite, "corrector produced a non-finite state"};
+  }
+}
+
+Status Continuation::tangent_from_factorisation(const Vector& tu_prev, double tl_prev, Vector& tu, double& tl,
+                                                int& det_sign) {
+  Vector v;
+  double mu = 0;
+  Status st = bordered_->solve(Vector::Zero(problem_.size()), 1.0, v, mu);
+  if (!st.is_ok()) return st;
+  // Cramer: mu = det(J) / det(bordered), so this is the sign of det J
+  det_sign = sign_of(mu) * bordered_->determinant_sign();
+  const double nrm = std::sqrt(dot(v, mu, v, mu));
+  if (!(nrm > 0) || !std::isfinite(nrm)) return {StatusCode::NotFinite, "tangent is zero or not finite"};
+  tu = v / nrm;
+  tl = mu / nrm;
+  if (tu_prev.size() && dot(tu, tl, tu_prev, tl_prev) < 0) {
+    tu = -tu;
+    tl = -tl;
+  }
+  return {};
+}
+
+Status Continuation::initial_tangent(const Vector& u, double lambda, Vector& tu, double& tl, int& det_sign) {
+  Status st = set_parameter(lambda);
+  if (st.is_ok()) st = problem_.jacobian(u, F_, J_);
+  if (st.is_ok()) st = problem_.parameter_derivative(p_, u, Fp_);
+  if (!st.is_ok()) return st;
+  // [J F_p; 0 1] gives (-J^-1 F_p, 1) where J is regular; at a fold J is singular and a generic
+  // border row (0 on the parameter) is used instead.
+  bordered_->set(J_, Fp_, Vector(), 1.0);
+  st = bordered_->factorize();
+  if (st.code() == StatusCode::SingularMatrix) {
+    Vector w(problem_.size());
+    for (int i = 0; i < w.size(); ++i) w[i] = std::sin(1.0 + 0.7 * i);  // deterministic, generic
+    bordered_->set(J_, Fp_, w, 0.0);
+    st = bordered_->factorize();
+  }
+  if (!st.is_ok()) return st;
+  st = tangent_from_factorisation(Vector(), 0.0, tu, tl, det_sign);
+  if (!st.is_ok()) return st;
+  if (tl * options_.direction < 0) {
+    tu = -tu;
+    tl = -tl;
+  }
+  return {};
+}
+
+Status Continuation::evaluate(BranchPoint& p) {
+  Status st = set_parameter(p.lambda);
+  if (st.is_ok()) st = problem_.observables(p.u, p.observables);
+  if (st.is_ok()) st = problem_.monitors(p.u, p.monitors);
+  if (!st.is_ok()) return st;
+  for (double v : p.observables)
+    if (!std::isfinite(v)) return {StatusCode::NotFinite, "an observable is not finite"};
+  for (double v : p.monitors)
+    if (!std::isfinite(v)) return {StatusCode::NotFinite, "a monitor is not finite"};
+  p.seconds = seconds_since(t_start_);
+  return {};
+}
+
+std::vector<double> Continuation::monitor_values(const BranchPoint& p) const {
+  std::vector<double> g = p.monitors;
+  if (stop_index_ >= 0) {
+    if (std::isfinite(options_.stop_above)) g.push_back(p.observables[stop_index_] - options_.stop_above);
+    if (std::isfinite(options_.stop_below)) g.push_back(p.observables[stop_index_] - options_.stop_below);
+  }
+  return g;
+}
+
+BranchPoint Continuation::point_on_segment(const BranchPoint& a, const BranchPoint& b, double tau, Status& st) {
+  BranchPoint p;
+  p.u = a.u + tau * (b.u - a.u);
+  p.lambda = a.lambda + tau * (b.lambda - a.lambda);
+  Constraint c;
+  if (options_.method == ContinuationOptions::Method::Arclength) {
+    const double sigma_b = dot(b.u - a.u, b.lambda - a.lambda, a.tu, a.tlambda);
+    c = arclength_constraint(a, a.tu, a.tlambda, tau * sigma_b);
+  } else {
+    c = lambda_constraint(p.lambda);
+  }
+  st = correct(p.u, p.lambda, c, p.iterations);
+  if (st.is_ok()) st = tangent_from_factorisation(a.tu, a.tlambda, p.tu, p.tlambda, p.det_sign);
+  if (st.is_ok()) st = evaluate(p);
+  p.bordered_det_sign = bordered_->determinant_sign();
+  p.s = a.s + tau * (b.s - a.s);
+  p.step = b.step;
+  return p;
+}
+
+std::optional<BranchPoint> Continuation::locate_value(const BranchPoint& a, const BranchPoint& b, double value) {
+  const double tau = (value - a.lambda) / (b.lambda - a.lambda);
+  BranchPoint p;
+  p.u = a.u + tau * (b.u - a.u);
+  p.lambda = value;
+  Status st = correct(p.u, p.lambda, lambda_constraint(value), p.iterations);
+  if (st.is_ok()) st = tangent_from_factorisation(a.tu, a.tlambda, p.tu, p.tlambda, p.det_sign);
+  if (st.is_ok()) st = evaluate(p);
+  if (st.is_ok()) {
+    p.lambda = value;  // exactly
+    p.s = a.s + tau * (b.s - a.s);
+    p.step = b.step;
+    p.bordered_det_sign = 0;
+    return p;
+  }
+  // at a fold the parameter cannot be fixed: fall back to root finding along the arclength
+  const std::string first = st.describe();
+  location_note_ = "fixed-parameter corrector failed (" + first + "); ";
+  return locate_root(a, b, -3, a.lambda - value, b.lambda - value);
+}
+
+// which >= 0: monitor index; -1: fold (parameter part of the tangent); -2: branch point (sign of
+// det of the bordered matrix, bisection); -3: lambda - value (value = lambda(a) - ga).
+std::optional<BranchPoint> Continuation::locate_root(const BranchPoint& a, const BranchPoint& b, int which, double ga,
+                                                     double gb) {
+  const double value = a.lambda - ga;
+  auto g_of = [&](const BranchPoint& p) -> double {
+    if (which >= 0) return monitor_values(p)[static_cast<size_t>(which)];
+    if (which == -1) return p.tlambda;
+    if (which == -2) return static_cast<double>(p.bordered_det_sign);
+    return p.lambda - value;
+  };
+  const bool sign_only = which == -2;
+  const bool turning = which == -1 || which == -2;
+  double ta = 0.0, tb = 1.0;
+  BranchPoint pa = a, pb = b;
+  int side = 0, solves = 0;
+  for (int it = 0; it < options_.max_location_iterations; ++it) {
+    double tc = sign_only ? 0.5 * (ta + tb) : tb - gb * (tb - ta) / (gb - ga);
+    // a trial on or outside the bracket (rounding) falls back to bisection
+    if (!(tc > ta && tc < tb)) tc = 0.5 * (ta + tb);
+    Status st;
+    BranchPoint pc = point_on_segment(a, b, tc, st);
+    solves += pc.iterations;
+    if (!st.is_ok()) {
+      location_note_ += "corrector failed while locating: " + st.describe();
+      return std::nullopt;
+    }
+    const double gc = g_of(pc);
+    if (gc == 0.0 && !sign_only) {
+      pc.iterations = solves;
+      return pc;
+    }
+    if (sign_of(gc) == sign_of(ga)) {
+      ta = tc;
+      ga = gc;
+      pa = pc;
+      if (side == -1 && !sign_only) gb *= 0.5;  // Illinois: the retained end's value is halved
+      side = -1;
+    } else {
+      tb = tc;
+      gb = gc;
+      pb = pc;
+      if (side == +1 && !sign_only) ga *= 0.5;
+      side = +1;
+    }
+    double width = std::abs(pa.lambda - pb.lambda);
+    if (turning) width = std::max(width, std::abs(pb.s - pa.s) * std::max(std::abs(pa.tlambda), std::abs(pb.tlambda)));
+    if (width <= options_.event_tolerance) {
+      BranchPoint& best = turning ? (std::abs(pa.tlambda) < std::abs(pb.tlambda) ? pa : pb)
+                                  : (std::abs(g_of(pa)) < std::abs(g_of(pb)) ? pa : pb);
+      best.iterations = solves;
+      return best;
+    }
+  }
+  location_note_ += fmt::format("not located to {} in {} iterations", options_.event_tolerance,
+                                options_.max_location_iterations);
+  return std::nullopt;
+}
+
+ContinuationResult Continuation::run(const Vector& u0, BranchObserver& observer) {
+  t_start_ = std::chrono::steady_clock::now();
+  const double rms = u0.size() ? u0.norm() / std::sqrt(static_cast<double>(u0.size())) : 0.0;
+  state_scale_ = options_.state_scale > 0 ? options_.state_scale : (rms > 0 ? rms : 1.0);
+  wu_ = options_.theta / (static_cast<double>(problem_.size()) * state_scale_ * state_scale_);
+  wl_ = 1.0 - options_.theta;
+  BranchPoint start;
+  start.kind = PointKind::Start;
+  start.u = u0;
+  start.lambda = problem_.parameters().value(p_);
+  start.step = options_.initial_step;
+  Status st = initial_tangent(start.u, start.lambda, start.tu, start.tlambda, start.det_sign);
+  if (!st.is_ok()) {
+    ContinuationResult r;
+    r.code = StopCode::StepFloor;
+    r.reason = "no tangent at the starting point: " + st.describe();
+    return r;
+  }
+  return trace(std::move(start), observer);
+}
+
+ContinuationResult Continuation::resume(BranchPoint start, BranchObserver& observer) {
+  t_start_ = std::chrono::steady_clock::now();
+  if (!(options_.state_scale > 0)) throw std::invalid_argument("resume needs the state scale of the original run");
+  if (start.u.size() != problem_.size() || start.tu.size() != problem_.size())
+    throw std::invalid_argument(fmt::format("stored point has {} unknowns, the problem {}", start.u.size(), problem_.size()));
+  state_scale_ = options_.state_scale;
+  wu_ = options_.theta / (static_cast<double>(problem_.size()) * state_scale_ * state_scale_);
+  wl_ = 1.0 - options_.theta;
+  start.kind = PointKind::Start;
+  return trace(std::move(start), observer);
+}
+
+ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observer) {
+  const bool arclength = options_.method == ContinuationOptions::Method::Arclength;
+  ContinuationResult result;
+  next_index_ = 0;
+  observer.on_start(problem_.observable_names(), monitor_names_);
+
+  // the start: observables, and the sign of det of the bordered matrix with its own tangent
+  Status st = evaluate(start);
+  if (st.is_ok() && arclength) {
+    st = problem_.jacobian(start.u, F_, J_);
+    if (st.is_ok()) st = problem_.parameter_derivative(p_, start.u, Fp_);
+    if (st.is_ok()) {
+      bordered_->set(J_, Fp_, wu_ * start.tu, wl_ * start.tlambda);
+      st = bordered_->factorize();
+      start.bordered_det_sign = st.is_ok() ? bordered_->determinant_sign() : 0;
+      st = {};
+    }
+  }
+  if (!st.is_ok()) {
+    result.code = StopCode::StepFloor;
+    result.reason = "the starting point cannot be evaluated: " + st.describe();
+    return result;
+  }
+  start.index = next_index_++;
+  start.save = true;
+  observer.on_point(start);
+
+  auto finish = [&](StopCode code, std::string reason, const BranchPoint& last) {
+    result.code = code;
+    result.reason = std::move(reason);
+    result.points = next_index_;
+    result.last = last;
+    observer.on_finish(result.reason, last);
+    return result;
+  };
+
+  BranchPoint cur = std::move(start);
+  std::optional<BranchPoint> prev;
+  double ds = std::clamp(cur.step, options_.min_step, options_.max_step);
+  const double max_angle = options_.max_angle_degrees * M_PI / 180.0;
+  int steps = 0;
+  while (true) {
+    if (stop_requested_.load()) return finish(StopCode::Interrupted, "interrupted by a signal", cur);
+    if (steps >= options_.max_steps)
+      return finish(StopCode::MaxSteps, fmt::format("max_steps = {} reached", options_.max_steps), cur);
+
+    // predictor
+    Vector du_dir = cur.tu;
+    double dl_dir = cur.tlambda;
+    if (options_.predictor == ContinuationOptions::Predictor::Secant && prev) {
+      du_dir = cur.u - prev->u;
+      dl_dir = cur.lambda - prev->lambda;
+      const double nrm = std::sqrt(dot(du_dir, dl_dir, du_dir, dl_dir));
+      du_dir /= nrm;
+      dl_dir /= nrm;
+    }
+    BranchPoint nxt;
+    Constraint c;
+    if (arclength) {
+      nxt.u = cur.u + ds * du_dir;
+      nxt.lambda = cur.lambda + ds * dl_dir;
+      c = arclength_constraint(cur, du_dir, dl_dir, ds);
+    } else {
+      const double dlam = options_.direction * ds;
+      nxt.lambda = cur.lambda + dlam;
+      nxt.u = std::abs(dl_dir) > 1e-12 ? Vector(cur.u + (dlam / dl_dir) * du_dir) : cur.u;
+      c = lambda_constraint(nxt.lambda);
+    }
+    st = correct(nxt.u, nxt.lambda, c, nxt.iterations);
+    if (st.is_ok()) st = tangent_from_factorisation(cur.tu, cur.tlambda, nxt.tu, nxt.tlambda, nxt.det_sign);
+    if (st.is_ok() && arclength) {
+      const double angle = std::acos(std::clamp(dot(nxt.tu, nxt.tlambda, cur.tu, cur.tlambda), -1.0, 1.0));
+      if (angle > max_angle && ds > options_.min_step)
+        st = {StatusCode::NotConverged, fmt::format("tangent turned by {:.1f} degrees", angle * 180.0 / M_PI)};
+    }
+    if (st.is_ok()) st = evaluate(nxt);
+    if (!st.is_ok()) {
+      ++result.rejected;
+      observer.on_rejected(nxt.lambda, ds, st);
+      ds *= 0.5;
+      if (ds < options_.min_step)
+        return finish(StopCode::StepFloor,
+                      fmt::format("step size fell below min_step = {} at {} = {:.10g}: {}", options_.min_step,
+                                  options_.parameter, cur.lambda, st.describe()),
+                      cur);
+      continue;
+    }
+    ++steps;
+    nxt.bordered_det_sign = arclength ? bordered_->determinant_sign() : 0;
+    if (arclength) {
+      nxt.s = cur.s + ds;
+    } else {
+      const Vector du = nxt.u - cur.u;
+      const double dl = nxt.lambda - cur.lambda;
+      nxt.s = cur.s + std::sqrt(dot(du, dl, du, dl));
+    }
+    double ds_next = ds;
+    if (nxt.iterations < options_.target_iterations) ds_next = ds * options_.growth;
+    else if (nxt.iterations > options_.target_iterations) ds_next = ds * std::max(options_.shrink, 0.7);
+    ds_next = std::clamp(ds_next, options_.min_step, options_.max_step);
+    nxt.step = ds_next;
+
+    // everything located on the segment cur -> nxt, in order along the branch
+    struct Located {
+      BranchPoint point;
+      bool terminal;
+      StopCode code;
+    };
+    std::vector<Located> located;
+    auto add = [&](std::optional<BranchPoint> p, PointKind kind, std::string label, bool terminal, StopCode code) {
+      if (!p) {
+        observer.on_note(fmt::format("{} '{}' detected after row {} but not located: {}", to_string(kind), label,
+                                     cur.index, location_note_));
+        location_note_.clear();
+        return;
+      }
+      location_note_.clear();
+      p->kind = kind;
+      p->label = std::move(label);
+      located.push_back({std::move(*p), terminal, code});
+    };
+    if (cur.lambda <= options_.upper && nxt.lambda > options_.upper)
+      add(locate_value(cur, nxt, options_.upper), PointKind::End, "upper", true, StopCode::UpperBound);
+    if (cur.lambda >= options_.lower && nxt.lambda < options_.lower)
+      add(locate_value(cur, nxt, options_.lower), PointKind::End, "lower", true, StopCode::LowerBound);
+    for (double v : options_.stops)
+      if ((cur.lambda - v) * (nxt.lambda - v) < 0 || (nxt.lambda == v && cur.lambda != v))
+        add(locate_value(cur, nxt, v), PointKind::Requested, fmt::format("{} = {}", options_.parameter, v), false,
+            StopCode::MaxSteps);
+    const std::vector<double> gc = monitor_values(cur), gn = monitor_values(nxt);
+    const size_t n_problem_monitors = problem_.monitor_names().size();
+    for (size_t k = 0; k < gc.size(); ++k) {
+      if (!(gc[k] * gn[k] < 0)) continue;
+      const bool stop = k >= n_problem_monitors;
+      add(locate_root(cur, nxt, static_cast<int>(k), gc[k], gn[k]), stop ? PointKind::End : PointKind::Event,
+          monitor_names_[k], stop, StopCode::StopObservable);
+    }
+    if (arclength && options_.detect_folds && cur.tlambda * nxt.tlambda < 0)
+      add(locate_root(cur, nxt, -1, cur.tlambda, nxt.tlambda), PointKind::Fold, cur.tlambda > 0 ? "max" : "min",
+          false, StopCode::MaxSteps);
+    if (arclength && options_.detect_branch_points && cur.bordered_det_sign * nxt.bordered_det_sign < 0)
+      add(locate_root(cur, nxt, -2, cur.bordered_det_sign, nxt.bordered_det_sign), PointKind::BranchPoint,
+          "det sign change", false, StopCode::MaxSteps);
+    std::stable_sort(located.begin(), located.end(),
+                     [](const Located& x, const Located& y) { return x.point.s < y.point.s; });
+    for (Located& l : located) {
+      l.point.index = next_index_++;
+      l.point.save = true;
+      observer.on_point(l.point);
+      if (l.terminal) {
+        const std::string why = l.code == StopCode::StopObservable
+                                    ? fmt::format("{} crossed at {} = {:.10g}", l.point.label, options_.parameter,
+                                                  l.point.lambda)
+                                    : fmt::format("reached the {} bound {} = {:.10g}", l.point.label, options_.parameter,
+                                                  l.point.lambda);
+        return finish(l.code, why, l.point);
+      }
+    }
+    nxt.index = next_index_++;
+    nxt.save = nxt.index % options_.save_every == 0;
+    observer.on_point(nxt);
+    prev = std::move(cur);
+    cur = std::move(nxt);
+    ds = ds_next;
+  }
+}
+
+}  // namespace keller

@@ -1,0 +1,123 @@
+// Pseudo-arclength (Keller) and natural continuation of F(u, lambda) = 0 in one named parameter
+// of any Problem. Tangent or secant predictor; corrector on the bordered system (stays
+// solvable at folds); step control by corrector iterations, failures and tangent angle;
+// location of requested parameter values, parameter bounds, monitor zeros, folds and branch
+// points on the branch by corrector solves; every point reported to a BranchObserver as it is
+// accepted. Numerical failures shrink the step; they never end the run except through the
+// step-size floor, whose reason is reported.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "continuation/BorderedSystem.hpp"
+#include "continuation/BranchPoint.hpp"
+#include "continuation/ContinuationOptions.hpp"
+#include "core/Newton.hpp"
+#include "core/Problem.hpp"
+
+namespace keller {
+
+// Receives the branch as it is computed (the branch file, the progress printer, tests).
+class BranchObserver {
+ public:
+  virtual ~BranchObserver() = default;
+  // Called once before the first point with the names the points' vectors follow.
+  virtual void on_start(const std::vector<std::string>& observable_names,
+                        const std::vector<std::string>& monitor_names) {}
+  virtual void on_point(const BranchPoint& point) = 0;
+  // A step that failed and will be retried with a smaller step.
+  virtual void on_rejected(double lambda, double step, const Status& why) {}
+  // Something worth telling that is not a point (an event detected but not located).
+  virtual void on_note(const std::string& message) {}
+  // The run ended: why, and the last point on the branch.
+  virtual void on_finish(const std::string& reason, const BranchPoint& last) {}
+};
+
+enum class StopCode {
+  UpperBound,     // reached continuation.upper
+  LowerBound,     // reached continuation.lower
+  StopObservable, // the stop observable crossed its threshold
+  MaxSteps,
+  StepFloor,      // the step size fell below min_step after failures
+  Interrupted,
+};
+const char* to_string(StopCode c);
+
+struct ContinuationResult {
+  StopCode code = StopCode::MaxSteps;
+  std::string reason;  // a sentence for people
+  int points = 0;      // rows written
+  int rejected = 0;    // rejected step attempts
+  BranchPoint last;
+};
+
+class Continuation {
+ public:
+  Continuation(Problem& problem, ContinuationOptions options, NewtonOptions newton = {}, SparseLUOptions lu = {});
+
+  // Traces the branch from u0, a converged solution at the parameter's current value.
+  ContinuationResult run(const Vector& u0, BranchObserver& observer);
+  // Continues from a stored point (solution, tangent, step, arclength) of an earlier run.
+  ContinuationResult resume(BranchPoint start, BranchObserver& observer);
+
+  // Asks the run to stop after the current step (safe to call from a signal handler).
+  void request_stop() { stop_requested_.store(true); }
+  double state_scale() const { return state_scale_; }
+  // The weighted inner product of the arclength norm.
+  double dot(const Vector& u1, double l1, const Vector& u2, double l2) const;
+  int parameter_index() const { return p_; }
+  // The problem's monitors followed by the stop-observable thresholds (the order of
+  // BranchPoint::monitors plus the stop entries).
+  const std::vector<std::string>& monitor_names() const { return monitor_names_; }
+  const BorderedSystem& bordered() const { return *bordered_; }
+
+ private:
+  // A linear constraint cu . (u - u0) + cl (lambda - l0) = target closing the extended system.
+  struct Constraint {
+    Vector cu;  // empty: zero
+    double cl = 0.0;
+    const Vector* u0 = nullptr;
+    double l0 = 0.0;
+    double target = 0.0;
+  };
+  struct Segment;  // two consecutive accepted points
+
+  Status set_parameter(double lambda);
+  Status correct(Vector& u, double& lambda, const Constraint& c, int& iterations);
+  // Unit tangent at the point of the last factorisation, oriented along (tu_prev, tl_prev).
+  Status tangent_from_factorisation(const Vector& tu_prev, double tl_prev, Vector& tu, double& tl, int& det_sign);
+  Status initial_tangent(const Vector& u, double lambda, Vector& tu, double& tl, int& det_sign);
+  Status evaluate(BranchPoint& p);
+  Constraint arclength_constraint(const BranchPoint& from, const Vector& tu, double tl, double sigma) const;
+  Constraint lambda_constraint(double lambda) const;
+  ContinuationResult trace(BranchPoint start, BranchObserver& observer);
+
+  // Location on the segment a -> b; each returns the located point or nothing (with a note).
+  std::optional<BranchPoint> locate_value(const BranchPoint& a, const BranchPoint& b, double value);
+  std::optional<BranchPoint> locate_root(const BranchPoint& a, const BranchPoint& b, int which, double ga, double gb);
+  BranchPoint point_on_segment(const BranchPoint& a, const BranchPoint& b, double tau, Status& st);
+  std::vector<double> monitor_values(const BranchPoint& p) const;
+
+  Problem& problem_;
+  ContinuationOptions options_;
+  NewtonOptions newton_;
+  int p_ = -1;
+  int stop_index_ = -1;  // index of the stop observable in the problem's observables
+  double state_scale_ = 1.0;
+  double wu_ = 0.0, wl_ = 0.0;  // weights of the inner product
+  std::unique_ptr<BorderedSystem> bordered_;
+  SparseMatrix J_;
+  Vector F_, Fp_;
+  std::vector<std::string> monitor_names_;
+  std::atomic<bool> stop_requested_{false};
+  std::chrono::steady_clock::time_point t_start_;
+  int next_index_ = 0;
+  std::string location_note_;
+};
+
+}  // namespace keller

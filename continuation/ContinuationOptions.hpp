@@ -1,0 +1,58 @@
+// Options of the continuation engine: which named parameter, how to step, where to stop, what
+// to locate. Plain struct with defaults; declare() lists the scene keys of [continuation].
+#pragma once
+
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "core/Scene.hpp"
+
+namespace keller {
+
+struct ContinuationOptions {
+  enum class Method { Arclength, Natural };
+  enum class Predictor { Tangent, Secant };
+
+  std::string parameter;                 // named parameter of the problem
+  Method method = Method::Arclength;     // Keller's pseudo-arclength, or natural (parameter) steps
+  Predictor predictor = Predictor::Tangent;
+  int direction = +1;                    // initial sign of the parameter change
+  double lower = -std::numeric_limits<double>::infinity();  // the branch ends where the parameter
+  double upper = std::numeric_limits<double>::infinity();   // reaches a bound (located exactly)
+  std::vector<double> stops;             // parameter values where solutions are wanted
+
+  // Step sizes: arclength in the weighted norm below (natural method: parameter units).
+  double initial_step = 0.05;
+  double min_step = 1e-8;
+  double max_step = 1.0;
+  int max_steps = 1000;
+  int target_iterations = 4;   // grow the step when the corrector needs fewer, shrink when more
+  int max_iterations = 10;     // corrector iterations before a step counts as failed
+  double growth = 1.5;
+  double shrink = 0.5;         // factor on failure or on too many iterations
+  double max_angle_degrees = 20.0;  // between successive unit tangents
+
+  // Arclength norm |(du, dp)|^2 = theta |du|^2 / (n s^2) + (1 - theta) dp^2, s the state scale
+  // (root mean square of the starting solution, or 1 if that is zero) so that states of any
+  // magnitude weigh alike.
+  double theta = 0.5;
+  double state_scale = 0.0;    // 0: automatic
+
+  double event_tolerance = 1e-10;   // absolute, in the parameter
+  int max_location_iterations = 60;
+  bool detect_folds = true;
+  bool detect_branch_points = true;
+  int save_every = 10;              // full solutions of every N-th point (and of every located point)
+
+  std::string stop_observable;      // stop where this observable crosses stop_above / stop_below
+  double stop_above = std::numeric_limits<double>::infinity();
+  double stop_below = -std::numeric_limits<double>::infinity();
+
+  static void declare(SceneSchema& schema);
+  static ContinuationOptions from_scene(const Scene& scene);
+  // Throws std::invalid_argument with a message naming the option.
+  void validate() const;
+};
+
+}  // namespace keller
