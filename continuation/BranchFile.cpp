@@ -39,7 +39,10 @@ BranchFile::BranchFile(const std::string& path, const Problem& problem, const Co
                        const std::vector<std::string>& monitor_names, double state_scale,
                        const std::function<void(H5File&)>& header)
     : path_(path), n_(problem.size()) {
-  file_ = std::make_unique<H5File>(path, H5File::Mode::Create);
+  // Built under a temporary name and renamed once in SWMR mode: the final name never shows a
+  // file that is not consistent on disk.
+  const std::string part = path + ".part";
+  file_ = std::make_unique<H5File>(part, H5File::Mode::Create);
   if (header) header(*file_);
   file_->create_group("/branch");
   columns_ = {"row", "kind", "s", options.parameter};
@@ -66,6 +69,8 @@ BranchFile::BranchFile(const std::string& path, const Problem& problem, const Co
   file_->create_fixed_string("/branch/status", 2048);
   file_->write_fixed_string("/branch/status", "running");
   file_->start_swmr();
+  file_->flush();
+  std::filesystem::rename(part, path);
 }
 
 BranchFile::~BranchFile() { close(); }
@@ -91,10 +96,10 @@ void BranchFile::on_point(const BranchPoint& p) {
   std::vector<double> row = {static_cast<double>(p.index), static_cast<double>(p.kind), p.s, p.lambda};
   row.insert(row.end(), p.observables.begin(), p.observables.end());
   row.insert(row.end(), p.monitors.begin(), p.monitors.end());
-  // stop monitors are not in p.monitors: pad so that every row has every column
-  while (row.size() + 6 < columns_.size()) row.push_back(NAN);
   row.insert(row.end(), {static_cast<double>(p.iterations), p.step, p.seconds, static_cast<double>(p.det_sign),
                          p.tlambda, static_cast<double>(slot)});
+  if (row.size() != columns_.size())
+    throw std::logic_error(fmt::format("branch row has {} values for {} columns", row.size(), columns_.size()));
   file_->append_rows("/branch/table", row.data(), 1);
   if (p.kind != PointKind::Regular && p.kind != PointKind::Start) {
     double monitor = -1;

@@ -25,8 +25,9 @@ namespace keller {
 
 class BranchFile final : public BranchObserver {
  public:
-  // Creates `path` (truncating), lets `header` write what precedes the branch (scene, mesh),
-  // creates the branch datasets and enters SWMR mode. Throws std::runtime_error on I/O errors.
+  // Creates `path` (replacing it), lets `header` write what precedes the branch (scene, mesh),
+  // creates the branch datasets and enters SWMR mode; the file appears under `path` only then.
+  // Throws std::runtime_error on I/O errors.
   BranchFile(const std::string& path, const Problem& problem, const ContinuationOptions& options,
              const std::vector<std::string>& monitor_names, double state_scale,
              const std::function<void(H5File&)>& header);

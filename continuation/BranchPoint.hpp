@@ -36,7 +36,7 @@ struct BranchPoint {
   int det_sign = 0;         // sign of det(dF/du) (0: not known)
   int bordered_det_sign = 0;
   std::vector<double> observables;
-  std::vector<double> monitors;
+  std::vector<double> monitors;     // the problem's monitors, then the stop-observable thresholds
   bool save = false;        // store the full solution
 };
 

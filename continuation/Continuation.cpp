@@ -188,20 +188,18 @@ Status Continuation::evaluate(BranchPoint& p) {
   if (!st.is_ok()) return st;
   for (double v : p.observables)
     if (!std::isfinite(v)) return {StatusCode::NotFinite, "an observable is not finite"};
+  // the stop observable's distance to its thresholds is monitored like the problem's monitors
+  if (stop_index_ >= 0) {
+    if (std::isfinite(options_.stop_above)) p.monitors.push_back(p.observables[stop_index_] - options_.stop_above);
+    if (std::isfinite(options_.stop_below)) p.monitors.push_back(p.observables[stop_index_] - options_.stop_below);
+  }
   for (double v : p.monitors)
     if (!std::isfinite(v)) return {StatusCode::NotFinite, "a monitor is not finite"};
   p.seconds = seconds_since(t_start_);
   return {};
 }
 
-std::vector<double> Continuation::monitor_values(const BranchPoint& p) const {
-  std::vector<double> g = p.monitors;
-  if (stop_index_ >= 0) {
-    if (std::isfinite(options_.stop_above)) g.push_back(p.observables[stop_index_] - options_.stop_above);
-    if (std::isfinite(options_.stop_below)) g.push_back(p.observables[stop_index_] - options_.stop_below);
-  }
-  return g;
-}
+std::vector<double> Continuation::monitor_values(const BranchPoint& p) const { return p.monitors; }
 
 BranchPoint Continuation::point_on_segment(const BranchPoint& a, const BranchPoint& b, double tau, Status& st) {
   BranchPoint p;
@@ -406,7 +404,9 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
     }
     st = correct(nxt.u, nxt.lambda, c, nxt.iterations);
     if (st.is_ok()) st = tangent_from_factorisation(cur.tu, cur.tlambda, nxt.tu, nxt.tlambda, nxt.det_sign);
-    if (st.is_ok() && arclength) {
+    // a sharp turn of the tangent means the step skipped a feature of the branch or, in natural
+    // continuation, jumped to another branch past a fold
+    if (st.is_ok()) {
       const double angle = std::acos(std::clamp(dot(nxt.tu, nxt.tlambda, cur.tu, cur.tlambda), -1.0, 1.0));
       if (angle > max_angle && ds > options_.min_step)
         st = {StatusCode::NotConverged, fmt::format("tangent turned by {:.1f} degrees", angle * 180.0 / M_PI)};

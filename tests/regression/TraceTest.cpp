@@ -1,0 +1,230 @@
+// keller trace end to end: scenes against their checked-in references, CSV export, the figure
+// script, restarts that reproduce the original run, a run killed by SIGKILL that leaves a
+// readable file, and bad continuation input.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+#include "continuation/BranchFile.hpp"
+#include "support/TestSupport.hpp"
+
+using namespace keller;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct SceneCase {
+  std::string scene;
+  std::vector<std::string> overrides;
+};
+
+std::vector<SceneCase> regression_scenes() {
+  std::ifstream in(test::source_path("tests/regression/scenes.txt"));
+  std::vector<SceneCase> out;
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    const auto bar = line.find('|');
+    SceneCase c;
+    std::istringstream scene(line.substr(0, bar));
+    scene >> c.scene;
+    if (bar != std::string::npos) {
+      std::istringstream ov(line.substr(bar + 1));
+      std::string o;
+      while (ov >> o) c.overrides.push_back(o);
+    }
+    out.push_back(c);
+  }
+  return out;
+}
+
+std::string set_args(const std::vector<std::string>& overrides) {
+  std::string s;
+  for (const auto& o : overrides) s += " --set " + o;
+  return s;
+}
+
+// CSV with a header line: returns columns and rows.
+std::pair<std::vector<std::string>, std::vector<std::vector<double>>> read_csv(const std::string& path) {
+  std::ifstream in(path);
+  std::string line;
+  std::vector<std::string> cols;
+  std::vector<std::vector<double>> rows;
+  std::getline(in, line);
+  std::stringstream h(line);
+  std::string c;
+  while (std::getline(h, c, ',')) cols.push_back(c);
+  while (std::getline(in, line)) {
+    std::stringstream r(line);
+    std::vector<double> row;
+    while (std::getline(r, c, ',')) row.push_back(std::stod(c));
+    rows.push_back(row);
+  }
+  return {cols, rows};
+}
+
+}  // namespace
+
+TEST(Trace, ScenesMatchTheirReferences) {
+  const std::string dir = test::scratch_dir("trace_ref");
+  for (const SceneCase& c : regression_scenes()) {
+    SCOPED_TRACE(c.scene);
+    const std::string name = fs::path(c.scene).stem().string();
+    const std::string out = dir + "/" + name + ".h5";
+    const auto r = test::run_keller("trace " + test::source_path(c.scene) + " -o " + out + set_args(c.overrides));
+    ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
+    const BranchTable t = read_branch_table(out);
+    const auto [ref_cols, ref_rows] = read_csv(test::source_path("tests/regression/references/" + name + ".csv"));
+    // located rows of this run
+    std::vector<int> located;
+    for (long i = 0; i < t.rows.rows(); ++i)
+      if (t.rows(i, t.column("kind")) != 0.0 && t.rows(i, t.column("kind")) != 1.0) located.push_back(static_cast<int>(i));
+    ASSERT_EQ(located.size(), ref_rows.size()) << "number of located points changed";
+    for (size_t k = 0; k < ref_rows.size(); ++k) {
+      for (size_t j = 0; j < ref_cols.size(); ++j) {
+        const double got = t.rows(located[k], t.column(ref_cols[j])), want = ref_rows[k][j];
+        // located values are converged to 1e-10 in the parameter and Newton's tolerance in the
+        // state: 1e-7 relative leaves room for rounding differences between machines and BLAS
+        EXPECT_NEAR(got, want, 1e-7 * std::max(1.0, std::abs(want))) << ref_cols[j] << " of located point " << k;
+      }
+    }
+    EXPECT_NE(t.status, "running");
+  }
+}
+
+TEST(Trace, ExportCsvAndFigure) {
+  const std::string dir = test::scratch_dir("trace_export");
+  auto r = test::run_keller("trace " + test::source_path("runs/scenes/bratu1d_fold.toml") + " -o " + dir +
+                            "/b.h5 --set bratu.intervals=32");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("fold max"), std::string::npos);  // progress lines name located points
+  r = test::run_keller("export " + dir + "/b.h5 --csv " + dir + "/b.csv");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto [cols, rows] = read_csv(dir + "/b.csv");
+  const BranchTable t = read_branch_table(dir + "/b.h5");
+  EXPECT_EQ(cols, t.columns);
+  ASSERT_EQ(static_cast<long>(rows.size()), t.rows.rows());
+  for (size_t i = 0; i < rows.size(); ++i)
+    for (size_t j = 0; j < cols.size(); ++j) EXPECT_EQ(rows[i][j], t.rows(static_cast<long>(i), static_cast<long>(j)));
+  const std::string cmd = std::string(KELLER_PYTHON) + " " + test::source_path("runs/scripts/plot_branch.py") + " " +
+                          dir + "/b.h5 --y u_mid -o " + dir + "/b.png > /dev/null";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  EXPECT_GT(fs::file_size(dir + "/b.png"), 10000u);
+}
+
+TEST(Trace, RestartReproducesTheOriginalRun) {
+  const std::string dir = test::scratch_dir("trace_restart");
+  const std::string scene = test::source_path("runs/scenes/bratu1d_fold.toml");
+  const std::string common = " --set bratu.intervals=64 --set continuation.save_every=1";
+  auto r = test::run_keller("trace " + scene + " -o " + dir + "/a.h5" + common);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const int from = 6;
+  r = test::run_keller("trace " + scene + " -o " + dir + "/b.h5 --restart " + dir + "/a.h5:" + std::to_string(from) +
+                       common);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const BranchTable a = read_branch_table(dir + "/a.h5"), b = read_branch_table(dir + "/b.h5");
+  ASSERT_GT(b.rows.rows(), 8);
+  ASSERT_EQ(a.rows.rows(), from + b.rows.rows());  // the same branch, to the same end
+  for (const char* col : {"lambda", "s", "u_mid", "u_max"}) {
+    for (long i = 0; i < b.rows.rows(); ++i) {
+      const double va = a.rows(from + i, a.column(col)), vb = b.rows(i, b.column(col));
+      EXPECT_NEAR(vb, va, 1e-10 * std::max(1.0, std::abs(va))) << col << " at restart row " << i;
+    }
+  }
+  // a row without a stored solution cannot be restarted from, and the message lists those that can
+  r = test::run_keller("trace " + scene + " -o " + dir + "/c.h5 --restart " + dir + "/a.h5:999" + common);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("has no stored solution; stored rows: 0, 1, 2"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir + "/c.h5"));
+}
+
+namespace {
+
+// Kills `keller trace` with SIGKILL once `rows` points are on disk (0: a few milliseconds after
+// it starts) and checks what is left: no file, or one that opens with every completed point.
+void kill_and_check(const std::string& dir, int rows_before_kill) {
+  SCOPED_TRACE("kill after " + std::to_string(rows_before_kill) + " rows");
+  const std::string out = dir + "/k" + std::to_string(rows_before_kill) + ".h5";
+  const pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    if (!freopen("/dev/null", "w", stdout)) _exit(3);
+    const std::string scene = test::source_path("runs/scenes/bratu2d_fold.toml");
+    execl(KELLER_BINARY, "keller", "trace", scene.c_str(), "-o", out.c_str(), "--set", "bratu.intervals=16", "--set",
+          "continuation.max_step=0.002", "--set", "continuation.initial_step=0.002", "--set",
+          "continuation.max_steps=100000", "--set", "continuation.save_every=3", static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  long rows = 0;
+  const auto t0 = std::chrono::steady_clock::now();
+  if (rows_before_kill == 0) std::this_thread::sleep_for(std::chrono::milliseconds(15));
+  while (rows < rows_before_kill && std::chrono::steady_clock::now() - t0 < std::chrono::seconds(60)) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    try {
+      rows = read_branch_table(out).rows.rows();
+    } catch (const std::exception&) {  // not there yet
+    }
+  }
+  ASSERT_EQ(kill(pid, SIGKILL), 0);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL) << "the run ended before it was killed";
+  ASSERT_GE(rows, rows_before_kill) << "no points appeared in time";
+  if (!fs::exists(out)) {
+    EXPECT_EQ(rows_before_kill, 0);  // killed before the branch file was ready: nothing under its name
+    return;
+  }
+  const BranchTable t = read_branch_table(out);
+  EXPECT_GE(t.rows.rows(), rows);  // every point completed before the kill is there
+  EXPECT_TRUE(t.rows.allFinite());
+  EXPECT_EQ(t.status, "running");  // it never finished
+  for (long i = 0; i < t.rows.rows(); ++i) EXPECT_EQ(t.rows(i, t.column("row")), static_cast<double>(i));
+  if (t.rows.rows() > 0) {
+    const BranchPoint last = read_branch_point(out, -1);  // the last stored solution is usable
+    EXPECT_TRUE(last.u.allFinite());
+    EXPECT_GT(last.u.size(), 0);
+  }
+  // keller export reads the killed file too
+  const auto r = test::run_keller("export " + out + " --csv " + dir + "/k.csv");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+}
+
+}  // namespace
+
+TEST(Trace, SurvivesSigkillAtAnyMoment) {
+  const std::string dir = test::scratch_dir("trace_kill");
+  for (int rows : {0, 1, 4, 11, 23}) kill_and_check(dir, rows);
+}
+
+TEST(Trace, BadContinuationInputIsRejectedBeforeAnyOutput) {
+  const std::string dir = test::scratch_dir("trace_bad");
+  const std::string scene = test::source_path("runs/scenes/bratu1d_fold.toml");
+  struct Case {
+    std::string overrides, expected;
+  };
+  const std::vector<Case> cases = {
+      {"--set continuation.parameter=mu", "unknown parameter 'mu'; this problem has: lambda"},
+      {"--set continuation.upper=-1", "lower = 0 must be below upper = -1"},
+      {"--set continuation.stop_observable=nothing", "unknown observable 'nothing'"},
+      {"--set continuation.initial_step=-0.1", "key 'continuation.initial_step' = -0.1 is out of range: must be > 0"},
+      {"--set continuation.method=shooting", "is not one of: arclength, natural"},
+      {"--set continuation.speed=1", "unknown key 'continuation.speed'"},
+  };
+  for (const Case& c : cases) {
+    const auto r = test::run_keller("trace " + scene + " -o " + dir + "/x.h5 " + c.overrides);
+    EXPECT_EQ(r.exit_code, 2) << c.overrides;
+    EXPECT_NE(r.err.find(c.expected), std::string::npos) << c.overrides << ": " << r.err;
+    EXPECT_FALSE(fs::exists(dir + "/x.h5")) << c.overrides;
+  }
+  // a scene without a continuation parameter cannot be traced
+  const auto r = test::run_keller("trace " + test::source_path("runs/scenes/channel_stokes.toml") + " -o " + dir + "/y.h5");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("a branch needs a parameter to continue in"), std::string::npos) << r.err;
+}

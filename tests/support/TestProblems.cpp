@@ -1,0 +1,62 @@
+#include "support/TestProblems.hpp"
+
+namespace keller::test {
+
+CubicProblem::CubicProblem(double lambda) : pattern_(1, 1) {
+  params_.add("lambda", lambda, "cubic parameter");
+  pattern_.insert(0, 0) = 0.0;
+  pattern_.makeCompressed();
+}
+
+Status CubicProblem::residual(const Vector& u, Vector& F) {
+  F.resize(1);
+  F[0] = u[0] * u[0] * u[0] - 3.0 * u[0] - params_.value(0);
+  return {};
+}
+
+Status CubicProblem::jacobian(const Vector& u, Vector& F, SparseMatrix& J) {
+  residual(u, F);
+  J = pattern_;
+  J.valuePtr()[0] = 3.0 * u[0] * u[0] - 3.0;
+  return {};
+}
+
+Status CubicProblem::parameter_derivative(int, const Vector&, Vector& dF) {
+  dF = Vector::Constant(1, -1.0);
+  return {};
+}
+
+Status CubicProblem::observables(const Vector& u, std::vector<double>& v) {
+  v = {u[0]};
+  return {};
+}
+
+Status CubicProblem::monitors(const Vector& u, std::vector<double>& v) {
+  v = {u[0] - 0.5};
+  return {};
+}
+
+Status FailingBand::check() const {
+  const double l = inner_->parameters().value(0);
+  if (l >= a_ && l <= b_) return {StatusCode::InvalidState, "the model breaks down here"};
+  return {};
+}
+
+Status FailingBand::residual(const Vector& u, Vector& F) {
+  Status st = check();
+  return st.is_ok() ? inner_->residual(u, F) : st;
+}
+
+Status FailingBand::jacobian(const Vector& u, Vector& F, SparseMatrix& J) {
+  Status st = check();
+  return st.is_ok() ? inner_->jacobian(u, F, J) : st;
+}
+
+std::vector<const BranchPoint*> RecordingObserver::of_kind(PointKind k) const {
+  std::vector<const BranchPoint*> out;
+  for (const auto& p : points)
+    if (p.kind == k) out.push_back(&p);
+  return out;
+}
+
+}  // namespace keller::test

@@ -1,0 +1,78 @@
+// Small problems with known answers for testing the continuation engine, and an observer that
+// keeps the branch in memory.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "continuation/Continuation.hpp"
+#include "core/Problem.hpp"
+
+namespace keller::test {
+
+// F(u, lambda) = u^3 - 3u - lambda (one unknown): folds at (u, lambda) = (-1, 2) and (1, -2).
+// Observable "u"; monitor "u - 1/2" (zero at lambda = 1/8 - 3/2 = -1.375).
+class CubicProblem final : public Problem {
+ public:
+  explicit CubicProblem(double lambda);
+  std::string name() const override { return "cubic"; }
+  int size() const override { return 1; }
+  ParameterSet& parameters() override { return params_; }
+  const ParameterSet& parameters() const override { return params_; }
+  const SparseMatrix& jacobian_pattern() const override { return pattern_; }
+  Status residual(const Vector& u, Vector& F) override;
+  Status jacobian(const Vector& u, Vector& F, SparseMatrix& J) override;
+  Status parameter_derivative(int p, const Vector& u, Vector& dF) override;
+  Vector initial_guess() override { return Vector::Constant(1, -2.0); }
+  std::vector<std::string> observable_names() const override { return {"u"}; }
+  Status observables(const Vector& u, std::vector<double>& v) override;
+  std::vector<std::string> monitor_names() const override { return {"u - 1/2"}; }
+  Status monitors(const Vector& u, std::vector<double>& v) override;
+  SolutionFields fields(const Vector&) const override { return {}; }
+
+ private:
+  ParameterSet params_;
+  SparseMatrix pattern_;
+};
+
+// Wraps a problem and reports an invalid state whenever the parameter lies in [a, b] (a model
+// of a region where the physics breaks down).
+class FailingBand final : public Problem {
+ public:
+  FailingBand(std::unique_ptr<Problem> inner, double a, double b) : inner_(std::move(inner)), a_(a), b_(b) {}
+  std::string name() const override { return "failing-" + inner_->name(); }
+  int size() const override { return inner_->size(); }
+  ParameterSet& parameters() override { return inner_->parameters(); }
+  const ParameterSet& parameters() const override { return inner_->parameters(); }
+  const SparseMatrix& jacobian_pattern() const override { return inner_->jacobian_pattern(); }
+  Status residual(const Vector& u, Vector& F) override;
+  Status jacobian(const Vector& u, Vector& F, SparseMatrix& J) override;
+  Status parameter_derivative(int p, const Vector& u, Vector& dF) override {
+    return inner_->parameter_derivative(p, u, dF);
+  }
+  Vector initial_guess() override { return inner_->initial_guess(); }
+  std::vector<std::string> observable_names() const override { return inner_->observable_names(); }
+  Status observables(const Vector& u, std::vector<double>& v) override { return inner_->observables(u, v); }
+  SolutionFields fields(const Vector& u) const override { return inner_->fields(u); }
+
+ private:
+  Status check() const;
+  std::unique_ptr<Problem> inner_;
+  double a_, b_;
+};
+
+// Keeps every reported point, rejection and note.
+class RecordingObserver final : public BranchObserver {
+ public:
+  void on_point(const BranchPoint& p) override { points.push_back(p); }
+  void on_rejected(double lambda, double step, const Status& why) override { rejections.push_back(why.describe()); }
+  void on_note(const std::string& m) override { notes.push_back(m); }
+  void on_finish(const std::string& r, const BranchPoint&) override { reason = r; }
+  std::vector<const BranchPoint*> of_kind(PointKind k) const;
+  std::vector<BranchPoint> points;
+  std::vector<std::string> rejections, notes;
+  std::string reason;
+};
+
+}  // namespace keller::test

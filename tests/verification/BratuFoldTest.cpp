@@ -1,0 +1,91 @@
+// Folds of the Bratu problems located by the continuation engine converge to the published
+// critical values under refinement, at the order of the discretisation.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <iomanip>
+#include <iostream>
+
+#include "continuation/Continuation.hpp"
+#include "problems/Bratu1DProblem.hpp"
+#include "problems/Bratu2DProblem.hpp"
+#include "support/TestProblems.hpp"
+
+using namespace keller;
+
+namespace {
+
+ContinuationOptions fold_options(const std::string& stop, double above) {
+  ContinuationOptions o;
+  o.parameter = "lambda";
+  o.lower = 0.0;
+  o.initial_step = 0.1;
+  o.max_step = 0.5;
+  o.event_tolerance = 1e-12;
+  o.stop_observable = stop;
+  o.stop_above = above;
+  return o;
+}
+
+}  // namespace
+
+// Central differences: the discrete fold is lambda_c + O(h^2), and u(1/2) there too.
+TEST(BratuFold, OneDimensionalFoldConvergesAtSecondOrder) {
+  std::vector<double> err, umid;
+  for (int n : {16, 32, 64, 128}) {
+    Bratu1DProblem p(n, 0.0);
+    Continuation cont(p, fold_options("u_mid", 4.0));
+    test::RecordingObserver rec;
+    const auto r = cont.run(p.initial_guess(), rec);
+    const auto folds = rec.of_kind(PointKind::Fold);
+    ASSERT_EQ(folds.size(), 1u) << "n = " << n;
+    const double lf = folds[0]->lambda;
+    err.push_back(Bratu1DProblem::kLambdaCritical - lf);
+    umid.push_back(folds[0]->observables[0]);
+    std::cout << std::setprecision(12) << "n = " << n << ": fold lambda = " << lf << ", error " << err.back()
+              << ", u(1/2) = " << umid.back() << "\n";
+    // the branch went round the fold and came back along the upper branch until u(1/2) > 4,
+    // with lambda below the fold value all along
+    EXPECT_EQ(r.code, StopCode::StopObservable) << r.reason;
+    EXPECT_NEAR(rec.points.back().observables[0], 4.0, 1e-9);
+    for (const auto& pt : rec.points) EXPECT_LE(pt.lambda, lf + 1e-12);
+    bool upper = false;
+    for (const auto& pt : rec.points) upper |= pt.observables[0] > 3.0 && pt.lambda < 2.0;
+    EXPECT_TRUE(upper);
+    EXPECT_GT(err.back(), 0.0);  // central differences approach lambda_c from below
+  }
+  for (size_t k = 0; k + 1 < err.size(); ++k) {
+    const double order = std::log2(err[k] / err[k + 1]);
+    std::cout << "  observed order " << order << "\n";
+    EXPECT_NEAR(order, 2.0, 0.05);
+  }
+  EXPECT_NEAR(umid.back(), 1.1868421686, 1e-4);  // published u(1/2) at the fold
+  EXPECT_LT(std::abs(umid.back() - 1.1868421686), std::abs(umid.front() - 1.1868421686) / 40);
+}
+
+// Q2 elements: the fold value behaves like an eigenvalue of the linearised problem, which Q2
+// approximates to O(h^4) (twice the energy-norm order); observed 3.89, 3.96, 4.03 for n = 4..32,
+// with the n = 32 fold 5.5e-7 above 6.8081244226. (max u at the fold converges to about
+// 1.39157, not to the 1.39166121 quoted with that value: see the issue note.)
+TEST(BratuFold, TwoDimensionalFoldConvergesToThePublishedValue) {
+  std::vector<double> err;
+  std::vector<int> sizes = {4, 8, 16, 32};
+  for (int n : sizes) {
+    Bratu2DProblem p(n, 0.0);
+    Continuation cont(p, fold_options("u_max", 2.0));
+    test::RecordingObserver rec;
+    cont.run(p.initial_guess(), rec);
+    const auto folds = rec.of_kind(PointKind::Fold);
+    ASSERT_EQ(folds.size(), 1u) << "n = " << n;
+    err.push_back(folds[0]->lambda - Bratu2DProblem::kLambdaCritical);
+    std::cout << std::setprecision(12) << "n = " << n << ": fold lambda = " << folds[0]->lambda << ", error "
+              << err.back() << ", max u = " << folds[0]->observables[0] << "\n";
+  }
+  for (size_t k = 0; k + 1 < err.size(); ++k) {
+    EXPECT_GT(err[k], 0.0);
+    const double order = std::log2(err[k] / err[k + 1]);
+    std::cout << "  observed order " << order << "\n";
+    EXPECT_NEAR(order, 4.0, 0.2);
+  }
+  EXPECT_LT(std::abs(err.back()), 1e-6);
+}
