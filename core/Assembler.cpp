@@ -121,9 +121,8 @@ int Assembler::position(int row, int col) const {
   return (it != e && *it == row) ? static_cast<int>(it - inner) : -1;
 }
 
-Status Assembler::residual(const Vector& u, Vector& F) const {
-  const auto t0 = std::chrono::steady_clock::now();
-  F.setZero(n_);
+Status Assembler::assemble_vector(const Vector& u, Vector& out, const LocalVector& local) const {
+  out.setZero(n_);
   std::vector<int> dofs;
   std::vector<double> ul, rl;
   for (const auto& tp : terms_) {
@@ -134,19 +133,28 @@ Status Assembler::residual(const Vector& u, Vector& F) const {
     for (int item = 0; item < t.num_items(); ++item) {
       t.item_dofs(item, dofs.data());
       for (int j = 0; j < t.local_size(); ++j) ul[j] = u[dofs[j]];
-      Status st = t.residual(item, ul.data(), rl.data());
+      Status st = local(t, item, ul.data(), rl.data());
       if (!st.is_ok()) return item_failure(t, item, st);
       for (int i = 0; i < t.local_rows(); ++i) {
         const int r = destination(t, dofs[i]);
-        if (r >= 0) F[r] += rl[i];
+        if (r >= 0) out[r] += rl[i];
       }
     }
   }
+  if (auto bad = non_finite_entries(out, 1); !bad.empty())
+    return {StatusCode::NotFinite, fmt::format("not finite in row {}", bad[0])};
+  return {};
+}
+
+Status Assembler::residual(const Vector& u, Vector& F) const {
+  const auto t0 = std::chrono::steady_clock::now();
+  Status st = assemble_vector(u, F, [](const Term& t, int item, const double* ul, double* rl) {
+    return t.residual(item, ul, rl);
+  });
   timing_.residual_seconds += seconds_since(t0);
   ++timing_.residual_calls;
-  if (auto bad = non_finite_entries(F, 1); !bad.empty())
-    return {StatusCode::NotFinite, fmt::format("residual is not finite in row {}", bad[0])};
-  return {};
+  if (st.code() == StatusCode::NotFinite) return {st.code(), "residual " + st.message()};
+  return st;
 }
 
 Status Assembler::jacobian(const Vector& u, Vector& F, SparseMatrix& J) const {
@@ -219,30 +227,13 @@ Status Assembler::mass_matrix(const Vector& u, SparseMatrix& B) const {
 
 Status Assembler::parameter_derivative(int p, const Vector& u, Vector& dF) const {
   const auto t0 = std::chrono::steady_clock::now();
-  dF.setZero(n_);
-  std::vector<int> dofs;
-  std::vector<double> ul, rl;
-  for (const auto& tp : terms_) {
-    const Term& t = *tp;
-    dofs.resize(t.local_size());
-    ul.resize(t.local_size());
-    rl.resize(t.local_rows());
-    for (int item = 0; item < t.num_items(); ++item) {
-      t.item_dofs(item, dofs.data());
-      for (int j = 0; j < t.local_size(); ++j) ul[j] = u[dofs[j]];
-      Status st = t.parameter_derivative(item, p, ul.data(), rl.data());
-      if (!st.is_ok()) return item_failure(t, item, st);
-      for (int i = 0; i < t.local_rows(); ++i) {
-        const int r = destination(t, dofs[i]);
-        if (r >= 0) dF[r] += rl[i];
-      }
-    }
-  }
+  Status st = assemble_vector(u, dF, [p](const Term& t, int item, const double* ul, double* rl) {
+    return t.parameter_derivative(item, p, ul, rl);
+  });
   timing_.parameter_seconds += seconds_since(t0);
   ++timing_.parameter_calls;
-  if (auto bad = non_finite_entries(dF, 1); !bad.empty())
-    return {StatusCode::NotFinite, fmt::format("dF/dp is not finite in row {}", bad[0])};
-  return {};
+  if (st.code() == StatusCode::NotFinite) return {st.code(), "dF/dp " + st.message()};
+  return st;
 }
 
 }  // namespace keller

@@ -4,6 +4,7 @@
 // holds the full diagonal, so shifted matrices J - s B and bordered systems share it.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <utility>
 #include <vector>
@@ -53,6 +54,9 @@ class Assembler {
 
  private:
   int destination(const Term& t, int dof) const { return t.owns_rows() ? dof : target_[dof]; }
+  using LocalVector = std::function<Status(const Term&, int item, const double* u_local, double* r_local)>;
+  // Sums a per-item local vector (residual, dF/dp) into out.
+  Status assemble_vector(const Vector& u, Vector& out, const LocalVector& local) const;
   int n_;
   std::vector<std::shared_ptr<const Term>> terms_;
   std::vector<int> target_;
