@@ -3,6 +3,8 @@
 //
 // A Kernel provides
 //   static constexpr int kSize;                       // local unknowns per item
+//   (optional) static constexpr int kRows;            // rows written (the first kRows unknowns'
+//                                                     // rows; default kSize), e.g. boundary terms
 //   std::string name() const;
 //   int num_items() const;
 //   void item_dofs(int item, int* dofs) const;
@@ -28,9 +30,18 @@
 namespace keller {
 
 template <class Kernel>
+constexpr int kernel_rows() {
+  if constexpr (requires { Kernel::kRows; })
+    return Kernel::kRows;
+  else
+    return Kernel::kSize;
+}
+
+template <class Kernel>
 class KernelTerm final : public Term {
  public:
   static constexpr int N = Kernel::kSize;
+  static constexpr int R = kernel_rows<Kernel>();
   using JacobianScalar = Dual<N>;
   using DerivativeScalar = Dual<1>;
 
@@ -39,6 +50,7 @@ class KernelTerm final : public Term {
   std::string name() const override { return kernel_.name(); }
   int num_items() const override { return kernel_.num_items(); }
   int local_size() const override { return N; }
+  int local_rows() const override { return R; }
   void item_dofs(int item, int* dofs) const override { kernel_.item_dofs(item, dofs); }
 
   Status residual(int item, const double* u, double* r) const override {
@@ -46,10 +58,11 @@ class KernelTerm final : public Term {
   }
 
   Status jacobian(int item, const double* u, double* r, double* J) const override {
-    std::array<JacobianScalar, N> ud, rd;
+    std::array<JacobianScalar, N> ud;
+    std::array<JacobianScalar, R> rd;
     for (int i = 0; i < N; ++i) ud[i] = make_variable<N>(u[i], i);
     Status st = kernel_.template evaluate<JacobianScalar, double>(item, ud.data(), params_->values(), rd.data());
-    for (int i = 0; i < N; ++i) {
+    for (int i = 0; i < R; ++i) {
       r[i] = rd[i].value();
       for (int j = 0; j < N; ++j) J[i * N + j] = rd[i].derivatives()[j];
     }
@@ -57,12 +70,13 @@ class KernelTerm final : public Term {
   }
 
   Status parameter_derivative(int item, int p, const double* u, double* dr) const override {
-    std::array<DerivativeScalar, N> ud, rd;
+    std::array<DerivativeScalar, N> ud;
+    std::array<DerivativeScalar, R> rd;
     for (int i = 0; i < N; ++i) ud[i] = DerivativeScalar(u[i]);
     std::vector<DerivativeScalar> pd(params_->values(), params_->values() + params_->size());
     pd[p].derivatives()[0] = 1.0;
     Status st = kernel_.template evaluate<DerivativeScalar, DerivativeScalar>(item, ud.data(), pd.data(), rd.data());
-    for (int i = 0; i < N; ++i) dr[i] = rd[i].derivatives()[0];
+    for (int i = 0; i < R; ++i) dr[i] = rd[i].derivatives()[0];
     return st;
   }
 

@@ -7,19 +7,13 @@
 #include <stdexcept>
 
 #include "core/KernelTerm.hpp"
-#include "problems/NewtonianFlowKernel.hpp"
 
 namespace keller {
 
 void ChannelOptions::declare(SceneSchema& s) {
   declare_channel_mesh_keys(s);
-  s.section("fluid", "the fluid and which physics is on");
-  s.string("fluid.model", "newtonian", "constitutive law of the fluid", {"newtonian"});
-  s.section("inflow", "inflow boundary condition at x = 0");
-  s.string("inflow.profile", "parabolic", "fully developed inflow profile v_x(y) of mean Gamma", {"parabolic"});
-  s.section("parameters", "initial values of the named continuation parameters");
-  s.real("parameters.Re", 0.0, "Reynolds number rho W U0 / eta0 (0: Stokes, the convective term is not assembled)",
-         Range::non_negative());
+  // blood (model.md): beta = eta_s / (eta_s + eta_p0) = 0.001 / 0.198
+  FluidOptions::declare(s, OwensParameters().beta(), 0.1);
   s.real("parameters.Gamma", 4.95e-4, "Gamma = eta0 U0 / (G W): the mean inflow velocity in these units",
          Range::positive());
 }
@@ -28,11 +22,8 @@ ChannelOptions ChannelOptions::from_scene(const Scene& scene) {
   ChannelOptions o;
   o.geometry = channel_geometry_from(scene);
   o.mesh = channel_mesh_spec_from(scene);
-  o.fluid_model = scene.string("fluid.model");
-  o.inflow_profile = scene.string("inflow.profile");
-  o.Re = scene.real("parameters.Re");
+  o.fluid = FluidOptions::from_scene(scene);
   o.Gamma = scene.real("parameters.Gamma");
-  o.inertia = o.Re > 0.0;
   return o;
 }
 
@@ -44,61 +35,20 @@ ChannelProblem::ChannelProblem(const ChannelOptions& options, Mesh mesh) : optio
 }
 
 void ChannelProblem::setup() {
-  if (options_.fluid_model != "newtonian")
-    throw std::invalid_argument("channel: fluid model '" + options_.fluid_model + "' is not available");
-  if (options_.Re > 0.0 && !options_.inertia)
-    throw std::invalid_argument("channel: Re > 0 needs the convective term (inertia = true)");
-  iRe_ = params_.add("Re", options_.Re, "Reynolds number", 0.0);
   iGamma_ = params_.add("Gamma", options_.Gamma, "mean inflow velocity (solid elasticity parameter)",
                         std::numeric_limits<double>::min());
-
-  dofs_ = std::make_unique<DofMap>(mesh_, std::vector<FieldSpec>{
-                                              {"velocity", Basis::Q2, {"vx", "vy"}, {"fluid"}},
-                                              {"pressure", Basis::P1Disc, {"p"}, {"fluid"}},
-                                          });
-  fluid_elements_ = mesh_.elements_in_group(mesh_.group_index("fluid"));
-  geometry_.resize(fluid_elements_.size());
-  for (size_t k = 0; k < fluid_elements_.size(); ++k) {
-    double xy[9][2];
-    mesh_.element_nodes(fluid_elements_[k], xy);
-    if (!map_element(xy, geometry_[k]))
-      throw std::invalid_argument(fmt::format("channel: element {} is inverted or degenerate", fluid_elements_[k]));
-  }
-
-  // Dirichlet conditions; walls win at corners (both give zero there).
-  const int fv = dofs_->field_index("velocity");
-  std::map<int, DirichletTerm::ValueFunction> fixed;
-  std::map<int, double> zero;
-  for (int n : mesh_.boundary_nodes("inflow")) {
-    const double y = mesh_.node(n)[1];
-    fixed[dofs_->node_dof(fv, n, 0)] = [iG = iGamma_, y](const ParameterSet& p) {
-      return 6.0 * p.value(iG) * y * (1.0 - y);
-    };
-    zero[dofs_->node_dof(fv, n, 1)] = 0.0;
-  }
-  for (int n : mesh_.boundary_nodes("outflow")) zero[dofs_->node_dof(fv, n, 1)] = 0.0;
-  for (const char* wall : {"bottom_wall", "top_wall", "interface"}) {
-    for (int n : mesh_.boundary_nodes(wall)) {
-      for (int c = 0; c < 2; ++c) {
-        fixed.erase(dofs_->node_dof(fv, n, c));
-        zero[dofs_->node_dof(fv, n, c)] = 0.0;
-      }
-    }
-  }
-  dirichlet_ = std::make_shared<DirichletTerm>("velocity-dirichlet", params_);
-  for (auto& [dof, g] : fixed) dirichlet_->add(dof, g);
-  for (auto& [dof, v] : zero) dirichlet_->add(dof, v);
-
-  NewtonianFlowParameters np{iRe_, iGamma_, -1};
-  auto flow = std::make_shared<KernelTerm<NewtonianFlowKernel>>(
-      NewtonianFlowKernel(mesh_, *dofs_, fluid_elements_, &geometry_, np, options_.inertia), params_);
-  assembler_ = std::make_unique<Assembler>(dofs_->size(), std::vector<std::shared_ptr<const Term>>{flow, dirichlet_});
+  FlowBoundaries bc;
+  bc.walls = {"bottom_wall", "top_wall", "interface"};
+  bc.channel_lo = 0.0;
+  bc.channel_hi = 1.0;
+  flow_ = std::make_unique<FlowEquations>(mesh_, "fluid", options_.fluid, bc, params_, iGamma_);
+  dofs_ = std::make_unique<DofMap>(mesh_, flow_->fields());
+  dirichlet_ = std::make_shared<DirichletTerm>("dirichlet", params_);
+  flow_->build(*dofs_, *dirichlet_);
+  std::vector<std::shared_ptr<const Term>> terms = flow_->terms();
+  terms.push_back(dirichlet_);
+  assembler_ = std::make_unique<Assembler>(dofs_->size(), terms);
   locator_ = std::make_unique<PointLocator>(mesh_, mesh_.group_index("fluid"));
-}
-
-double ChannelProblem::inflow_velocity(double y) const {
-  const double Gamma = params_.value(iGamma_);
-  return 6.0 * Gamma * y * (1.0 - y);
 }
 
 Status ChannelProblem::residual(const Vector& u, Vector& F) { return assembler_->residual(u, F); }
@@ -112,13 +62,9 @@ Status ChannelProblem::parameter_derivative(int p, const Vector& u, Vector& dF) 
 double ChannelProblem::residual_scale() const { return params_.value(iGamma_); }
 
 Vector ChannelProblem::initial_guess() {
-  // fully developed velocity everywhere, zero pressure
+  // the fully developed inflow state everywhere, zero pressure
   Vector u = Vector::Zero(size());
-  const int fv = dofs_->field_index("velocity");
-  for (int n = 0; n < mesh_.num_nodes(); ++n) {
-    const int d = dofs_->node_dof(fv, n, 0);
-    if (d >= 0) u[d] = inflow_velocity(mesh_.node(n)[1]);
-  }
+  flow_->initial_guess(u);
   for (int k = 0; k < dirichlet_->num_items(); ++k) u[dirichlet_->dofs()[k]] = dirichlet_->value(k);
   return u;
 }
@@ -190,7 +136,25 @@ std::vector<double> ChannelProblem::column_flow_rates(const Vector& u) const {
   return out;
 }
 
-std::vector<std::string> ChannelProblem::observable_names() const { return {"dP", "Q_in", "Q_out", "vx_max"}; }
+std::vector<std::string> ChannelProblem::observable_names() const {
+  std::vector<std::string> names = {"dP", "Q_in", "Q_out", "vx_max"};
+  if (options_.fluid.viscoelastic()) names.insert(names.end(), {"min_m1", "max_m3"});
+  return names;
+}
+
+std::vector<std::string> ChannelProblem::monitor_names() const {
+  if (options_.fluid.viscoelastic()) return {"min_m1"};  // zero where M loses positive definiteness
+  return {};
+}
+
+Status ChannelProblem::monitors(const Vector& u, std::vector<double>& values) {
+  values.clear();
+  if (!options_.fluid.viscoelastic()) return {};
+  std::vector<double> obs;
+  Status st = observables(u, obs);
+  if (st.is_ok()) values = {obs[4]};
+  return st;
+}
 
 Status ChannelProblem::observables(const Vector& u, std::vector<double>& values) {
   const int fv = dofs_->field_index("velocity");
@@ -202,15 +166,33 @@ Status ChannelProblem::observables(const Vector& u, std::vector<double>& values)
   const double Lu = options_.geometry.upstream_length, L = options_.geometry.deformable_length;
   const std::vector<double> q = column_flow_rates(u);
   values = {section_pressure(u, Lu) - section_pressure(u, Lu + L), q.front(), q.back(), vmax};
+  if (options_.fluid.viscoelastic()) {
+    std::vector<int> nodes;
+    std::vector<std::array<double, 3>> eig;
+    flow_->conformation_eigenvalues(u, nodes, eig);
+    double m1 = INFINITY, m3 = -INFINITY;
+    for (const auto& e : eig) {
+      m1 = std::min(m1, e[0]);
+      m3 = std::max(m3, e[2]);
+    }
+    values.push_back(m1);
+    values.push_back(m3);
+  }
   return {};
 }
 
-SolutionFields ChannelProblem::fields(const Vector& u) const { return extract_fields(mesh_, *dofs_, u); }
+SolutionFields ChannelProblem::fields(const Vector& u) const {
+  SolutionFields f = extract_fields(mesh_, *dofs_, u);
+  flow_->add_fields(u, f);
+  return f;
+}
 
 std::string ChannelProblem::summary() const {
-  return fmt::format("channel, {} fluid, rigid walls, {}; mesh {}: {} elements, {} nodes; Q2-P1disc, {} unknowns",
-                     options_.fluid_model, options_.inertia ? "Navier-Stokes" : "Stokes", options_.mesh.name,
-                     mesh_.num_elements(), mesh_.num_nodes(), size());
+  const FluidOptions& f = options_.fluid;
+  return fmt::format("channel, {} fluid{}, rigid walls, {}; mesh {}: {} elements, {} nodes; {}, {} unknowns",
+                     to_string(f.model), f.viscoelastic() && f.log_conformation ? " (log-conformation)" : "",
+                     f.inertia ? "Navier-Stokes" : "Stokes", options_.mesh.name, mesh_.num_elements(), mesh_.num_nodes(),
+                     f.viscoelastic() ? "Q2-P1disc-Q1-Q1 DEVSS-TG/SUPG" : "Q2-P1disc", size());
 }
 
 }  // namespace keller

@@ -1,8 +1,8 @@
-// Steady flow in the channel of model.md with rigid walls: Stokes (Re = 0) or Navier-Stokes
-// (Re > 0) for a Newtonian fluid. The inflow carries a fully developed profile of mean Gamma,
-// walls are no-slip, the outflow is fully developed with the pressure datum P = 0 there
-// (natural condition T_xx = 0 and v_y = 0). Only the fields and terms the scene asks for exist:
-// the convective term is assembled only when inertia is on.
+// Steady flow in the channel of model.md with rigid walls, for any of the four fluids (Stokes,
+// or Navier-Stokes when Re > 0). The inflow carries a fully developed profile of mean Gamma and,
+// for viscoelastic fluids, the local steady-shear conformation; walls are no-slip; the outflow
+// is fully developed with the pressure datum P = 0 there (v_y = 0 and the natural condition
+// with the polymer traction). Only the fields and terms the scene asks for exist.
 #pragma once
 
 #include <memory>
@@ -16,17 +16,15 @@
 #include "core/Problem.hpp"
 #include "core/Scene.hpp"
 #include "problems/ChannelMesh.hpp"
+#include "problems/FlowEquations.hpp"
 
 namespace keller {
 
 struct ChannelOptions {
   ChannelGeometry geometry;
   ChannelMeshSpec mesh;
-  std::string fluid_model = "newtonian";
-  std::string inflow_profile = "parabolic";
-  double Re = 0.0;
+  FluidOptions fluid;
   double Gamma = 4.95e-4;
-  bool inertia = false;  // assemble (Re/Gamma) v . grad v; true when Re > 0 in the scene
 
   static void declare(SceneSchema& schema);
   static ChannelOptions from_scene(const Scene& scene);
@@ -54,6 +52,8 @@ class ChannelProblem final : public Problem {
   double residual_scale() const override;
   std::vector<std::string> observable_names() const override;
   Status observables(const Vector& u, std::vector<double>& values) override;
+  std::vector<std::string> monitor_names() const override;
+  Status monitors(const Vector& u, std::vector<double>& values) override;
   SolutionFields fields(const Vector& u) const override;
   std::string summary() const override;
 
@@ -61,8 +61,7 @@ class ChannelProblem final : public Problem {
   const DofMap& dofs() const { return *dofs_; }
   const Assembler& assembler() const { return *assembler_; }
   const ChannelOptions& options() const { return options_; }
-  // Fully developed inflow velocity v_x(y) at the current Gamma.
-  double inflow_velocity(double y) const;
+  const FlowEquations& flow() const { return *flow_; }
   // Mean pressure over the cross-section x = x0 (0 <= y <= 1), sampled with a composite Gauss
   // rule; where the section runs along element edges the one-sided values are averaged.
   double section_pressure(const Vector& u, double x0) const;
@@ -78,9 +77,8 @@ class ChannelProblem final : public Problem {
   Mesh mesh_;
   std::unique_ptr<DofMap> dofs_;
   ParameterSet params_;
-  int iRe_ = -1, iGamma_ = -1;
-  std::vector<int> fluid_elements_;
-  std::vector<std::array<QpGeometry<double>, ref::kQp>> geometry_;
+  int iGamma_ = -1;
+  std::unique_ptr<FlowEquations> flow_;
   std::shared_ptr<DirichletTerm> dirichlet_;
   std::unique_ptr<Assembler> assembler_;
   std::unique_ptr<PointLocator> locator_;

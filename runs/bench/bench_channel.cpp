@@ -86,8 +86,8 @@ int main(int argc, char** argv) {
   for (const std::string& name : meshes) {
     ChannelOptions o;
     o.mesh = ChannelMeshSpec::preset(name);
-    o.Re = Re;
-    o.inertia = Re > 0;
+    o.fluid.Re = Re;
+    o.fluid.inertia = Re > 0;
     o.Gamma = 4.95e-4;
     ChannelProblem p(o);
     Vector u = p.initial_guess(), F;

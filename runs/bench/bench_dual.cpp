@@ -42,8 +42,8 @@ struct Setup {
   static ChannelOptions options() {
     ChannelOptions o;
     o.mesh = ChannelMeshSpec::preset("M2");
-    o.Re = 1.0;  // with the convective term
-    o.inertia = true;
+    o.fluid.Re = 1.0;  // with the convective term
+    o.fluid.inertia = true;
     return o;
   }
   ChannelProblem problem;

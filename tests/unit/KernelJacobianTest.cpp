@@ -33,9 +33,9 @@ ChannelOptions small_channel(double Re) {
   o.mesh.nx_deformable = 3;
   o.mesh.nx_downstream = 2;
   o.mesh.ny_fluid = 2;
-  o.Re = Re;
+  o.fluid.Re = Re;
   o.Gamma = 0.7;
-  o.inertia = Re > 0;
+  o.fluid.inertia = Re > 0;
   return o;
 }
 
@@ -112,7 +112,7 @@ TEST(MassMatrix, RowSumsAreBasisIntegrals) {
   SparseMatrix B;
   ASSERT_TRUE(channel.mass_matrix(channel.initial_guess(), B).is_ok());
   const Vector rows = B * Vector::Ones(channel.size());
-  const double rho = o.Re / o.Gamma;
+  const double rho = o.fluid.Re / o.Gamma;
   const int fv = channel.dofs().field_index("velocity"), fp = channel.dofs().field_index("pressure");
   const Mesh& m = channel.mesh();
   for (int e = 0; e < m.num_elements(); ++e) {

@@ -60,9 +60,9 @@ TEST(Newton, ConvergesQuadraticallyOnBratu2D) {
 TEST(Newton, ConvergesQuadraticallyOnNavierStokes) {
   ChannelOptions o;
   o.mesh = ChannelMeshSpec::preset("M1");
-  o.Re = 50.0;
+  o.fluid.Re = 50.0;
   o.Gamma = 1.0;
-  o.inertia = true;
+  o.fluid.inertia = true;
   ChannelProblem problem(o);
   Vector u = problem.initial_guess();
   // a large swirl on top of Poiseuille flow makes the convective term matter

@@ -69,8 +69,8 @@ TEST(Poiseuille, ExactOnGradedDistortedMeshForStokesAndNavierStokes) {
     // absolute velocity error <= 1e-10 (for Gamma = 1 the relative and absolute errors coincide)
     EXPECT_LT(es.velocity * 1.5 * Gamma, 1e-10);
 
-    o.Re = 10.0;
-    o.inertia = true;
+    o.fluid.Re = 10.0;
+    o.fluid.inertia = true;
     ChannelProblem navier(o, mesh);
     Vector un = Vector::Zero(navier.size());
     NewtonSolver nn(navier);
