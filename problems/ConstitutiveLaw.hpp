@@ -27,9 +27,9 @@ struct OwensParameters {
   double m = 0.75;
   double rate_scale = 100.0;  // U0 / W in 1/s (U0 = 0.01 m/s, W = 100 micrometres)
   // The Cross model's gdot^m has an infinite slope at gdot = 0 (centrelines, stagnation
-  // points): gdot_dim is replaced by sqrt(gdot_dim^2 + floor^2), which changes eta_p by less
-  // than 0.1% at gdot_dim = 0 and not measurably elsewhere, and keeps the Jacobian finite.
-  double rate_floor = 1e-4;  // 1/s
+  // points): gdot_dim is replaced by sqrt(gdot_dim^2 + floor^2), which lowers eta_p by 0.025%
+  // at gdot_dim = 0 (theta2 floor^m = 2.5e-4), less elsewhere, and keeps the Jacobian finite.
+  double rate_floor = 1e-6;  // 1/s
   double theta1() const { return theta2 * eta_pinf / eta_p0; }
   double beta() const { return eta_s / (eta_s + eta_p0); }
 };

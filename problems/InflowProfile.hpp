@@ -23,10 +23,13 @@ class FullyDevelopedProfile {
   FullyDevelopedProfile(std::function<double(double)> viscosity, double half_width, double mean_velocity);
   double velocity(double s) const;    // u at distance s from the centreline
   double shear_rate(double s) const;  // |du/ds| there
+  // Both at many distances at once (one cumulative integration).
+  void evaluate(const std::vector<double>& s, std::vector<double>& u, std::vector<double>& shear_rate) const;
   double pressure_gradient() const { return G_; }  // -dP/dx
 
  private:
-  double shear_rate_of_stress(double tau) const;
+  // Shear rate of a shear stress, Newton from `guess` inside a bracket.
+  double shear_rate_of_stress(double tau, double guess = -1) const;
   double mean_velocity(double G) const;
   std::function<double(double)> eta_;
   double H_, U_, G_ = 0, eta_min_ = 0;

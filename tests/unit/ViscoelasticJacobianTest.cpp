@@ -1,0 +1,100 @@
+// Exact Jacobians of the viscoelastic equations: every fluid, both formulations, both SUPG time
+// scales, FENE-P with M_zz eliminated and as an unknown, on curved distorted elements, at random
+// states and at M = I exactly (where the log-conformation algebra takes its series branches);
+// and every dF/dp. Fails above a relative error of 1e-6.
+#include <gtest/gtest.h>
+
+#include <iostream>
+#include <random>
+
+#include "problems/ChannelProblem.hpp"
+#include "support/TestSupport.hpp"
+
+using namespace keller;
+
+namespace {
+
+struct Case {
+  FluidModel model;
+  bool log_form;
+  bool dynamic_zz;
+  bool supg_local;
+  bool at_identity;  // conformation exactly I (Psi = 0)
+};
+
+std::string label(const Case& c) {
+  return std::string(to_string(c.model)) + (c.log_form ? " log" : " conf") + (c.dynamic_zz ? " zz" : "") +
+         (c.supg_local ? " local" : " global") + (c.at_identity ? " M=I" : "");
+}
+
+void check(const Case& c) {
+  SCOPED_TRACE(label(c));
+  ChannelOptions o;
+  o.mesh.name = "custom";
+  o.mesh.nx_upstream = 1;
+  o.mesh.nx_deformable = 2;
+  o.mesh.nx_downstream = 1;
+  o.mesh.ny_fluid = 2;
+  o.Gamma = 0.5;
+  o.fluid.model = c.model;
+  o.fluid.log_conformation = c.log_form;
+  o.fluid.dynamic_zz = c.dynamic_zz;
+  o.fluid.kernel.supg_local = c.supg_local;
+  o.fluid.Wi = 0.7;
+  o.fluid.beta = 0.3;
+  o.fluid.b = 20.0;
+  o.fluid.Re = 2.0;
+  o.fluid.inertia = true;
+  o.fluid.profile = c.model == FluidModel::Newtonian ? ProfileKind::Parabolic : ProfileKind::FullyDeveloped;
+  Mesh mesh = build_channel_mesh(o.geometry, o.mesh, false);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> U(-1, 1);
+  for (int n = 0; n < mesh.num_nodes(); ++n) {
+    auto p = mesh.node(n);
+    p[0] += 0.06 * U(rng);
+    p[1] += 0.03 * U(rng);
+    mesh.set_node(n, p);
+  }
+  ChannelProblem problem(o, mesh);
+  Vector u = problem.initial_guess();
+  const DofMap& d = problem.dofs();
+  for (int i = 0; i < u.size(); ++i) u[i] += 0.2 * U(rng) * (std::abs(u[i]) + 0.1);
+  // a symmetric positive definite conformation (or its log) at every node
+  const int fm = d.field_index("conformation");
+  for (int n = 0; n < mesh.num_nodes(); ++n) {
+    if (d.node_dof(fm, n, 0) < 0) continue;
+    const int nc = d.num_components(fm);
+    for (int k = 0; k < nc; ++k) {
+      double v = 0;
+      if (!c.at_identity) v = c.log_form ? 0.4 * U(rng) : (k == 1 ? 0.3 * U(rng) : 1.2 + 0.4 * U(rng));
+      else v = c.log_form ? 0.0 : (k == 1 ? 0.0 : 1.0);
+      u[d.node_dof(fm, n, k)] = v;
+    }
+  }
+  const auto jc = test::check_problem_jacobian(problem, u);
+  std::cout << label(c) << ": Jacobian max relative error " << jc.max_relative_error << " (row " << d.describe(jc.worst_row)
+            << ")\n";
+  EXPECT_LT(jc.max_relative_error, 1e-6);
+  for (const Parameter& p : problem.parameters().list()) {
+    const double e = test::check_parameter_derivative(problem, problem.parameters().index(p.name), u);
+    EXPECT_LT(e, 1e-6) << "dF/d" << p.name;
+  }
+}
+
+}  // namespace
+
+TEST(ViscoelasticJacobian, EveryFluidAndFormulation) {
+  for (FluidModel m : {FluidModel::OldroydB, FluidModel::FeneP, FluidModel::Owens})
+    for (bool log_form : {false, true}) check({m, log_form, false, true, false});
+}
+
+TEST(ViscoelasticJacobian, FenePWithDynamicZz) {
+  for (bool log_form : {false, true}) check({FluidModel::FeneP, log_form, true, true, false});
+}
+
+TEST(ViscoelasticJacobian, GlobalSupg) { check({FluidModel::OldroydB, false, false, false, false}); }
+
+TEST(ViscoelasticJacobian, LogConformationAtIdentity) {
+  for (FluidModel m : {FluidModel::OldroydB, FluidModel::FeneP, FluidModel::Owens}) check({m, true, false, true, true});
+  check({FluidModel::FeneP, true, true, true, true});
+}
