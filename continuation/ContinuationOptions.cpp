@@ -32,7 +32,7 @@ void ContinuationOptions::declare(SceneSchema& s) {
          Range{0.0, 1.0, true, true});
   s.real("continuation.state_scale", 0.0, "state scale in the arclength norm (0: RMS of the start)",
          Range::non_negative());
-  s.real("continuation.event_tolerance", 1e-10, "events and folds are located to this tolerance in the parameter",
+  s.real("continuation.event_tolerance", 1e-8, "events and folds are located to this tolerance in the parameter",
          Range::positive());
   s.integer("continuation.max_location_iterations", 60, "corrector solves allowed to locate one event",
             Range::at_least(1));

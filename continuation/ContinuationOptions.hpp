@@ -39,7 +39,7 @@ struct ContinuationOptions {
   double theta = 0.5;
   double state_scale = 0.0;    // 0: automatic
 
-  double event_tolerance = 1e-10;   // absolute, in the parameter
+  double event_tolerance = 1e-8;    // absolute, in the parameter
   int max_location_iterations = 60;
   bool detect_folds = true;
   bool detect_branch_points = true;

@@ -146,6 +146,27 @@ Status Assembler::assemble_vector(const Vector& u, Vector& out, const LocalVecto
   return {};
 }
 
+Status Assembler::weak_residual(const Vector& u, Vector& F) const {
+  F.setZero(n_);
+  std::vector<int> dofs;
+  std::vector<double> ul, rl;
+  for (const auto& tp : terms_) {
+    const Term& t = *tp;
+    if (t.owns_rows()) continue;
+    dofs.resize(t.local_size());
+    ul.resize(t.local_size());
+    rl.resize(t.local_rows());
+    for (int item = 0; item < t.num_items(); ++item) {
+      t.item_dofs(item, dofs.data());
+      for (int j = 0; j < t.local_size(); ++j) ul[j] = u[dofs[j]];
+      Status st = t.residual(item, ul.data(), rl.data());
+      if (!st.is_ok()) return item_failure(t, item, st);
+      for (int i = 0; i < t.local_rows(); ++i) F[dofs[i]] += rl[i];
+    }
+  }
+  return {};
+}
+
 Status Assembler::residual(const Vector& u, Vector& F) const {
   const auto t0 = std::chrono::steady_clock::now();
   Status st = assemble_vector(u, F, [](const Term& t, int item, const double* ul, double* rl) {

@@ -42,6 +42,9 @@ class Assembler {
   Status jacobian(const Vector& u, Vector& F, SparseMatrix& J) const;
   // dF/dp for parameter index p.
   Status parameter_derivative(int p, const Vector& u, Vector& dF) const;
+  // The weak (integrated) terms alone, each row kept where it was assembled (no strong rows,
+  // no redirects): at a Dirichlet row this is the reaction, the consistent boundary traction.
+  Status weak_residual(const Vector& u, Vector& F) const;
   // Mass matrix B of B du/dt = -F (structure of pattern()); rows owned by strong terms are zero.
   Status mass_matrix(const Vector& u, SparseMatrix& B) const;
 

@@ -21,7 +21,9 @@ struct SparseLUOptions {
   Scaling scaling = Scaling::Sum;
   Strategy strategy = Strategy::Auto;
   double pivot_tolerance = 0.1;  // UMFPACK's threshold partial pivoting
-  int refinement_steps = 2;      // iterative refinement steps in solve
+  // Iterative refinement makes a solve about 5x dearer (cylinder C1: 6.6 ms -> 36 ms) for a
+  // relative residual of 1e-15 instead of 1e-11, which Newton's next step corrects anyway.
+  int refinement_steps = 0;
 };
 
 const char* to_string(SparseLUOptions::Ordering o);

@@ -5,6 +5,7 @@
 #include "problems/Bratu1DProblem.hpp"
 #include "problems/Bratu2DProblem.hpp"
 #include "problems/ChannelProblem.hpp"
+#include "problems/CylinderProblem.hpp"
 
 namespace keller {
 
@@ -13,6 +14,10 @@ const std::vector<ProblemType>& problem_types() {
       {"channel", "steady flow in the 19 x 1 channel of model.md", ChannelOptions::declare,
        [](const Scene& s) -> std::unique_ptr<Problem> {
          return std::make_unique<ChannelProblem>(ChannelOptions::from_scene(s));
+       }},
+      {"cylinder", "confined-cylinder benchmark (radius 1, channel half-width 2)", CylinderOptions::declare,
+       [](const Scene& s) -> std::unique_ptr<Problem> {
+         return std::make_unique<CylinderProblem>(CylinderOptions::from_scene(s));
        }},
       {"bratu1d", "1D Bratu problem by central differences (test problem)", Bratu1DProblem::declare,
        Bratu1DProblem::from_scene},

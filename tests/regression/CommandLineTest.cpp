@@ -66,7 +66,7 @@ TEST(CommandLine, MalformedScenesGetTheirOwnErrors) {
        "key 'geometry.upstream_length' = -7 is out of range: must be > 0"},
       {"not_toml.toml", "this is not toml\n", "not valid TOML"},
       {"bad_choice.toml", "[fluid]\nmodel = \"water\"\n", "key 'fluid.model' = \"water\" is not one of: newtonian"},
-      {"bad_problem.toml", "[problem]\ntype = \"cylinder\"\n", "unknown problem type 'cylinder'"},
+      {"bad_problem.toml", "[problem]\ntype = \"teapot\"\n", "unknown problem type 'teapot'"},
       {"unknown_section.toml", "[meshh]\nname = \"M1\"\n", "unknown section [meshh]"},
       {"preset_with_sizes.toml", "[mesh]\nname = \"M1\"\nny_fluid = 4\n", "explicit sizes need mesh.name = \"custom\""},
   };
