@@ -1,0 +1,100 @@
+// The scene picks the fluid and only that fluid's fields and parameters exist; keys that the
+// chosen fluid does not use are errors; the conformation diagnostics are the eigenvalues of M.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+
+#include "core/Newton.hpp"
+#include "problems/ChannelProblem.hpp"
+#include "runs/SceneLoader.hpp"
+
+using namespace keller;
+
+namespace {
+
+ChannelOptions small(FluidModel m) {
+  ChannelOptions o;
+  o.mesh = ChannelMeshSpec::preset("M1");
+  o.fluid.model = m;
+  return o;
+}
+
+std::vector<std::string> field_names(const ChannelProblem& p) {
+  std::vector<std::string> out;
+  for (int f = 0; f < p.dofs().num_fields(); ++f) {
+    const FieldSpec& fs = p.dofs().field(f);
+    std::string s = fs.name + "(";
+    for (size_t c = 0; c < fs.components.size(); ++c) s += (c ? "," : "") + fs.components[c];
+    out.push_back(s + ")");
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST(FlowEquations, OnlyTheChosenFluidsFieldsAndParametersExist) {
+  {
+    ChannelProblem p(small(FluidModel::Newtonian));
+    EXPECT_EQ(field_names(p), (std::vector<std::string>{"velocity(vx,vy)", "pressure(p)"}));
+    EXPECT_EQ(p.parameters().names(), "Gamma, Re");
+    EXPECT_TRUE(p.monitor_names().empty());
+  }
+  {
+    ChannelProblem p(small(FluidModel::OldroydB));
+    EXPECT_EQ(field_names(p), (std::vector<std::string>{"velocity(vx,vy)", "pressure(p)", "gradient(Lxx,Lxy,Lyx,Lyy)",
+                                                        "conformation(Mxx,Mxy,Myy)"}));
+    EXPECT_EQ(p.parameters().names(), "Gamma, Re, Wi, beta");
+    EXPECT_EQ(p.monitor_names(), std::vector<std::string>{"min_m1"});
+  }
+  {
+    ChannelOptions o = small(FluidModel::FeneP);
+    o.fluid.dynamic_zz = true;
+    o.fluid.log_conformation = true;
+    ChannelProblem p(o);
+    EXPECT_EQ(field_names(p).back(), "conformation(Psi_xx,Psi_xy,Psi_yy,Psi_zz)");
+    EXPECT_EQ(p.parameters().names(), "Gamma, Re, Wi, beta, b");
+  }
+}
+
+TEST(FlowEquations, KeysTheFluidDoesNotUseAreErrors) {
+  auto error_of = [](const std::string& text) -> std::string {
+    const std::string path = "/tmp/keller_flow_scene_test.toml";
+    {
+      std::ofstream f(path);
+      f << "[problem]\ntype = \"channel\"\n" << text;
+    }
+    try {
+      const LoadedScene l = load_scene(path);
+      ChannelOptions::from_scene(l.scene);
+    } catch (const SceneError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  EXPECT_NE(error_of("[fluid]\nmodel = \"oldroyd-b\"\n[parameters]\nb = 50.0\n")
+                .find("key 'parameters.b': applies to fluid.model = \"fene-p\" only (got \"oldroyd-b\")"),
+            std::string::npos);
+  EXPECT_NE(error_of("[parameters]\nWi = 1.0\n").find("key 'parameters.Wi': has no meaning for fluid.model = \"newtonian\""),
+            std::string::npos);
+  EXPECT_NE(error_of("[fluid]\nmodel = \"fene-p\"\n[parameters]\nb = 1.0\n").find("key 'parameters.b' = 1 is out of range: must be > 1"),
+            std::string::npos);
+  EXPECT_EQ(error_of("[fluid]\nmodel = \"fene-p\"\n[parameters]\nb = 50.0\n"), "");
+}
+
+// In fully developed Oldroyd-B flow the smallest eigenvalue is 1 + W^2 - sqrt(W^4 + W^2), least
+// at the walls where W = lambda gdot = 6 Wi, and the largest 1 + W^2 + sqrt(W^4 + W^2).
+TEST(FlowEquations, ConformationEigenvaluesInFullyDevelopedFlow) {
+  ChannelOptions o = small(FluidModel::OldroydB);
+  o.fluid.Wi = 0.15;
+  ChannelProblem p(o);
+  Vector u = p.initial_guess();  // the fully developed state
+  std::vector<double> obs;
+  ASSERT_TRUE(p.observables(u, obs).is_ok());
+  const double W = 6 * o.fluid.Wi;
+  EXPECT_NEAR(obs[4], 1 + W * W - std::sqrt(W * W * W * W + W * W), 1e-12);  // min_m1
+  EXPECT_NEAR(obs[5], 1 + W * W + std::sqrt(W * W * W * W + W * W), 1e-12);  // max_m3
+  std::vector<double> mon;
+  ASSERT_TRUE(p.monitors(u, mon).is_ok());
+  EXPECT_EQ(mon[0], obs[4]);
+}
