@@ -201,18 +201,36 @@ Status Continuation::evaluate(BranchPoint& p) {
 
 std::vector<double> Continuation::monitor_values(const BranchPoint& p) const { return p.monitors; }
 
-BranchPoint Continuation::point_on_segment(const BranchPoint& a, const BranchPoint& b, double tau, Status& st) {
+BranchPoint Continuation::point_on_segment(const BranchPoint& a, const BranchPoint& b, double tau, Status& st,
+                                           const BranchPoint* lo, const BranchPoint* hi, bool exact_tangent) {
+  // where the target lies along the segment, in the coordinate the constraint fixes
+  const bool arclength = options_.method == ContinuationOptions::Method::Arclength;
+  auto coord = [&](const BranchPoint& p) {
+    return arclength ? dot(p.u - a.u, p.lambda - a.lambda, a.tu, a.tlambda) : p.lambda;
+  };
+  const double target = arclength ? tau * coord(b) : a.lambda + tau * (b.lambda - a.lambda);
+  // predictor: interpolation between the closest points known on the branch (the bracket)
+  const BranchPoint& p0 = lo ? *lo : a;
+  const BranchPoint& p1 = hi ? *hi : b;
+  const double c0 = coord(p0), c1 = coord(p1);
+  const double w = c1 != c0 ? (target - c0) / (c1 - c0) : tau;
   BranchPoint p;
-  p.u = a.u + tau * (b.u - a.u);
-  p.lambda = a.lambda + tau * (b.lambda - a.lambda);
-  Constraint c;
-  if (options_.method == ContinuationOptions::Method::Arclength) {
-    const double sigma_b = dot(b.u - a.u, b.lambda - a.lambda, a.tu, a.tlambda);
-    c = arclength_constraint(a, a.tu, a.tlambda, tau * sigma_b);
-  } else {
-    c = lambda_constraint(p.lambda);
-  }
+  p.u = p0.u + w * (p1.u - p0.u);
+  p.lambda = p0.lambda + w * (p1.lambda - p0.lambda);
+  const Constraint c = arclength ? arclength_constraint(a, a.tu, a.tlambda, target) : lambda_constraint(target);
   st = correct(p.u, p.lambda, c, p.iterations);
+  // The corrector's last factorisation is at its second-last iterate. Locating a fold (a zero of
+  // the tangent's parameter part) or a sign change of the determinant needs them at the point
+  // itself: one more factorisation there.
+  if (st.is_ok() && exact_tangent) {
+    st = set_parameter(p.lambda);
+    if (st.is_ok()) st = problem_.jacobian(p.u, F_, J_);
+    if (st.is_ok()) st = problem_.parameter_derivative(p_, p.u, Fp_);
+    if (st.is_ok()) {
+      bordered_->set(J_, Fp_, c.cu, c.cl);
+      st = bordered_->factorize();
+    }
+  }
   if (st.is_ok()) st = tangent_from_factorisation(a.tu, a.tlambda, p.tu, p.tlambda, p.det_sign);
   if (st.is_ok()) st = evaluate(p);
   p.bordered_det_sign = bordered_->determinant_sign();
@@ -258,13 +276,16 @@ std::optional<BranchPoint> Continuation::locate_root(const BranchPoint& a, const
   double ta = 0.0, tb = 1.0;
   BranchPoint pa = a, pb = b;
   int side = 0, solves = 0;
+  double last_lambda = NAN;
   for (int it = 0; it < options_.max_location_iterations; ++it) {
     double tc = sign_only ? 0.5 * (ta + tb) : tb - gb * (tb - ta) / (gb - ga);
     // a trial on or outside the bracket (rounding) falls back to bisection
     if (!(tc > ta && tc < tb)) tc = 0.5 * (ta + tb);
     Status st;
-    BranchPoint pc = point_on_segment(a, b, tc, st);
+    const double lambda_before = it > 0 ? last_lambda : NAN;
+    BranchPoint pc = point_on_segment(a, b, tc, st, &pa, &pb, turning);
     solves += pc.iterations;
+    last_lambda = pc.lambda;
     if (!st.is_ok()) {
       location_note_ += "corrector failed while locating: " + st.describe();
       return std::nullopt;
@@ -289,6 +310,12 @@ std::optional<BranchPoint> Continuation::locate_root(const BranchPoint& a, const
     }
     double width = std::abs(pa.lambda - pb.lambda);
     if (turning) width = std::max(width, std::abs(pb.s - pa.s) * std::max(std::abs(pa.tlambda), std::abs(pb.tlambda)));
+    // a zero of a monitor is also found once successive secant trials agree to the tolerance
+    const bool settled = !turning && std::abs(pc.lambda - lambda_before) <= options_.event_tolerance;
+    if (settled) {
+      pc.iterations = solves;
+      return pc;
+    }
     if (width <= options_.event_tolerance) {
       BranchPoint& best = turning ? (std::abs(pa.tlambda) < std::abs(pb.tlambda) ? pa : pb)
                                   : (std::abs(g_of(pa)) < std::abs(g_of(pb)) ? pa : pb);

@@ -100,7 +100,12 @@ class Continuation {
   // Location on the segment a -> b; each returns the located point or nothing (with a note).
   std::optional<BranchPoint> locate_value(const BranchPoint& a, const BranchPoint& b, double value);
   std::optional<BranchPoint> locate_root(const BranchPoint& a, const BranchPoint& b, int which, double ga, double gb);
-  BranchPoint point_on_segment(const BranchPoint& a, const BranchPoint& b, double tau, Status& st);
+  // The point of the segment a -> b at fraction tau of its arclength (natural: of its parameter
+  // change), corrected, predicted from the known points lo and hi (default a and b) around it;
+  // exact_tangent: tangent and determinant from a factorisation at the point itself.
+  BranchPoint point_on_segment(const BranchPoint& a, const BranchPoint& b, double tau, Status& st,
+                               const BranchPoint* lo = nullptr, const BranchPoint* hi = nullptr,
+                               bool exact_tangent = false);
   std::vector<double> monitor_values(const BranchPoint& p) const;
 
   Problem& problem_;

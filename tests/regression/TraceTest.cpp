@@ -88,11 +88,15 @@ TEST(Trace, ScenesMatchTheirReferences) {
       if (t.rows(i, t.column("kind")) != 0.0 && t.rows(i, t.column("kind")) != 1.0) located.push_back(static_cast<int>(i));
     ASSERT_EQ(located.size(), ref_rows.size()) << "number of located points changed";
     for (size_t k = 0; k < ref_rows.size(); ++k) {
+      const bool fold = ref_rows[k][0] == 4.0;
       for (size_t j = 0; j < ref_cols.size(); ++j) {
         const double got = t.rows(located[k], t.column(ref_cols[j])), want = ref_rows[k][j];
-        // located values are converged to 1e-10 in the parameter and Newton's tolerance in the
-        // state: 1e-7 relative leaves room for rounding differences between machines and BLAS
-        EXPECT_NEAR(got, want, 1e-7 * std::max(1.0, std::abs(want))) << ref_cols[j] << " of located point " << k;
+        // Located points are converged to 1e-10 in the parameter and to Newton's tolerance in
+        // the state: 1e-7 relative leaves room for rounding differences between machines and
+        // BLAS. At a fold the parameter varies quadratically along the branch, so the state there
+        // is only fixed to about the square root of the parameter tolerance: 1e-5.
+        const double rel = fold && ref_cols[j] != t.parameter ? 1e-5 : 1e-7;
+        EXPECT_NEAR(got, want, rel * std::max(1.0, std::abs(want))) << ref_cols[j] << " of located point " << k;
       }
     }
     EXPECT_NE(t.status, "running");

@@ -141,6 +141,7 @@ TEST(Continuation, SecantPredictorAlsoPassesTheFolds) {
   RecordingObserver rec;
   const auto r = cont.run(problem.initial_guess(), rec);
   EXPECT_EQ(r.code, StopCode::UpperBound);
+  for (const auto& n : rec.notes) std::cout << "note: " << n << "\n";
   ASSERT_EQ(rec.of_kind(PointKind::Fold).size(), 2u);
   EXPECT_NEAR(rec.of_kind(PointKind::Fold)[0]->lambda, 2.0, 1e-10);
 }

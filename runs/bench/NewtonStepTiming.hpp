@@ -1,0 +1,73 @@
+// Shared by the benchmarks: the cost of one Newton step of a problem at a state -- assembly
+// (residual + exact Jacobian), numeric factorisation and solve, medians of repeated runs -- and
+// the table row that prints it.
+#pragma once
+
+#include <fmt/format.h>
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <chrono>
+#include <string>
+#include <vector>
+
+#include "core/Problem.hpp"
+#include "core/SparseLU.hpp"
+
+namespace keller::bench {
+
+struct StepTiming {
+  int unknowns = 0;
+  long nnz = 0;
+  double nnz_lu = 0;
+  double residual = 0, assembly = 0, factor = 0, solve = 0;  // seconds
+  double lu_mb = 0, rss_mb = 0;
+};
+
+template <class F>
+double median_time(int repeat, F&& f) {
+  std::vector<double> t;
+  for (int k = 0; k < repeat; ++k) {
+    const auto t0 = std::chrono::steady_clock::now();
+    f();
+    t.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  }
+  std::sort(t.begin(), t.end());
+  return t[t.size() / 2];
+}
+
+inline StepTiming time_newton_step(Problem& p, const Vector& u, const SparseLUOptions& lu_options, int repeat) {
+  StepTiming s;
+  Vector F, x;
+  SparseMatrix J = p.jacobian_pattern();
+  SparseLU lu(lu_options);
+  p.jacobian(u, F, J);
+  lu.analyze(J);
+  s.residual = median_time(repeat, [&] { p.residual(u, F); });
+  s.assembly = median_time(repeat, [&] { p.jacobian(u, F, J); });
+  s.factor = median_time(repeat, [&] { lu.factorize(J); });
+  s.solve = median_time(repeat, [&] { lu.solve(F, x); });
+  s.unknowns = p.size();
+  s.nnz = J.nonZeros();
+  s.nnz_lu = lu.statistics().nnz_lu;
+  s.lu_mb = lu.statistics().peak_memory_bytes / 1048576.0;
+  rusage r{};
+  getrusage(RUSAGE_SELF, &r);
+  s.rss_mb = r.ru_maxrss / 1024.0;
+  return s;
+}
+
+inline void print_header() {
+  fmt::print("{:>6} {:>6} {:>8} {:>9} {:>10} {:>6} {:>9} {:>9} {:>9} {:>9} {:>7} {:>8} {:>8}\n", "mesh", "elems",
+             "unknowns", "nnz(J)", "nnz(L+U)", "fill", "resid ms", "assem ms", "factor ms", "solve ms", "assem/f",
+             "LU MB", "RSS MB");
+}
+
+inline void print_row(const std::string& mesh, int elements, const StepTiming& s) {
+  fmt::print("{:>6} {:>6} {:>8} {:>9} {:>10.0f} {:>6.2f} {:>9.2f} {:>9.2f} {:>9.2f} {:>9.2f} {:>7.2f} {:>8.1f} {:>8.1f}\n",
+             mesh, elements, s.unknowns, s.nnz, s.nnz_lu, s.nnz_lu / static_cast<double>(s.nnz), 1e3 * s.residual,
+             1e3 * s.assembly, 1e3 * s.factor, 1e3 * s.solve, s.assembly / s.factor, s.lu_mb, s.rss_mb);
+  std::fflush(stdout);
+}
+
+}  // namespace keller::bench

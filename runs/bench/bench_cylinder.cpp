@@ -1,0 +1,59 @@
+// Benchmark (not a test): cost of one Newton step for Oldroyd-B flow past the confined cylinder
+// (beta = 0.59, Wi = 0.3) on meshes C1..C4: unknowns, nonzeros, LU fill, assembly (residual +
+// exact Jacobian of the DEVSS-TG/SUPG equations), numeric factorisation and solve. Goal:
+// assembly <= 30% of factorisation.
+//
+// Usage: bench_cylinder [--meshes C1,C2,C3,C4] [--log] [--repeat N] [--ordering amd|metis|cholmod]
+#include <fmt/format.h>
+
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "problems/CylinderProblem.hpp"
+#include "runs/bench/NewtonStepTiming.hpp"
+
+using namespace keller;
+
+int main(int argc, char** argv) {
+  std::vector<std::string> meshes = {"C1", "C2", "C3", "C4"};
+  bool log_form = false;
+  int repeat = 3;
+  SparseLUOptions lu_opt;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto next = [&]() -> std::string {
+      if (i + 1 >= argc) throw std::invalid_argument("missing value after " + a);
+      return argv[++i];
+    };
+    if (a == "--meshes") {
+      meshes.clear();
+      std::stringstream ss(next());
+      std::string m;
+      while (std::getline(ss, m, ',')) meshes.push_back(m);
+    } else if (a == "--log") {
+      log_form = true;
+    } else if (a == "--repeat") {
+      repeat = std::stoi(next());
+    } else if (a == "--ordering") {
+      lu_opt.ordering = ordering_from_string(next());
+    } else {
+      fmt::print(stderr, "unknown argument {}\n", a);
+      return 2;
+    }
+  }
+  fmt::print("confined cylinder, Oldroyd-B, beta = 0.59, Wi = 0.3, {} form, ordering {}, median of {} runs\n",
+             log_form ? "log-conformation" : "conformation", to_string(lu_opt.ordering), repeat);
+  bench::print_header();
+  for (const std::string& name : meshes) {
+    CylinderOptions o;
+    o.mesh = CylinderMeshSpec::preset(name);
+    o.fluid.model = FluidModel::OldroydB;
+    o.fluid.log_conformation = log_form;
+    o.fluid.beta = 0.59;
+    o.fluid.Wi = 0.3;
+    CylinderProblem p(o);
+    bench::print_row(name, p.mesh().num_elements(), bench::time_newton_step(p, p.initial_guess(), lu_opt, repeat));
+  }
+  return 0;
+}

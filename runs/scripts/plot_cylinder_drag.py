@@ -1,0 +1,54 @@
+#!/usr/bin/env python3
+"""Drag coefficient K(Wi) of Oldroyd-B flow past a confined cylinder (blockage 0.5, beta = 0.59)
+from one or more branch files of `keller trace`, with the published mesh-converged values
+(method.md) overlaid. The point where the smallest conformation eigenvalue crosses zero (the
+limiting Wi of the conformation form) and the end of each branch are marked.
+
+    python3 runs/scripts/plot_cylinder_drag.py A.h5 [B.h5 ...] [--labels "C2 conf" "C2 log"] -o FIG.png"""
+
+import argparse
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+from keller_h5 import read_branch  # noqa: E402
+
+PUBLISHED = [(0.0, 132.36), (0.1, 130.36), (0.2, 126.62), (0.3, 123.19), (0.4, 120.59), (0.5, 118.83),
+             (0.6, 117.78), (0.7, 117.32)]
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("branches", nargs="+", help="branch files (HDF5) of the cylinder scene")
+    ap.add_argument("--labels", nargs="*", help="legend labels, one per file")
+    ap.add_argument("-o", "--output", default="cylinder_drag.png")
+    args = ap.parse_args()
+    labels = args.labels or [b.rsplit("/", 1)[-1] for b in args.branches]
+
+    fig, ax = plt.subplots(figsize=(6.4, 4.6))
+    ax.plot(*zip(*PUBLISHED), "ks", mfc="none", ms=7, label="published (mesh converged)", zorder=4)
+    for path, label in zip(args.branches, labels):
+        parameter, cols, status = read_branch(path)
+        wi, k, kind = cols[parameter], cols["K"], cols["kind"]
+        (line,) = ax.plot(wi, k, "-", lw=1.4, label=label, zorder=2)
+        ev = kind == 3
+        if ev.any():
+            ax.plot(wi[ev], k[ev], "v", color=line.get_color(), ms=8, zorder=3)
+            for w, kk in zip(wi[ev], k[ev]):
+                ax.annotate(f"min m1 = 0 at Wi = {w:.4f}", (w, kk), textcoords="offset points", xytext=(4, -14),
+                            fontsize=7, color=line.get_color())
+        ax.plot(wi[-1], k[-1], "x", color=line.get_color(), ms=8, zorder=3)
+    ax.set_xlabel("Wi")
+    ax.set_ylabel("K = F_x / (eta0 U)")
+    ax.set_title("Oldroyd-B, confined cylinder, beta = 0.59", fontsize=10)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(args.output, dpi=150)
+    print(f"wrote {args.output}")
+
+
+if __name__ == "__main__":
+    main()
