@@ -206,10 +206,11 @@ void write_branch_fields(const std::string& branch_path, const std::string& fiel
     const Vector u = Eigen::Map<const Vector>(&U[static_cast<size_t>(i * n)], n);
     SolutionFields sf = fields(u, lambda);
     const std::string group = fmt::format("/branch/fields/{}", i);
-    if (out.exists(group)) continue;
-    write_fields(out, group, sf);
-    out.set_attribute(group, "row", static_cast<long>(row));
-    out.set_attribute(group, parameter, lambda);
+    if (!out.exists(group)) {  // written by an earlier run of this function: keep it
+      write_fields(out, group, sf);
+      out.set_attribute(group, "row", static_cast<long>(row));
+      out.set_attribute(group, parameter, lambda);
+    }
     if (sf.mesh) {
       if (!out.exists("/mesh")) write_mesh(out, "/mesh", *sf.mesh);
       // time = table row: the parameter need not be monotone along a branch with folds

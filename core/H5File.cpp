@@ -56,13 +56,25 @@ H5File::H5File(const std::string& path, Mode mode) : path_(path) {
   }
 }
 
-H5File::~H5File() { close(); }
+H5File::~H5File() {
+  try {
+    close();
+  } catch (const std::exception&) {  // a destructor must not throw; close() reports it when called directly
+  }
+}
 
 H5File::H5File(H5File&& o) noexcept : file_(o.file_), path_(std::move(o.path_)) { o.file_ = -1; }
 
 void H5File::close() {
-  if (file_ >= 0) H5Fclose(file_);
+  if (file_ < 0) return;
+  // every dataset, group, attribute and type this class opens is closed again at once; an open
+  // object here would keep the file (and, in SWMR mode, its "open for writing" flag) alive
+  const ssize_t open_objects = H5Fget_obj_count(file_, H5F_OBJ_ALL | H5F_OBJ_LOCAL);
+  const herr_t status = H5Fclose(file_);
   file_ = -1;
+  if (open_objects > 1 || status < 0)
+    throw std::runtime_error(fmt::format("HDF5 file '{}': not closed cleanly ({} open objects, status {})", path_,
+                                         open_objects, status));
 }
 
 void H5File::flush() {

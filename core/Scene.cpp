@@ -400,6 +400,12 @@ const std::vector<double>& Scene::real_list(const std::string& path) const {
 
 bool Scene::given(const std::string& path) const { return lines_.count(path) > 0; }
 
+bool Scene::differs_from_default(const std::string& path) const {
+  const KeySpec* spec = schema_.find(path);
+  if (!spec) throw std::logic_error("scene key '" + path + "' read but never declared");
+  return given(path) && !(values_.at(path) == spec->default_value);
+}
+
 SceneError Scene::error(const std::string& path, const std::string& what) const {
   auto it = lines_.find(path);
   if (it != lines_.end()) return SceneError(fmt::format("{}: key '{}': {}", location(source_, it->second), path, what));

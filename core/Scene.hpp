@@ -96,6 +96,9 @@ class Scene {
   const std::vector<double>& real_list(const std::string& path) const;
   // Whether the file set this key explicitly (rather than taking the default).
   bool given(const std::string& path) const;
+  // Whether the key's value differs from its default (set explicitly to something else). Checks
+  // that a key does not apply use this, so that a resolved scene, which lists every key, loads.
+  bool differs_from_default(const std::string& path) const;
   // An error about a key, in the same format as validation errors (for cross-key checks).
   SceneError error(const std::string& path, const std::string& what) const;
 

@@ -106,7 +106,8 @@ ChannelMeshSpec channel_mesh_spec_from(const Scene& scene) {
     s.ny_solid = static_cast<int>(scene.integer("mesh.ny_solid"));
   } else {
     for (const char* k : sizes)
-      if (scene.given(k)) throw scene.error(k, "explicit sizes need mesh.name = \"custom\" (got \"" + name + "\")");
+      if (scene.differs_from_default(k))
+        throw scene.error(k, "explicit sizes need mesh.name = \"custom\" (got \"" + name + "\")");
     s = ChannelMeshSpec::preset(name);
   }
   s.ratio_x = scene.real("mesh.ratio_x");

@@ -58,7 +58,8 @@ CylinderOptions CylinderOptions::from_scene(const Scene& sc) {
     o.mesh.nx_downstream = static_cast<int>(sc.integer("mesh.nx_downstream"));
   } else {
     for (const char* k : sizes)
-      if (sc.given(k)) throw sc.error(k, "explicit sizes need mesh.name = \"custom\" (got \"" + name + "\")");
+      if (sc.differs_from_default(k))
+        throw sc.error(k, "explicit sizes need mesh.name = \"custom\" (got \"" + name + "\")");
     o.mesh = CylinderMeshSpec::preset(name);
   }
   o.mesh.radial_ratio = sc.real("mesh.radial_ratio");

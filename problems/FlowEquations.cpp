@@ -64,13 +64,13 @@ FluidOptions FluidOptions::from_scene(const Scene& sc) {
   if (!o.viscoelastic()) {
     for (const char* k : {"parameters.Wi", "parameters.beta", "fluid.formulation", "fluid.devss", "fluid.supg",
                           "fluid.supg_scale", "fluid.supg_velocity_floor"})
-      if (sc.given(k)) throw sc.error(k, "has no meaning for fluid.model = \"newtonian\"");
+      if (sc.differs_from_default(k)) throw sc.error(k, "has no meaning for fluid.model = \"newtonian\"");
   }
   if (o.model != FluidModel::FeneP) {
     for (const char* k : {"parameters.b", "fluid.fene_p_dynamic_zz"})
-      if (sc.given(k)) throw sc.error(k, "applies to fluid.model = \"fene-p\" only (got \"" + m + "\")");
+      if (sc.differs_from_default(k)) throw sc.error(k, "applies to fluid.model = \"fene-p\" only (got \"" + m + "\")");
   }
-  if (o.profile != ProfileKind::PowerLaw && sc.given("inflow.power_law_index"))
+  if (o.profile != ProfileKind::PowerLaw && sc.differs_from_default("inflow.power_law_index"))
     throw sc.error("inflow.power_law_index", "applies to inflow.profile = \"power-law\" only");
   return o;
 }

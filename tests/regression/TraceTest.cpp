@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "continuation/BranchFile.hpp"
+#include "core/H5File.hpp"
 #include "support/TestSupport.hpp"
 
 using namespace keller;
@@ -121,6 +122,28 @@ TEST(Trace, ExportCsvAndFigure) {
                           dir + "/b.h5 --y u_mid -o " + dir + "/b.png > /dev/null";
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
   EXPECT_GT(fs::file_size(dir + "/b.png"), 10000u);
+}
+
+// A finished trace writes the fields of its stored solutions and an XDMF time series; keller
+// export --xdmf rebuilds the problem from the scene stored in the file and does the same.
+TEST(Trace, FieldsAndXdmfOfStoredSolutions) {
+  const std::string dir = test::scratch_dir("trace_xdmf");
+  auto r = test::run_keller("trace " + test::source_path("runs/scenes/bratu2d_fold.toml") + " -o " + dir +
+                            "/b.h5 --set bratu.intervals=4");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  ASSERT_TRUE(fs::exists(dir + "/b.xdmf"));
+  {
+    H5File f(dir + "/b.h5", H5File::Mode::ReadWrite);  // closed cleanly: opens for writing
+    EXPECT_TRUE(f.exists("/branch/fields/0/u"));
+    EXPECT_TRUE(f.exists("/mesh/nodes"));
+  }
+  fs::remove(dir + "/b.xdmf");
+  r = test::run_keller("export " + dir + "/b.h5 --xdmf");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::ifstream x(dir + "/b.xdmf");
+  const std::string xdmf((std::istreambuf_iterator<char>(x)), std::istreambuf_iterator<char>());
+  EXPECT_NE(xdmf.find("CollectionType=\"Temporal\""), std::string::npos);
+  EXPECT_NE(xdmf.find("b.h5:/branch/fields/0/xdmf/nodes"), std::string::npos);
 }
 
 TEST(Trace, RestartReproducesTheOriginalRun) {
