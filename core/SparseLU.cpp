@@ -34,7 +34,7 @@ void declare_linear_solver_keys(SceneSchema& s) {
   s.string("linear_solver.ordering", "amd", "fill-reducing ordering", {"amd", "metis", "cholmod", "best"});
   s.string("linear_solver.scaling", "sum", "row scaling before factorisation", {"none", "sum", "max"});
   s.real("linear_solver.pivot_tolerance", 0.1, "threshold partial pivoting tolerance", Range::between(0.0, 1.0));
-  s.integer("linear_solver.refinement_steps", 0, "iterative refinement steps per solve (each costs about two solves)",
+  s.integer("linear_solver.refinement_steps", 2, "iterative refinement steps per solve (each costs about two solves)",
             Range::at_least(0));
 }
 
