@@ -64,6 +64,18 @@ Mesh build_channel_mesh(const ChannelGeometry& g, const ChannelMeshSpec& s, bool
   return b.build();
 }
 
+Mesh build_wall_mesh(const ChannelGeometry& g, const ChannelMeshSpec& s) {
+  if (s.nx_deformable < 1 || s.ny_solid < 1)
+    throw std::invalid_argument("wall mesh: the wall needs at least one element in each direction");
+  if (!(g.thickness > 0.0)) throw std::invalid_argument("wall mesh: wall thickness must be > 0");
+  const double Lu = g.upstream_length, L = g.deformable_length, t = g.thickness;
+  BlockMeshBuilder b;
+  b.add_block({"wall", "solid", s.nx_deformable, s.ny_solid, Grading::both_ends(s.ratio_x), Grading::uniform(),
+               [=](double u, double v) { return Mesh::Point{Lu + L * u, 1.0 + t * v}; },
+               {"interface", "wall_right", "wall_top", "wall_left"}});
+  return b.build();
+}
+
 void declare_channel_mesh_keys(SceneSchema& s) {
   s.section("geometry", "channel lengths in units of the channel width W");
   s.real("geometry.upstream_length", 7.0, "Lu, length of the rigid channel upstream of the deformable section",

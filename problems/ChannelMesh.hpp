@@ -43,6 +43,10 @@ struct ChannelMeshSpec {
 // solid: wall_top, wall_left, wall_right.
 Mesh build_channel_mesh(const ChannelGeometry& geometry, const ChannelMeshSpec& spec, bool with_solid);
 
+// The wall block alone (group "solid", boundaries interface, wall_top, wall_left, wall_right),
+// with the same columns as the wall of build_channel_mesh.
+Mesh build_wall_mesh(const ChannelGeometry& geometry, const ChannelMeshSpec& spec);
+
 // Scene keys of [geometry] and [mesh], and reading them back.
 void declare_channel_mesh_keys(SceneSchema& schema);
 ChannelGeometry channel_geometry_from(const Scene& scene);

@@ -6,6 +6,7 @@
 #include "problems/Bratu2DProblem.hpp"
 #include "problems/ChannelProblem.hpp"
 #include "problems/CylinderProblem.hpp"
+#include "problems/WallProblem.hpp"
 
 namespace keller {
 
@@ -19,6 +20,9 @@ const std::vector<ProblemType>& problem_types() {
        [](const Scene& s) -> std::unique_ptr<Problem> {
          return std::make_unique<CylinderProblem>(CylinderOptions::from_scene(s));
        }},
+      {"wall", "the neo-Hookean wall of the collapsible channel alone, under follower pressures",
+       WallOptions::declare,
+       [](const Scene& s) -> std::unique_ptr<Problem> { return std::make_unique<WallProblem>(WallOptions::from_scene(s)); }},
       {"bratu1d", "1D Bratu problem by central differences (test problem)", Bratu1DProblem::declare,
        Bratu1DProblem::from_scene},
       {"bratu2d", "2D Bratu problem with Q2 elements (test problem)", Bratu1DProblem::declare,
