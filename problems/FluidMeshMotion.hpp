@@ -1,0 +1,61 @@
+// The moving fluid mesh of the collapsible channel as a component: the node positions of the
+// fluid elements are unknowns ("position" field) governed by the elliptic mesh equations
+// (EllipticMeshKernel), with the boundary rows of method.md: on the rigid walls the normal row
+// becomes y = y_wall and the tangential row keeps its natural condition (nodes slide, mesh lines
+// meet the wall orthogonally) or fixes x (an option); on the inflow and outflow x is fixed and
+// the other row kept; nodes owned by other equations (the interface, which the solid moves) are
+// left alone.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/DirichletTerm.hpp"
+#include "core/DofMap.hpp"
+#include "core/Mesh.hpp"
+#include "core/ParameterSet.hpp"
+#include "core/Scene.hpp"
+#include "core/Term.hpp"
+#include "core/Types.hpp"
+
+namespace keller {
+
+struct MeshMotionOptions {
+  bool sliding_walls = true;  // wall nodes slide along the rigid walls (false: fixed)
+
+  static void declare(SceneSchema& schema);
+  static MeshMotionOptions from_scene(const Scene& scene);
+};
+
+struct MeshMotionBoundaries {
+  std::vector<std::string> walls = {"bottom_wall", "top_wall"};  // horizontal rigid walls
+  std::vector<std::string> ends = {"inflow", "outflow"};          // vertical ends
+};
+
+class FluidMeshMotion {
+ public:
+  // mesh: the generated mesh (its positions define the spacing weights and the wall lines).
+  FluidMeshMotion(const Mesh& mesh, const std::string& group, MeshMotionOptions options,
+                  MeshMotionBoundaries boundaries = {});
+
+  // owned_nodes: sorted nodes whose position rows belong to other equations.
+  void build(const DofMap& dofs, DirichletTerm& dirichlet, const std::vector<int>& owned_nodes,
+             const ParameterSet& params);
+  const std::vector<std::shared_ptr<const Term>>& terms() const { return terms_; }
+  const std::vector<int>& elements() const { return elements_; }
+  // Writes the generated positions into the position dofs of the fluid nodes.
+  void generated_state(const DofMap& dofs, Vector& u) const;
+  // Smallest det(dx/ds) over the Gauss points of the fluid elements at state u, relative to its
+  // value on the generated mesh (<= 0: an inverted element).
+  double min_relative_jacobian(const DofMap& dofs, const Vector& u) const;
+
+ private:
+  const Mesh* mesh_;
+  MeshMotionOptions options_;
+  MeshMotionBoundaries boundaries_;
+  std::vector<int> elements_;
+  std::vector<std::shared_ptr<const Term>> terms_;
+};
+
+}  // namespace keller
