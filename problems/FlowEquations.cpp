@@ -158,24 +158,32 @@ const FlowEquations::InflowValues& FlowEquations::inflow_values(const ParameterS
   return inflow_cache_.back().second;
 }
 
-void FlowEquations::build(const DofMap& dofs, DirichletTerm& dirichlet) {
-  dofs_ = &dofs;
+template <bool Moving>
+void FlowEquations::add_kernels(const DofMap& dofs) {
   const ParameterSet& params = *params_;
   if (!options_.viscoelastic()) {
     NewtonianFlowParameters np{index_.Re, index_.Gamma, -1};
-    terms_.push_back(std::make_shared<KernelTerm<NewtonianFlowKernel>>(
-        NewtonianFlowKernel(*mesh_, dofs, elements_, &geometry_, np, options_.inertia), params));
+    terms_.push_back(std::make_shared<KernelTerm<NewtonianFlowKernel<Moving>>>(
+        NewtonianFlowKernel<Moving>(*mesh_, dofs, elements_, &geometry_, np, options_.inertia), params));
   } else if (options_.conformation_components() == 3) {
-    terms_.push_back(std::make_shared<KernelTerm<ViscoelasticFlowKernel<3>>>(
-        ViscoelasticFlowKernel<3>(*mesh_, dofs, elements_, &geometry_, index_, options_.kernel), params));
+    terms_.push_back(std::make_shared<KernelTerm<ViscoelasticFlowKernel<3, Moving>>>(
+        ViscoelasticFlowKernel<3, Moving>(*mesh_, dofs, elements_, &geometry_, index_, options_.kernel), params));
     terms_.push_back(std::make_shared<KernelTerm<OutflowTractionKernel<3>>>(
         OutflowTractionKernel<3>(*mesh_, dofs, mesh_->boundary(boundaries_.outflow), index_, options_.kernel), params));
   } else {
-    terms_.push_back(std::make_shared<KernelTerm<ViscoelasticFlowKernel<4>>>(
-        ViscoelasticFlowKernel<4>(*mesh_, dofs, elements_, &geometry_, index_, options_.kernel), params));
+    terms_.push_back(std::make_shared<KernelTerm<ViscoelasticFlowKernel<4, Moving>>>(
+        ViscoelasticFlowKernel<4, Moving>(*mesh_, dofs, elements_, &geometry_, index_, options_.kernel), params));
     terms_.push_back(std::make_shared<KernelTerm<OutflowTractionKernel<4>>>(
         OutflowTractionKernel<4>(*mesh_, dofs, mesh_->boundary(boundaries_.outflow), index_, options_.kernel), params));
   }
+}
+
+void FlowEquations::build(const DofMap& dofs, DirichletTerm& dirichlet, bool moving_mesh) {
+  dofs_ = &dofs;
+  if (moving_mesh)
+    add_kernels<true>(dofs);
+  else
+    add_kernels<false>(dofs);
 
   // Dirichlet conditions. Walls win at corners (no slip); the conformation keeps its inflow value
   // at the inflow corners.

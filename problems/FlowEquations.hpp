@@ -69,8 +69,11 @@ class FlowEquations {
   FlowEquations& operator=(const FlowEquations&) = delete;
 
   const std::vector<FieldSpec>& fields() const { return fields_; }
-  // Creates the terms and adds the Dirichlet conditions, once the DofMap exists.
-  void build(const DofMap& dofs, DirichletTerm& dirichlet);
+  // Creates the terms and adds the Dirichlet conditions, once the DofMap exists. moving_mesh:
+  // the node positions of the fluid elements are unknowns (a "position" field in dofs), and the
+  // element kernels take their geometry from them; the inflow and outflow nodes must stay where
+  // the mesh has them (the inflow values and the outflow traction use those positions).
+  void build(const DofMap& dofs, DirichletTerm& dirichlet, bool moving_mesh = false);
   const std::vector<std::shared_ptr<const Term>>& terms() const { return terms_; }
 
   const FluidOptions& options() const { return options_; }
@@ -94,6 +97,8 @@ class FlowEquations {
   void add_fields(const Vector& u, SolutionFields& out) const;
 
  private:
+  template <bool Moving>
+  void add_kernels(const DofMap& dofs);
   std::array<double, 4> steady_state(double W, double b) const;
   std::function<double(double)> viscosity(const ParameterSet& p) const;
 

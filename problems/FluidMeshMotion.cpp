@@ -42,7 +42,10 @@ void FluidMeshMotion::build(const DofMap& dofs, DirichletTerm& dirichlet, const 
       if (!options_.sliding_walls) fix_x.insert(n);
     }
   for (const auto& b : boundaries_.ends)
-    for (int n : mesh_->boundary_nodes(b)) fix_x.insert(n);
+    for (int n : mesh_->boundary_nodes(b)) {
+      fix_x.insert(n);
+      fix_y.insert(n);
+    }
   for (int n : fix_x)
     if (!owned(n)) dirichlet.add(dofs.node_dof(fx, n, 0), mesh_->node(n)[0]);
   for (int n : fix_y)

@@ -2,9 +2,10 @@
 // fluid elements are unknowns ("position" field) governed by the elliptic mesh equations
 // (EllipticMeshKernel), with the boundary rows of method.md: on the rigid walls the normal row
 // becomes y = y_wall and the tangential row keeps its natural condition (nodes slide, mesh lines
-// meet the wall orthogonally) or fixes x (an option); on the inflow and outflow x is fixed and
-// the other row kept; nodes owned by other equations (the interface, which the solid moves) are
-// left alone.
+// meet the wall orthogonally) or fixes x (an option); the inflow and outflow nodes stay where
+// the generated mesh has them (method.md lets them slide along the ends; fixing them keeps the
+// inflow profile a function of the parameters alone, and the ends are 7 widths away from the
+// wall); nodes owned by other equations (the interface, which the solid moves) are left alone.
 #pragma once
 
 #include <memory>

@@ -5,6 +5,7 @@
 #include "problems/Bratu1DProblem.hpp"
 #include "problems/Bratu2DProblem.hpp"
 #include "problems/ChannelProblem.hpp"
+#include "problems/CollapsibleChannelProblem.hpp"
 #include "problems/CylinderProblem.hpp"
 #include "problems/WallProblem.hpp"
 
@@ -15,6 +16,11 @@ const std::vector<ProblemType>& problem_types() {
       {"channel", "steady flow in the 19 x 1 channel of model.md", ChannelOptions::declare,
        [](const Scene& s) -> std::unique_ptr<Problem> {
          return std::make_unique<ChannelProblem>(ChannelOptions::from_scene(s));
+       }},
+      {"collapsible-channel", "the collapsible channel of model.md: any fluid, neo-Hookean wall, moving mesh",
+       CollapsibleOptions::declare,
+       [](const Scene& s) -> std::unique_ptr<Problem> {
+         return std::make_unique<CollapsibleChannelProblem>(CollapsibleOptions::from_scene(s));
        }},
       {"cylinder", "confined-cylinder benchmark (radius 1, channel half-width 2)", CylinderOptions::declare,
        [](const Scene& s) -> std::unique_ptr<Problem> {

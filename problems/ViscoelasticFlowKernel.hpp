@@ -1,5 +1,7 @@
 // Element kernel of steady viscoelastic flow by DEVSS-TG/SUPG (method.md) on one 9-node element
-// of a fixed mesh: Q2 velocity, P1-discontinuous pressure, Q1 interpolated velocity gradient L
+// of a fixed mesh, or of a moving one (Moving = true: the node positions are unknowns and the
+// geometry, the SUPG element size and the pressure basis are computed from them, so the
+// Jacobian holds the shape derivatives): Q2 velocity, P1-discontinuous pressure, Q1 interpolated velocity gradient L
 // (4 components, not symmetric), Q1 conformation M (xx, xy, yy, and zz where it is an unknown)
 // or its logarithm Psi.
 //
@@ -15,7 +17,8 @@
 // eta_p(gdot(L)) / eta_p0 for Owens (in the conformation equation only).
 //
 // Local unknowns: v_x (9), v_y (9), P (3), L_xx L_xy L_yx L_yy (4 each), then the conformation
-// components (4 each): kSize = 37 + 4 NC.
+// components (4 each): 37 + 4 NC rows; on a moving mesh then x and y of nodes 0..8, whose rows
+// the kernel does not write.
 #pragma once
 
 #include <algorithm>
@@ -72,12 +75,13 @@ Conformation<T> conformation_of(const T* m, bool log_form) {
 }
 
 // Number of conformation unknowns per node: 3, or 4 for FENE-P with a dynamic M_zz.
-template <int NC>
+template <int NC, bool Moving = false>
 class ViscoelasticFlowKernel {
  public:
   static_assert(NC == 3 || NC == 4, "3 or 4 conformation components");
   static constexpr int kConf = 37;
-  static constexpr int kSize = kConf + 4 * NC;
+  static constexpr int kRows = kConf + 4 * NC;
+  static constexpr int kSize = kRows + (Moving ? 18 : 0);
 
   ViscoelasticFlowKernel(const Mesh& mesh, const DofMap& dofs, std::vector<int> elements,
                          const std::vector<std::array<QpGeometry<double>, ref::kQp>>* geometry,
@@ -94,6 +98,7 @@ class ViscoelasticFlowKernel {
       dofs.element_dofs(fp, elements_[k], d + 18);
       dofs.element_dofs(fl, elements_[k], d + 21);
       dofs.element_dofs(fm, elements_[k], d + kConf);
+      if constexpr (Moving) dofs.element_dofs(dofs.field_index("position"), elements_[k], d + kRows);
       double area = 0;
       for (const auto& g : (*geometry_)[k]) area += g.wdetJ;
       size_[k] = std::sqrt(area);
@@ -106,9 +111,86 @@ class ViscoelasticFlowKernel {
 
   template <class T, class P>
   Status evaluate(int item, const T* u, const P* params, T* r) const {
+    if constexpr (Moving) {
+      using std::sqrt;
+      T xy[9][2];
+      for (int a = 0; a < 9; ++a) {
+        xy[a][0] = u[kRows + a];
+        xy[a][1] = u[kRows + 9 + a];
+      }
+      std::array<QpGeometry<T>, ref::kQp> geo;
+      if (!map_element(xy, geo)) {
+        for (int i = 0; i < kRows; ++i) r[i] = 0.0;
+        return inverted(item);
+      }
+      T area = 0.0;
+      for (const auto& g : geo) area += g.wdetJ;
+      return evaluate_on(u, params, r, geo, xy[4], T(sqrt(area)));
+    } else {
+      const auto& c = mesh_->node(mesh_->element(elements_[item])[4]);
+      const double centre[2] = {c[0], c[1]};
+      return evaluate_on(u, params, r, (*geometry_)[item], centre, size_[item]);
+    }
+  }
+
+  // Mass matrix of the time-dependent form: (Re/Gamma) int phi phi on velocity rows and the
+  // SUPG-weighted int (chi + tau v . grad chi) chi on conformation rows.
+  Status mass(int item, const double* u, const double* params, double* B) const {
+    std::array<QpGeometry<double>, ref::kQp> moved;
+    double h = 0;
+    if constexpr (Moving) {
+      double xy[9][2];
+      for (int a = 0; a < 9; ++a) {
+        xy[a][0] = u[kRows + a];
+        xy[a][1] = u[kRows + 9 + a];
+      }
+      if (!map_element(xy, moved)) return inverted(item);
+      for (const auto& g : moved) h += g.wdetJ;
+      h = std::sqrt(h);
+    } else {
+      h = size_[item];
+    }
+    const auto& geo = Moving ? moved : (*geometry_)[item];
+    const ref::Tables& tb = ref::tables();
+    const double Gamma = p_.Gamma >= 0 ? params[p_.Gamma] : 1.0;
+    const double rho = o_.inertia ? params[p_.Re] / Gamma : 0.0;
+    std::fill(B, B + kRows * kSize, 0.0);
+    for (int q = 0; q < ref::kQp; ++q) {
+      const QpGeometry<double>& g = geo[q];
+      double v[2] = {0, 0};
+      for (int a = 0; a < 9; ++a) {
+        v[0] += tb.N2[q][a] * u[a];
+        v[1] += tb.N2[q][a] * u[9 + a];
+      }
+      const double floor = o_.supg_velocity_floor * Gamma;
+      const double tau = o_.supg_local ? o_.supg_scale * h / std::sqrt(v[0] * v[0] + v[1] * v[1] + floor * floor)
+                                       : o_.supg_scale * o_.global_size / Gamma;
+      for (int a = 0; a < 9; ++a)
+        for (int b = 0; b < 9; ++b) {
+          const double mab = rho * g.wdetJ * tb.N2[q][a] * tb.N2[q][b];
+          B[a * kSize + b] += mab;
+          B[(9 + a) * kSize + 9 + b] += mab;
+        }
+      for (int k = 0; k < 4; ++k) {
+        const double wk = g.wdetJ * (tb.N1[q][k] + tau * (v[0] * g.dN1dx[k][0] + v[1] * g.dN1dx[k][1]));
+        for (int l = 0; l < 4; ++l)
+          for (int c = 0; c < NC; ++c) B[(kConf + 4 * c + k) * kSize + kConf + 4 * c + l] += wk * tb.N1[q][l];
+      }
+    }
+    return {};
+  }
+
+ private:
+  Status inverted(int item) const {
+    return {StatusCode::InvalidState, "fluid element " + std::to_string(elements_[item]) + " is inverted (det J <= 0)"};
+  }
+
+  // The residual on an element with Gauss-point geometry geo (scalar G: double on a fixed mesh,
+  // T on a moving one), centre node position centre and size h = sqrt(area).
+  template <class T, class P, class G>
+  Status evaluate_on(const T* u, const P* params, T* r, const std::array<QpGeometry<G>, ref::kQp>& geo,
+                     const G (&centre)[2], const G& h) const {
     using std::sqrt;
-    const auto& geo = (*geometry_)[item];
-    const auto& centre = mesh_->node(mesh_->element(elements_[item])[4]);
     const ref::Tables& tb = ref::tables();
     const P Gamma = p_.Gamma >= 0 ? params[p_.Gamma] : P(1.0);
     const P Wi = params[p_.Wi], beta = params[p_.beta];
@@ -120,12 +202,12 @@ class ViscoelasticFlowKernel {
     const T* pc = u + 18;
     const T* Lc = u + 21;   // Lxx[4], Lxy[4], Lyx[4], Lyy[4]
     const T* mc = u + kConf;  // component c at Q1 node k: mc[4 c + k]
-    for (int i = 0; i < kSize; ++i) r[i] = 0.0;
+    for (int i = 0; i < kRows; ++i) r[i] = 0.0;
     if (!(value_of(Wi) > 0.0)) return {StatusCode::InvalidState, "Wi must be positive in the viscoelastic equations"};
 
     for (int q = 0; q < ref::kQp; ++q) {
-      const QpGeometry<double>& g = geo[q];
-      const double w = g.wdetJ;
+      const QpGeometry<G>& g = geo[q];
+      const G w = g.wdetJ;
       T v[2] = {T(0.0), T(0.0)};
       T K[2][2] = {{T(0.0), T(0.0)}, {T(0.0), T(0.0)}};
       for (int a = 0; a < 9; ++a) {
@@ -137,7 +219,7 @@ class ViscoelasticFlowKernel {
           K[1][j] += g.dN2dx[a][j] * vy[a];
         }
       }
-      const double psi[3] = {1.0, g.x[0] - centre[0], g.x[1] - centre[1]};
+      const G psi[3] = {G(1.0), g.x[0] - centre[0], g.x[1] - centre[1]};
       const T pressure = pc[0] + psi[1] * pc[1] + psi[2] * pc[2];
       T L[2][2] = {{T(0.0), T(0.0)}, {T(0.0), T(0.0)}};
       T m[NC], dm[NC][2];  // conformation (or Psi) components and their gradients
@@ -180,7 +262,8 @@ class ViscoelasticFlowKernel {
         conv[1] = rho * (v[0] * K[1][0] + v[1] * K[1][1]);
       }
       for (int a = 0; a < 9; ++a) {
-        const double N = tb.N2[q][a], dx = g.dN2dx[a][0], dy = g.dN2dx[a][1];
+        const double N = tb.N2[q][a];
+        const G dx = g.dN2dx[a][0], dy = g.dN2dx[a][1];
         r[a] += w * (N * conv[0] + dx * Txx + dy * Txy);
         r[9 + a] += w * (N * conv[1] + dx * Txy + dy * Tyy);
       }
@@ -202,7 +285,7 @@ class ViscoelasticFlowKernel {
       T tau;
       if (o_.supg_local) {
         const P floor = o_.supg_velocity_floor * Gamma;
-        tau = o_.supg_scale * size_[item] / sqrt(v[0] * v[0] + v[1] * v[1] + floor * floor);
+        tau = o_.supg_scale * h / sqrt(v[0] * v[0] + v[1] * v[1] + floor * floor);
       } else {
         tau = o_.supg_scale * o_.global_size / Gamma;
       }
@@ -231,40 +314,6 @@ class ViscoelasticFlowKernel {
     return {};
   }
 
-  // Mass matrix of the time-dependent form: (Re/Gamma) int phi phi on velocity rows and the
-  // SUPG-weighted int (chi + tau v . grad chi) chi on conformation rows.
-  Status mass(int item, const double* u, const double* params, double* B) const {
-    const auto& geo = (*geometry_)[item];
-    const ref::Tables& tb = ref::tables();
-    const double Gamma = p_.Gamma >= 0 ? params[p_.Gamma] : 1.0;
-    const double rho = o_.inertia ? params[p_.Re] / Gamma : 0.0;
-    std::fill(B, B + kSize * kSize, 0.0);
-    for (int q = 0; q < ref::kQp; ++q) {
-      const QpGeometry<double>& g = geo[q];
-      double v[2] = {0, 0};
-      for (int a = 0; a < 9; ++a) {
-        v[0] += tb.N2[q][a] * u[a];
-        v[1] += tb.N2[q][a] * u[9 + a];
-      }
-      const double floor = o_.supg_velocity_floor * Gamma;
-      const double tau = o_.supg_local ? o_.supg_scale * size_[item] / std::sqrt(v[0] * v[0] + v[1] * v[1] + floor * floor)
-                                       : o_.supg_scale * o_.global_size / Gamma;
-      for (int a = 0; a < 9; ++a)
-        for (int b = 0; b < 9; ++b) {
-          const double mab = rho * g.wdetJ * tb.N2[q][a] * tb.N2[q][b];
-          B[a * kSize + b] += mab;
-          B[(9 + a) * kSize + 9 + b] += mab;
-        }
-      for (int k = 0; k < 4; ++k) {
-        const double wk = g.wdetJ * (tb.N1[q][k] + tau * (v[0] * g.dN1dx[k][0] + v[1] * g.dN1dx[k][1]));
-        for (int l = 0; l < 4; ++l)
-          for (int c = 0; c < NC; ++c) B[(kConf + 4 * c + k) * kSize + kConf + 4 * c + l] += wk * tb.N1[q][l];
-      }
-    }
-    return {};
-  }
-
- private:
   const Mesh* mesh_;
   const std::vector<std::array<QpGeometry<double>, ref::kQp>>* geometry_;
   std::vector<int> elements_;

@@ -36,7 +36,7 @@ struct Setup {
   Setup() : problem(options()) {
     u = problem.initial_guess();
     u += Vector::Random(u.size()) * 1e-4;
-    const auto& term = dynamic_cast<const KernelTerm<NewtonianFlowKernel>&>(*problem.assembler().terms()[0]);
+    const auto& term = dynamic_cast<const KernelTerm<NewtonianFlowKernel<>>&>(*problem.assembler().terms()[0]);
     kernel = &term.kernel();
   }
   static ChannelOptions options() {
@@ -48,7 +48,7 @@ struct Setup {
   }
   ChannelProblem problem;
   Vector u;
-  const NewtonianFlowKernel* kernel = nullptr;
+  const NewtonianFlowKernel<>* kernel = nullptr;
 };
 
 Setup& setup() {
@@ -59,7 +59,7 @@ Setup& setup() {
 template <class Scalar, class Seed, class Extract>
 void run(benchmark::State& state, Seed seed, Extract extract) {
   Setup& s = setup();
-  constexpr int N = NewtonianFlowKernel::kSize;
+  constexpr int N = NewtonianFlowKernel<>::kSize;
   const double* params = s.problem.parameters().values();
   int dofs[N];
   std::array<Scalar, N> ud, rd;
@@ -79,7 +79,7 @@ void run(benchmark::State& state, Seed seed, Extract extract) {
 }
 
 void HandWrittenDual(benchmark::State& state) {
-  constexpr int N = NewtonianFlowKernel::kSize;
+  constexpr int N = NewtonianFlowKernel<>::kSize;
   using D = HandDual<N>;
   run<D>(state,
          [](double v, int i) {
@@ -91,8 +91,8 @@ void HandWrittenDual(benchmark::State& state) {
 }
 
 void EigenAutoDiffScalar(benchmark::State& state) {
-  using A = Dual<NewtonianFlowKernel::kSize>;
-  run<A>(state, [](double v, int i) { return make_variable<NewtonianFlowKernel::kSize>(v, i); },
+  using A = Dual<NewtonianFlowKernel<>::kSize>;
+  run<A>(state, [](double v, int i) { return make_variable<NewtonianFlowKernel<>::kSize>(v, i); },
          [](const A& a, int j) { return a.derivatives()[j]; });
 }
 
