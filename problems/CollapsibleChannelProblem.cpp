@@ -163,10 +163,70 @@ std::array<double, 2> CollapsibleChannelProblem::fluid_force_on_wall(const Vecto
   Vector F;
   if (!assembler_->weak_residual(u, F).is_ok()) return {NAN, NAN};
   const int fv = dofs_->field_index("velocity");
+  const int fx = dofs_->field_index("position");
   std::array<double, 2> f = {0, 0};
   for (int n : interface_nodes_)
-    for (int c = 0; c < 2; ++c) f[static_cast<size_t>(c)] -= F[dofs_->node_dof(fv, n, c)];
+    for (int c = 0; c < 2; ++c)
+      if (!dirichlet_->constrains(dofs_->node_dof(fx, n, c))) f[static_cast<size_t>(c)] -= F[dofs_->node_dof(fv, n, c)];
   return f;
+}
+
+std::array<double, 2> CollapsibleChannelProblem::interface_traction_integral(const Vector& u) const {
+  const FluidOptions& fo = options_.fluid;
+  const bool ve = fo.viscoelastic();
+  const ParameterSet& ps = params_;
+  const double beta = ve ? ps.get("beta") : 1.0;
+  const double modulus = ve ? (1.0 - beta) * ps.value(iGamma_) / ps.get("Wi") : 0.0;
+  const int fv = dofs_->field_index("velocity"), fp = dofs_->field_index("pressure");
+  const int fm = ve ? dofs_->field_index("conformation") : -1;
+  const int nc = ve ? dofs_->num_components(fm) : 0;
+  const MeshBlock& def = mesh_.block("deformable");
+  const ref::Tables& tb = ref::tables();
+  std::array<double, 2> force = {0, 0};
+  for (int i = 0; i < def.nx; ++i) {
+    const int e = def.element(i, def.ny - 1), edge = 2;
+    double xy[9][2];
+    element_positions(u, e, xy);
+    std::array<EdgeQpGeometry<double>, ref::kEdgeQp> eg;
+    if (!map_edge(xy, edge, eg)) return {NAN, NAN};
+    int vd[18], md[16];
+    dofs_->element_dofs(fv, e, vd);
+    if (ve) dofs_->element_dofs(fm, e, md);
+    for (int k = 0; k < ref::kEdgeQp; ++k) {
+      const EdgeQpGeometry<double>& g = eg[k];
+      double K[2][2] = {{0, 0}, {0, 0}};
+      for (int a = 0; a < 9; ++a)
+        for (int j = 0; j < 2; ++j) {
+          K[0][j] += g.dN2dx[a][j] * u[vd[a]];
+          K[1][j] += g.dN2dx[a][j] * u[vd[9 + a]];
+        }
+      const double p = u[dofs_->element_dof(fp, e, 0, 0)] + u[dofs_->element_dof(fp, e, 1, 0)] * (g.x[0] - xy[4][0]) +
+                       u[dofs_->element_dof(fp, e, 2, 0)] * (g.x[1] - xy[4][1]);
+      double T[2][2];
+      for (int r = 0; r < 2; ++r)
+        for (int c = 0; c < 2; ++c) T[r][c] = beta * (K[r][c] + K[c][r]) - (r == c ? p : 0.0);
+      if (ve) {
+        double m[4] = {0, 0, 0, 0};
+        for (int c = 0; c < nc; ++c)
+          for (int q = 0; q < 4; ++q) m[c] += tb.edge_N1[edge][k][q] * u[md[4 * c + q]];
+        const Conformation<double> M =
+            nc == 4 ? conformation_of<4>(m, fo.log_conformation) : conformation_of<3>(m, fo.log_conformation);
+        const double f = fo.model == FluidModel::FeneP ? peterlin(fo.model, nc == 4, M, ps.get("b")) : 1.0;
+        const Conformation<double> tp = polymer_stress(M, f, modulus);
+        T[0][0] += tp.xx;
+        T[0][1] += tp.xy;
+        T[1][0] += tp.xy;
+        T[1][1] += tp.yy;
+      }
+      // the test functions of the free interface nodes: all but the clamped corners'
+      double weight = 1.0;
+      if (i == 0) weight -= tb.edge_N2[edge][k][6];
+      if (i == def.nx - 1) weight -= tb.edge_N2[edge][k][8];
+      for (int r = 0; r < 2; ++r)
+        force[static_cast<size_t>(r)] -= weight * (T[r][0] * g.normal[0] + T[r][1] * g.normal[1]) * g.wds;
+    }
+  }
+  return force;
 }
 
 std::vector<std::string> CollapsibleChannelProblem::observable_names() const {

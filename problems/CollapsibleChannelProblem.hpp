@@ -79,9 +79,16 @@ class CollapsibleChannelProblem final : public Problem {
   // (end = 1) end of the deformable section (the one-sided values of the two element columns
   // that meet there averaged).
   double section_pressure(const Vector& u, int end) const;
-  // Total force of the fluid on the wall, -int (T n_f) ds over the interface, as the sum of the
-  // fluid's weak momentum residuals at the interface nodes (n_f the fluid's outward normal).
+  // The force the solid receives from the fluid: the sum of the fluid's weak momentum
+  // residuals at the interface nodes that are not clamped, which the coupling adds to the
+  // solid's rows; it is -int (sum of their test functions) T n_f ds (n_f: the fluid's outward
+  // normal). The clamped corner nodes pass their share to the clamps.
   std::array<double, 2> fluid_force_on_wall(const Vector& u) const;
+  // The same force integrated directly, -int w T n_f ds over the deformed interface with
+  // w = 1 - (the corner nodes' test functions) and the discrete stress
+  // T = -P I + beta (K + K^T) + tau_p(M) at edge Gauss points. It differs from the weak
+  // reaction by the discretisation error only.
+  std::array<double, 2> interface_traction_integral(const Vector& u) const;
   // Smallest det(dx/ds) of the fluid elements relative to the generated mesh.
   double min_mesh_jacobian(const Vector& u) const { return motion_->min_relative_jacobian(*dofs_, u); }
 

@@ -2,7 +2,8 @@
 """Drag coefficient K(Wi) of Oldroyd-B flow past a confined cylinder (blockage 0.5, beta = 0.59)
 from one or more branch files of `keller trace`, with the published mesh-converged values
 (method.md) overlaid. The point where the smallest conformation eigenvalue crosses zero (the
-limiting Wi of the conformation form) and the end of each branch are marked.
+limiting Wi of the conformation form, a triangle) and the end of each finished branch (a cross) are
+marked; a branch file still flagged as running (an interrupted run) gets no end mark.
 
     python3 runs/scripts/plot_cylinder_drag.py A.h5 [B.h5 ...] [--labels "C2 conf" "C2 log"] -o FIG.png"""
 
@@ -23,23 +24,30 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("branches", nargs="+", help="branch files (HDF5) of the cylinder scene")
     ap.add_argument("--labels", nargs="*", help="legend labels, one per file")
+    ap.add_argument("--xmax", type=float, help="upper limit of the Wi axis")
     ap.add_argument("-o", "--output", default="cylinder_drag.png")
     args = ap.parse_args()
     labels = args.labels or [b.rsplit("/", 1)[-1] for b in args.branches]
 
     fig, ax = plt.subplots(figsize=(6.4, 4.6))
+    shown = [k for _, k in PUBLISHED]
     ax.plot(*zip(*PUBLISHED), "ks", mfc="none", ms=7, label="published (mesh converged)", zorder=4)
     for path, label in zip(args.branches, labels):
         parameter, cols, status = read_branch(path)
         wi, k, kind = cols[parameter], cols["K"], cols["kind"]
-        (line,) = ax.plot(wi, k, "-", lw=1.4, label=label, zorder=2)
+        shown += list(k[wi <= args.xmax] if args.xmax else k)
         ev = kind == 3
         if ev.any():
+            label += "; min m1 = 0 at Wi = " + ", ".join(f"{w:.4f}" for w in wi[ev])
+        (line,) = ax.plot(wi, k, "-", lw=1.4, label=label, zorder=2)
+        if ev.any():
             ax.plot(wi[ev], k[ev], "v", color=line.get_color(), ms=8, zorder=3)
-            for w, kk in zip(wi[ev], k[ev]):
-                ax.annotate(f"min m1 = 0 at Wi = {w:.4f}", (w, kk), textcoords="offset points", xytext=(4, -14),
-                            fontsize=7, color=line.get_color())
-        ax.plot(wi[-1], k[-1], "x", color=line.get_color(), ms=8, zorder=3)
+        if not status.startswith("running"):
+            ax.plot(wi[-1], k[-1], "x", color=line.get_color(), ms=8, zorder=3)
+    if args.xmax:
+        ax.set_xlim(right=args.xmax)
+        pad = 0.05 * (max(shown) - min(shown))
+        ax.set_ylim(min(shown) - pad, max(shown) + pad)
     ax.set_xlabel("Wi")
     ax.set_ylabel("K = F_x / (eta0 U)")
     ax.set_title("Oldroyd-B, confined cylinder, beta = 0.59", fontsize=10)

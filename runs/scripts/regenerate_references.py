@@ -5,7 +5,7 @@ located points (folds, events, requested values, branch points, ends) of each br
 tests/regression/references/<scene>.csv.
 
 Run it on purpose, after a change that is meant to move the numbers, and say why in the
-commit:  python3 runs/scripts/regenerate_references.py [--keller build/bin/keller]"""
+commit:  python3 runs/scripts/regenerate_references.py [--keller build/bin/keller] [--only SCENE ...]"""
 
 import argparse
 import os
@@ -21,6 +21,7 @@ ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--keller", default=os.path.join(ROOT, "build", "bin", "keller"))
+    ap.add_argument("--only", nargs="*", help="regenerate only these scenes (names without .toml)")
     args = ap.parse_args()
     with open(os.path.join(ROOT, "tests", "regression", "scenes.txt")) as f:
         lines = [l.strip() for l in f if l.strip() and not l.startswith("#")]
@@ -29,6 +30,8 @@ def main():
             scene, _, rest = line.partition("|")
             scene = scene.strip()
             name = os.path.splitext(os.path.basename(scene))[0]
+            if args.only and name not in args.only:
+                continue
             out = os.path.join(tmp, name + ".h5")
             cmd = [args.keller, "trace", os.path.join(ROOT, scene), "-o", out]
             for o in rest.split():
