@@ -171,7 +171,8 @@ std::array<double, 2> CollapsibleChannelProblem::fluid_force_on_wall(const Vecto
   return f;
 }
 
-std::array<double, 2> CollapsibleChannelProblem::interface_traction_integral(const Vector& u) const {
+std::vector<CollapsibleChannelProblem::InterfaceSample> CollapsibleChannelProblem::interface_samples(
+    const Vector& u) const {
   const FluidOptions& fo = options_.fluid;
   const bool ve = fo.viscoelastic();
   const ParameterSet& ps = params_;
@@ -182,29 +183,33 @@ std::array<double, 2> CollapsibleChannelProblem::interface_traction_integral(con
   const int nc = ve ? dofs_->num_components(fm) : 0;
   const MeshBlock& def = mesh_.block("deformable");
   const ref::Tables& tb = ref::tables();
-  std::array<double, 2> force = {0, 0};
+  std::vector<InterfaceSample> out;
   for (int i = 0; i < def.nx; ++i) {
     const int e = def.element(i, def.ny - 1), edge = 2;
     double xy[9][2];
     element_positions(u, e, xy);
     std::array<EdgeQpGeometry<double>, ref::kEdgeQp> eg;
-    if (!map_edge(xy, edge, eg)) return {NAN, NAN};
+    if (!map_edge(xy, edge, eg)) return {};
     int vd[18], md[16];
     dofs_->element_dofs(fv, e, vd);
     if (ve) dofs_->element_dofs(fm, e, md);
     for (int k = 0; k < ref::kEdgeQp; ++k) {
       const EdgeQpGeometry<double>& g = eg[k];
+      InterfaceSample smp;
+      smp.x = {g.x[0], g.x[1]};
+      smp.normal = {g.normal[0], g.normal[1]};
+      smp.ds = g.wds;
       double K[2][2] = {{0, 0}, {0, 0}};
       for (int a = 0; a < 9; ++a)
         for (int j = 0; j < 2; ++j) {
           K[0][j] += g.dN2dx[a][j] * u[vd[a]];
           K[1][j] += g.dN2dx[a][j] * u[vd[9 + a]];
         }
-      const double p = u[dofs_->element_dof(fp, e, 0, 0)] + u[dofs_->element_dof(fp, e, 1, 0)] * (g.x[0] - xy[4][0]) +
-                       u[dofs_->element_dof(fp, e, 2, 0)] * (g.x[1] - xy[4][1]);
-      double T[2][2];
+      smp.pressure = u[dofs_->element_dof(fp, e, 0, 0)] + u[dofs_->element_dof(fp, e, 1, 0)] * (g.x[0] - xy[4][0]) +
+                     u[dofs_->element_dof(fp, e, 2, 0)] * (g.x[1] - xy[4][1]);
       for (int r = 0; r < 2; ++r)
-        for (int c = 0; c < 2; ++c) T[r][c] = beta * (K[r][c] + K[c][r]) - (r == c ? p : 0.0);
+        for (int c = 0; c < 2; ++c) smp.extra[r][c] = beta * (K[r][c] + K[c][r]);
+      smp.Mxx = std::numeric_limits<double>::quiet_NaN();
       if (ve) {
         double m[4] = {0, 0, 0, 0};
         for (int c = 0; c < nc; ++c)
@@ -213,25 +218,40 @@ std::array<double, 2> CollapsibleChannelProblem::interface_traction_integral(con
             nc == 4 ? conformation_of<4>(m, fo.log_conformation) : conformation_of<3>(m, fo.log_conformation);
         const double f = fo.model == FluidModel::FeneP ? peterlin(fo.model, nc == 4, M, ps.get("b")) : 1.0;
         const Conformation<double> tp = polymer_stress(M, f, modulus);
-        T[0][0] += tp.xx;
-        T[0][1] += tp.xy;
-        T[1][0] += tp.xy;
-        T[1][1] += tp.yy;
+        smp.extra[0][0] += tp.xx;
+        smp.extra[0][1] += tp.xy;
+        smp.extra[1][0] += tp.xy;
+        smp.extra[1][1] += tp.yy;
+        smp.Mxx = M.xx;
       }
       // the test functions of the free interface nodes: all but the clamped corners'
-      double weight = 1.0;
-      if (i == 0) weight -= tb.edge_N2[edge][k][6];
-      if (i == def.nx - 1) weight -= tb.edge_N2[edge][k][8];
-      for (int r = 0; r < 2; ++r)
-        force[static_cast<size_t>(r)] -= weight * (T[r][0] * g.normal[0] + T[r][1] * g.normal[1]) * g.wds;
+      smp.free_weight = 1.0;
+      if (i == 0) smp.free_weight -= tb.edge_N2[edge][k][6];
+      if (i == def.nx - 1) smp.free_weight -= tb.edge_N2[edge][k][8];
+      out.push_back(smp);
     }
   }
+  return out;
+}
+
+std::array<double, 2> CollapsibleChannelProblem::interface_traction_integral(const Vector& u) const {
+  std::array<double, 2> force = {0, 0};
+  const auto samples = interface_samples(u);
+  if (samples.empty()) return {NAN, NAN};
+  for (const InterfaceSample& s : samples)
+    for (int r = 0; r < 2; ++r) {
+      const size_t ri = static_cast<size_t>(r);
+      const double Tn = (s.extra[r][0] - (r == 0 ? s.pressure : 0.0)) * s.normal[0] +
+                        (s.extra[r][1] - (r == 1 ? s.pressure : 0.0)) * s.normal[1];
+      force[ri] -= s.free_weight * Tn * s.ds;
+    }
   return force;
 }
 
 std::vector<std::string> CollapsibleChannelProblem::observable_names() const {
-  std::vector<std::string> names = {"dx_max", "dy_max", "gap_min", "dP", "Q_in", "Q_out", "area_change"};
-  if (options_.fluid.viscoelastic()) names.insert(names.end(), {"min_m1", "max_m3"});
+  std::vector<std::string> names = {"dx_max", "dy_max", "gap_min", "dP", "Q_in", "Q_out", "area_change",
+                                    "mesh_quality", "min_detF"};
+  if (options_.fluid.viscoelastic()) names.insert(names.end(), {"min_m1", "max_m3", "x_min_m1", "y_min_m1"});
   return names;
 }
 
@@ -245,7 +265,7 @@ Status CollapsibleChannelProblem::monitors(const Vector& u, std::vector<double>&
   if (!options_.fluid.viscoelastic()) return {};
   std::vector<double> obs;
   Status st = observables(u, obs);
-  if (st.is_ok()) values = {obs[7]};
+  if (st.is_ok()) values = {obs[9]};  // min_m1, after the nine observables every fluid has
   return st;
 }
 
@@ -255,18 +275,22 @@ Status CollapsibleChannelProblem::observables(const Vector& u, std::vector<doubl
   for (const auto& p : wall_->interface_shape(u)) gap = std::min(gap, p[1]);
   const std::vector<double> q = column_flow_rates(u);
   values = {d[0], d[1], gap, section_pressure(u, 0) - section_pressure(u, 1), q.front(), q.back(),
-            wall_->area(u) - wall_->reference_area()};
+            wall_->area(u) - wall_->reference_area(), min_mesh_jacobian(u), wall_->min_jacobian(u)};
   if (options_.fluid.viscoelastic()) {
     std::vector<int> nodes;
     std::vector<std::array<double, 3>> eig;
     flow_->conformation_eigenvalues(u, nodes, eig);
     double m1 = INFINITY, m3 = -INFINITY;
-    for (const auto& e : eig) {
-      m1 = std::min(m1, e[0]);
-      m3 = std::max(m3, e[2]);
+    int at = -1;
+    for (size_t k = 0; k < eig.size(); ++k) {
+      if (eig[k][0] < m1) {
+        m1 = eig[k][0];
+        at = nodes[k];
+      }
+      m3 = std::max(m3, eig[k][2]);
     }
-    values.push_back(m1);
-    values.push_back(m3);
+    const int fx = dofs_->field_index("position");
+    values.insert(values.end(), {m1, m3, u[dofs_->node_dof(fx, at, 0)], u[dofs_->node_dof(fx, at, 1)]});
   }
   return {};
 }
@@ -290,6 +314,44 @@ SolutionFields CollapsibleChannelProblem::fields(const Vector& u) const {
     iface.values(static_cast<long>(k), 1) = shape[k][1];
   }
   f.arrays.push_back(std::move(iface));
+  // stresses along the interface at the edge Gauss points (n: the fluid's outward normal, up;
+  // tangent s = (n_y, -n_x), downstream)
+  const auto samples = interface_samples(u);
+  NamedArray prof{"interface_profiles",
+                  "along the interface at edge Gauss points: pressure, tangential stress t . tau . n and normal "
+                  "extra stress n . tau . n of the fluid (tau = T + P I), M_xx (NaN for a Newtonian fluid)",
+                  Eigen::MatrixXd(static_cast<long>(samples.size()), 6),
+                  {"x", "y", "p", "tangential_stress", "normal_extra_stress", "Mxx"}};
+  for (size_t k = 0; k < samples.size(); ++k) {
+    const InterfaceSample& sm = samples[k];
+    const double n[2] = {sm.normal[0], sm.normal[1]}, tg[2] = {n[1], -n[0]};
+    double tn = 0, nn = 0;
+    for (int r = 0; r < 2; ++r)
+      for (int c = 0; c < 2; ++c) {
+        tn += tg[r] * sm.extra[r][c] * n[c];
+        nn += n[r] * sm.extra[r][c] * n[c];
+      }
+    prof.values.row(static_cast<long>(k)) << sm.x[0], sm.x[1], sm.pressure, tn, nn, sm.Mxx;
+  }
+  f.arrays.push_back(std::move(prof));
+  // across the narrowest gap: the mesh line of the deformable block through the lowest interface node
+  const MeshBlock& def = mesh_.block("deformable");
+  int col = 0;
+  for (int i = 0; i <= 2 * def.nx; ++i)
+    if (u[dofs_->node_dof(fx, def.node(i, 2 * def.ny), 1)] < u[dofs_->node_dof(fx, def.node(col, 2 * def.ny), 1)]) col = i;
+  const bool ve = options_.fluid.viscoelastic();
+  const int fv = dofs_->field_index("velocity");
+  NamedArray gap{"gap_profile", "across the narrowest gap (the mesh line through the lowest interface node), bottom to top",
+                 Eigen::MatrixXd(2 * def.ny + 1, 5), {"x", "y", "vx", "vy", "Mxx"}};
+  const NodalField* conf = nullptr;
+  for (const NodalField& nf : f.nodal)
+    if (nf.name == (ve && options_.fluid.log_conformation ? "conformation_M" : "conformation")) conf = &nf;
+  for (int j = 0; j <= 2 * def.ny; ++j) {
+    const int n = def.node(col, j);
+    gap.values.row(j) << u[dofs_->node_dof(fx, n, 0)], u[dofs_->node_dof(fx, n, 1)], u[dofs_->node_dof(fv, n, 0)],
+        u[dofs_->node_dof(fv, n, 1)], conf ? conf->values(n, 0) : std::numeric_limits<double>::quiet_NaN();
+  }
+  f.arrays.push_back(std::move(gap));
   const std::vector<double> q = column_flow_rates(u);
   NamedArray flow{"column_flow_rates", "flow rate through every vertical mesh line, upstream to downstream",
                   Eigen::MatrixXd(static_cast<long>(q.size()), 1), {"Q"}};

@@ -8,6 +8,11 @@
 // of that node, so force balance holds without a boundary derivative of the velocity. The
 // fluid kernels take their geometry from the position unknowns: the Jacobian holds the shape
 // derivatives. Parameters: Gamma, Re, t, Pe, and Wi, beta (b) for the viscoelastic fluids.
+// Observables: dx_max, dy_max (the interface point of largest deflection from (Lu + L/2, 1)),
+// gap_min, dP (mean pressure across the mesh lines through the ends of the deformable section),
+// Q_in, Q_out, area_change (solid), mesh_quality (smallest det J of the fluid mesh relative to the
+// generated mesh; <= 0 is an inverted element), min_detF (solid), and for viscoelastic fluids
+// min_m1, max_m3 and the position of min_m1 (x_min_m1, y_min_m1).
 #pragma once
 
 #include <array>
@@ -93,6 +98,16 @@ class CollapsibleChannelProblem final : public Problem {
   double min_mesh_jacobian(const Vector& u) const { return motion_->min_relative_jacobian(*dofs_, u); }
 
  private:
+  // The fluid's stress at the edge Gauss points of the interface, left to right.
+  struct InterfaceSample {
+    std::array<double, 2> x, normal;  // position, the fluid's outward unit normal
+    double ds = 0;                    // Gauss weight times the line element
+    double pressure = 0;
+    double extra[2][2] = {{0, 0}, {0, 0}};  // beta (K + K^T) + tau_p
+    double Mxx = 0;                   // NaN for a Newtonian fluid
+    double free_weight = 1;           // sum of the test functions of the unclamped nodes
+  };
+  std::vector<InterfaceSample> interface_samples(const Vector& u) const;
   void element_positions(const Vector& u, int e, double (&xy)[9][2]) const;
   double pressure_at(const Vector& u, int e, const double (&xy)[9][2], double s, double t) const;
 
