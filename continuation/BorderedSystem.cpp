@@ -1,11 +1,12 @@
 #include "continuation/BorderedSystem.hpp"
 
+#include <cmath>
 #include <stdexcept>
 
 namespace keller {
 
-BorderedSystem::BorderedSystem(const SparseMatrix& P, SparseLUOptions options)
-    : n_(static_cast<int>(P.rows())), nnz_j_(P.nonZeros()), lu_(options) {
+BorderedSystem::BorderedSystem(const SparseMatrix& P, SparseLUOptions options, Mode mode)
+    : n_(static_cast<int>(P.rows())), nnz_j_(P.nonZeros()), mode_(mode), lu_(options), lu_j_(options) {
   if (P.rows() != P.cols() || !P.isCompressed()) throw std::invalid_argument("BorderedSystem: square compressed pattern");
   // column j < n: J's entries then (n, j); column n: rows 0..n
   const int n = n_;
@@ -40,11 +41,71 @@ void BorderedSystem::set(const SparseMatrix& J, const Vector& b, const Vector& c
   const long last = nnz_j_ + n;
   for (int i = 0; i < n; ++i) v[last + i] = b[i];
   v[last + n] = d;
+  if (mode_ == Mode::Block) {
+    J_ = J;
+    b_ = b;
+    c_ = c.size() ? c : Vector::Zero(n);
+    d_ = d;
+  }
 }
 
-Status BorderedSystem::factorize() { return lu_.factorize(A_); }
+Status BorderedSystem::factorize() {
+  block_ok_ = false;
+  if (mode_ == Mode::Block) {
+    Status st = lu_j_.factorize(J_);
+    if (st.is_ok()) st = lu_j_.solve(b_, x2_);
+    if (st.is_ok()) {
+      schur_ = d_ - c_.dot(x2_);
+      const double scale = std::abs(d_) + c_.norm() * x2_.norm();
+      if (std::isfinite(schur_) && std::abs(schur_) > 1e-12 * scale) {
+        block_ok_ = true;
+        return {};
+      }
+    }
+    ++fallbacks_;
+  }
+  return lu_.factorize(A_);
+}
+
+int BorderedSystem::determinant_sign() const {
+  if (block_ok_) return lu_j_.determinant_sign() * (schur_ > 0 ? 1 : -1);
+  return lu_.determinant_sign();
+}
+
+Status BorderedSystem::solve_block(const Vector& f, double g, Vector& x, double& y) {
+  Vector x1;
+  Status st = lu_j_.solve(f, x1);
+  if (!st.is_ok()) return st;
+  y = (g - c_.dot(x1)) / schur_;
+  x = x1 - y * x2_;
+  return {};
+}
 
 Status BorderedSystem::solve(const Vector& f, double g, Vector& x, double& y) {
+  if (block_ok_) {
+    Status st = solve_block(f, g, x, y);
+    if (!st.is_ok()) return st;
+    // one step of iterative refinement on the whole bordered system
+    const Vector rf = f - J_ * x - b_ * y;
+    const double rg = g - c_.dot(x) - d_ * y;
+    Vector dx;
+    double dy = 0;
+    st = solve_block(rf, rg, dx, dy);
+    if (!st.is_ok()) return st;
+    x += dx;
+    y += dy;
+    // near a singular J block elimination loses accuracy that refinement does not restore: check
+    // the residual of the whole system and fall back to its factorisation if it is not small
+    const double res = (f - J_ * x - b_ * y).cwiseAbs().maxCoeff() + std::abs(g - c_.dot(x) - d_ * y);
+    const double scale = f.cwiseAbs().maxCoeff() + std::abs(g) +
+                         (std::abs(d_) + c_.cwiseAbs().maxCoeff() + b_.cwiseAbs().maxCoeff()) *
+                             (x.cwiseAbs().maxCoeff() + std::abs(y));
+    if (x.allFinite() && std::isfinite(y) && res <= 1e-10 * scale) return {};
+    block_ok_ = false;
+    ++fallbacks_;
+    st = lu_.factorize(A_);
+    if (!st.is_ok()) return st;
+  }
   Vector rhs(n_ + 1), sol;
   rhs.head(n_) = f;
   rhs[n_] = g;

@@ -1,10 +1,16 @@
 // The bordered (extended) system of pseudo-arclength continuation,
 //   [ J    b ] [x]   [f]
 //   [ c^T  d ] [y] = [g],
-// solved by one sparse LU factorisation of the (n+1) x (n+1) matrix. Factoring the whole
-// matrix keeps it solvable at folds, where J is singular but the bordered matrix is not. The
-// extended pattern (J's plus a dense last row and column) is fixed, so UMFPACK's symbolic
-// analysis is done once per branch.
+// in one of two ways.
+//  Full:  one sparse LU factorisation of the (n+1) x (n+1) matrix, which stays regular at folds
+//         where J is singular. The dense border row and column cost fill, a lot of it with
+//         nested-dissection orderings on large coupled problems.
+//  Block: block elimination on a factorisation of J alone (x = J^-1 f - y J^-1 b,
+//         y = (g - c.J^-1 f) / (d - c.J^-1 b)) with one step of iterative refinement on the whole
+//         bordered system; where J is singular (at a fold itself), the Schur complement
+//         d - c.J^-1 b vanishes, or a solve leaves a residual of the whole system above 1e-10
+//         of its scale (J nearly singular), that factorisation falls back to the full matrix.
+// The patterns are fixed, so each UMFPACK symbolic analysis is done once per branch.
 #pragma once
 
 #include <vector>
@@ -16,23 +22,36 @@ namespace keller {
 
 class BorderedSystem {
  public:
-  BorderedSystem(const SparseMatrix& jacobian_pattern, SparseLUOptions options);
+  enum class Mode { Full, Block };
+  BorderedSystem(const SparseMatrix& jacobian_pattern, SparseLUOptions options, Mode mode = Mode::Full);
 
   int size() const { return n_; }  // n (the extended size is n + 1)
   // Values: J with the pattern given at construction, border column b, row c, corner d.
   void set(const SparseMatrix& J, const Vector& b, const Vector& c, double d);
   Status factorize();
   Status solve(const Vector& f, double g, Vector& x, double& y);
-  // Sign of det of the last factorised extended matrix.
-  int determinant_sign() const { return lu_.determinant_sign(); }
+  // Sign of det of the last factorised extended matrix (block: det J times the Schur complement).
+  int determinant_sign() const;
   const SparseMatrix& matrix() const { return A_; }
-  const SparseLU& lu() const { return lu_; }
+  // The factorisation in use: J's in block mode, the extended matrix's otherwise.
+  const SparseLU& lu() const { return mode_ == Mode::Block ? lu_j_ : lu_; }
+  // Factorisations that fell back from block elimination to the full matrix.
+  long fallbacks() const { return fallbacks_; }
 
  private:
+  Status solve_block(const Vector& f, double g, Vector& x, double& y);
   int n_;
   long nnz_j_;
+  Mode mode_;
   SparseMatrix A_;
   SparseLU lu_;
+  // block mode
+  SparseMatrix J_;
+  Vector b_, c_, x2_;
+  double d_ = 0.0, schur_ = 0.0;
+  SparseLU lu_j_;
+  bool block_ok_ = false;  // the last factorize() took the block path
+  long fallbacks_ = 0;
 };
 
 }  // namespace keller

@@ -60,7 +60,9 @@ Continuation::Continuation(Problem& problem, ContinuationOptions options, Newton
     if (std::isfinite(options_.stop_above)) monitor_names_.push_back(options_.stop_observable + " > stop_above");
     if (std::isfinite(options_.stop_below)) monitor_names_.push_back(options_.stop_observable + " < stop_below");
   }
-  bordered_ = std::make_unique<BorderedSystem>(problem_.jacobian_pattern(), lu);
+  bordered_ = std::make_unique<BorderedSystem>(
+      problem_.jacobian_pattern(), lu,
+      options_.block_elimination ? BorderedSystem::Mode::Block : BorderedSystem::Mode::Full);
   J_ = problem_.jacobian_pattern();
 }
 
@@ -117,16 +119,22 @@ Status Continuation::correct(Vector& u, double& lambda, const Constraint& c, int
     if (k >= options_.max_iterations)
       return {StatusCode::NotConverged,
               fmt::format("corrector did not converge in {} iterations (|F| = {:.3e})", k, normF)};
+    // chord: keep the factorisation while |F| falls fast enough
+    const bool refactor = options_.corrector == ContinuationOptions::Corrector::Newton || k == 0 ||
+                          !(normF <= options_.chord_rate * previous);
     previous = normF;
     double N = c.cl * (lambda - c.l0) - c.target;
     if (c.cu.size()) N += c.cu.dot(u - *c.u0);
-    st = problem_.jacobian(u, F_, J_);
-    if (!st.is_ok()) return st;
-    st = problem_.parameter_derivative(p_, u, Fp_);
-    if (!st.is_ok()) return st;
-    bordered_->set(J_, Fp_, c.cu, c.cl);
-    st = bordered_->factorize();
-    if (!st.is_ok()) return st;
+    if (refactor) {
+      st = problem_.jacobian(u, F_, J_);
+      if (!st.is_ok()) return st;
+      st = problem_.parameter_derivative(p_, u, Fp_);
+      if (!st.is_ok()) return st;
+      bordered_->set(J_, Fp_, c.cu, c.cl);
+      st = bordered_->factorize();
+      if (!st.is_ok()) return st;
+      ++factorisations_;
+    }
     st = bordered_->solve(-F_, -N, du, dl);
     if (!st.is_ok()) return st;
     u += du;
@@ -392,6 +400,7 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
     result.code = code;
     result.reason = std::move(reason);
     result.points = next_index_;
+    result.factorisations = factorisations_;
     result.last = last;
     observer.on_finish(result.reason, last);
     return result;

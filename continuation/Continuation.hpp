@@ -53,6 +53,7 @@ struct ContinuationResult {
   std::string reason;  // a sentence for people
   int points = 0;      // rows written
   int rejected = 0;    // rejected step attempts
+  long factorisations = 0;  // numeric factorisations of the bordered matrix by the corrector
   BranchPoint last;
 };
 
@@ -116,6 +117,7 @@ class Continuation {
   double state_scale_ = 1.0;
   double wu_ = 0.0, wl_ = 0.0;  // weights of the inner product
   std::unique_ptr<BorderedSystem> bordered_;
+  long factorisations_ = 0;
   SparseMatrix J_;
   Vector F_, Fp_;
   std::vector<std::string> monitor_names_;

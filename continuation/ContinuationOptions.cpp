@@ -21,6 +21,16 @@ void ContinuationOptions::declare(SceneSchema& s) {
   s.real("continuation.min_step", 1e-8, "step-size floor: below it the branch ends", Range::positive());
   s.real("continuation.max_step", 1.0, "largest step", Range::positive());
   s.integer("continuation.max_steps", 1000, "steps before the branch ends", Range::at_least(1));
+  s.string("continuation.corrector", "newton",
+           "newton: factorise every corrector iteration; chord: reuse the first factorisation of a step while the "
+           "residual falls by chord_rate per iteration",
+           {"newton", "chord"});
+  s.string("continuation.bordered", "full",
+           "bordered solves: factorise the whole extended matrix, or block elimination on J's factorisation "
+           "(faster on large coupled problems; falls back to the whole matrix where J is singular)",
+           {"full", "block"});
+  s.real("continuation.chord_rate", 0.25, "chord corrector: refactorise when |F| falls by less than this factor",
+         Range{0.0, 1.0, true, true});
   s.integer("continuation.target_iterations", 4, "corrector iterations aimed at by the step control",
             Range::at_least(1));
   s.integer("continuation.max_iterations", 10, "corrector iterations before a step is rejected", Range::at_least(1));
@@ -50,6 +60,9 @@ ContinuationOptions ContinuationOptions::from_scene(const Scene& sc) {
   if (o.parameter.empty()) throw sc.error("continuation.parameter", "a branch needs a parameter to continue in");
   o.method = sc.string("continuation.method") == "natural" ? Method::Natural : Method::Arclength;
   o.predictor = sc.string("continuation.predictor") == "secant" ? Predictor::Secant : Predictor::Tangent;
+  o.corrector = sc.string("continuation.corrector") == "chord" ? Corrector::Chord : Corrector::Newton;
+  o.chord_rate = sc.real("continuation.chord_rate");
+  o.block_elimination = sc.string("continuation.bordered") == "block";
   o.direction = sc.string("continuation.direction") == "decrease" ? -1 : +1;
   o.lower = sc.real("continuation.lower");
   o.upper = sc.real("continuation.upper");

@@ -27,6 +27,15 @@ struct ContinuationOptions {
   double min_step = 1e-8;
   double max_step = 1.0;
   int max_steps = 1000;
+  // Corrector: Newton (one factorisation of the bordered matrix per iteration) or chord (the
+  // factorisation of the first iteration reused while the residual falls by at least
+  // chord_rate per iteration; refactorised when it does not).
+  enum class Corrector { Newton, Chord };
+  // Bordered solves: factorise the whole extended matrix, or eliminate on J's factorisation
+  // (falls back to the whole matrix where J is singular); see BorderedSystem.
+  bool block_elimination = false;
+  Corrector corrector = Corrector::Newton;
+  double chord_rate = 0.25;
   int target_iterations = 4;   // grow the step when the corrector needs fewer, shrink when more
   int max_iterations = 10;     // corrector iterations before a step counts as failed
   double growth = 1.5;

@@ -251,7 +251,7 @@ std::array<double, 2> CollapsibleChannelProblem::interface_traction_integral(con
 std::vector<std::string> CollapsibleChannelProblem::observable_names() const {
   std::vector<std::string> names = {"dx_max", "dy_max", "gap_min", "dP", "Q_in", "Q_out", "area_change",
                                     "mesh_quality", "min_detF"};
-  if (options_.fluid.viscoelastic()) names.insert(names.end(), {"min_m1", "max_m3", "x_min_m1", "y_min_m1"});
+  if (options_.fluid.viscoelastic()) names.insert(names.end(), {"min_m1", "max_m3", "x_min_m1", "y_min_m1", "max_trM"});
   return names;
 }
 
@@ -280,7 +280,7 @@ Status CollapsibleChannelProblem::observables(const Vector& u, std::vector<doubl
     std::vector<int> nodes;
     std::vector<std::array<double, 3>> eig;
     flow_->conformation_eigenvalues(u, nodes, eig);
-    double m1 = INFINITY, m3 = -INFINITY;
+    double m1 = INFINITY, m3 = -INFINITY, tr = -INFINITY;
     int at = -1;
     for (size_t k = 0; k < eig.size(); ++k) {
       if (eig[k][0] < m1) {
@@ -288,9 +288,10 @@ Status CollapsibleChannelProblem::observables(const Vector& u, std::vector<doubl
         at = nodes[k];
       }
       m3 = std::max(m3, eig[k][2]);
+      tr = std::max(tr, eig[k][0] + eig[k][1] + eig[k][2]);
     }
     const int fx = dofs_->field_index("position");
-    values.insert(values.end(), {m1, m3, u[dofs_->node_dof(fx, at, 0)], u[dofs_->node_dof(fx, at, 1)]});
+    values.insert(values.end(), {m1, m3, u[dofs_->node_dof(fx, at, 0)], u[dofs_->node_dof(fx, at, 1)], tr});
   }
   return {};
 }

@@ -12,7 +12,7 @@
 // gap_min, dP (mean pressure across the mesh lines through the ends of the deformable section),
 // Q_in, Q_out, area_change (solid), mesh_quality (smallest det J of the fluid mesh relative to the
 // generated mesh; <= 0 is an inverted element), min_detF (solid), and for viscoelastic fluids
-// min_m1, max_m3 and the position of min_m1 (x_min_m1, y_min_m1).
+// min_m1, max_m3, the position of min_m1 (x_min_m1, y_min_m1) and max_trM (FENE-P: < 3b).
 #pragma once
 
 #include <array>

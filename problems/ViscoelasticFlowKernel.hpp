@@ -204,6 +204,15 @@ class ViscoelasticFlowKernel {
     const T* mc = u + kConf;  // component c at Q1 node k: mc[4 c + k]
     for (int i = 0; i < kRows; ++i) r[i] = 0.0;
     if (!(value_of(Wi) > 0.0)) return {StatusCode::InvalidState, "Wi must be positive in the viscoelastic equations"};
+    if (o_.model == FluidModel::FeneP) {
+      // tr M < 3b at the conformation nodes themselves, not only at the Gauss points between them
+      for (int k = 0; k < 4; ++k) {
+        T m[NC];
+        for (int c = 0; c < NC; ++c) m[c] = mc[4 * c + k];
+        const T f = peterlin(o_.model, NC == 4, conformation_of<NC>(m, o_.log_conformation), params[p_.b]);
+        if (!(value_of(f) > 0.0)) return {StatusCode::InvalidState, "FENE-P: tr M reached 3b at a conformation node"};
+      }
+    }
 
     for (int q = 0; q < ref::kQp; ++q) {
       const QpGeometry<G>& g = geo[q];

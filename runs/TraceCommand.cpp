@@ -152,7 +152,8 @@ int run_trace(const TraceArguments& args) {
     g_running = nullptr;
     file->close();
   }
-  fmt::print("{} points, {} rejected steps; {}\n", result.points, result.rejected, result.reason);
+  fmt::print("{} points, {} rejected steps, {} corrector factorisations; {}\n", result.points, result.rejected,
+             result.factorisations, result.reason);
 
   if (scene.boolean("output.xdmf")) {
     try {

@@ -48,18 +48,26 @@ ContinuationOptions cubic_options() {
 
 }  // namespace
 
+// Both ways of solving the bordered system (the whole matrix, and block elimination on J with
+// its fallback to the whole matrix where J is singular) against a dense solve.
 TEST(BorderedSystem, MatchesDenseSolveIncludingAtAFold) {
+  for (auto mode : {BorderedSystem::Mode::Full, BorderedSystem::Mode::Block})
   for (bool singular : {false, true}) {
+    SCOPED_TRACE(mode == BorderedSystem::Mode::Full ? "full" : "block");
     const int n = 12;
     const SparseMatrix J = random_matrix(n, 3, singular);
     const Vector b = Vector::LinSpaced(n, 1.0, 2.0), c = Vector::LinSpaced(n, -1.0, 0.5), f = Vector::Ones(n);
     const double d = 0.3, g = -0.7;
-    BorderedSystem bs(J, {});
+    BorderedSystem bs(J, {}, mode);
     bs.set(J, b, c, d);
     ASSERT_TRUE(bs.factorize().is_ok()) << "singular J = " << singular;
     Vector x;
     double y = 0;
     ASSERT_TRUE(bs.solve(f, g, x, y).is_ok());
+    // block elimination cannot use a singular J: that system fell back to the whole matrix
+    if (mode == BorderedSystem::Mode::Block) {
+      EXPECT_EQ(bs.fallbacks(), singular ? 1 : 0);
+    }
     Eigen::MatrixXd A = Eigen::MatrixXd::Zero(n + 1, n + 1);
     A.topLeftCorner(n, n) = Eigen::MatrixXd(J);
     A.block(0, n, n, 1) = b;

@@ -93,3 +93,38 @@ TEST(BratuFold, TwoDimensionalFoldConvergesToThePublishedValue) {
   EXPECT_NEAR(umax.back(), 1.39166121, 2e-6);
   EXPECT_LT(std::abs(umax.back() - 1.39166121), std::abs(umax[1] - 1.39166121) / 100);
 }
+
+// The chord corrector (one factorisation per step while the residual falls by chord_rate per
+// iteration) and block elimination of the bordered system (on J's factorisation, with its
+// fallback at the fold itself) trace the same branch: the same located fold to the event
+// tolerance; the chord corrector with fewer factorisations than Newton's.
+TEST(BratuFold, ChordCorrectorAndBlockEliminationFindTheSameFold) {
+  using C = ContinuationOptions::Corrector;
+  struct Variant {
+    const char* name;
+    C corrector;
+    bool block;
+  };
+  const Variant variants[] = {{"newton", C::Newton, false}, {"chord", C::Chord, false}, {"block", C::Newton, true},
+                              {"chord+block", C::Chord, true}};
+  double fold[4];
+  long factorisations[4];
+  for (int k = 0; k < 4; ++k) {
+    Bratu1DProblem p(64, 0.0);
+    ContinuationOptions o = fold_options("u_mid", 4.0);
+    o.corrector = variants[k].corrector;
+    o.block_elimination = variants[k].block;
+    Continuation cont(p, o);
+    test::RecordingObserver rec;
+    const auto r = cont.run(p.initial_guess(), rec);
+    ASSERT_EQ(r.code, StopCode::StopObservable) << variants[k].name << ": " << r.reason;
+    const auto folds = rec.of_kind(PointKind::Fold);
+    ASSERT_EQ(folds.size(), 1u) << variants[k].name;
+    fold[k] = folds[0]->lambda;
+    factorisations[k] = r.factorisations;
+    std::cout << variants[k].name << ": fold at " << std::setprecision(14) << fold[k] << ", " << r.points
+              << " points, " << r.factorisations << " corrector factorisations\n";
+    EXPECT_NEAR(fold[k], fold[0], 1e-11) << variants[k].name;
+  }
+  EXPECT_LT(factorisations[1], factorisations[0]);
+}

@@ -1,0 +1,70 @@
+// Benchmark (not a test): cost of one Newton step of the fully coupled collapsible channel
+// (Oldroyd-B by default; Wi = 0.1, Gamma = 4.95e-5, Pe = 0.04, t = 0.4) at the converged
+// solution on meshes M1..M3 (and finer): unknowns, nonzeros, LU fill, assembly (residual + exact
+// Jacobian with the shape derivatives), numeric factorisation and solve. Goals (issue 5):
+// assembly <= 30% of factorisation; a continuation point (about 3 Newton steps) on M2 < 1 s.
+//
+// Usage: bench_collapsible [--meshes M1,M2,M3] [--fluid newtonian|oldroyd-b|fene-p|owens]
+//                          [--ordering amd|metis|best] [--repeat N]
+#include <fmt/format.h>
+
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "core/Newton.hpp"
+#include "problems/CollapsibleChannelProblem.hpp"
+#include "runs/bench/NewtonStepTiming.hpp"
+
+using namespace keller;
+
+int main(int argc, char** argv) {
+  std::vector<std::string> meshes = {"M1", "M2", "M3"};
+  FluidModel model = FluidModel::OldroydB;
+  int repeat = 3;
+  SparseLUOptions lu_opt;
+  lu_opt.ordering = ordering_from_string("metis");
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto next = [&]() -> std::string {
+      if (i + 1 >= argc) throw std::invalid_argument("missing value after " + a);
+      return argv[++i];
+    };
+    if (a == "--meshes") {
+      meshes.clear();
+      std::stringstream ss(next());
+      std::string m;
+      while (std::getline(ss, m, ',')) meshes.push_back(m);
+    } else if (a == "--fluid") {
+      model = fluid_model_from_string(next());
+    } else if (a == "--repeat") {
+      repeat = std::stoi(next());
+    } else if (a == "--ordering") {
+      lu_opt.ordering = ordering_from_string(next());
+    } else {
+      fmt::print(stderr, "unknown argument {}\n", a);
+      return 2;
+    }
+  }
+  fmt::print("collapsible channel, {} fluid, Gamma = 4.95e-5, Wi = 0.1, ordering {}, median of {} runs\n",
+             to_string(model), to_string(lu_opt.ordering), repeat);
+  bench::print_header();
+  for (const std::string& name : meshes) {
+    CollapsibleOptions o;
+    o.mesh = ChannelMeshSpec::preset(name);
+    o.fluid.model = model;
+    o.Gamma = 4.95e-5;
+    o.fluid.Wi = 0.1;
+    if (model == FluidModel::Owens) o.fluid.profile = ProfileKind::FullyDeveloped;
+    CollapsibleChannelProblem p(o);
+    Vector u = p.initial_guess();
+    NewtonSolver newton(p, {}, lu_opt);
+    const NewtonResult r = newton.solve(u);
+    if (!r.converged()) {
+      fmt::print(stderr, "{}: Newton did not converge ({})\n", name, r.status.describe());
+      return 1;
+    }
+    bench::print_row(name, p.mesh().num_elements(), bench::time_newton_step(p, u, lu_opt, repeat));
+  }
+  return 0;
+}

@@ -1,0 +1,167 @@
+#!/usr/bin/env python3
+"""Figures of a collapsible-channel branch file of `keller trace` (reads only the HDF5 file):
+
+  PREFIX_branch.png     dP, dy_max, gap_min (and min m1) against the branch parameter, with
+                        events and the end of the branch marked
+  PREFIX_interface.png  interface shapes of every saved solution, coloured by the parameter
+  PREFIX_path.png       the path of the maximum-deflection point (dx_max, dy_max)
+  PREFIX_wall.png       M_xx (viscoelastic) or the pressure along the interface, per saved solution
+  PREFIX_fields.png     v_x, P and M_xx (if present) in the deformed domain of one saved solution
+
+    python3 runs/scripts/plot_collapsible.py BRANCH.h5 -o PREFIX [--solution K] [--overlay NEWTONIAN.h5]
+
+--overlay adds the interface shapes of another branch file (e.g. the Newtonian one) in grey."""
+
+import argparse
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.tri as mtri  # noqa: E402
+import numpy as np  # noqa: E402
+
+from keller_h5 import open_h5, read_branch  # noqa: E402
+
+
+def saved_solutions(path):
+    """[(parameter value, group name)] of the stored solutions, in branch order."""
+    parameter, _, _ = read_branch(path)
+    with open_h5(path) as f:
+        if "branch/fields" not in f:
+            return []
+        out = []
+        for name in f["branch/fields"]:
+            g = f["branch/fields"][name]
+            out.append((float(g.attrs[parameter]), int(g.attrs["row"]), name))
+        return sorted(out, key=lambda t: t[1])
+
+
+def read_array(path, group, name):
+    with open_h5(path) as f:
+        g = f["branch/fields"][group]
+        return np.array(g[name][()]) if name in g else None
+
+
+def triangulation(path, group):
+    """Triangles of the deformed fluid mesh (each 9-node quad split into 8) and node positions."""
+    with open_h5(path) as f:
+        elements = np.array(f["mesh/elements"][()], dtype=int)
+        groups = np.array(f["mesh/element_group"][()], dtype=int)
+        names = [n.decode() if isinstance(n, bytes) else str(n) for n in f["mesh/group_names"][()]]
+        pos = np.array(f["branch/fields"][group]["position"][()])
+    fluid = elements[groups == names.index("fluid")]
+    tris = []
+    for el in fluid:  # lexicographic 3x3 node grid
+        for j in range(2):
+            for i in range(2):
+                a, b, c, d = el[i + 3 * j], el[i + 1 + 3 * j], el[i + 3 * (j + 1)], el[i + 1 + 3 * (j + 1)]
+                tris += [(a, b, d), (a, d, c)]
+    return mtri.Triangulation(pos[:, 0], pos[:, 1], np.array(tris)), fluid, pos
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("branch")
+    ap.add_argument("-o", "--output", default="collapsible", help="prefix of the figure files")
+    ap.add_argument("--solution", type=int, default=-1, help="index of the saved solution for the field plot")
+    ap.add_argument("--overlay", help="another branch file whose interface shapes are drawn in grey")
+    args = ap.parse_args()
+
+    parameter, cols, status = read_branch(args.branch)
+    p, kind = cols[parameter], cols["kind"]
+    ev, end = kind == 3, len(p) - 1
+    ys = [c for c in ("dP", "dy_max", "gap_min", "min_m1") if c in cols]
+    fig, axes = plt.subplots(len(ys), 1, figsize=(6.4, 2.2 * len(ys)), sharex=True)
+    for ax, c in zip(np.atleast_1d(axes), ys):
+        ax.plot(p, cols[c], "-", lw=1.4)
+        if ev.any():
+            ax.plot(p[ev], cols[c][ev], "v", ms=7, label="min m1 = 0")
+        if not status.startswith("running"):
+            ax.plot(p[end], cols[c][end], "x", ms=8)
+        ax.set_ylabel(c)
+        ax.grid(alpha=0.3)
+    np.atleast_1d(axes)[-1].set_xlabel(parameter)
+    np.atleast_1d(axes)[0].set_title(f"{args.branch.rsplit('/', 1)[-1]}: {status}", fontsize=8)
+    fig.tight_layout()
+    fig.savefig(args.output + "_branch.png", dpi=150)
+
+    sols = saved_solutions(args.branch)
+    cmap = plt.get_cmap("viridis")
+    fig, ax = plt.subplots(figsize=(7.0, 3.0))
+    if args.overlay:
+        for _, _, g in saved_solutions(args.overlay):
+            s = read_array(args.overlay, g, "interface_shape")
+            ax.plot(s[:, 0], s[:, 1], "-", color="0.7", lw=1.0)
+    for k, (v, _, g) in enumerate(sols):
+        s = read_array(args.branch, g, "interface_shape")
+        ax.plot(s[:, 0], s[:, 1], "-", color=cmap(k / max(1, len(sols) - 1)), lw=1.3, label=f"{parameter} = {v:.4g}")
+    ax.axhline(0, color="k", lw=0.8)
+    ax.axhline(1, color="k", lw=0.5, ls=":")
+    ax.set_xlabel("x")
+    ax.set_ylabel("y of the interface")
+    ax.legend(fontsize=6, ncol=2)
+    fig.tight_layout()
+    fig.savefig(args.output + "_interface.png", dpi=150)
+
+    fig, ax = plt.subplots(figsize=(4.8, 4.0))
+    ax.plot(cols["dx_max"], cols["dy_max"], "-o", ms=2.5)
+    ax.set_xlabel("dx_max")
+    ax.set_ylabel("dy_max")
+    ax.set_title(f"maximum deflection along the branch in {parameter}", fontsize=9)
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(args.output + "_path.png", dpi=150)
+
+    fig, ax = plt.subplots(figsize=(6.4, 3.2))
+    for k, (v, _, g) in enumerate(sols):
+        prof = read_array(args.branch, g, "interface_profiles")
+        if prof is None:
+            continue
+        viscoelastic = not np.all(np.isnan(prof[:, 5]))
+        ax.plot(prof[:, 0], prof[:, 5] if viscoelastic else prof[:, 2], color=cmap(k / max(1, len(sols) - 1)), lw=1.2,
+                label=f"{parameter} = {v:.4g}")
+        ax.set_ylabel("M_xx along the wall" if viscoelastic else "pressure along the wall")
+    ax.set_xlabel("x")
+    ax.legend(fontsize=6, ncol=2)
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(args.output + "_wall.png", dpi=150)
+
+    if sols:
+        _, row, g = sols[args.solution]
+        tri, fluid, pos = triangulation(args.branch, g)
+        vel = read_array(args.branch, g, "velocity")
+        conf = read_array(args.branch, g, "conformation_M")
+        if conf is None and parameter is not None:
+            conf = read_array(args.branch, g, "conformation")
+        pc = read_array(args.branch, g, "pressure")
+        panels = [("v_x", vel[:, 0])]
+        # P1-discontinuous pressure evaluated at each element's nodes; nodes shared by elements get
+        # the last value (enough for a contour picture)
+        pn = np.full(len(pos), np.nan)
+        with open_h5(args.branch) as f:
+            elements = np.array(f["mesh/elements"][()], dtype=int)
+        for e, el in enumerate(elements):
+            if np.isnan(pc[e, 0]):
+                continue
+            xc = pos[el[4]]
+            pn[el] = pc[e, 0] + pc[e, 1] * (pos[el, 0] - xc[0]) + pc[e, 2] * (pos[el, 1] - xc[1])
+        panels.append(("P", pn))
+        if conf is not None:
+            panels.append(("M_xx", conf[:, 0]))
+        fig, axes = plt.subplots(len(panels), 1, figsize=(9.0, 1.9 * len(panels)), sharex=True)
+        for ax, (name, val) in zip(np.atleast_1d(axes), panels):
+            cs = ax.tricontourf(tri, np.nan_to_num(val), levels=24, cmap="viridis")
+            fig.colorbar(cs, ax=ax, fraction=0.03, pad=0.01)
+            ax.set_aspect("equal")
+            ax.set_ylabel(name)
+        np.atleast_1d(axes)[0].set_title(f"row {row}", fontsize=8)
+        np.atleast_1d(axes)[-1].set_xlabel("x")
+        fig.tight_layout()
+        fig.savefig(args.output + "_fields.png", dpi=150)
+    print(f"wrote {args.output}_{{branch,interface,path,wall,fields}}.png")
+
+
+if __name__ == "__main__":
+    main()
