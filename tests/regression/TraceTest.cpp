@@ -255,3 +255,24 @@ TEST(Trace, BadContinuationInputIsRejectedBeforeAnyOutput) {
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("a branch needs a parameter to continue in"), std::string::npos) << r.err;
 }
+
+// The collapsible-channel figure scripts run on a branch file of the coupled problem (coarse
+// mesh), reading the stored interface profiles and the deformed mesh.
+TEST(Trace, CollapsibleFiguresFromTheBranchFile) {
+  const std::string dir = test::scratch_dir("trace_collapsible");
+  const auto r = test::run_keller(
+      "trace " + test::source_path("runs/scenes/collapsible_newtonian_thickness.toml") + " -o " + dir +
+      "/c.h5 --set mesh.name=custom --set mesh.nx_upstream=5 --set mesh.nx_deformable=10 --set mesh.nx_downstream=5"
+      " --set mesh.ny_fluid=4 --set mesh.ny_solid=2");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string py = std::string(KELLER_PYTHON) + " ";
+  std::string cmd = py + test::source_path("runs/scripts/plot_collapsible.py") + " " + dir + "/c.h5 -o " + dir +
+                    "/c > /dev/null";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  for (const char* f : {"branch", "interface", "path", "wall", "fields"})
+    EXPECT_GT(fs::file_size(dir + "/c_" + f + ".png"), 10000u) << f;
+  cmd = py + test::source_path("runs/scripts/plot_interfaces.py") + " --newtonian " + dir + "/c.h5 " + dir +
+        "/c.h5 -o " + dir + "/i.png > /dev/null";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  EXPECT_GT(fs::file_size(dir + "/i.png"), 10000u);
+}
