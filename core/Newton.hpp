@@ -19,7 +19,8 @@ struct NewtonOptions {
   // Converged when ||F||_inf <= residual_tolerance * problem.residual_scale() ...
   double residual_tolerance = 1e-10;
   // ... or when a full step has ||du||_inf <= update_tolerance * max(||u||_inf, 1) and did not
-  // increase the residual (convergence to rounding level).
+  // increase the residual, or when no damped step reduces a residual that is already within
+  // 1e3 of the tolerance (both: convergence to rounding level).
   double update_tolerance = 1e-12;
   bool line_search = true;
   double min_step_length = 1.0 / 128.0;  // smallest damping factor before giving up
