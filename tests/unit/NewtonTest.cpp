@@ -156,3 +156,34 @@ TEST(Newton, FailuresAreStatuses) {
   const NewtonResult nf = newton.solve(bad);
   EXPECT_EQ(nf.status.code(), StatusCode::NotFinite);
 }
+
+// A tolerance below the rounding floor of the problem: once no damped step reduces a residual
+// within 1e3 of the tolerance, Newton reports convergence at that floor (and the solution is the
+// one a reachable tolerance gives); a residual far above the tolerance still fails.
+TEST(Newton, StopsAtTheRoundingFloor) {
+  Bratu1DProblem problem(64, 2.0);  // its residual floor is about 3e-13 (1/h^2 = 4096 times rounding)
+  NewtonOptions reachable;
+  reachable.residual_tolerance = 1e-11;
+  NewtonSolver ref_solver(problem, reachable);
+  Vector ref = problem.initial_guess();
+  ASSERT_TRUE(ref_solver.solve(ref).converged());
+
+  NewtonOptions below;
+  below.update_tolerance = 0.0;  // no help from the small-update rule
+  below.residual_tolerance = 1e-15;  // unreachable, but the floor is within 1e3 of it
+  NewtonSolver newton(problem, below);
+  Vector u = problem.initial_guess();
+  const NewtonResult res = newton.solve(u);
+  std::cout << "tolerance 1e-15: final |F| = " << res.residual_norm << " after " << res.iterations << " iterations\n";
+  ASSERT_TRUE(res.converged()) << res.status.describe();
+  EXPECT_GT(res.residual_norm, 1e-15);
+  EXPECT_LE(res.residual_norm, 1e-12);
+  EXPECT_LT((u - ref).cwiseAbs().maxCoeff(), 1e-10);
+
+  below.residual_tolerance = 1e-18;  // floor far above the tolerance: still a failure
+  NewtonSolver strict(problem, below);
+  Vector w = problem.initial_guess();
+  const NewtonResult bad = strict.solve(w);
+  std::cout << "tolerance 1e-18: " << bad.status.describe() << "\n";
+  EXPECT_FALSE(bad.converged());
+}
