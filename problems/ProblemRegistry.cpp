@@ -4,9 +4,11 @@
 
 #include "problems/Bratu1DProblem.hpp"
 #include "problems/Bratu2DProblem.hpp"
+#include "problems/Brusselator1DProblem.hpp"
 #include "problems/ChannelProblem.hpp"
 #include "problems/CollapsibleChannelProblem.hpp"
 #include "problems/CylinderProblem.hpp"
+#include "problems/Pitchfork1DProblem.hpp"
 #include "problems/WallProblem.hpp"
 
 namespace keller {
@@ -33,6 +35,10 @@ const std::vector<ProblemType>& problem_types() {
        Bratu1DProblem::from_scene},
       {"bratu2d", "2D Bratu problem with Q2 elements (test problem)", Bratu1DProblem::declare,
        Bratu2DProblem::from_scene},
+      {"pitchfork1d", "1D pitchfork u'' + lambda u - u^3 + eps = 0 by central differences (test problem)",
+       Pitchfork1DProblem::declare, Pitchfork1DProblem::from_scene},
+      {"brusselator1d", "1D Brusselator with no-flux ends by central differences (test problem: Hopf)",
+       Brusselator1DOptions::declare, Brusselator1DProblem::from_scene},
   };
   return types;
 }
