@@ -72,35 +72,59 @@ int BorderedSystem::determinant_sign() const {
   return lu_.determinant_sign();
 }
 
+Status BorderedSystem::set_row(const Vector& c, double d) {
+  const int n = n_;
+  if (c.size() && c.size() != n) throw std::invalid_argument("BorderedSystem::set_row: size mismatch");
+  double* v = A_.valuePtr();
+  const int* ao = A_.outerIndexPtr();
+  for (int j = 0; j < n; ++j) v[ao[j + 1] - 1] = c.size() ? c[j] : 0.0;  // (n, j) closes column j
+  v[A_.nonZeros() - 1] = d;
+  if (mode_ != Mode::Block) return {StatusCode::InvalidState, "full bordered mode: the row is part of the factorisation"};
+  c_ = c.size() ? c : Vector::Zero(n);
+  d_ = d;
+  if (!block_ok_) return {StatusCode::InvalidState, "no block factorisation to reuse"};
+  schur_ = d_ - c_.dot(x2_);
+  const double scale = std::abs(d_) + c_.norm() * x2_.norm();
+  if (!(std::isfinite(schur_) && std::abs(schur_) > 1e-12 * scale)) {
+    block_ok_ = false;
+    return {StatusCode::SingularMatrix, "Schur complement of the new border row vanishes"};
+  }
+  return {};
+}
+
 Status BorderedSystem::solve_block(const Vector& f, double g, Vector& x, double& y) {
   Vector x1;
-  Status st = lu_j_.solve(f, x1);
+  Status st = lu_j_.solve(f, x1, false, 0);  // plain: the whole bordered system is refined below
   if (!st.is_ok()) return st;
   y = (g - c_.dot(x1)) / schur_;
   x = x1 - y * x2_;
   return {};
 }
 
-Status BorderedSystem::solve(const Vector& f, double g, Vector& x, double& y) {
+Status BorderedSystem::solve(const Vector& f, double g, Vector& x, double& y, bool refine) {
   if (block_ok_) {
     Status st = solve_block(f, g, x, y);
     if (!st.is_ok()) return st;
-    // one step of iterative refinement on the whole bordered system
-    const Vector rf = f - J_ * x - b_ * y;
-    const double rg = g - c_.dot(x) - d_ * y;
-    Vector dx;
-    double dy = 0;
-    st = solve_block(rf, rg, dx, dy);
-    if (!st.is_ok()) return st;
-    x += dx;
-    y += dy;
-    // near a singular J block elimination loses accuracy that refinement does not restore: check
-    // the residual of the whole system and fall back to its factorisation if it is not small
-    const double res = (f - J_ * x - b_ * y).cwiseAbs().maxCoeff() + std::abs(g - c_.dot(x) - d_ * y);
-    const double scale = f.cwiseAbs().maxCoeff() + std::abs(g) +
-                         (std::abs(d_) + c_.cwiseAbs().maxCoeff() + b_.cwiseAbs().maxCoeff()) *
-                             (x.cwiseAbs().maxCoeff() + std::abs(y));
-    if (x.allFinite() && std::isfinite(y) && res <= 1e-10 * scale) return {};
+    if (!refine) return x.allFinite() && std::isfinite(y) ? Status{} : Status{StatusCode::NotFinite, "bordered solve"};
+    // iterative refinement on the whole bordered system: near a singular J block elimination
+    // loses accuracy; if refinement does not restore it, fall back to the whole matrix
+    const double scale_ab = std::abs(d_) + c_.cwiseAbs().maxCoeff() + b_.cwiseAbs().maxCoeff();
+    const double scale_f = f.cwiseAbs().maxCoeff() + std::abs(g);
+    for (int step = 0; step <= 3; ++step) {
+      if (!x.allFinite() || !std::isfinite(y)) break;
+      const Vector rf = f - J_ * x - b_ * y;
+      const double rg = g - c_.dot(x) - d_ * y;
+      const double res = rf.cwiseAbs().maxCoeff() + std::abs(rg);
+      const double scale = scale_f + scale_ab * (x.cwiseAbs().maxCoeff() + std::abs(y));
+      if (res <= 1e-10 * scale) return {};
+      if (step == 3) break;
+      Vector dx;
+      double dy = 0;
+      st = solve_block(rf, rg, dx, dy);
+      if (!st.is_ok()) return st;
+      x += dx;
+      y += dy;
+    }
     block_ok_ = false;
     ++fallbacks_;
     st = lu_.factorize(A_);

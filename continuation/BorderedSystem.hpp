@@ -29,7 +29,17 @@ class BorderedSystem {
   // Values: J with the pattern given at construction, border column b, row c, corner d.
   void set(const SparseMatrix& J, const Vector& b, const Vector& c, double d);
   Status factorize();
-  Status solve(const Vector& f, double g, Vector& x, double& y);
+  // Replaces the border row and corner (c, d) of the factorised system without refactorising J:
+  // block mode only (the Schur complement is one dot product away); returns a non-ok status when
+  // the system must be refactorised instead (full mode, no factorisation, vanishing Schur
+  // complement). The chord corrector uses it to keep J's factorisation across steps.
+  Status set_row(const Vector& c, double d);
+  // True when a block factorisation is in use (what set_row needs).
+  bool block_factorised() const { return block_ok_; }
+  // refine: iterative refinement on the whole bordered system until its residual is below
+  // 1e-10 of its scale (at most 3 steps; block mode), false: one elimination only (callers that
+  // iterate themselves).
+  Status solve(const Vector& f, double g, Vector& x, double& y, bool refine = true);
   // Sign of det of the last factorised extended matrix (block: det J times the Schur complement).
   int determinant_sign() const;
   const SparseMatrix& matrix() const { return A_; }
@@ -37,6 +47,10 @@ class BorderedSystem {
   const SparseLU& lu() const { return mode_ == Mode::Block ? lu_j_ : lu_; }
   // Factorisations that fell back from block elimination to the full matrix.
   long fallbacks() const { return fallbacks_; }
+  // Cumulative wall time of numeric factorisations and solves (both factorisations).
+  double factor_seconds() const { return lu_.statistics().factor_seconds + lu_j_.statistics().factor_seconds; }
+  double solve_seconds() const { return lu_.statistics().solve_seconds + lu_j_.statistics().solve_seconds; }
+  long solves() const { return lu_.statistics().solves + lu_j_.statistics().solves; }
 
  private:
   Status solve_block(const Vector& f, double g, Vector& x, double& y);

@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <functional>
+#include <limits>
 #include <stdexcept>
 
 namespace keller {
@@ -100,7 +102,15 @@ Continuation::Constraint Continuation::lambda_constraint(double lambda) const {
 }
 
 Status Continuation::correct(Vector& u, double& lambda, const Constraint& c, int& iterations) {
+  // a factorisation made at a diverging iterate is not kept for the next attempt
+  Status st = correct_iterations(u, lambda, c, iterations);
+  reusable_ = st.is_ok();
+  return st;
+}
+
+Status Continuation::correct_iterations(Vector& u, double& lambda, const Constraint& c, int& iterations) {
   iterations = 0;
+  refactored_ = false;
   const double tol = newton_.residual_tolerance * problem_.residual_scale();
   double previous = INFINITY, update = INFINITY;
   Vector du;
@@ -108,34 +118,46 @@ Status Continuation::correct(Vector& u, double& lambda, const Constraint& c, int
   for (int k = 0;; ++k) {
     Status st = set_parameter(lambda);
     if (!st.is_ok()) return st;
+    const auto t_res = std::chrono::steady_clock::now();
     st = problem_.residual(u, F_);
+    timings_.residual += seconds_since(t_res);
+    ++timings_.residuals;
     if (!st.is_ok()) return st;
     const double normF = F_.lpNorm<Eigen::Infinity>();
     if (k > 0) {
       const bool small_update = update <= newton_.update_tolerance * std::max(u.lpNorm<Eigen::Infinity>(), 1.0);
-      if (normF <= tol || (small_update && normF <= 1e3 * tol)) return {};
+      // the rounding floor: within 1e3 of the tolerance and no longer falling (as in Newton)
+      const bool stalled = normF > 0.5 * previous;
+      if (normF <= tol || ((small_update || stalled) && normF <= 1e3 * tol)) return {};
       if (normF > 1e3 * previous) return {StatusCode::Diverged, fmt::format("corrector diverged (|F| = {:.3e})", normF)};
     }
     if (k >= options_.max_iterations)
       return {StatusCode::NotConverged,
               fmt::format("corrector did not converge in {} iterations (|F| = {:.3e})", k, normF)};
-    // chord: keep the factorisation while |F| falls fast enough
-    const bool refactor = options_.corrector == ContinuationOptions::Corrector::Newton || k == 0 ||
-                          !(normF <= options_.chord_rate * previous);
+    // chord: keep the factorisation while |F| falls fast enough (with reuse_factorisation also
+    // the one of the previous step, under this step's border row)
+    bool refactor = options_.corrector == ContinuationOptions::Corrector::Newton || k == 0 ||
+                    !(normF <= options_.chord_rate * previous);
+    // near the rounding floor a slower fall is rounding, not an old matrix: no new factorisation
+    if (options_.corrector == ContinuationOptions::Corrector::Chord && k > 0 && normF <= 1e3 * tol) refactor = false;
+    if (k == 0 && options_.reuse_factorisation && reusable_ && bordered_->block_factorised())
+      refactor = !bordered_->set_row(c.cu, c.cl).is_ok();
     previous = normF;
     double N = c.cl * (lambda - c.l0) - c.target;
     if (c.cu.size()) N += c.cu.dot(u - *c.u0);
     if (refactor) {
-      st = problem_.jacobian(u, F_, J_);
+      refactored_ = true;
+      st = timed_jacobian(u);
       if (!st.is_ok()) return st;
-      st = problem_.parameter_derivative(p_, u, Fp_);
+      st = timed_parameter_derivative(u);
       if (!st.is_ok()) return st;
       bordered_->set(J_, Fp_, c.cu, c.cl);
       st = bordered_->factorize();
       if (!st.is_ok()) return st;
       ++factorisations_;
     }
-    st = bordered_->solve(-F_, -N, du, dl);
+    // the chord iteration corrects the error of an unrefined solve like that of its old matrix
+    st = bordered_->solve(-F_, -N, du, dl, options_.corrector == ContinuationOptions::Corrector::Newton);
     if (!st.is_ok()) return st;
     u += du;
     lambda += dl;
@@ -164,10 +186,101 @@ Status Continuation::tangent_from_factorisation(const Vector& tu_prev, double tl
   return {};
 }
 
+Status Continuation::factorize_at(const Vector& u, double lambda, const Constraint& c) {
+  Status st = set_parameter(lambda);
+  if (st.is_ok()) st = timed_jacobian(u);
+  if (st.is_ok()) st = timed_parameter_derivative(u);
+  if (!st.is_ok()) return st;
+  bordered_->set(J_, Fp_, c.cu, c.cl);
+  st = bordered_->factorize();
+  if (!st.is_ok()) return st;
+  ++factorisations_;
+  reusable_ = true;
+  return {};
+}
+
+Status Continuation::point_tangent(BranchPoint& p, const Constraint& c, const Vector& tu_prev, double tl_prev,
+                                   bool refresh) {
+  if (!options_.reuse_factorisation)
+    return tangent_from_factorisation(tu_prev, tl_prev, p.tu, p.tlambda, p.det_sign);
+  // the determinant (branch points) needs a factorisation at the point itself; so does a kept
+  // factorisation that has grown too old (refresh)
+  bool converged = false;
+  if (!refresh && !options_.detect_branch_points && bordered_->block_factorised()) {
+    // Richardson iteration on [J F_p; c^T d] z = (0, 1) at p, preconditioned by the kept
+    // factorisation (possibly of an earlier point): converges while that is close to this one.
+    // J v by central differences of the residual (two residuals instead of a Jacobian; error
+    // about 1e-11 of |J| |v|, below the 1e-9 the iteration asks for).
+    Status st = set_parameter(p.lambda);
+    if (st.is_ok()) st = timed_parameter_derivative(p.u);
+    if (!st.is_ok()) return st;
+    const int n = problem_.size();
+    const Vector cu = c.cu.size() ? c.cu : Vector::Zero(n);
+    const double scale_j = J_.coeffs().cwiseAbs().maxCoeff();  // of the last assembled Jacobian
+    const double scale_a = scale_j + Fp_.cwiseAbs().maxCoeff() + cu.cwiseAbs().maxCoeff() + std::abs(c.cl);
+    const double ustep = std::cbrt(std::numeric_limits<double>::epsilon()) * std::max(1.0, p.u.lpNorm<Eigen::Infinity>());
+    Vector fplus, fminus;
+    auto jacobian_times = [&](const Vector& v, Vector& out) -> Status {
+      const double vmax = v.lpNorm<Eigen::Infinity>();
+      if (!(vmax > 0)) {
+        out = Vector::Zero(n);
+        return {};
+      }
+      const double eps = ustep / vmax;
+      const auto t0 = std::chrono::steady_clock::now();
+      Status s1 = problem_.residual(p.u + eps * v, fplus);
+      if (s1.is_ok()) s1 = problem_.residual(p.u - eps * v, fminus);
+      timings_.residual += seconds_since(t0);
+      timings_.residuals += 2;
+      if (!s1.is_ok()) return s1;
+      out = (fplus - fminus) / (2.0 * eps);
+      return {};
+    };
+    Vector v = Vector::Zero(n), rf = Vector::Zero(n), dv, jv;
+    double mu = 0.0, rg = 1.0, dmu = 0.0, previous = INFINITY;
+    for (int it = 0; it < 12; ++it) {
+      st = bordered_->solve(rf, rg, dv, dmu, false);
+      ++tangent_iterations_;
+      if (!st.is_ok()) break;
+      v += dv;
+      mu += dmu;
+      st = jacobian_times(v, jv);
+      if (!st.is_ok()) break;
+      rf = -(jv + Fp_ * mu);
+      rg = 1.0 - cu.dot(v) - c.cl * mu;
+      const double res = rf.cwiseAbs().maxCoeff() + std::abs(rg);
+      const double scale = 1.0 + scale_a * (v.cwiseAbs().maxCoeff() + std::abs(mu));
+      if (!(res <= 0.5 * previous) || !std::isfinite(res)) break;  // diverging or stalling
+      previous = res;
+      if (res <= 1e-9 * scale) {
+        converged = true;
+        break;
+      }
+    }
+    if (converged) {
+      // the kept factorisation and this point's system are close (contraction): same sign of
+      // det of the bordered matrix; Cramer gives det J's sign from mu
+      p.det_sign = sign_of(mu) * bordered_->determinant_sign();
+      const double nrm = std::sqrt(dot(v, mu, v, mu));
+      if (!(nrm > 0) || !std::isfinite(nrm)) return {StatusCode::NotFinite, "tangent is zero or not finite"};
+      p.tu = v / nrm;
+      p.tlambda = mu / nrm;
+      if (tu_prev.size() && dot(p.tu, p.tlambda, tu_prev, tl_prev) < 0) {
+        p.tu = -p.tu;
+        p.tlambda = -p.tlambda;
+      }
+      return {};
+    }
+  }
+  Status st = factorize_at(p.u, p.lambda, c);
+  if (!st.is_ok()) return st;
+  return tangent_from_factorisation(tu_prev, tl_prev, p.tu, p.tlambda, p.det_sign);
+}
+
 Status Continuation::initial_tangent(const Vector& u, double lambda, Vector& tu, double& tl, int& det_sign) {
   Status st = set_parameter(lambda);
-  if (st.is_ok()) st = problem_.jacobian(u, F_, J_);
-  if (st.is_ok()) st = problem_.parameter_derivative(p_, u, Fp_);
+  if (st.is_ok()) st = timed_jacobian(u);
+  if (st.is_ok()) st = timed_parameter_derivative(u);
   if (!st.is_ok()) return st;
   // [J F_p; 0 1] gives (-J^-1 F_p, 1) where J is regular; at a fold J is singular and a generic
   // border row (0 on the parameter) is used instead.
@@ -180,6 +293,8 @@ Status Continuation::initial_tangent(const Vector& u, double lambda, Vector& tu,
     st = bordered_->factorize();
   }
   if (!st.is_ok()) return st;
+  ++factorisations_;
+  reusable_ = true;
   st = tangent_from_factorisation(Vector(), 0.0, tu, tl, det_sign);
   if (!st.is_ok()) return st;
   if (tl * options_.direction < 0) {
@@ -189,7 +304,28 @@ Status Continuation::initial_tangent(const Vector& u, double lambda, Vector& tu,
   return {};
 }
 
+Status Continuation::timed_jacobian(const Vector& u) {
+  const auto t0 = std::chrono::steady_clock::now();
+  Status st = problem_.jacobian(u, F_, J_);
+  timings_.jacobian += seconds_since(t0);
+  ++timings_.jacobians;
+  return st;
+}
+
+Status Continuation::timed_parameter_derivative(const Vector& u) {
+  const auto t0 = std::chrono::steady_clock::now();
+  Status st = problem_.parameter_derivative(p_, u, Fp_);
+  timings_.parameter_derivative += seconds_since(t0);
+  return st;
+}
+
 Status Continuation::evaluate(BranchPoint& p) {
+  const auto t0 = std::chrono::steady_clock::now();
+  struct Add {
+    double& to;
+    std::chrono::steady_clock::time_point t0;
+    ~Add() { to += seconds_since(t0); }
+  } add{timings_.observables, t0};
   Status st = set_parameter(p.lambda);
   if (st.is_ok()) st = problem_.observables(p.u, p.observables);
   if (st.is_ok()) st = problem_.monitors(p.u, p.monitors);
@@ -231,15 +367,11 @@ BranchPoint Continuation::point_on_segment(const BranchPoint& a, const BranchPoi
   // the tangent's parameter part) or a sign change of the determinant needs them at the point
   // itself: one more factorisation there.
   if (st.is_ok() && exact_tangent) {
-    st = set_parameter(p.lambda);
-    if (st.is_ok()) st = problem_.jacobian(p.u, F_, J_);
-    if (st.is_ok()) st = problem_.parameter_derivative(p_, p.u, Fp_);
-    if (st.is_ok()) {
-      bordered_->set(J_, Fp_, c.cu, c.cl);
-      st = bordered_->factorize();
-    }
+    st = factorize_at(p.u, p.lambda, c);
+    if (st.is_ok()) st = tangent_from_factorisation(a.tu, a.tlambda, p.tu, p.tlambda, p.det_sign);
+  } else if (st.is_ok()) {
+    st = point_tangent(p, c, a.tu, a.tlambda);
   }
-  if (st.is_ok()) st = tangent_from_factorisation(a.tu, a.tlambda, p.tu, p.tlambda, p.det_sign);
   if (st.is_ok()) st = evaluate(p);
   p.bordered_det_sign = bordered_->determinant_sign();
   p.s = a.s + tau * (b.s - a.s);
@@ -252,8 +384,9 @@ std::optional<BranchPoint> Continuation::locate_value(const BranchPoint& a, cons
   BranchPoint p;
   p.u = a.u + tau * (b.u - a.u);
   p.lambda = value;
-  Status st = correct(p.u, p.lambda, lambda_constraint(value), p.iterations);
-  if (st.is_ok()) st = tangent_from_factorisation(a.tu, a.tlambda, p.tu, p.tlambda, p.det_sign);
+  const Constraint c = lambda_constraint(value);
+  Status st = correct(p.u, p.lambda, c, p.iterations);
+  if (st.is_ok()) st = point_tangent(p, c, a.tu, a.tlambda);
   if (st.is_ok()) st = evaluate(p);
   if (st.is_ok()) {
     p.lambda = value;  // exactly
@@ -336,6 +469,12 @@ std::optional<BranchPoint> Continuation::locate_root(const BranchPoint& a, const
   return std::nullopt;
 }
 
+void Continuation::report(BranchObserver& observer, const BranchPoint& p) {
+  const auto t0 = std::chrono::steady_clock::now();
+  observer.on_point(p);
+  timings_.output += seconds_since(t0);
+}
+
 ContinuationResult Continuation::run(const Vector& u0, BranchObserver& observer) {
   t_start_ = std::chrono::steady_clock::now();
   const double rms = u0.size() ? u0.norm() / std::sqrt(static_cast<double>(u0.size())) : 0.0;
@@ -378,11 +517,13 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
   // the start: observables, and the sign of det of the bordered matrix with its own tangent
   Status st = evaluate(start);
   if (st.is_ok() && arclength) {
-    st = problem_.jacobian(start.u, F_, J_);
-    if (st.is_ok()) st = problem_.parameter_derivative(p_, start.u, Fp_);
+    st = timed_jacobian(start.u);
+    if (st.is_ok()) st = timed_parameter_derivative(start.u);
     if (st.is_ok()) {
       bordered_->set(J_, Fp_, wu_ * start.tu, wl_ * start.tlambda);
       st = bordered_->factorize();
+      ++factorisations_;
+      reusable_ = st.is_ok();
       start.bordered_det_sign = st.is_ok() ? bordered_->determinant_sign() : 0;
       st = {};
     }
@@ -394,13 +535,19 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
   }
   start.index = next_index_++;
   start.save = true;
-  observer.on_point(start);
+  report(observer, start);
 
   auto finish = [&](StopCode code, std::string reason, const BranchPoint& last) {
     result.code = code;
     result.reason = std::move(reason);
     result.points = next_index_;
     result.factorisations = factorisations_;
+    result.tangent_iterations = tangent_iterations_;
+    timings_.factorisation = bordered_->factor_seconds();
+    timings_.solve = bordered_->solve_seconds();
+    timings_.solves = bordered_->solves();
+    timings_.total = seconds_since(t_start_);
+    result.timings = timings_;
     result.last = last;
     observer.on_finish(result.reason, last);
     return result;
@@ -439,7 +586,11 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
       c = lambda_constraint(nxt.lambda);
     }
     st = correct(nxt.u, nxt.lambda, c, nxt.iterations);
-    if (st.is_ok()) st = tangent_from_factorisation(cur.tu, cur.tlambda, nxt.tu, nxt.tlambda, nxt.det_sign);
+    // A kept factorisation that made the chord corrector slower than the target is renewed at the
+    // new point instead of shrinking the step (the step was not too long: the matrix was too old).
+    const bool stale = options_.reuse_factorisation && !refactored_ && nxt.iterations > options_.target_iterations;
+    if (st.is_ok()) st = point_tangent(nxt, c, cur.tu, cur.tlambda, stale);
+    if (!st.is_ok()) reusable_ = false;
     // a sharp turn of the tangent means the step skipped a feature of the branch or, in natural
     // continuation, jumped to another branch past a fold
     if (st.is_ok()) {
@@ -470,7 +621,7 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
     }
     double ds_next = ds;
     if (nxt.iterations < options_.target_iterations) ds_next = ds * options_.growth;
-    else if (nxt.iterations > options_.target_iterations) ds_next = ds * std::max(options_.shrink, 0.7);
+    else if (nxt.iterations > options_.target_iterations && !stale) ds_next = ds * std::max(options_.shrink, 0.7);
     ds_next = std::clamp(ds_next, options_.min_step, options_.max_step);
     nxt.step = ds_next;
 
@@ -520,7 +671,7 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
     for (Located& l : located) {
       l.point.index = next_index_++;
       l.point.save = true;
-      observer.on_point(l.point);
+      report(observer, l.point);
       if (l.terminal) {
         const std::string why = l.code == StopCode::StopObservable
                                     ? fmt::format("{} crossed at {} = {:.10g}", l.point.label, options_.parameter,
@@ -532,7 +683,7 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
     }
     nxt.index = next_index_++;
     nxt.save = nxt.index % options_.save_every == 0;
-    observer.on_point(nxt);
+    report(observer, nxt);
     prev = std::move(cur);
     cur = std::move(nxt);
     ds = ds_next;

@@ -48,12 +48,21 @@ enum class StopCode {
 };
 const char* to_string(StopCode c);
 
+// Where a run's time went (seconds, wall clock): the speed floor is the factorisations.
+struct ContinuationTimings {
+  double jacobian = 0, parameter_derivative = 0, residual = 0, factorisation = 0, solve = 0, observables = 0,
+         output = 0, total = 0;
+  long jacobians = 0, residuals = 0, solves = 0;
+};
+
 struct ContinuationResult {
   StopCode code = StopCode::MaxSteps;
   std::string reason;  // a sentence for people
   int points = 0;      // rows written
   int rejected = 0;    // rejected step attempts
-  long factorisations = 0;  // numeric factorisations of the bordered matrix by the corrector
+  long factorisations = 0;  // numeric factorisations of the bordered matrix (corrector and tangents)
+  long tangent_iterations = 0;  // solves of tangents by iteration on a kept factorisation
+  ContinuationTimings timings;
   BranchPoint last;
 };
 
@@ -90,10 +99,20 @@ class Continuation {
 
   Status set_parameter(double lambda);
   Status correct(Vector& u, double& lambda, const Constraint& c, int& iterations);
+  Status correct_iterations(Vector& u, double& lambda, const Constraint& c, int& iterations);
   // Unit tangent at the point of the last factorisation, oriented along (tu_prev, tl_prev).
   Status tangent_from_factorisation(const Vector& tu_prev, double tl_prev, Vector& tu, double& tl, int& det_sign);
   Status initial_tangent(const Vector& u, double lambda, Vector& tu, double& tl, int& det_sign);
+  // Unit tangent at the converged point p (border row of constraint c): from the last
+  // factorisation, or with reuse_factorisation by iterating on the exact tangent system at p
+  // with the kept factorisation (a new factorisation at p when that does not converge).
+  Status point_tangent(BranchPoint& p, const Constraint& c, const Vector& tu_prev, double tl_prev,
+                       bool refresh = false);
+  Status factorize_at(const Vector& u, double lambda, const Constraint& c);
   Status evaluate(BranchPoint& p);
+  Status timed_jacobian(const Vector& u);  // into F_, J_
+  Status timed_parameter_derivative(const Vector& u);  // into Fp_
+  void report(BranchObserver& observer, const BranchPoint& p);
   Constraint arclength_constraint(const BranchPoint& from, const Vector& tu, double tl, double sigma) const;
   Constraint lambda_constraint(double lambda) const;
   ContinuationResult trace(BranchPoint start, BranchObserver& observer);
@@ -118,6 +137,10 @@ class Continuation {
   double wu_ = 0.0, wl_ = 0.0;  // weights of the inner product
   std::unique_ptr<BorderedSystem> bordered_;
   long factorisations_ = 0;
+  long tangent_iterations_ = 0;  // solves spent on tangents by iteration (reuse_factorisation)
+  bool reusable_ = false;
+  bool refactored_ = false;      // the last corrector call made a factorisation
+  ContinuationTimings timings_;        // the kept factorisation belongs to a converged corrector
   SparseMatrix J_;
   Vector F_, Fp_;
   std::vector<std::string> monitor_names_;

@@ -31,6 +31,9 @@ void ContinuationOptions::declare(SceneSchema& s) {
            {"full", "block"});
   s.real("continuation.chord_rate", 0.25, "chord corrector: refactorise when |F| falls by less than this factor",
          Range{0.0, 1.0, true, true});
+  s.boolean("continuation.reuse_factorisation", false,
+            "chord + block only: keep J's factorisation across steps while the chord rate holds; tangents by "
+            "iteration on it (fewer than one factorisation per point on smooth branches)");
   s.integer("continuation.target_iterations", 4, "corrector iterations aimed at by the step control",
             Range::at_least(1));
   s.integer("continuation.max_iterations", 10, "corrector iterations before a step is rejected", Range::at_least(1));
@@ -63,6 +66,7 @@ ContinuationOptions ContinuationOptions::from_scene(const Scene& sc) {
   o.corrector = sc.string("continuation.corrector") == "chord" ? Corrector::Chord : Corrector::Newton;
   o.chord_rate = sc.real("continuation.chord_rate");
   o.block_elimination = sc.string("continuation.bordered") == "block";
+  o.reuse_factorisation = sc.boolean("continuation.reuse_factorisation");
   o.direction = sc.string("continuation.direction") == "decrease" ? -1 : +1;
   o.lower = sc.real("continuation.lower");
   o.upper = sc.real("continuation.upper");
@@ -100,6 +104,8 @@ void ContinuationOptions::validate() const {
   if (!(min_step <= initial_step && initial_step <= max_step))
     throw std::invalid_argument(
         fmt::format("need min_step <= initial_step <= max_step (got {}, {}, {})", min_step, initial_step, max_step));
+  if (reuse_factorisation && !(corrector == Corrector::Chord && block_elimination))
+    throw std::invalid_argument("reuse_factorisation needs corrector = \"chord\" and bordered = \"block\"");
   if (max_iterations < target_iterations)
     throw std::invalid_argument("max_iterations must be at least target_iterations");
   if (stop_observable.empty() && (std::isfinite(stop_above) || std::isfinite(stop_below)))

@@ -36,6 +36,12 @@ struct ContinuationOptions {
   bool block_elimination = false;
   Corrector corrector = Corrector::Newton;
   double chord_rate = 0.25;
+  // Chord corrector with block elimination: keep J's factorisation across steps too (a new one
+  // only when the chord rate fails), tangents by iterating with the kept factorisation on the
+  // exact tangent system of the new point (a factorisation there only if that iteration does
+  // not converge). With detect_branch_points the determinant must be exact: every accepted
+  // point then gets its own factorisation.
+  bool reuse_factorisation = false;
   int target_iterations = 4;   // grow the step when the corrector needs fewer, shrink when more
   int max_iterations = 10;     // corrector iterations before a step counts as failed
   double growth = 1.5;

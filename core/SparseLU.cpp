@@ -176,13 +176,16 @@ Status SparseLU::factorize(const SparseMatrix& A) {
   return status;
 }
 
-Status SparseLU::solve(const Vector& b, Vector& x, bool transpose) {
+Status SparseLU::solve(const Vector& b, Vector& x, bool transpose, int refinement_steps) {
   if (!numeric_) throw std::logic_error("SparseLU::solve before a successful factorize");
   if (b.size() != stats_.n) throw std::invalid_argument("SparseLU::solve: size mismatch");
   x.resize(b.size());
   const double t0 = now_seconds();
+  double control[UMFPACK_CONTROL];
+  std::copy(control_, control_ + UMFPACK_CONTROL, control);
+  if (refinement_steps >= 0) control[UMFPACK_IRSTEP] = refinement_steps;
   const int st = umfpack_di_solve(transpose ? UMFPACK_At : UMFPACK_A, outer_.data(), inner_.data(), values_.data(),
-                                  x.data(), b.data(), numeric_, control_, info_);
+                                  x.data(), b.data(), numeric_, control, info_);
   stats_.solve_seconds += now_seconds() - t0;
   ++stats_.solves;
   Status status = umfpack_status(st, "solve");

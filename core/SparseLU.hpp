@@ -58,8 +58,10 @@ class SparseLU {
   Status analyze(const SparseMatrix& A);
   // Numeric factorisation; analyses first if A's pattern differs from the analysed one.
   Status factorize(const SparseMatrix& A);
-  // Solves A x = b (or A^T x = b) with the last factorisation.
-  Status solve(const Vector& b, Vector& x, bool transpose = false);
+  // Solves A x = b (or A^T x = b) with the last factorisation; refinement_steps < 0: UMFPACK's
+  // iterative refinement as in the options, 0: a plain solve (for callers that refine a larger
+  // system themselves).
+  Status solve(const Vector& b, Vector& x, bool transpose = false, int refinement_steps = -1);
   bool factorized() const { return numeric_ != nullptr; }
   // Sign (+1, -1) and log|det| of the last factorised matrix.
   int determinant_sign() const { return det_sign_; }

@@ -152,8 +152,17 @@ int run_trace(const TraceArguments& args) {
     g_running = nullptr;
     file->close();
   }
-  fmt::print("{} points, {} rejected steps, {} corrector factorisations; {}\n", result.points, result.rejected,
-             result.factorisations, result.reason);
+  fmt::print("{} points, {} rejected steps, {} factorisations ({:.2f} per point), {} tangent solves by iteration; {}\n",
+             result.points, result.rejected, result.factorisations,
+             result.points > 0 ? static_cast<double>(result.factorisations) / result.points : 0.0,
+             result.tangent_iterations, result.reason);
+  const ContinuationTimings& tm = result.timings;
+  fmt::print("time {:.2f} s: factorisations {:.2f}, solves {:.2f} ({}), Jacobians {:.2f} ({}), dF/dp {:.2f}, residuals {:.2f} ({}), "
+             "observables {:.2f}, output {:.2f}, other {:.2f}\n",
+             tm.total, tm.factorisation, tm.solve, tm.solves, tm.jacobian, tm.jacobians, tm.parameter_derivative, tm.residual,
+             tm.residuals, tm.observables, tm.output,
+             tm.total - tm.factorisation - tm.solve - tm.jacobian - tm.parameter_derivative - tm.residual -
+                 tm.observables - tm.output);
 
   if (scene.boolean("output.xdmf")) {
     try {

@@ -6,6 +6,7 @@
 //
 // Usage: bench_collapsible [--meshes M1,M2,M3] [--fluid newtonian|oldroyd-b|fene-p|owens]
 //                          [--ordering amd|metis|best] [--repeat N]
+//                          [--strategy auto|symmetric|unsymmetric] [--pivot-tolerance T]
 #include <fmt/format.h>
 
 #include <sstream>
@@ -41,6 +42,14 @@ int main(int argc, char** argv) {
       repeat = std::stoi(next());
     } else if (a == "--ordering") {
       lu_opt.ordering = ordering_from_string(next());
+    } else if (a == "--strategy") {
+      const std::string v = next();
+      if (v == "auto") lu_opt.strategy = SparseLUOptions::Strategy::Auto;
+      else if (v == "symmetric") lu_opt.strategy = SparseLUOptions::Strategy::Symmetric;
+      else if (v == "unsymmetric") lu_opt.strategy = SparseLUOptions::Strategy::Unsymmetric;
+      else throw std::invalid_argument("--strategy auto|symmetric|unsymmetric");
+    } else if (a == "--pivot-tolerance") {
+      lu_opt.pivot_tolerance = std::stod(next());
     } else {
       fmt::print(stderr, "unknown argument {}\n", a);
       return 2;

@@ -82,6 +82,41 @@ TEST(BorderedSystem, MatchesDenseSolveIncludingAtAFold) {
   }
 }
 
+// Replacing the border row of a block factorisation (as the chord corrector does when it keeps
+// J's factorisation across steps) gives the solution of the new bordered system, and the sign of
+// its determinant, without a new factorisation.
+TEST(BorderedSystem, NewBorderRowWithoutRefactorising) {
+  const int n = 12;
+  const SparseMatrix J = random_matrix(n, 3, false);
+  const Vector b = Vector::LinSpaced(n, 1.0, 2.0), f = Vector::Ones(n);
+  BorderedSystem bs(J, {}, BorderedSystem::Mode::Block);
+  bs.set(J, b, Vector::LinSpaced(n, -1.0, 0.5), 0.3);
+  ASSERT_TRUE(bs.factorize().is_ok());
+  const Vector c2 = Vector::LinSpaced(n, 0.2, -0.9);
+  const double d2 = -1.1, g = 0.4;
+  ASSERT_TRUE(bs.set_row(c2, d2).is_ok());
+  Vector x;
+  double y = 0;
+  ASSERT_TRUE(bs.solve(f, g, x, y).is_ok());
+  EXPECT_EQ(bs.fallbacks(), 0);
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(n + 1, n + 1);
+  A.topLeftCorner(n, n) = Eigen::MatrixXd(J);
+  A.block(0, n, n, 1) = b;
+  A.block(n, 0, 1, n) = c2.transpose();
+  A(n, n) = d2;
+  Vector rhs(n + 1);
+  rhs << f, g;
+  const Vector ref = A.fullPivLu().solve(rhs);
+  EXPECT_LT((x - ref.head(n)).cwiseAbs().maxCoeff(), 1e-12 * ref.cwiseAbs().maxCoeff());
+  EXPECT_NEAR(y, ref[n], 1e-12 * ref.cwiseAbs().maxCoeff());
+  EXPECT_EQ(bs.determinant_sign(), A.determinant() > 0 ? 1 : -1);
+  // the whole-matrix mode cannot: the row is inside its factorisation
+  BorderedSystem full(J, {}, BorderedSystem::Mode::Full);
+  full.set(J, b, c2, d2);
+  ASSERT_TRUE(full.factorize().is_ok());
+  EXPECT_FALSE(full.set_row(c2, d2).is_ok());
+}
+
 TEST(Continuation, CubicFoldsLocatedTo1e10AndEndHitExactly) {
   CubicProblem problem(-2.0);  // u = -2 solves u^3 - 3u = -2
   Continuation cont(problem, cubic_options());
@@ -227,4 +262,11 @@ TEST(Continuation, BadOptionsAreRejected) {
   o.stop_observable = "v";
   o.stop_above = 1;
   EXPECT_THROW(Continuation(problem, o), std::invalid_argument);
+  o = cubic_options();
+  o.reuse_factorisation = true;  // needs the chord corrector and block elimination
+  EXPECT_THROW(Continuation(problem, o), std::invalid_argument);
+  o.corrector = ContinuationOptions::Corrector::Chord;
+  EXPECT_THROW(Continuation(problem, o), std::invalid_argument);
+  o.block_elimination = true;
+  EXPECT_NO_THROW(Continuation(problem, o));
 }
