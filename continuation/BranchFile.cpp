@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <stdexcept>
 
@@ -31,14 +32,14 @@ std::vector<std::string> split(const std::string& s) {
   return out;
 }
 
-constexpr const char* kKinds = "0 point, 1 start, 2 requested, 3 event, 4 fold, 5 branch-point, 6 end";
+constexpr const char* kKinds = "0 point, 1 start, 2 requested, 3 event, 4 fold, 5 branch-point, 6 end, 7 hopf";
 
 }  // namespace
 
 BranchFile::BranchFile(const std::string& path, const Problem& problem, const ContinuationOptions& options,
                        const std::vector<std::string>& monitor_names, double state_scale,
-                       const std::function<void(H5File&)>& header)
-    : path_(path), n_(problem.size()) {
+                       const std::function<void(H5File&)>& header, const std::vector<std::string>& analysis_columns)
+    : path_(path), n_(problem.size()), n_analysis_(analysis_columns.size()) {
   // Built under a temporary name and renamed once in SWMR mode: the final name never shows a
   // file that is not consistent on disk.
   const std::string part = path + ".part";
@@ -48,6 +49,7 @@ BranchFile::BranchFile(const std::string& path, const Problem& problem, const Co
   columns_ = {"row", "kind", "s", options.parameter};
   for (const auto& o : problem.observable_names()) columns_.push_back(o);
   for (const auto& m : monitor_names) columns_.push_back("monitor:" + m);
+  for (const auto& a : analysis_columns) columns_.push_back(a);
   for (const char* c : {"iterations", "step", "seconds", "det_sign", "tangent_parameter", "saved_slot"})
     columns_.push_back(c);
   file_->set_attribute("/branch", "parameter", options.parameter);
@@ -66,6 +68,11 @@ BranchFile::BranchFile(const std::string& path, const Problem& problem, const Co
   file_->create_appendable("/branch/tangents", n_, 1);
   file_->create_appendable("/branch/events", 4, 16);
   file_->set_attribute("/branch/events", "columns", std::string("row,kind,parameter,monitor"));
+  if (n_analysis_) {
+    file_->create_appendable("/branch/eigenvectors", n_, 1);
+    file_->create_appendable("/branch/eigenvector_rows", 4, 16);
+    file_->set_attribute("/branch/eigenvector_rows", "columns", std::string("row,kind,sigma_re,sigma_im"));
+  }
   file_->create_fixed_string("/branch/status", 2048);
   file_->write_fixed_string("/branch/status", "running");
   file_->start_swmr();
@@ -96,6 +103,7 @@ void BranchFile::on_point(const BranchPoint& p) {
   std::vector<double> row = {static_cast<double>(p.index), static_cast<double>(p.kind), p.s, p.lambda};
   row.insert(row.end(), p.observables.begin(), p.observables.end());
   row.insert(row.end(), p.monitors.begin(), p.monitors.end());
+  for (size_t i = 0; i < n_analysis_; ++i) row.push_back(i < p.analysis.size() ? p.analysis[i] : NAN);
   row.insert(row.end(), {static_cast<double>(p.iterations), p.step, p.seconds, static_cast<double>(p.det_sign),
                          p.tlambda, static_cast<double>(slot)});
   if (row.size() != columns_.size())
@@ -110,6 +118,14 @@ void BranchFile::on_point(const BranchPoint& p) {
     }
     const double ev[4] = {static_cast<double>(p.index), static_cast<double>(p.kind), p.lambda, monitor};
     file_->append_rows("/branch/events", ev, 1);
+    const bool critical = p.kind == PointKind::Fold || p.kind == PointKind::BranchPoint || p.kind == PointKind::Hopf;
+    if (n_analysis_ && critical && p.critical_re.size() == n_) {
+      const Vector im = p.critical_im.size() == n_ ? p.critical_im : Vector::Zero(n_);
+      file_->append_rows("/branch/eigenvectors", p.critical_re.data(), 1);
+      file_->append_rows("/branch/eigenvectors", im.data(), 1);
+      const double er[4] = {static_cast<double>(p.index), static_cast<double>(p.kind), p.locator, p.critical_imag};
+      file_->append_rows("/branch/eigenvector_rows", er, 1);
+    }
   }
   file_->flush();
 }

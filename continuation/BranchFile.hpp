@@ -28,9 +28,13 @@ class BranchFile final : public BranchObserver {
   // Creates `path` (replacing it), lets `header` write what precedes the branch (scene, mesh),
   // creates the branch datasets and enters SWMR mode; the file appears under `path` only then.
   // Throws std::runtime_error on I/O errors.
+  // analysis_columns: those of the run's PointAnalysis (after the monitors in the table); the
+  // critical eigenvector of every located fold, branch point and Hopf point goes to
+  // /branch/eigenvectors (real and imaginary part, one row each; /branch/eigenvector_rows: row,
+  // kind, Re sigma, Im sigma of the critical eigenvalue there).
   BranchFile(const std::string& path, const Problem& problem, const ContinuationOptions& options,
              const std::vector<std::string>& monitor_names, double state_scale,
-             const std::function<void(H5File&)>& header);
+             const std::function<void(H5File&)>& header, const std::vector<std::string>& analysis_columns = {});
   ~BranchFile() override;
 
   void on_point(const BranchPoint& point) override;
@@ -47,6 +51,7 @@ class BranchFile final : public BranchObserver {
   int saved_ = 0;
   int last_saved_row_ = -1;
   std::vector<std::string> columns_;
+  size_t n_analysis_ = 0;
 };
 
 // Reading a branch file (also one whose writer was killed).

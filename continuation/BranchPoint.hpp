@@ -18,6 +18,7 @@ enum class PointKind {
   Fold = 4,         // located turning point in the parameter
   BranchPoint = 5,  // located sign change of det of the bordered Jacobian
   End = 6,          // located end of the branch (parameter bound or stop observable)
+  Hopf = 7,         // located crossing of a complex pair of eigenvalues (PointAnalysis)
 };
 const char* to_string(PointKind k);
 
@@ -38,6 +39,14 @@ struct BranchPoint {
   std::vector<double> observables;
   std::vector<double> monitors;     // the problem's monitors, then the stop-observable thresholds
   bool save = false;        // store the full solution
+  // PointAnalysis (the stability spectrum) when the point was analysed: its columns, the count
+  // whose changes are events, the locator that crosses zero there, the critical eigenvector
+  bool analysed = false;
+  std::vector<double> analysis;
+  int count = -1;
+  double locator = 0.0;
+  double critical_imag = 0.0;
+  Vector critical_re, critical_im;
 };
 
 }  // namespace keller

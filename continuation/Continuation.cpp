@@ -20,6 +20,7 @@ const char* to_string(PointKind k) {
     case PointKind::Fold: return "fold";
     case PointKind::BranchPoint: return "branch-point";
     case PointKind::End: return "end";
+    case PointKind::Hopf: return "hopf";
   }
   return "?";
 }
@@ -44,7 +45,7 @@ int sign_of(double x) { return x > 0 ? 1 : (x < 0 ? -1 : 0); }
 }  // namespace
 
 Continuation::Continuation(Problem& problem, ContinuationOptions options, NewtonOptions newton, SparseLUOptions lu)
-    : problem_(problem), options_(std::move(options)), newton_(newton) {
+    : problem_(problem), options_(std::move(options)), newton_(newton), lu_options_(lu) {
   options_.validate();
   p_ = problem_.parameters().index(options_.parameter);
   if (!options_.stop_observable.empty()) {
@@ -319,7 +320,25 @@ Status Continuation::timed_parameter_derivative(const Vector& u) {
   return st;
 }
 
-Status Continuation::evaluate(BranchPoint& p) {
+Status Continuation::evaluate(BranchPoint& p, bool analyse) {
+  if (analyse && analysis_) {
+    // the analysis of a converged point; its failure is recorded, never a rejected step
+    const auto t0 = std::chrono::steady_clock::now();
+    Status st = set_parameter(p.lambda);
+    PointAnalysisResult r;
+    if (st.is_ok()) st = analysis_->analyse(problem_, p.u, r);
+    timings_.analysis += seconds_since(t0);
+    ++timings_.analyses;
+    p.analysed = true;
+    p.analysis = r.columns;
+    p.analysis.resize(analysis_->column_names().size(), NAN);
+    p.count = st.is_ok() ? r.count : -1;
+    p.locator = r.locator;
+    p.critical_imag = r.critical_imag;
+    p.critical_re = std::move(r.critical_re);
+    p.critical_im = std::move(r.critical_im);
+    if (!st.is_ok()) analysis_note_ = "analysis failed: " + st.describe();
+  }
   const auto t0 = std::chrono::steady_clock::now();
   struct Add {
     double& to;
@@ -346,7 +365,8 @@ Status Continuation::evaluate(BranchPoint& p) {
 std::vector<double> Continuation::monitor_values(const BranchPoint& p) const { return p.monitors; }
 
 BranchPoint Continuation::point_on_segment(const BranchPoint& a, const BranchPoint& b, double tau, Status& st,
-                                           const BranchPoint* lo, const BranchPoint* hi, bool exact_tangent) {
+                                           const BranchPoint* lo, const BranchPoint* hi, bool exact_tangent,
+                                           bool analyse) {
   // where the target lies along the segment, in the coordinate the constraint fixes
   const bool arclength = options_.method == ContinuationOptions::Method::Arclength;
   auto coord = [&](const BranchPoint& p) {
@@ -372,7 +392,7 @@ BranchPoint Continuation::point_on_segment(const BranchPoint& a, const BranchPoi
   } else if (st.is_ok()) {
     st = point_tangent(p, c, a.tu, a.tlambda);
   }
-  if (st.is_ok()) st = evaluate(p);
+  if (st.is_ok()) st = evaluate(p, analyse);
   p.bordered_det_sign = bordered_->determinant_sign();
   p.s = a.s + tau * (b.s - a.s);
   p.step = b.step;
@@ -387,7 +407,7 @@ std::optional<BranchPoint> Continuation::locate_value(const BranchPoint& a, cons
   const Constraint c = lambda_constraint(value);
   Status st = correct(p.u, p.lambda, c, p.iterations);
   if (st.is_ok()) st = point_tangent(p, c, a.tu, a.tlambda);
-  if (st.is_ok()) st = evaluate(p);
+  if (st.is_ok()) st = evaluate(p, false);
   if (st.is_ok()) {
     p.lambda = value;  // exactly
     p.s = a.s + tau * (b.s - a.s);
@@ -402,7 +422,9 @@ std::optional<BranchPoint> Continuation::locate_value(const BranchPoint& a, cons
 }
 
 // which >= 0: monitor index; -1: fold (parameter part of the tangent); -2: branch point (sign of
-// det of the bordered matrix, bisection); -3: lambda - value (value = lambda(a) - ga).
+// det of the bordered matrix, bisection); -3: lambda - value (value = lambda(a) - ga); -4: change
+// of the analysis count (bracket kept by the count, trials by secant on the locator where it
+// changes sign across the bracket, else bisection).
 std::optional<BranchPoint> Continuation::locate_root(const BranchPoint& a, const BranchPoint& b, int which, double ga,
                                                      double gb) {
   const double value = a.lambda - ga;
@@ -410,21 +432,26 @@ std::optional<BranchPoint> Continuation::locate_root(const BranchPoint& a, const
     if (which >= 0) return monitor_values(p)[static_cast<size_t>(which)];
     if (which == -1) return p.tlambda;
     if (which == -2) return static_cast<double>(p.bordered_det_sign);
+    if (which == -4) return p.locator;
     return p.lambda - value;
   };
+  const bool by_count = which == -4;
+  const int count_a = a.count;
   const bool sign_only = which == -2;
-  const bool turning = which == -1 || which == -2;
+  const bool turning = which == -1 || which == -2 || by_count;
   double ta = 0.0, tb = 1.0;
   BranchPoint pa = a, pb = b;
   int side = 0, solves = 0;
+  double t_before = NAN;
   double last_lambda = NAN;
   for (int it = 0; it < options_.max_location_iterations; ++it) {
-    double tc = sign_only ? 0.5 * (ta + tb) : tb - gb * (tb - ta) / (gb - ga);
+    const bool secant = !sign_only && (!by_count || (std::isfinite(ga) && std::isfinite(gb) && ga * gb < 0));
+    double tc = secant ? tb - gb * (tb - ta) / (gb - ga) : 0.5 * (ta + tb);
     // a trial on or outside the bracket (rounding) falls back to bisection
     if (!(tc > ta && tc < tb)) tc = 0.5 * (ta + tb);
     Status st;
     const double lambda_before = it > 0 ? last_lambda : NAN;
-    BranchPoint pc = point_on_segment(a, b, tc, st, &pa, &pb, turning);
+    BranchPoint pc = point_on_segment(a, b, tc, st, &pa, &pb, which == -1 || which == -2, by_count);
     solves += pc.iterations;
     last_lambda = pc.lambda;
     if (!st.is_ok()) {
@@ -432,11 +459,16 @@ std::optional<BranchPoint> Continuation::locate_root(const BranchPoint& a, const
       return std::nullopt;
     }
     const double gc = g_of(pc);
-    if (gc == 0.0 && !sign_only) {
+    if (by_count && pc.count < 0) {
+      location_note_ += "analysis failed while locating: " + analysis_note_;
+      return std::nullopt;
+    }
+    if (gc == 0.0 && !sign_only && !by_count) {
       pc.iterations = solves;
       return pc;
     }
-    if (sign_of(gc) == sign_of(ga)) {
+    const bool same_side = by_count ? pc.count == count_a : sign_of(gc) == sign_of(ga);
+    if (same_side) {
       ta = tc;
       ga = gc;
       pa = pc;
@@ -452,14 +484,18 @@ std::optional<BranchPoint> Continuation::locate_root(const BranchPoint& a, const
     double width = std::abs(pa.lambda - pb.lambda);
     if (turning) width = std::max(width, std::abs(pb.s - pa.s) * std::max(std::abs(pa.tlambda), std::abs(pb.tlambda)));
     // a zero of a monitor is also found once successive secant trials agree to the tolerance
-    const bool settled = !turning && std::abs(pc.lambda - lambda_before) <= options_.event_tolerance;
+    bool settled = !turning && std::abs(pc.lambda - lambda_before) <= options_.event_tolerance;
+    // a count change located by secant on its locator: successive trials agree along the branch
+    if (by_count && it > 0) settled = std::abs(tc - t_before) * std::abs(b.s - a.s) <= options_.event_tolerance;
+    t_before = tc;
     if (settled) {
       pc.iterations = solves;
       return pc;
     }
     if (width <= options_.event_tolerance) {
-      BranchPoint& best = turning ? (std::abs(pa.tlambda) < std::abs(pb.tlambda) ? pa : pb)
-                                  : (std::abs(g_of(pa)) < std::abs(g_of(pb)) ? pa : pb);
+      BranchPoint& best = by_count  ? (std::abs(pa.locator) < std::abs(pb.locator) ? pa : pb)
+                          : turning ? (std::abs(pa.tlambda) < std::abs(pb.tlambda) ? pa : pb)
+                                    : (std::abs(g_of(pa)) < std::abs(g_of(pb)) ? pa : pb);
       best.iterations = solves;
       return best;
     }
@@ -508,10 +544,61 @@ ContinuationResult Continuation::resume(BranchPoint start, BranchObserver& obser
   return trace(std::move(start), observer);
 }
 
+ContinuationResult Continuation::switch_branch(BranchPoint bp, int direction, BranchObserver& observer) {
+  t_start_ = std::chrono::steady_clock::now();
+  if (!(options_.state_scale > 0)) throw std::invalid_argument("switch_branch needs the state scale of the original run");
+  if (bp.u.size() != problem_.size() || bp.tu.size() != problem_.size())
+    throw std::invalid_argument(fmt::format("stored point has {} unknowns, the problem {}", bp.u.size(), problem_.size()));
+  state_scale_ = options_.state_scale;
+  wu_ = options_.theta / (static_cast<double>(problem_.size()) * state_scale_ * state_scale_);
+  wl_ = 1.0 - options_.theta;
+  ContinuationResult result;
+  auto fail = [&](const std::string& why) {
+    result.code = StopCode::StepFloor;
+    result.reason = "no branch to switch to: " + why;
+    observer.on_finish(result.reason, bp);
+    return result;
+  };
+  // the null vector of J at the branch point by inverse iteration (J is nearly singular there, so
+  // each solve multiplies its share by the inverse of the smallest singular value)
+  Status st = set_parameter(bp.lambda);
+  if (st.is_ok()) st = timed_jacobian(bp.u);
+  if (!st.is_ok()) return fail(st.describe());
+  SparseLU lu(lu_options_);
+  st = lu.factorize(J_);
+  if (!st.is_ok()) return fail("J at the branch point: " + st.describe());
+  Vector phi(problem_.size());
+  for (int i = 0; i < phi.size(); ++i) phi[i] = std::sin(1.0 + 0.7 * i);
+  for (int it = 0; it < 3; ++it) {
+    Vector y;
+    st = lu.solve(phi, y);
+    if (!st.is_ok()) return fail(st.describe());
+    phi = y / y.norm();
+  }
+  // (phi, 0) lies in the null space of [J F_p] there, as the old tangent does: the new direction is
+  // its part orthogonal to the old tangent
+  const double along = dot(phi, 0.0, bp.tu, bp.tlambda);
+  Vector tu = phi - along * bp.tu;
+  double tl = -along * bp.tlambda;
+  const double nrm = std::sqrt(dot(tu, tl, tu, tl));
+  if (!(nrm > 0) || !std::isfinite(nrm)) return fail("the null vector of J is the old tangent");
+  BranchPoint start = bp;
+  start.tu = (direction >= 0 ? 1.0 : -1.0) * tu / nrm;
+  start.tlambda = (direction >= 0 ? 1.0 : -1.0) * tl / nrm;
+  start.kind = PointKind::Start;
+  start.label = "switched";
+  start.s = 0.0;
+  start.step = options_.initial_step;
+  start.analysed = false;
+  return trace(std::move(start), observer);
+}
+
 ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observer) {
   const bool arclength = options_.method == ContinuationOptions::Method::Arclength;
   ContinuationResult result;
   next_index_ = 0;
+  last_count_ = -1;
+  last_count_index_ = -1;
   observer.on_start(problem_.observable_names(), monitor_names_);
 
   // the start: observables, and the sign of det of the bordered matrix with its own tangent
@@ -535,6 +622,10 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
   }
   start.index = next_index_++;
   start.save = true;
+  if (start.analysed && start.count >= 0) {
+    last_count_ = start.count;
+    last_count_index_ = start.index;
+  }
   report(observer, start);
 
   auto finish = [&](StopCode code, std::string reason, const BranchPoint& last) {
@@ -598,7 +689,8 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
       if (angle > max_angle && ds > options_.min_step)
         st = {StatusCode::NotConverged, fmt::format("tangent turned by {:.1f} degrees", angle * 180.0 / M_PI)};
     }
-    if (st.is_ok()) st = evaluate(nxt);
+    const bool analyse_now = analysis_ && (steps + 1) % std::max(analysis_->every(), 1) == 0;
+    if (st.is_ok()) st = evaluate(nxt, analyse_now);
     if (!st.is_ok()) {
       ++result.rejected;
       observer.on_rejected(nxt.lambda, ds, st);
@@ -640,6 +732,7 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
         return;
       }
       location_note_.clear();
+      if (analysis_ && !p->analysed) (void)evaluate(*p, true);
       p->kind = kind;
       p->label = std::move(label);
       located.push_back({std::move(*p), terminal, code});
@@ -666,6 +759,42 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
     if (arclength && options_.detect_branch_points && cur.bordered_det_sign * nxt.bordered_det_sign < 0)
       add(locate_root(cur, nxt, -2, cur.bordered_det_sign, nxt.bordered_det_sign), PointKind::BranchPoint,
           "det sign change", false, StopCode::MaxSteps);
+    // changes of the analysis count (stability): a real eigenvalue through zero is a fold where the
+    // parameter turns, else a branch point; a complex pair through the imaginary axis a Hopf point.
+    // Where the engine located the same fold or branch point itself, that point says so instead.
+    if (analysis_ && nxt.analysed) {
+      if (last_count_ >= 0 && nxt.count >= 0 && last_count_ != nxt.count) {
+        const std::string change = fmt::format("{} {} -> {}", analysis_->count_name(), last_count_, nxt.count);
+        if (last_count_index_ != cur.index) {
+          observer.on_note(fmt::format("{} between rows {} and {} (not located: analysis every {} points)", change,
+                                       last_count_index_, next_index_, analysis_->every()));
+        } else {
+          const bool fold = cur.tlambda * nxt.tlambda < 0;
+          std::optional<BranchPoint> p = locate_root(cur, nxt, -4, cur.locator, nxt.locator);
+          if (p) {
+            const double scale = 1.0 + std::abs(p->locator);
+            const bool complex = std::abs(p->critical_imag) > 1e-8 * scale;
+            const PointKind kind = complex ? PointKind::Hopf : (fold ? PointKind::Fold : PointKind::BranchPoint);
+            std::string label = complex ? fmt::format("hopf, omega = {:.8g}, {}", std::abs(p->critical_imag), change)
+                                        : fmt::format("eigenvalue crosses zero, {}", change);
+            auto same = std::find_if(located.begin(), located.end(), [&](const Located& l) {
+              return l.point.kind == kind && !complex;
+            });
+            if (same != located.end()) {
+              same->point.label += ", " + label;
+            } else {
+              add(std::move(p), kind, std::move(label), false, StopCode::MaxSteps);
+            }
+          } else {
+            add(std::nullopt, PointKind::Event, change, false, StopCode::MaxSteps);
+          }
+        }
+      }
+    }
+    if (analysis_ && !analysis_note_.empty()) {
+      observer.on_note(fmt::format("after row {}: {}", cur.index, analysis_note_));
+      analysis_note_.clear();
+    }
     std::stable_sort(located.begin(), located.end(),
                      [](const Located& x, const Located& y) { return x.point.s < y.point.s; });
     for (Located& l : located) {
@@ -683,6 +812,10 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
     }
     nxt.index = next_index_++;
     nxt.save = nxt.index % options_.save_every == 0;
+    if (nxt.analysed && nxt.count >= 0) {
+      last_count_ = nxt.count;
+      last_count_index_ = nxt.index;
+    }
     report(observer, nxt);
     prev = std::move(cur);
     cur = std::move(nxt);

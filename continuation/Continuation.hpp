@@ -18,6 +18,7 @@
 #include "continuation/BranchPoint.hpp"
 #include "continuation/ContinuationOptions.hpp"
 #include "core/Newton.hpp"
+#include "core/PointAnalysis.hpp"
 #include "core/Problem.hpp"
 
 namespace keller {
@@ -51,8 +52,8 @@ const char* to_string(StopCode c);
 // Where a run's time went (seconds, wall clock): the speed floor is the factorisations.
 struct ContinuationTimings {
   double jacobian = 0, parameter_derivative = 0, residual = 0, factorisation = 0, solve = 0, observables = 0,
-         output = 0, total = 0;
-  long jacobians = 0, residuals = 0, solves = 0;
+         output = 0, total = 0, analysis = 0;
+  long jacobians = 0, residuals = 0, solves = 0, analyses = 0;
 };
 
 struct ContinuationResult {
@@ -74,6 +75,17 @@ class Continuation {
   ContinuationResult run(const Vector& u0, BranchObserver& observer);
   // Continues from a stored point (solution, tangent, step, arclength) of an earlier run.
   ContinuationResult resume(BranchPoint start, BranchObserver& observer);
+
+  // Starts a new branch at a branch point bp (a stored point of an earlier run with the same
+  // state scale): along the null vector phi of J there (inverse iteration on J's factorisation),
+  // made orthogonal to bp's tangent; direction +1 or -1 picks the side.
+  ContinuationResult switch_branch(BranchPoint bp, int direction, BranchObserver& observer);
+  // Analyses every accepted point (PointAnalysis::every) and every located point, adds its
+  // columns, and detects and locates changes of its count (folds, branch points, Hopf points).
+  void set_analysis(PointAnalysis* analysis) { analysis_ = analysis; }
+  std::vector<std::string> analysis_columns() const {
+    return analysis_ ? analysis_->column_names() : std::vector<std::string>{};
+  }
 
   // Asks the run to stop after the current step (safe to call from a signal handler).
   void request_stop() { stop_requested_.store(true); }
@@ -109,7 +121,7 @@ class Continuation {
   Status point_tangent(BranchPoint& p, const Constraint& c, const Vector& tu_prev, double tl_prev,
                        bool refresh = false);
   Status factorize_at(const Vector& u, double lambda, const Constraint& c);
-  Status evaluate(BranchPoint& p);
+  Status evaluate(BranchPoint& p, bool analyse = true);
   Status timed_jacobian(const Vector& u);  // into F_, J_
   Status timed_parameter_derivative(const Vector& u);  // into Fp_
   void report(BranchObserver& observer, const BranchPoint& p);
@@ -125,12 +137,13 @@ class Continuation {
   // exact_tangent: tangent and determinant from a factorisation at the point itself.
   BranchPoint point_on_segment(const BranchPoint& a, const BranchPoint& b, double tau, Status& st,
                                const BranchPoint* lo = nullptr, const BranchPoint* hi = nullptr,
-                               bool exact_tangent = false);
+                               bool exact_tangent = false, bool analyse = false);
   std::vector<double> monitor_values(const BranchPoint& p) const;
 
   Problem& problem_;
   ContinuationOptions options_;
   NewtonOptions newton_;
+  SparseLUOptions lu_options_;
   int p_ = -1;
   int stop_index_ = -1;  // index of the stop observable in the problem's observables
   double state_scale_ = 1.0;
@@ -139,6 +152,8 @@ class Continuation {
   long factorisations_ = 0;
   long tangent_iterations_ = 0;  // solves spent on tangents by iteration (reuse_factorisation)
   bool reusable_ = false;
+  PointAnalysis* analysis_ = nullptr;
+  int last_count_ = -1, last_count_index_ = -1;  // the last analysed point's count and row
   bool refactored_ = false;      // the last corrector call made a factorisation
   ContinuationTimings timings_;        // the kept factorisation belongs to a converged corrector
   SparseMatrix J_;
@@ -148,6 +163,7 @@ class Continuation {
   std::chrono::steady_clock::time_point t_start_;
   int next_index_ = 0;
   std::string location_note_;
+  std::string analysis_note_;
 };
 
 }  // namespace keller

@@ -12,6 +12,7 @@
 #include "core/SolutionWriter.hpp"
 #include "runs/OutputFile.hpp"
 #include "runs/SceneLoader.hpp"
+#include "stability/StabilityAnalysis.hpp"
 
 namespace keller {
 
@@ -47,6 +48,11 @@ RestartSpec parse_restart(const std::string& s) {
 
 }  // namespace
 
+void declare_trace_keys(SceneSchema& schema) {
+  ContinuationOptions::declare(schema);
+  StabilityOptions::declare(schema);
+}
+
 int run_trace(const TraceArguments& args) {
   namespace fs = std::filesystem;
   LoadedScene loaded;
@@ -55,18 +61,24 @@ int run_trace(const TraceArguments& args) {
   std::string out = args.output;
   std::optional<RestartSpec> restart;
   std::optional<BranchPoint> restart_point;
+  StabilityOptions sopt;
+  const bool switching = !args.switch_at.empty();
   try {
-    loaded = load_scene(args.scene, ContinuationOptions::declare, args.overrides);
+    loaded = load_scene(args.scene, declare_trace_keys, args.overrides);
     copt = ContinuationOptions::from_scene(loaded.scene);
+    sopt = StabilityOptions::from_scene(loaded.scene);
+    if (!args.restart.empty() && !args.switch_at.empty())
+      throw std::invalid_argument("--restart and --switch exclude each other");
     if (out.empty()) out = fs::path(args.scene).stem().string() + ".h5";
     check_output_path(out);
-    if (!args.restart.empty()) {
-      restart = parse_restart(args.restart);
+    if (!args.restart.empty() || switching) {
+      const std::string flag = switching ? "--switch" : "--restart";
+      restart = parse_restart(switching ? args.switch_at : args.restart);
       if (fs::absolute(restart->file) == fs::absolute(out))
-        throw std::invalid_argument("--restart reads '" + restart->file + "': write the continued branch to another file");
+        throw std::invalid_argument(flag + " reads '" + restart->file + "': write the new branch to another file");
       const BranchTable t = read_branch_table(restart->file);
       if (t.parameter != copt.parameter)
-        throw std::invalid_argument(fmt::format("--restart: '{}' continues in '{}', the scene in '{}'", restart->file,
+        throw std::invalid_argument(fmt::format("{}: '{}' continues in '{}', the scene in '{}'", flag, restart->file,
                                                 t.parameter, copt.parameter));
       restart_point = read_branch_point(restart->file, restart->row);
       copt.state_scale = t.state_scale;
@@ -97,8 +109,8 @@ int run_trace(const TraceArguments& args) {
       return 2;
     }
     problem->parameters().set(copt.parameter, restart_point->lambda);
-    fmt::print("restarting from row {} of {} ({} = {:.10g})\n", restart_point->index, restart->file, copt.parameter,
-               restart_point->lambda);
+    fmt::print("{} row {} of {} ({} = {:.10g})\n", switching ? "switching branches at" : "restarting from",
+               restart_point->index, restart->file, copt.parameter, restart_point->lambda);
   } else {
     NewtonSolver newton(*problem, nopt, lopt);
     u0 = problem->initial_guess();
@@ -129,14 +141,20 @@ int run_trace(const TraceArguments& args) {
       return 2;
     }
     Continuation& run = *run_ptr;
+    std::unique_ptr<StabilityAnalysis> stability;
+    if (sopt.enabled) {
+      stability = std::make_unique<StabilityAnalysis>(sopt, lopt);
+      run.set_analysis(stability.get());
+    }
     std::unique_ptr<BranchFile> file;
     try {
       file = std::make_unique<BranchFile>(out, *problem, fixed, run.monitor_names(), scale, [&](H5File& f) {
         write_run_header(f, scene, *problem);
         const SolutionFields sf = problem->fields(restart_point ? restart_point->u : u0);
         if (sf.mesh) write_mesh(f, "/mesh", *sf.mesh);
-        if (restart_point) f.set_attribute("/problem", "restarted_from", args.restart);
-      });
+        if (restart_point) f.set_attribute("/problem", switching ? "switched_at" : "restarted_from",
+                                           switching ? args.switch_at : args.restart);
+      }, run.analysis_columns());
     } catch (const std::exception& e) {
       fmt::print(stderr, "keller: error: {}\n", e.what());
       return 2;
@@ -146,11 +164,16 @@ int run_trace(const TraceArguments& args) {
     g_running = &run;
     auto old_int = std::signal(SIGINT, on_signal);
     auto old_term = std::signal(SIGTERM, on_signal);
-    result = restart_point ? run.resume(*restart_point, observers) : run.run(u0, observers);
+    result = switching       ? run.switch_branch(*restart_point, args.switch_direction, observers)
+             : restart_point ? run.resume(*restart_point, observers)
+                             : run.run(u0, observers);
     std::signal(SIGINT, old_int);
     std::signal(SIGTERM, old_term);
     g_running = nullptr;
     file->close();
+    if (stability)
+      fmt::print("stability: {} s in {} factorisations and {} solves of (J - sB)\n", stability->seconds(),
+                 stability->factorisations(), stability->solves());
   }
   fmt::print("{} points, {} rejected steps, {} factorisations ({:.2f} per point), {} tangent solves by iteration; {}\n",
              result.points, result.rejected, result.factorisations,
@@ -158,11 +181,11 @@ int run_trace(const TraceArguments& args) {
              result.tangent_iterations, result.reason);
   const ContinuationTimings& tm = result.timings;
   fmt::print("time {:.2f} s: factorisations {:.2f}, solves {:.2f} ({}), Jacobians {:.2f} ({}), dF/dp {:.2f}, residuals {:.2f} ({}), "
-             "observables {:.2f}, output {:.2f}, other {:.2f}\n",
+             "observables {:.2f}, stability {:.2f} ({} spectra), output {:.2f}, other {:.2f}\n",
              tm.total, tm.factorisation, tm.solve, tm.solves, tm.jacobian, tm.jacobians, tm.parameter_derivative, tm.residual,
-             tm.residuals, tm.observables, tm.output,
+             tm.residuals, tm.observables, tm.analysis, tm.analyses, tm.output,
              tm.total - tm.factorisation - tm.solve - tm.jacobian - tm.parameter_derivative - tm.residual -
-                 tm.observables - tm.output);
+                 tm.observables - tm.analysis - tm.output);
 
   if (scene.boolean("output.xdmf")) {
     try {
@@ -216,7 +239,7 @@ int run_export(const ExportArguments& args) {
       }
       const std::string tmp = (fs::temp_directory_path() / fmt::format("keller_scene_{}.toml", ::getpid())).string();
       std::ofstream(tmp) << scene_text;
-      LoadedScene loaded = load_scene(tmp, ContinuationOptions::declare);
+      LoadedScene loaded = load_scene(tmp, declare_trace_keys);
       fs::remove(tmp);
       auto problem = loaded.type->build(loaded.scene);
       const int p = problem->parameters().index(t.parameter);

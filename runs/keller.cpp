@@ -25,6 +25,10 @@ int main(int argc, char** argv) {
   cmd_trace->add_option("scene", trace.scene, "scene file (TOML) with a [continuation] section");
   cmd_trace->add_option("-o,--output", trace.output, "branch file (HDF5; default: <scene name>.h5 here)");
   cmd_trace->add_option("--restart", trace.restart, "continue from a stored point: FILE.h5:ROW (ROW a number or 'last')");
+  cmd_trace->add_option("--switch", trace.switch_at,
+                        "start a new branch at the branch point stored in FILE.h5:ROW, along the null vector of J");
+  cmd_trace->add_option("--switch-direction", trace.switch_direction, "side of the old branch to switch to: 1 or -1")
+      ->check(CLI::IsMember({-1, 1}));
   cmd_trace->add_option("--set", trace.overrides, "override a scene key: section.key=value (repeatable)");
   cmd_trace->add_flag("--help-scene", trace_help_scene, "list every scene key with its default, range and doc");
 
@@ -49,7 +53,7 @@ int main(int argc, char** argv) {
   }
   if (cmd_trace->parsed()) {
     if (trace_help_scene) {
-      fmt::print("{}", keller::scene_help(keller::ContinuationOptions::declare));
+      fmt::print("{}", keller::scene_help(keller::declare_trace_keys));
       return 0;
     }
     if (trace.scene.empty()) {

@@ -7,6 +7,7 @@
 #include "continuation/ContinuationOptions.hpp"
 #include "core/Scene.hpp"
 #include "runs/SceneLoader.hpp"
+#include "runs/TraceCommand.hpp"
 #include "support/TestSupport.hpp"
 
 using namespace keller;
@@ -87,10 +88,10 @@ TEST(Scene, ResolvedScenesOfShippedScenesReload) {
   for (const char* s : {"runs/scenes/channel_stokes.toml", "runs/scenes/cylinder_oldroyd_b.toml",
                         "runs/scenes/bratu2d_fold.toml"}) {
     SCOPED_TRACE(s);
-    const LoadedScene a = load_scene(test::source_path(s), ContinuationOptions::declare);
+    const LoadedScene a = load_scene(test::source_path(s), declare_trace_keys);
     const std::string path = test::scratch_dir("resolved") + "/resolved.toml";
     std::ofstream(path) << a.scene.resolved_toml();
-    const LoadedScene b = load_scene(path, ContinuationOptions::declare);
+    const LoadedScene b = load_scene(path, declare_trace_keys);
     EXPECT_NO_THROW(a.type->build(b.scene));
     // the same values: only the first line (the source) and the "# default" marks differ
     auto values = [](std::string r) {

@@ -1,0 +1,37 @@
+// An analysis of each converged point of a branch beyond the problem's own observables: the
+// linear stability spectrum (stability/) is one. The continuation engine sees only this
+// interface: columns for the branch table, an integer whose change between two points is an
+// event (the number of unstable eigenvalues), a continuous function that crosses zero where that
+// integer changes (the real part of the critical eigenvalue), and what is critical there.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/Problem.hpp"
+#include "core/Status.hpp"
+#include "core/Types.hpp"
+
+namespace keller {
+
+struct PointAnalysisResult {
+  std::vector<double> columns;  // one value per PointAnalysis::column_names() (NaN: not available)
+  int count = -1;               // e.g. eigenvalues with Re(sigma) < 0
+  double locator = 0.0;         // e.g. Re(sigma) of the eigenvalue nearest the imaginary axis
+  double critical_imag = 0.0;   // its imaginary part (0: real)
+  Vector critical_re, critical_im;  // its eigenvector (empty when not computed)
+};
+
+class PointAnalysis {
+ public:
+  virtual ~PointAnalysis() = default;
+  virtual std::vector<std::string> column_names() const = 0;
+  // What `count` counts, for messages ("unstable eigenvalues").
+  virtual std::string count_name() const = 0;
+  // Analyses the converged solution u of `problem` at its current parameter values.
+  virtual Status analyse(Problem& problem, const Vector& u, PointAnalysisResult& out) = 0;
+  // Analyse every N-th accepted point (located points always).
+  virtual int every() const { return 1; }
+};
+
+}  // namespace keller

@@ -1,0 +1,162 @@
+#include "stability/StabilityAnalysis.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+namespace keller {
+
+void StabilityOptions::declare(SceneSchema& s) {
+  s.section("stability", "linear stability of every point of a branch (keller trace): J phi = sigma B phi");
+  s.boolean("stability.enabled", false, "compute eigenvalues along the branch, detect and locate stability changes");
+  s.integer("stability.count", 6, "eigenvalues wanted nearest each shift", Range::at_least(1));
+  s.real_list("stability.shifts_re", {0.0}, "real parts of the shifts (eigenvalues nearest each are computed)");
+  s.real_list("stability.shifts_im", {0.0},
+              "imaginary parts of the shifts (same length as shifts_re; nonzero: complex arithmetic, for Hopf)");
+  s.integer("stability.every", 1, "analyse every N-th accepted point (changes are located only with 1)",
+            Range::at_least(1));
+  s.integer("stability.ncv", 0, "Arnoldi basis size per shift (0: max(2 count + 1, 20)); larger helps clustered spectra",
+            Range::non_negative());
+  s.real("stability.arpack_tolerance", 1e-10, "ARPACK's relative accuracy of the Ritz values", Range::positive());
+  s.real("stability.residual_tolerance", 1e-8, "largest accepted relative residual of an eigenpair",
+         Range::positive());
+}
+
+StabilityOptions StabilityOptions::from_scene(const Scene& sc) {
+  StabilityOptions o;
+  o.enabled = sc.boolean("stability.enabled");
+  o.count = static_cast<int>(sc.integer("stability.count"));
+  o.every = static_cast<int>(sc.integer("stability.every"));
+  o.residual_tolerance = sc.real("stability.residual_tolerance");
+  o.ncv = static_cast<int>(sc.integer("stability.ncv"));
+  o.arpack_tolerance = sc.real("stability.arpack_tolerance");
+  const auto& re = sc.real_list("stability.shifts_re");
+  const auto& im = sc.real_list("stability.shifts_im");
+  if (re.empty()) throw sc.error("stability.shifts_re", "needs at least one shift");
+  if (im.size() != re.size())
+    throw sc.error("stability.shifts_im", fmt::format("has {} entries, shifts_re {}: give one imaginary part per shift",
+                                                      im.size(), re.size()));
+  o.shifts.clear();
+  for (size_t i = 0; i < re.size(); ++i) o.shifts.emplace_back(re[i], im[i]);
+  return o;
+}
+
+StabilityAnalysis::StabilityAnalysis(StabilityOptions options, SparseLUOptions lu)
+    : options_(std::move(options)), solver_(lu) {}
+
+std::vector<std::string> StabilityAnalysis::column_names() const {
+  std::vector<std::string> c;
+  for (int i = 1; i <= options_.count; ++i) {
+    c.push_back(fmt::format("sigma{}_re", i));
+    c.push_back(fmt::format("sigma{}_im", i));
+  }
+  c.push_back("unstable");
+  c.push_back("eig_residual");
+  return c;
+}
+
+Status StabilityAnalysis::analyse(Problem& problem, const Vector& u, PointAnalysisResult& out) {
+  const auto t0 = std::chrono::steady_clock::now();
+  struct AddTime {
+    double& to;
+    std::chrono::steady_clock::time_point t0;
+    ~AddTime() { to += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); }
+  } add{seconds_, t0};
+  const int k = options_.count;
+  out.columns.assign(2 * k + 2, NAN);
+  out.count = -1;
+  out.locator = NAN;
+  out.critical_imag = 0.0;
+  out.critical_re.resize(0);
+  out.critical_im.resize(0);
+  spectrum_.clear();
+  if (J_.size() == 0) J_ = problem.jacobian_pattern();
+  Status st = problem.jacobian(u, F_, J_);
+  if (st.is_ok()) st = problem.mass_matrix(u, B_);
+  if (!st.is_ok()) return st;
+  if (B_.nonZeros() == 0 || B_.coeffs().cwiseAbs().maxCoeff() == 0.0) {
+    // no dynamics: no finite eigenvalue, nothing can become unstable
+    out.count = 0;
+    out.locator = INFINITY;
+    out.columns[2 * k] = 0;
+    return {};
+  }
+  std::vector<EigenPair> all;
+  Status worst;
+  for (const auto& s : options_.shifts) {
+    EigenOptions eo;
+    eo.count = std::min(k, static_cast<int>(u.size()) - 2);
+    eo.shift = s;
+    eo.vectors = true;
+    eo.residual_tolerance = options_.residual_tolerance;
+    eo.tolerance = options_.arpack_tolerance;
+    if (options_.ncv > 0) eo.ncv = std::min(options_.ncv, static_cast<int>(u.size()));
+    EigenResult r;
+    st = solver_.solve(J_, B_, eo, r);
+    factorisations_ += r.factorisations;
+    solves_ += r.solves;
+    // A shift almost at an eigenvalue (at a located fold or branch point, s = 0 is one) makes OP's
+    // spectrum span many orders of magnitude and the other pairs inaccurate: once more from a
+    // shift moved left by a quarter of the spread of those found.
+    const bool inaccurate = std::any_of(r.pairs.begin(), r.pairs.end(), [](const EigenPair& p) { return !p.accurate; });
+    if ((!st.is_ok() && inaccurate) || st.code() == StatusCode::SingularMatrix) {
+      double spread = 0.0;
+      for (const auto& p : r.pairs) spread = std::max(spread, std::abs(p.value - s));
+      if (!(spread > 0)) spread = 1.0;
+      eo.shift = s - 0.25 * spread;
+      EigenResult r2;
+      const Status st2 = solver_.solve(J_, B_, eo, r2);
+      factorisations_ += r2.factorisations;
+      solves_ += r2.solves;
+      if (st2.is_ok() || (!r2.pairs.empty() && st2.code() != StatusCode::SingularMatrix)) {
+        st = st2;
+        r = std::move(r2);
+      }
+    }
+    if (!st.is_ok() && r.pairs.empty()) return st;
+    if (!st.is_ok()) worst = st;
+    for (auto& p : r.pairs) {
+      const bool duplicate = std::any_of(all.begin(), all.end(), [&](const EigenPair& q) {
+        return std::abs(q.value - p.value) <= 1e-8 * (1.0 + std::abs(p.value));
+      });
+      if (!duplicate) all.push_back(std::move(p));
+    }
+  }
+  std::sort(all.begin(), all.end(), [](const EigenPair& a, const EigenPair& b) {
+    if (a.value.real() != b.value.real()) return a.value.real() < b.value.real();
+    return a.value.imag() < b.value.imag();
+  });
+  int unstable = 0;
+  double max_residual = 0.0;
+  for (const auto& p : all) {
+    if (p.value.real() < 0) ++unstable;
+    max_residual = std::max(max_residual, p.residual);
+  }
+  for (int i = 0; i < k && i < static_cast<int>(all.size()); ++i) {
+    out.columns[2 * i] = all[static_cast<size_t>(i)].value.real();
+    out.columns[2 * i + 1] = all[static_cast<size_t>(i)].value.imag();
+  }
+  out.columns[2 * k] = unstable;
+  out.columns[2 * k + 1] = max_residual;
+  if (!worst.is_ok() && max_residual > options_.residual_tolerance) return worst;
+  out.count = unstable;
+  if (!all.empty()) {
+    const auto critical = std::min_element(all.begin(), all.end(), [](const EigenPair& a, const EigenPair& b) {
+      return std::abs(a.value.real()) < std::abs(b.value.real());
+    });
+    out.locator = critical->value.real();
+    out.critical_imag = critical->value.imag();
+    if (critical->vector.size()) {
+      out.critical_re = critical->vector.real();
+      out.critical_im = critical->vector.imag();
+    }
+  } else {
+    out.locator = INFINITY;
+  }
+  spectrum_ = std::move(all);
+  return {};
+}
+
+}  // namespace keller

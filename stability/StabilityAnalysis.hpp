@@ -1,0 +1,59 @@
+// Linear stability of each point of a branch: the eigenvalues of J phi = sigma B phi nearest one
+// or more shifts (EigenSolver), merged, as columns of the branch table (sigma1_re, sigma1_im, ...
+// by real part ascending), the number of unstable eigenvalues (Re sigma < 0, since B du/dt = -F)
+// among those computed, and the critical eigenvalue (nearest the imaginary axis) with its
+// eigenvector, so that the continuation engine detects and locates where the count changes.
+// Eigenvalues far from every shift are not computed: a count is "among the eigenvalues nearest
+// the shifts", as in every shift-invert monitor.
+// A problem without dynamics (B = 0: no row carries a time derivative) has no finite
+// eigenvalue: count 0, columns NaN.
+#pragma once
+
+#include <complex>
+#include <string>
+#include <vector>
+
+#include "core/PointAnalysis.hpp"
+#include "core/Scene.hpp"
+#include "stability/EigenSolver.hpp"
+
+namespace keller {
+
+struct StabilityOptions {
+  bool enabled = false;
+  int count = 6;                                      // eigenvalues per shift (and columns)
+  std::vector<std::complex<double>> shifts = {0.0};   // shift-invert points
+  int every = 1;                                      // analyse every N-th accepted point
+  double residual_tolerance = 1e-8;                   // relative eigen-residual that is accepted
+  int ncv = 0;                                        // Arnoldi basis size (0: EigenSolver's default)
+  double arpack_tolerance = 1e-10;                    // ARPACK's relative accuracy of the Ritz values
+  static void declare(SceneSchema& schema);
+  static StabilityOptions from_scene(const Scene& scene);
+};
+
+class StabilityAnalysis final : public PointAnalysis {
+ public:
+  explicit StabilityAnalysis(StabilityOptions options, SparseLUOptions lu = {});
+  std::vector<std::string> column_names() const override;
+  std::string count_name() const override { return "unstable eigenvalues"; }
+  Status analyse(Problem& problem, const Vector& u, PointAnalysisResult& out) override;
+  int every() const override { return options_.every; }
+
+  // The merged spectrum of the last analyse() (Re ascending), with eigenvectors.
+  const std::vector<EigenPair>& spectrum() const { return spectrum_; }
+  // Totals over all calls (for the cost report).
+  double seconds() const { return seconds_; }
+  long factorisations() const { return factorisations_; }
+  long solves() const { return solves_; }
+
+ private:
+  StabilityOptions options_;
+  EigenSolver solver_;
+  SparseMatrix J_, B_;
+  Vector F_;
+  std::vector<EigenPair> spectrum_;
+  double seconds_ = 0;
+  long factorisations_ = 0, solves_ = 0;
+};
+
+}  // namespace keller

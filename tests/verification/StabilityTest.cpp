@@ -1,0 +1,230 @@
+// Linear stability along branches (stability/StabilityAnalysis driven by the continuation
+// engine): eigenvalues crossing zero at a fold and at pitchforks with known locations, a Hopf
+// point with a known location and frequency, branch switching onto the bifurcated branch, and
+// the spectrum of the collapsible channel on a coarse mesh.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <iomanip>
+#include <iostream>
+
+#include "continuation/Continuation.hpp"
+#include "core/Newton.hpp"
+#include "problems/Bratu1DProblem.hpp"
+#include "problems/Brusselator1DProblem.hpp"
+#include "problems/CollapsibleChannelProblem.hpp"
+#include "problems/Pitchfork1DProblem.hpp"
+#include "stability/StabilityAnalysis.hpp"
+#include "support/TestProblems.hpp"
+
+using namespace keller;
+
+namespace {
+
+StabilityOptions stability(int count) {
+  StabilityOptions s;
+  s.enabled = true;
+  s.count = count;
+  return s;
+}
+
+int column(const std::vector<std::string>& names, const std::string& n) {
+  return static_cast<int>(std::find(names.begin(), names.end(), n) - names.begin());
+}
+
+}  // namespace
+
+// Bratu: the stable lower branch turns at the fold into the unstable upper one. The count of
+// unstable eigenvalues changes 0 -> 1 there, the change is classified as the fold (the parameter
+// turns) and merged with the fold the tangent located; its eigenvalue nearest zero is zero to the
+// accuracy of the located point.
+TEST(Stability, BratuFoldIsWhereAnEigenvalueCrossesZero) {
+  Bratu1DProblem p(64, 0.0);
+  ContinuationOptions o;
+  o.parameter = "lambda";
+  o.lower = 0.0;
+  o.initial_step = 0.1;
+  o.max_step = 0.5;
+  o.event_tolerance = 1e-12;
+  o.stop_observable = "u_mid";
+  o.stop_above = 4.0;
+  Continuation cont(p, o);
+  StabilityAnalysis analysis(stability(4));
+  cont.set_analysis(&analysis);
+  test::RecordingObserver rec;
+  const auto r = cont.run(p.initial_guess(), rec);
+  ASSERT_EQ(r.code, StopCode::StopObservable) << r.reason;
+  const auto folds = rec.of_kind(PointKind::Fold);
+  ASSERT_EQ(folds.size(), 1u);
+  const BranchPoint& f = *folds[0];
+  EXPECT_NE(f.label.find("eigenvalue crosses zero"), std::string::npos) << f.label;
+  EXPECT_NE(f.label.find("0 -> 1"), std::string::npos) << f.label;
+  EXPECT_TRUE(rec.of_kind(PointKind::BranchPoint).empty());
+  const auto names = analysis.column_names();
+  const double s1 = f.analysis[column(names, "sigma1_re")], s2 = f.analysis[column(names, "sigma2_re")];
+  std::cout << std::setprecision(12) << "fold at lambda = " << f.lambda << ": sigma1 = " << s1 << ", sigma2 = " << s2
+            << "\n";
+  // located to 1e-12 in lambda, so to about 1e-6 along the branch: sigma1 = O(1e-6) sigma2
+  EXPECT_LT(std::abs(s1), 1e-5 * std::abs(s2));
+  // lower branch stable, upper branch unstable
+  for (const auto& q : rec.points) {
+    if (q.count < 0 || q.kind == PointKind::Fold) continue;
+    EXPECT_EQ(q.count, q.s < f.s ? 0 : 1) << "row " << q.index;
+  }
+}
+
+// u'' + lambda u - u^3 = 0: the trivial branch loses stability at the discrete eigenvalues
+// lambda_k = (4/h^2) sin^2(k pi h/2) -> (k pi)^2 (second order in h). Found by the spectrum alone
+// (no determinant), classified as branch points (the parameter does not turn), located to 1e-8.
+TEST(Stability, PitchforkBranchPointsConvergeAndTheSwitchedBranchBifurcates) {
+  std::vector<double> err1;
+  for (int n : {16, 32, 64}) {
+    Pitchfork1DProblem p(n, 1.0);
+    ContinuationOptions o;
+    o.parameter = "lambda";
+    o.upper = 45.0;
+    o.initial_step = 0.5;
+    o.max_step = 2.0;
+    o.event_tolerance = 1e-10;
+    o.detect_branch_points = false;
+    o.state_scale = 1.0;
+    Continuation cont(p, o);
+    StabilityAnalysis analysis(stability(4));
+    cont.set_analysis(&analysis);
+    test::RecordingObserver rec;
+    const auto r = cont.run(p.initial_guess(), rec);
+    ASSERT_EQ(r.code, StopCode::UpperBound) << r.reason;
+    const auto bps = rec.of_kind(PointKind::BranchPoint);
+    ASSERT_EQ(bps.size(), 2u) << "n = " << n;
+    EXPECT_TRUE(rec.of_kind(PointKind::Fold).empty());
+    for (int k = 1; k <= 2; ++k) {
+      const double exact = Pitchfork1DProblem::branch_point(k, n);
+      EXPECT_NEAR(bps[k - 1]->lambda, exact, 1e-8) << "n = " << n << ", k = " << k;
+      // the count changes there (at the located point itself it may be either)
+      EXPECT_NE(bps[k - 1]->label.find(std::to_string(k - 1) + " -> " + std::to_string(k)), std::string::npos)
+          << bps[k - 1]->label;
+    }
+    err1.push_back(std::abs(bps[0]->lambda - M_PI * M_PI));
+    std::cout << std::setprecision(12) << "n = " << n << ": branch points " << bps[0]->lambda << ", "
+              << bps[1]->lambda << "; |lambda_1 - pi^2| = " << err1.back() << "\n";
+
+    if (n != 64) continue;
+    // switching at the first branch point: the new branch leaves u = 0, bends to lambda > lambda_1
+    // (supercritical) and is stable
+    Continuation sw(p, o);
+    StabilityAnalysis analysis2(stability(4));
+    sw.set_analysis(&analysis2);
+    test::RecordingObserver rec2;
+    o.upper = 20.0;
+    const auto r2 = sw.switch_branch(*bps[0], +1, rec2);
+    ASSERT_EQ(r2.code, StopCode::UpperBound) << r2.reason;
+    ASSERT_GT(rec2.points.size(), 5u);
+    std::vector<std::string> obs = p.observable_names();
+    const int inorm = column(obs, "u_norm");
+    for (size_t i = 1; i < rec2.points.size(); ++i) {
+      const BranchPoint& q = rec2.points[i];
+      EXPECT_GT(q.observables[inorm], 1e-3) << "row " << q.index;
+      EXPECT_GT(q.lambda, bps[0]->lambda - 1e-8) << "row " << q.index;
+      EXPECT_EQ(q.count, 0) << "row " << q.index;
+    }
+    // near the bifurcation u ~ A sin(pi x) with A^2 = 4 (lambda - lambda_1) / 3 (projecting the cubic
+    // on sin: int sin^4 / int sin^2 = 3/4), so u_norm^2 = A^2 / 2 = 2 (lambda - lambda_1) / 3
+    const BranchPoint& near = rec2.points[1];
+    const double ratio = near.observables[inorm] * near.observables[inorm] / (near.lambda - bps[0]->lambda);
+    std::cout << "first point of the switched branch: u_norm^2 / (lambda - lambda_1) = " << ratio << "\n";
+    EXPECT_NEAR(ratio, 2.0 / 3.0, 0.01);  // O(lambda - lambda_1) correction: 5e-5 at this first point
+  }
+  // second order: the error falls by 4 per halving of h
+  EXPECT_NEAR(err1[0] / err1[1], 4.0, 0.1);
+  EXPECT_NEAR(err1[1] / err1[2], 4.0, 0.1);
+}
+
+// Brusselator, no flux, equal diffusivities: the uniform state loses stability through a Hopf
+// bifurcation of the uniform mode at b = 1 + a^2 with frequency a (exact also on the grid).
+TEST(Stability, BrusselatorHopfLocatedWithItsFrequency) {
+  for (double a : {2.0, 1.3}) {
+    Brusselator1DOptions bo;
+    bo.intervals = 32;
+    bo.a = a;
+    bo.b = 1.0 + a * a - 1.7;
+    Brusselator1DProblem p(bo);
+    ContinuationOptions o;
+    o.parameter = "b";
+    o.upper = 1.0 + a * a + 1.5;
+    o.initial_step = 0.1;
+    o.max_step = 0.5;
+    o.event_tolerance = 1e-10;
+    Continuation cont(p, o);
+    StabilityAnalysis analysis(stability(6));
+    cont.set_analysis(&analysis);
+    test::RecordingObserver rec;
+    const auto r = cont.run(p.initial_guess(), rec);
+    ASSERT_EQ(r.code, StopCode::UpperBound) << r.reason;
+    const auto hopf = rec.of_kind(PointKind::Hopf);
+    ASSERT_EQ(hopf.size(), 1u) << "a = " << a;
+    const BranchPoint& h = *hopf[0];
+    std::cout << std::setprecision(12) << "a = " << a << ": Hopf at b = " << h.lambda << ", omega = "
+              << std::abs(h.critical_imag) << " (" << h.label << ")\n";
+    EXPECT_NEAR(h.lambda, 1.0 + a * a, 1e-8);
+    EXPECT_NEAR(std::abs(h.critical_imag), a, 1e-6);
+    EXPECT_NE(h.label.find("0 -> 2"), std::string::npos) << h.label;
+    EXPECT_TRUE(rec.of_kind(PointKind::Fold).empty());
+    EXPECT_TRUE(rec.of_kind(PointKind::BranchPoint).empty());
+    // the critical eigenvector (complex) is stored with the point and is an eigenvector of (J, B)
+    ASSERT_EQ(h.critical_re.size(), p.size());
+  }
+}
+
+// The collapsible channel on a coarse mesh at the reference parameters. Newtonian Stokes flow
+// has no dynamics (B = 0): no finite eigenvalue, never an infinite one passed off as finite.
+// With inertia (Re = 1) and for Oldroyd-B (Wi = 0.1) the eigenvalues nearest zero come with
+// residuals below the tolerance and the states are stable.
+TEST(Stability, CollapsibleChannelSpectraOnACoarseMesh) {
+  struct Case {
+    const char* name;
+    FluidModel model;
+    double Re;
+  };
+  for (const Case c : {Case{"newtonian Re = 0", FluidModel::Newtonian, 0.0}, Case{"newtonian Re = 1", FluidModel::Newtonian, 1.0},
+                       Case{"oldroyd-b", FluidModel::OldroydB, 0.0}}) {
+    SCOPED_TRACE(c.name);
+    CollapsibleOptions o;
+    o.mesh.name = "custom";
+    o.mesh.nx_upstream = 3;
+    o.mesh.nx_deformable = 6;
+    o.mesh.nx_downstream = 3;
+    o.mesh.ny_fluid = 3;
+    o.mesh.ny_solid = 1;
+    o.Gamma = 4.95e-5;
+    o.Pe = 0.04;
+    o.fluid.model = c.model;
+    o.fluid.Wi = 0.1;
+    o.fluid.Re = c.Re;
+    o.fluid.inertia = c.Re > 0;
+    CollapsibleChannelProblem problem(o);
+    Vector u = problem.initial_guess();
+    SparseLUOptions lu;
+    lu.ordering = SparseLUOptions::Ordering::Metis;
+    NewtonSolver newton(problem, {}, lu);
+    ASSERT_TRUE(newton.solve(u).converged());
+    StabilityOptions so = stability(6);
+    StabilityAnalysis analysis(so, lu);
+    PointAnalysisResult res;
+    const Status st = analysis.analyse(problem, u, res);
+    ASSERT_TRUE(st.is_ok()) << st.describe();
+    if (c.Re == 0 && c.model == FluidModel::Newtonian) {
+      EXPECT_EQ(res.count, 0);
+      EXPECT_TRUE(analysis.spectrum().empty());
+      EXPECT_TRUE(std::isnan(res.columns[0]));
+      continue;
+    }
+    ASSERT_GE(analysis.spectrum().size(), 6u);
+    EXPECT_EQ(res.count, 0);
+    for (const EigenPair& e : analysis.spectrum()) {
+      std::cout << c.name << ": sigma = " << e.value << ", residual " << e.residual << "\n";
+      EXPECT_LT(e.residual, so.residual_tolerance);
+      EXPECT_GT(e.value.real(), 0.0);
+      EXPECT_TRUE(std::isfinite(std::abs(e.value)));
+    }
+  }
+}
