@@ -622,7 +622,8 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
   }
   start.index = next_index_++;
   start.save = true;
-  if (start.analysed && start.count >= 0) {
+  // a switched branch starts on the branch point itself, where the count is either value
+  if (start.analysed && start.count >= 0 && start.label != "switched") {
     last_count_ = start.count;
     last_count_index_ = start.index;
   }
@@ -775,7 +776,7 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
             const double scale = 1.0 + std::abs(p->locator);
             const bool complex = std::abs(p->critical_imag) > 1e-8 * scale;
             const PointKind kind = complex ? PointKind::Hopf : (fold ? PointKind::Fold : PointKind::BranchPoint);
-            std::string label = complex ? fmt::format("hopf, omega = {:.8g}, {}", std::abs(p->critical_imag), change)
+            std::string label = complex ? fmt::format("omega = {:.8g}, {}", std::abs(p->critical_imag), change)
                                         : fmt::format("eigenvalue crosses zero, {}", change);
             auto same = std::find_if(located.begin(), located.end(), [&](const Located& l) {
               return l.point.kind == kind && !complex;

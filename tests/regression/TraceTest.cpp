@@ -172,6 +172,60 @@ TEST(Trace, RestartReproducesTheOriginalRun) {
   EXPECT_FALSE(fs::exists(dir + "/c.h5"));
 }
 
+// keller trace --switch: the pitchfork scene finds the first branch point by its eigenvalue
+// (stored with its critical eigenvector, the null vector of J: sin(pi x)); switching there
+// follows the bifurcated branch (u not 0, stable, lambda above lambda_1 as the pitchfork is
+// supercritical). Both diagrams draw with the figure script.
+TEST(Trace, SwitchAtABranchPointFollowsTheBifurcatedBranch) {
+  const std::string dir = test::scratch_dir("trace_switch");
+  const std::string scene = test::source_path("runs/scenes/pitchfork1d_trivial.toml");
+  const std::string common = " --set pitchfork.intervals=32";
+  auto r = test::run_keller("trace " + scene + " -o " + dir + "/a.h5" + common);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const BranchTable a = read_branch_table(dir + "/a.h5");
+  long bp = -1;
+  for (long i = 0; i < a.rows.rows() && bp < 0; ++i)
+    if (a.rows(i, a.column("kind")) == static_cast<double>(PointKind::BranchPoint)) bp = i;
+  ASSERT_GE(bp, 0);
+  const double lambda1 = a.rows(bp, a.column("lambda"));
+  EXPECT_NEAR(lambda1, 4.0 * 32 * 32 * std::pow(std::sin(M_PI / 64.0), 2), 1e-8);
+  {
+    H5File f(dir + "/a.h5", H5File::Mode::Read);
+    ASSERT_TRUE(f.exists("/branch/eigenvectors"));
+    long rows = 0, cols = 0;
+    const std::vector<double> data = f.read_matrix("/branch/eigenvectors", &rows, &cols);
+    ASSERT_GE(rows, 2);  // real and imaginary part of the first branch point's eigenvector
+    const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> v(data.data(), rows,
+                                                                                                    cols);
+    // sin(pi x_i), up to sign and scale
+    Eigen::VectorXd phi = v.row(0).transpose(), sine(phi.size());
+    for (int i = 0; i < sine.size(); ++i) sine[i] = std::sin(M_PI * (i + 1) / 32.0);
+    const double c = phi.dot(sine) / sine.squaredNorm();
+    EXPECT_LT((phi - c * sine).norm(), 1e-8 * phi.norm());
+    EXPECT_LT(v.row(1).norm(), 1e-12);
+  }
+  r = test::run_keller("trace " + scene + " -o " + dir + "/b.h5 --switch " + dir + "/a.h5:" + std::to_string(bp) +
+                       common + " --set continuation.upper=20");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("switching branches at row " + std::to_string(bp)), std::string::npos) << r.out;
+  const BranchTable b = read_branch_table(dir + "/b.h5");
+  ASSERT_GT(b.rows.rows(), 5);
+  for (long i = 1; i < b.rows.rows(); ++i) {
+    EXPECT_GT(b.rows(i, b.column("u_norm")), 1e-3) << "row " << i;
+    EXPECT_GT(b.rows(i, b.column("lambda")), lambda1 - 1e-8) << "row " << i;
+    EXPECT_EQ(b.rows(i, b.column("unstable")), 0.0) << "row " << i;
+  }
+  const std::string cmd = std::string(KELLER_PYTHON) + " " + test::source_path("runs/scripts/plot_branch.py") + " " +
+                          dir + "/a.h5 " + dir + "/b.h5 --y u_quarter -o " + dir + "/ab.png > /dev/null";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  EXPECT_GT(fs::file_size(dir + "/ab.png"), 10000u);
+  // --switch and --restart exclude each other
+  r = test::run_keller("trace " + scene + " -o " + dir + "/c.h5 --switch " + dir + "/a.h5:" + std::to_string(bp) +
+                       " --restart " + dir + "/a.h5:0" + common);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_FALSE(fs::exists(dir + "/c.h5"));
+}
+
 namespace {
 
 // Kills `keller trace` with SIGKILL once `rows` points are on disk (0: a few milliseconds after

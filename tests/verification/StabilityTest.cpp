@@ -168,6 +168,7 @@ TEST(Stability, BrusselatorHopfLocatedWithItsFrequency) {
     EXPECT_NEAR(h.lambda, 1.0 + a * a, 1e-8);
     EXPECT_NEAR(std::abs(h.critical_imag), a, 1e-6);
     EXPECT_NE(h.label.find("0 -> 2"), std::string::npos) << h.label;
+    EXPECT_EQ(h.label.rfind("omega = ", 0), 0u) << h.label;
     EXPECT_TRUE(rec.of_kind(PointKind::Fold).empty());
     EXPECT_TRUE(rec.of_kind(PointKind::BranchPoint).empty());
     // the critical eigenvector (complex) is stored with the point and is an eigenvector of (J, B)
