@@ -575,6 +575,10 @@ ContinuationResult Continuation::switch_branch(BranchPoint bp, int direction, Br
     if (!st.is_ok()) return fail(st.describe());
     phi = y / y.norm();
   }
+  // a fixed sign: the entry of largest magnitude positive (direction +1 makes it grow)
+  Eigen::Index imax = 0;
+  phi.cwiseAbs().maxCoeff(&imax);
+  if (phi[imax] < 0) phi = -phi;
   // (phi, 0) lies in the null space of [J F_p] there, as the old tangent does: the new direction is
   // its part orthogonal to the old tangent
   const double along = dot(phi, 0.0, bp.tu, bp.tlambda);

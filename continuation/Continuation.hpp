@@ -78,7 +78,8 @@ class Continuation {
 
   // Starts a new branch at a branch point bp (a stored point of an earlier run with the same
   // state scale): along the null vector phi of J there (inverse iteration on J's factorisation),
-  // made orthogonal to bp's tangent; direction +1 or -1 picks the side.
+  // made orthogonal to bp's tangent; direction +1 or -1 picks the side (+1: the largest entry of
+  // the null vector grows).
   ContinuationResult switch_branch(BranchPoint bp, int direction, BranchObserver& observer);
   // Analyses every accepted point (PointAnalysis::every) and every located point, adds its
   // columns, and detects and locates changes of its count (folds, branch points, Hopf points).
