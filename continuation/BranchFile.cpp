@@ -100,6 +100,7 @@ void BranchFile::on_point(const BranchPoint& p) {
   if (!file_) return;
   const int slot = p.save ? saved_ : -1;
   if (p.save) save_solution(p);
+  if (p.save && n_analysis_) save_mode(p);  // the critical eigenvector with every stored solution
   std::vector<double> row = {static_cast<double>(p.index), static_cast<double>(p.kind), p.s, p.lambda};
   row.insert(row.end(), p.observables.begin(), p.observables.end());
   row.insert(row.end(), p.monitors.begin(), p.monitors.end());
@@ -119,7 +120,15 @@ void BranchFile::on_point(const BranchPoint& p) {
     const double ev[4] = {static_cast<double>(p.index), static_cast<double>(p.kind), p.lambda, monitor};
     file_->append_rows("/branch/events", ev, 1);
     const bool critical = p.kind == PointKind::Fold || p.kind == PointKind::BranchPoint || p.kind == PointKind::Hopf;
-    if (n_analysis_ && critical && p.critical_re.size() == n_) {
+    if (n_analysis_ && critical) save_mode(p);
+  }
+  file_->flush();
+}
+
+void BranchFile::save_mode(const BranchPoint& p) {
+  {
+    if (p.critical_re.size() == n_ && p.index != last_mode_row_) {
+      last_mode_row_ = p.index;
       const Vector im = p.critical_im.size() == n_ ? p.critical_im : Vector::Zero(n_);
       file_->append_rows("/branch/eigenvectors", p.critical_re.data(), 1);
       file_->append_rows("/branch/eigenvectors", im.data(), 1);
@@ -127,7 +136,6 @@ void BranchFile::on_point(const BranchPoint& p) {
       file_->append_rows("/branch/eigenvector_rows", er, 1);
     }
   }
-  file_->flush();
 }
 
 void BranchFile::on_finish(const std::string& reason, const BranchPoint& last) {
@@ -238,6 +246,76 @@ void write_branch_fields(const std::string& branch_path, const std::string& fiel
   out.close();
   if (!steps.empty() && layout.mesh)
     write_xdmf(xdmf_path, std::filesystem::path(fields_path).filename().string(), "mesh", *layout.mesh, steps, layout);
+}
+
+}  // namespace keller
+
+namespace keller {
+
+namespace {
+// (b - a) / eps field by field (a and b have the same layout): the linear part of the fields along
+// a direction, on a's mesh
+SolutionFields field_difference(const SolutionFields& a, const SolutionFields& b, double eps) {
+  SolutionFields d = a;
+  d.arrays.clear();
+  for (size_t i = 0; i < d.nodal.size() && i < b.nodal.size(); ++i)
+    d.nodal[i].values = (b.nodal[i].values - a.nodal[i].values) / eps;
+  for (size_t i = 0; i < d.element.size() && i < b.element.size(); ++i) {
+    d.element[i].coefficients = (b.element[i].coefficients - a.element[i].coefficients) / eps;
+    d.element[i].centre_values = (b.element[i].centre_values - a.element[i].centre_values) / eps;
+  }
+  return d;
+}
+}  // namespace
+
+int write_branch_modes(const std::string& branch_path, const std::string& xdmf_prefix,
+                       const std::function<SolutionFields(const Vector& u, double lambda)>& fields) {
+  H5File f(branch_path, H5File::Mode::Read);
+  if (!f.exists("/branch/eigenvectors")) return 0;
+  long r = 0, c = 0, n = 0, sol = 0, er = 0, ec = 0, vr = 0, vn = 0;
+  const auto saved = f.read_matrix("/branch/saved", &r, &c);
+  const auto U = f.read_matrix("/branch/solutions", &sol, &n);
+  const auto rows = f.read_matrix("/branch/eigenvector_rows", &er, &ec);
+  const auto V = f.read_matrix("/branch/eigenvectors", &vr, &vn);
+  f.close();
+  H5File out(branch_path, H5File::Mode::ReadWrite);
+  int written = 0;
+  for (long k = 0; k < er && 2 * k + 1 < vr; ++k) {
+    const int row = static_cast<int>(rows[static_cast<size_t>(k * ec)]);
+    long slot = -1;
+    for (long i = 0; i < std::min(r, sol); ++i)
+      if (static_cast<int>(saved[static_cast<size_t>(i * c)]) == row) slot = i;
+    if (slot < 0) continue;
+    const double lambda = saved[static_cast<size_t>(slot * c + 2)];
+    const Vector u = Eigen::Map<const Vector>(&U[static_cast<size_t>(slot * n)], n);
+    const std::string group = fmt::format("/branch/modes/{}", k);
+    if (out.exists(group)) continue;
+    std::vector<XdmfSolution> steps;
+    SolutionFields base;
+    for (int part = 0; part < 2; ++part) {
+      const Vector phi = Eigen::Map<const Vector>(&V[static_cast<size_t>((2 * k + part) * vn)], vn);
+      const double pmax = phi.lpNorm<Eigen::Infinity>();
+      if (!(pmax > 0)) continue;
+      const double eps = 1e-7 * std::max(1.0, u.lpNorm<Eigen::Infinity>()) / pmax;
+      const SolutionFields moved = fields(u + eps * phi, lambda);
+      base = fields(u, lambda);  // last: problems may keep one deformed mesh for both
+      const std::string g = group + (part == 0 ? "/re" : "/im");
+      write_fields(out, g, field_difference(base, moved, eps));
+      steps.push_back({g.substr(1), fmt::format("row {} mode, {} part", row, part == 0 ? "real" : "imaginary"),
+                       static_cast<double>(part)});
+    }
+    if (steps.empty() || !base.mesh) continue;
+    write_mesh(out, group + "/mesh", *base.mesh);
+    out.set_attribute(group, "row", static_cast<long>(row));
+    out.set_attribute(group, "sigma_re", rows[static_cast<size_t>(k * ec + 2)]);
+    out.set_attribute(group, "sigma_im", rows[static_cast<size_t>(k * ec + 3)]);
+    out.flush();
+    write_xdmf(fmt::format("{}_mode{}.xdmf", xdmf_prefix, k), std::filesystem::path(branch_path).filename().string(),
+               (group + "/mesh").substr(1), *base.mesh, steps, base);
+    ++written;
+  }
+  out.close();
+  return written;
 }
 
 }  // namespace keller

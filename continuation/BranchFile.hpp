@@ -29,7 +29,7 @@ class BranchFile final : public BranchObserver {
   // creates the branch datasets and enters SWMR mode; the file appears under `path` only then.
   // Throws std::runtime_error on I/O errors.
   // analysis_columns: those of the run's PointAnalysis (after the monitors in the table); the
-  // critical eigenvector of every located fold, branch point and Hopf point goes to
+  // critical eigenvector of every stored solution and located fold, branch point and Hopf point goes to
   // /branch/eigenvectors (real and imaginary part, one row each; /branch/eigenvector_rows: row,
   // kind, Re sigma, Im sigma of the critical eigenvalue there).
   BranchFile(const std::string& path, const Problem& problem, const ContinuationOptions& options,
@@ -45,6 +45,8 @@ class BranchFile final : public BranchObserver {
 
  private:
   void save_solution(const BranchPoint& p);
+  void save_mode(const BranchPoint& p);
+  int last_mode_row_ = -1;
   std::string path_;
   std::unique_ptr<H5File> file_;
   int n_ = 0;
@@ -75,5 +77,12 @@ BranchPoint read_branch_point(const std::string& path, int row);
 // `fields` turns a stored solution (at the stored parameter value) into fields.
 void write_branch_fields(const std::string& branch_path, const std::string& fields_path, const std::string& xdmf_path,
                          const std::function<SolutionFields(const Vector& u, double lambda)>& fields);
+
+// The critical eigenvectors stored with located folds, branch points and Hopf points, as fields
+// (real and imaginary part: the linear change of the fields along the eigenvector, on the
+// mesh of the state; a displacement mode for moving meshes) in /branch/modes/<k> of the branch
+// file, and one XDMF file per mode, <xdmf_prefix>_mode<k>.xdmf. Returns the number written.
+int write_branch_modes(const std::string& branch_path, const std::string& xdmf_prefix,
+                       const std::function<SolutionFields(const Vector& u, double lambda)>& fields);
 
 }  // namespace keller

@@ -190,10 +190,14 @@ int run_trace(const TraceArguments& args) {
   if (scene.boolean("output.xdmf")) {
     try {
       const int p = problem->parameters().index(copt.parameter);
-      write_branch_fields(out, out, xdmf_path_for(out), [&](const Vector& u, double lambda) {
+      auto fields_at = [&](const Vector& u, double lambda) {
         problem->parameters().set(p, lambda);
         return problem->fields(u);
-      });
+      };
+      write_branch_fields(out, out, xdmf_path_for(out), fields_at);
+      const std::string stem = xdmf_path_for(out).substr(0, xdmf_path_for(out).size() - 5);
+      const int modes = write_branch_modes(out, stem, fields_at);
+      if (modes > 0) fmt::print("wrote {} critical eigenmode(s): {}_mode<k>.xdmf\n", modes, stem);
     } catch (const std::exception& e) {
       fmt::print(stderr, "keller: warning: fields/XDMF not written: {}\n", e.what());
     }

@@ -192,11 +192,17 @@ TEST(Trace, SwitchAtABranchPointFollowsTheBifurcatedBranch) {
   {
     H5File f(dir + "/a.h5", H5File::Mode::Read);
     ASSERT_TRUE(f.exists("/branch/eigenvectors"));
-    long rows = 0, cols = 0;
+    long rows = 0, cols = 0, er = 0, ec = 0;
     const std::vector<double> data = f.read_matrix("/branch/eigenvectors", &rows, &cols);
-    ASSERT_GE(rows, 2);  // real and imaginary part of the first branch point's eigenvector
-    const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> v(data.data(), rows,
-                                                                                                    cols);
+    const std::vector<double> which = f.read_matrix("/branch/eigenvector_rows", &er, &ec);
+    long k = -1;  // the branch point's entry (stored solutions have theirs too)
+    for (long i = 0; i < er; ++i)
+      if (which[static_cast<size_t>(i * ec)] == static_cast<double>(bp)) k = i;
+    ASSERT_GE(k, 0);
+    ASSERT_GE(rows, 2 * k + 2);  // real and imaginary part of each stored eigenvector
+    const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> all(data.data(),
+                                                                                                      rows, cols);
+    const Eigen::MatrixXd v = all.middleRows(2 * k, 2);
     // sin(pi x_i), up to sign and scale
     Eigen::VectorXd phi = v.row(0).transpose(), sine(phi.size());
     for (int i = 0; i < sine.size(); ++i) sine[i] = std::sin(M_PI * (i + 1) / 32.0);
@@ -224,6 +230,30 @@ TEST(Trace, SwitchAtABranchPointFollowsTheBifurcatedBranch) {
                        " --restart " + dir + "/a.h5:0" + common);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_FALSE(fs::exists(dir + "/c.h5"));
+}
+
+// The collapsible channel with [stability]: the critical eigenvector of each stored solution goes
+// to the branch file and, as fields (the linear change along it, on the deformed mesh), to an
+// XDMF file per mode that ParaView opens.
+TEST(Trace, CollapsibleEigenmodesAsFields) {
+  const std::string dir = test::scratch_dir("trace_modes");
+  auto r = test::run_keller("trace " + test::source_path("runs/scenes/collapsible_oldroyd_b_gamma.toml") + " -o " +
+                            dir + "/c.h5 --set mesh.name=custom --set mesh.nx_upstream=3 --set mesh.nx_deformable=6"
+                            " --set mesh.nx_downstream=3 --set mesh.ny_fluid=3 --set mesh.ny_solid=1"
+                            " --set stability.enabled=true --set continuation.max_steps=1");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  ASSERT_TRUE(fs::exists(dir + "/c_mode0.xdmf"));
+  H5File f(dir + "/c.h5", H5File::Mode::Read);
+  EXPECT_TRUE(f.exists("/branch/modes/0/re/velocity"));
+  EXPECT_TRUE(f.exists("/branch/modes/0/mesh/nodes"));
+  long er = 0, ec = 0;
+  const std::vector<double> rows = f.read_matrix("/branch/eigenvector_rows", &er, &ec);
+  ASSERT_GE(er, 1);
+  EXPECT_EQ(rows[0], 0.0);  // the start (a stored solution)
+  EXPECT_GT(rows[2], 0.0);  // Re sigma of its critical eigenvalue: stable
+  const BranchTable t = read_branch_table(dir + "/c.h5");
+  EXPECT_EQ(t.rows(0, t.column("unstable")), 0.0);
+  EXPECT_LT(t.rows(0, t.column("eig_residual")), 1e-8);
 }
 
 namespace {
