@@ -126,16 +126,13 @@ void BranchFile::on_point(const BranchPoint& p) {
 }
 
 void BranchFile::save_mode(const BranchPoint& p) {
-  {
-    if (p.critical_re.size() == n_ && p.index != last_mode_row_) {
-      last_mode_row_ = p.index;
-      const Vector im = p.critical_im.size() == n_ ? p.critical_im : Vector::Zero(n_);
-      file_->append_rows("/branch/eigenvectors", p.critical_re.data(), 1);
-      file_->append_rows("/branch/eigenvectors", im.data(), 1);
-      const double er[4] = {static_cast<double>(p.index), static_cast<double>(p.kind), p.locator, p.critical_imag};
-      file_->append_rows("/branch/eigenvector_rows", er, 1);
-    }
-  }
+  if (p.critical_re.size() != n_ || p.index == last_mode_row_) return;  // none, or stored already
+  last_mode_row_ = p.index;
+  const Vector im = p.critical_im.size() == n_ ? p.critical_im : Vector::Zero(n_);
+  file_->append_rows("/branch/eigenvectors", p.critical_re.data(), 1);
+  file_->append_rows("/branch/eigenvectors", im.data(), 1);
+  const double er[4] = {static_cast<double>(p.index), static_cast<double>(p.kind), p.locator, p.critical_imag};
+  file_->append_rows("/branch/eigenvector_rows", er, 1);
 }
 
 void BranchFile::on_finish(const std::string& reason, const BranchPoint& last) {

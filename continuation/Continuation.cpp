@@ -174,16 +174,19 @@ Status Continuation::tangent_from_factorisation(const Vector& tu_prev, double tl
   double mu = 0;
   Status st = bordered_->solve(Vector::Zero(problem_.size()), 1.0, v, mu);
   if (!st.is_ok()) return st;
-  // Cramer: mu = det(J) / det(bordered), so this is the sign of det J
+  return unit_tangent(std::move(v), mu, tu_prev, tl_prev, tu, tl, det_sign);
+}
+
+Status Continuation::unit_tangent(Vector v, double mu, const Vector& tu_prev, double tl_prev, Vector& tu, double& tl,
+                                  int& det_sign) const {
+  // (v, mu) solves [J F_p; c^T d] (v, mu) = (0, 1). Cramer: mu = det(J) / det(bordered), so this
+  // is the sign of det J
   det_sign = sign_of(mu) * bordered_->determinant_sign();
   const double nrm = std::sqrt(dot(v, mu, v, mu));
   if (!(nrm > 0) || !std::isfinite(nrm)) return {StatusCode::NotFinite, "tangent is zero or not finite"};
-  tu = v / nrm;
-  tl = mu / nrm;
-  if (tu_prev.size() && dot(tu, tl, tu_prev, tl_prev) < 0) {
-    tu = -tu;
-    tl = -tl;
-  }
+  const double sign = tu_prev.size() && dot(v, mu, tu_prev, tl_prev) < 0 ? -1.0 : 1.0;
+  tu = (sign / nrm) * v;
+  tl = sign * mu / nrm;
   return {};
 }
 
@@ -258,20 +261,9 @@ Status Continuation::point_tangent(BranchPoint& p, const Constraint& c, const Ve
         break;
       }
     }
-    if (converged) {
-      // the kept factorisation and this point's system are close (contraction): same sign of
-      // det of the bordered matrix; Cramer gives det J's sign from mu
-      p.det_sign = sign_of(mu) * bordered_->determinant_sign();
-      const double nrm = std::sqrt(dot(v, mu, v, mu));
-      if (!(nrm > 0) || !std::isfinite(nrm)) return {StatusCode::NotFinite, "tangent is zero or not finite"};
-      p.tu = v / nrm;
-      p.tlambda = mu / nrm;
-      if (tu_prev.size() && dot(p.tu, p.tlambda, tu_prev, tl_prev) < 0) {
-        p.tu = -p.tu;
-        p.tlambda = -p.tlambda;
-      }
-      return {};
-    }
+    // converged: the kept factorisation and this point's system are close (a contraction), so
+    // the sign of det of the bordered matrix is the kept one's
+    if (converged) return unit_tangent(std::move(v), mu, tu_prev, tl_prev, p.tu, p.tlambda, p.det_sign);
   }
   Status st = factorize_at(p.u, p.lambda, c);
   if (!st.is_ok()) return st;
@@ -320,25 +312,27 @@ Status Continuation::timed_parameter_derivative(const Vector& u) {
   return st;
 }
 
-Status Continuation::evaluate(BranchPoint& p, bool analyse) {
-  if (analyse && analysis_) {
-    // the analysis of a converged point; its failure is recorded, never a rejected step
-    const auto t0 = std::chrono::steady_clock::now();
-    Status st = set_parameter(p.lambda);
-    PointAnalysisResult r;
-    if (st.is_ok()) st = analysis_->analyse(problem_, p.u, r);
-    timings_.analysis += seconds_since(t0);
-    ++timings_.analyses;
-    p.analysed = true;
-    p.analysis = r.columns;
-    p.analysis.resize(analysis_->column_names().size(), NAN);
-    p.count = st.is_ok() ? r.count : -1;
-    p.locator = r.locator;
-    p.critical_imag = r.critical_imag;
-    p.critical_re = std::move(r.critical_re);
-    p.critical_im = std::move(r.critical_im);
-    if (!st.is_ok()) analysis_note_ = "analysis failed: " + st.describe();
-  }
+void Continuation::analyse(BranchPoint& p) {
+  // the analysis of a converged point; its failure is recorded, never a rejected step
+  const auto t0 = std::chrono::steady_clock::now();
+  Status st = set_parameter(p.lambda);
+  PointAnalysisResult r;
+  if (st.is_ok()) st = analysis_->analyse(problem_, p.u, r);
+  timings_.analysis += seconds_since(t0);
+  ++timings_.analyses;
+  p.analysed = true;
+  p.analysis = std::move(r.columns);
+  p.analysis.resize(analysis_->column_names().size(), NAN);
+  p.count = st.is_ok() ? r.count : -1;
+  p.locator = r.locator;
+  p.critical_imag = r.critical_imag;
+  p.critical_re = std::move(r.critical_re);
+  p.critical_im = std::move(r.critical_im);
+  if (!st.is_ok()) analysis_note_ = "analysis failed: " + st.describe();
+}
+
+Status Continuation::evaluate(BranchPoint& p, bool analyse_point) {
+  if (analyse_point && analysis_) analyse(p);
   const auto t0 = std::chrono::steady_clock::now();
   struct Add {
     double& to;
@@ -737,7 +731,7 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
         return;
       }
       location_note_.clear();
-      if (analysis_ && !p->analysed) (void)evaluate(*p, true);
+      if (analysis_ && !p->analysed) analyse(*p);
       p->kind = kind;
       p->label = std::move(label);
       located.push_back({std::move(*p), terminal, code});
@@ -782,9 +776,7 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
             const PointKind kind = complex ? PointKind::Hopf : (fold ? PointKind::Fold : PointKind::BranchPoint);
             std::string label = complex ? fmt::format("omega = {:.8g}, {}", std::abs(p->critical_imag), change)
                                         : fmt::format("eigenvalue crosses zero, {}", change);
-            auto same = std::find_if(located.begin(), located.end(), [&](const Located& l) {
-              return l.point.kind == kind && !complex;
-            });
+            auto same = std::find_if(located.begin(), located.end(), [&](const Located& l) { return l.point.kind == kind; });
             if (same != located.end()) {
               same->point.label += ", " + label;
             } else {

@@ -115,6 +115,10 @@ class Continuation {
   Status correct_iterations(Vector& u, double& lambda, const Constraint& c, int& iterations);
   // Unit tangent at the point of the last factorisation, oriented along (tu_prev, tl_prev).
   Status tangent_from_factorisation(const Vector& tu_prev, double tl_prev, Vector& tu, double& tl, int& det_sign);
+  // Normalises (v, mu) in the arclength norm, oriented along (tu_prev, tl_prev) when given; the sign
+  // of det J from mu and the bordered determinant.
+  Status unit_tangent(Vector v, double mu, const Vector& tu_prev, double tl_prev, Vector& tu, double& tl,
+                      int& det_sign) const;
   Status initial_tangent(const Vector& u, double lambda, Vector& tu, double& tl, int& det_sign);
   // Unit tangent at the converged point p (border row of constraint c): from the last
   // factorisation, or with reuse_factorisation by iterating on the exact tangent system at p
@@ -122,7 +126,8 @@ class Continuation {
   Status point_tangent(BranchPoint& p, const Constraint& c, const Vector& tu_prev, double tl_prev,
                        bool refresh = false);
   Status factorize_at(const Vector& u, double lambda, const Constraint& c);
-  Status evaluate(BranchPoint& p, bool analyse = true);
+  Status evaluate(BranchPoint& p, bool analyse_point = true);
+  void analyse(BranchPoint& p);  // the PointAnalysis of p (analysis_ set)
   Status timed_jacobian(const Vector& u);  // into F_, J_
   Status timed_parameter_derivative(const Vector& u);  // into Fp_
   void report(BranchObserver& observer, const BranchPoint& p);

@@ -1,5 +1,7 @@
 #include "problems/Bratu1DProblem.hpp"
 
+#include "problems/Grid1D.hpp"
+
 #include <fmt/format.h>
 
 #include <cmath>
@@ -10,13 +12,7 @@ namespace keller {
 Bratu1DProblem::Bratu1DProblem(int intervals, double lambda) : n_(intervals) {
   if (intervals < 2) throw std::invalid_argument("bratu1d: need at least 2 intervals");
   params_.add("lambda", lambda, "Bratu parameter");
-  const int m = size();
-  std::vector<Eigen::Triplet<double, int>> t;
-  for (int i = 0; i < m; ++i)
-    for (int j = std::max(0, i - 1); j <= std::min(m - 1, i + 1); ++j) t.emplace_back(i, j, 0.0);
-  pattern_.resize(m, m);
-  pattern_.setFromTriplets(t.begin(), t.end());
-  pattern_.makeCompressed();
+  pattern_ = grid1d::tridiagonal_pattern(size());
 }
 
 Status Bratu1DProblem::residual(const Vector& u, Vector& F) {
@@ -34,11 +30,8 @@ Status Bratu1DProblem::residual(const Vector& u, Vector& F) {
 Status Bratu1DProblem::jacobian(const Vector& u, Vector& F, SparseMatrix& J) {
   Status st = residual(u, F);
   if (!st.is_ok()) return st;
-  J = pattern_;
   const double lambda = params_.value(0), ih2 = 1.0 / (h() * h());
-  for (int c = 0; c < J.outerSize(); ++c)
-    for (SparseMatrix::InnerIterator it(J, c); it; ++it)
-      it.valueRef() = it.row() == c ? 2.0 * ih2 - lambda * std::exp(u[c]) : -ih2;
+  grid1d::fill_tridiagonal(pattern_, (2.0 * ih2 - lambda * u.array().exp()).matrix(), -ih2, J);
   return {};
 }
 
@@ -48,9 +41,7 @@ Status Bratu1DProblem::parameter_derivative(int, const Vector& u, Vector& dF) {
 }
 
 Status Bratu1DProblem::mass_matrix(const Vector&, SparseMatrix& B) {
-  B = pattern_;
-  for (int c = 0; c < B.outerSize(); ++c)
-    for (SparseMatrix::InnerIterator it(B, c); it; ++it) it.valueRef() = it.row() == c ? 1.0 : 0.0;
+  grid1d::fill_tridiagonal(pattern_, Vector::Ones(size()), 0.0, B);
   return {};
 }
 
@@ -63,12 +54,7 @@ Status Bratu1DProblem::observables(const Vector& u, std::vector<double>& values)
 
 SolutionFields Bratu1DProblem::fields(const Vector& u) const {
   SolutionFields f;
-  NamedArray a{"profile", "u(x) on the grid, boundary values included", Eigen::MatrixXd(n_ + 1, 2), {"x", "u"}};
-  for (int i = 0; i <= n_; ++i) {
-    a.values(i, 0) = i * h();
-    a.values(i, 1) = (i == 0 || i == n_) ? 0.0 : u[i - 1];
-  }
-  f.arrays.push_back(std::move(a));
+  f.arrays.push_back(grid1d::profile(u, n_));
   return f;
 }
 

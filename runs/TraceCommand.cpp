@@ -194,8 +194,9 @@ int run_trace(const TraceArguments& args) {
         problem->parameters().set(p, lambda);
         return problem->fields(u);
       };
-      write_branch_fields(out, out, xdmf_path_for(out), fields_at);
-      const std::string stem = xdmf_path_for(out).substr(0, xdmf_path_for(out).size() - 5);
+      const std::string xdmf = xdmf_path_for(out);
+      write_branch_fields(out, out, xdmf, fields_at);
+      const std::string stem = xdmf.substr(0, xdmf.size() - std::string(".xdmf").size());
       const int modes = write_branch_modes(out, stem, fields_at);
       if (modes > 0) fmt::print("wrote {} critical eigenmode(s): {}_mode<k>.xdmf\n", modes, stem);
     } catch (const std::exception& e) {

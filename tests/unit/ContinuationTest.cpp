@@ -46,6 +46,23 @@ ContinuationOptions cubic_options() {
   return o;
 }
 
+// (x, y) and the determinant sign against a dense LU of [J b; c^T d] (x, y) = (f, g): to 1e-12.
+void expect_dense_solution(const SparseMatrix& J, const Vector& b, const Vector& c, double d, const Vector& f, double g,
+                           const Vector& x, double y, int det_sign) {
+  const long n = J.rows();
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(n + 1, n + 1);
+  A.topLeftCorner(n, n) = Eigen::MatrixXd(J);
+  A.block(0, n, n, 1) = b;
+  A.block(n, 0, 1, n) = c.transpose();
+  A(n, n) = d;
+  Vector rhs(n + 1);
+  rhs << f, g;
+  const Vector ref = A.fullPivLu().solve(rhs);
+  EXPECT_LT((x - ref.head(n)).cwiseAbs().maxCoeff(), 1e-12 * ref.cwiseAbs().maxCoeff());
+  EXPECT_NEAR(y, ref[n], 1e-12 * ref.cwiseAbs().maxCoeff());
+  EXPECT_EQ(det_sign, A.determinant() > 0 ? 1 : -1);
+}
+
 }  // namespace
 
 // Both ways of solving the bordered system (the whole matrix, and block elimination on J with
@@ -68,17 +85,7 @@ TEST(BorderedSystem, MatchesDenseSolveIncludingAtAFold) {
     if (mode == BorderedSystem::Mode::Block) {
       EXPECT_EQ(bs.fallbacks(), singular ? 1 : 0);
     }
-    Eigen::MatrixXd A = Eigen::MatrixXd::Zero(n + 1, n + 1);
-    A.topLeftCorner(n, n) = Eigen::MatrixXd(J);
-    A.block(0, n, n, 1) = b;
-    A.block(n, 0, 1, n) = c.transpose();
-    A(n, n) = d;
-    Vector rhs(n + 1);
-    rhs << f, g;
-    const Vector ref = A.fullPivLu().solve(rhs);
-    EXPECT_LT((x - ref.head(n)).cwiseAbs().maxCoeff(), 1e-12 * ref.cwiseAbs().maxCoeff());
-    EXPECT_NEAR(y, ref[n], 1e-12 * ref.cwiseAbs().maxCoeff());
-    EXPECT_EQ(bs.determinant_sign(), A.determinant() > 0 ? 1 : -1);
+    expect_dense_solution(J, b, c, d, f, g, x, y, bs.determinant_sign());
   }
 }
 
@@ -99,17 +106,7 @@ TEST(BorderedSystem, NewBorderRowWithoutRefactorising) {
   double y = 0;
   ASSERT_TRUE(bs.solve(f, g, x, y).is_ok());
   EXPECT_EQ(bs.fallbacks(), 0);
-  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(n + 1, n + 1);
-  A.topLeftCorner(n, n) = Eigen::MatrixXd(J);
-  A.block(0, n, n, 1) = b;
-  A.block(n, 0, 1, n) = c2.transpose();
-  A(n, n) = d2;
-  Vector rhs(n + 1);
-  rhs << f, g;
-  const Vector ref = A.fullPivLu().solve(rhs);
-  EXPECT_LT((x - ref.head(n)).cwiseAbs().maxCoeff(), 1e-12 * ref.cwiseAbs().maxCoeff());
-  EXPECT_NEAR(y, ref[n], 1e-12 * ref.cwiseAbs().maxCoeff());
-  EXPECT_EQ(bs.determinant_sign(), A.determinant() > 0 ? 1 : -1);
+  expect_dense_solution(J, b, c2, d2, f, g, x, y, bs.determinant_sign());
   // the whole-matrix mode cannot: the row is inside its factorisation
   BorderedSystem full(J, {}, BorderedSystem::Mode::Full);
   full.set(J, b, c2, d2);

@@ -28,6 +28,25 @@ StabilityOptions stability(int count) {
   return s;
 }
 
+struct Traced {
+  ContinuationResult result;
+  test::RecordingObserver rec;
+  std::vector<std::string> columns;  // of the analysis
+};
+
+// Traces from the problem's initial guess (or switches branches at *switch_at) with the spectrum
+// of `count` eigenvalues at every point.
+Traced trace_with_stability(Problem& p, const ContinuationOptions& o, int count,
+                            const BranchPoint* switch_at = nullptr) {
+  Continuation cont(p, o);
+  StabilityAnalysis analysis(stability(count));
+  cont.set_analysis(&analysis);
+  Traced t;
+  t.columns = analysis.column_names();
+  t.result = switch_at ? cont.switch_branch(*switch_at, +1, t.rec) : cont.run(p.initial_guess(), t.rec);
+  return t;
+}
+
 int column(const std::vector<std::string>& names, const std::string& n) {
   return static_cast<int>(std::find(names.begin(), names.end(), n) - names.begin());
 }
@@ -48,20 +67,16 @@ TEST(Stability, BratuFoldIsWhereAnEigenvalueCrossesZero) {
   o.event_tolerance = 1e-12;
   o.stop_observable = "u_mid";
   o.stop_above = 4.0;
-  Continuation cont(p, o);
-  StabilityAnalysis analysis(stability(4));
-  cont.set_analysis(&analysis);
-  test::RecordingObserver rec;
-  const auto r = cont.run(p.initial_guess(), rec);
-  ASSERT_EQ(r.code, StopCode::StopObservable) << r.reason;
+  const Traced t = trace_with_stability(p, o, 4);
+  const auto& rec = t.rec;
+  ASSERT_EQ(t.result.code, StopCode::StopObservable) << t.result.reason;
   const auto folds = rec.of_kind(PointKind::Fold);
   ASSERT_EQ(folds.size(), 1u);
   const BranchPoint& f = *folds[0];
   EXPECT_NE(f.label.find("eigenvalue crosses zero"), std::string::npos) << f.label;
   EXPECT_NE(f.label.find("0 -> 1"), std::string::npos) << f.label;
   EXPECT_TRUE(rec.of_kind(PointKind::BranchPoint).empty());
-  const auto names = analysis.column_names();
-  const double s1 = f.analysis[column(names, "sigma1_re")], s2 = f.analysis[column(names, "sigma2_re")];
+  const double s1 = f.analysis[column(t.columns, "sigma1_re")], s2 = f.analysis[column(t.columns, "sigma2_re")];
   std::cout << std::setprecision(12) << "fold at lambda = " << f.lambda << ": sigma1 = " << s1 << ", sigma2 = " << s2
             << "\n";
   // located to 1e-12 in lambda, so to about 1e-6 along the branch: sigma1 = O(1e-6) sigma2
@@ -88,12 +103,9 @@ TEST(Stability, PitchforkBranchPointsConvergeAndTheSwitchedBranchBifurcates) {
     o.event_tolerance = 1e-10;
     o.detect_branch_points = false;
     o.state_scale = 1.0;
-    Continuation cont(p, o);
-    StabilityAnalysis analysis(stability(4));
-    cont.set_analysis(&analysis);
-    test::RecordingObserver rec;
-    const auto r = cont.run(p.initial_guess(), rec);
-    ASSERT_EQ(r.code, StopCode::UpperBound) << r.reason;
+    const Traced t = trace_with_stability(p, o, 4);
+    const auto& rec = t.rec;
+    ASSERT_EQ(t.result.code, StopCode::UpperBound) << t.result.reason;
     const auto bps = rec.of_kind(PointKind::BranchPoint);
     ASSERT_EQ(bps.size(), 2u) << "n = " << n;
     EXPECT_TRUE(rec.of_kind(PointKind::Fold).empty());
@@ -111,13 +123,11 @@ TEST(Stability, PitchforkBranchPointsConvergeAndTheSwitchedBranchBifurcates) {
     if (n != 64) continue;
     // switching at the first branch point: the new branch leaves u = 0, bends to lambda > lambda_1
     // (supercritical) and is stable
-    Continuation sw(p, o);
-    StabilityAnalysis analysis2(stability(4));
-    sw.set_analysis(&analysis2);
-    test::RecordingObserver rec2;
     o.upper = 20.0;
-    const auto r2 = sw.switch_branch(*bps[0], +1, rec2);
-    ASSERT_EQ(r2.code, StopCode::UpperBound) << r2.reason;
+    const Traced t2 = trace_with_stability(p, o, 4, bps[0]);
+    const auto& rec2 = t2.rec;
+    ASSERT_EQ(t2.result.code, StopCode::UpperBound) << t2.result.reason;
+    EXPECT_EQ(rec2.points.back().lambda, 20.0);
     ASSERT_GT(rec2.points.size(), 5u);
     std::vector<std::string> obs = p.observable_names();
     const int inorm = column(obs, "u_norm");
@@ -154,12 +164,9 @@ TEST(Stability, BrusselatorHopfLocatedWithItsFrequency) {
     o.initial_step = 0.1;
     o.max_step = 0.5;
     o.event_tolerance = 1e-10;
-    Continuation cont(p, o);
-    StabilityAnalysis analysis(stability(6));
-    cont.set_analysis(&analysis);
-    test::RecordingObserver rec;
-    const auto r = cont.run(p.initial_guess(), rec);
-    ASSERT_EQ(r.code, StopCode::UpperBound) << r.reason;
+    const Traced t = trace_with_stability(p, o, 6);
+    const auto& rec = t.rec;
+    ASSERT_EQ(t.result.code, StopCode::UpperBound) << t.result.reason;
     const auto hopf = rec.of_kind(PointKind::Hopf);
     ASSERT_EQ(hopf.size(), 1u) << "a = " << a;
     const BranchPoint& h = *hopf[0];
