@@ -22,6 +22,9 @@ void StabilityOptions::declare(SceneSchema& s) {
   s.real("stability.arpack_tolerance", 1e-10, "ARPACK's relative accuracy of the Ritz values", Range::positive());
   s.real("stability.residual_tolerance", 1e-8, "largest accepted relative residual of an eigenpair",
          Range::positive());
+  s.real("stability.neutral_tolerance", 1e-8,
+         "eigenvalues with |Re sigma| <= this x max(1, |sigma|) are neutral, not counted as unstable",
+         Range::non_negative());
 }
 
 StabilityOptions StabilityOptions::from_scene(const Scene& sc) {
@@ -32,6 +35,7 @@ StabilityOptions StabilityOptions::from_scene(const Scene& sc) {
   o.residual_tolerance = sc.real("stability.residual_tolerance");
   o.ncv = static_cast<int>(sc.integer("stability.ncv"));
   o.arpack_tolerance = sc.real("stability.arpack_tolerance");
+  o.neutral_tolerance = sc.real("stability.neutral_tolerance");
   const auto& re = sc.real_list("stability.shifts_re");
   const auto& im = sc.real_list("stability.shifts_im");
   if (re.empty()) throw sc.error("stability.shifts_re", "needs at least one shift");
@@ -128,17 +132,22 @@ Status StabilityAnalysis::analyse(Problem& problem, const Vector& u, PointAnalys
     if (a.value.real() != b.value.real()) return a.value.real() < b.value.real();
     return a.value.imag() < b.value.imag();
   });
-  int unstable = 0;
+  // Two counts: the engine brackets a change by the strict sign of Re sigma (every trial point
+  // falls on one side); the table reports eigenvalues on the axis to within neutral_tolerance as
+  // neutral, so that the count at a located bifurcation point, whose critical eigenvalue is zero
+  // to rounding, does not hang on the last bit of Re sigma.
+  int unstable = 0, unstable_reported = 0;
   double max_residual = 0.0;
   for (const auto& p : all) {
     if (p.value.real() < 0) ++unstable;
+    if (p.value.real() < -options_.neutral_tolerance * std::max(1.0, std::abs(p.value))) ++unstable_reported;
     max_residual = std::max(max_residual, p.residual);
   }
   for (int i = 0; i < k && i < static_cast<int>(all.size()); ++i) {
     out.columns[2 * i] = all[static_cast<size_t>(i)].value.real();
     out.columns[2 * i + 1] = all[static_cast<size_t>(i)].value.imag();
   }
-  out.columns[2 * k] = unstable;
+  out.columns[2 * k] = unstable_reported;
   out.columns[2 * k + 1] = max_residual;
   if (!worst.is_ok() && max_residual > options_.residual_tolerance) return worst;
   out.count = unstable;

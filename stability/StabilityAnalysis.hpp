@@ -1,6 +1,7 @@
 // Linear stability of each point of a branch: the eigenvalues of J phi = sigma B phi nearest one
 // or more shifts (EigenSolver), merged, as columns of the branch table (sigma1_re, sigma1_im, ...
-// by real part ascending), the number of unstable eigenvalues (Re sigma < 0, since B du/dt = -F)
+// by real part ascending), the number of unstable eigenvalues (Re sigma < 0, since B du/dt = -F,
+// and not neutral: |Re sigma| above neutral_tolerance x max(1, |sigma|))
 // among those computed, and the critical eigenvalue (nearest the imaginary axis) with its
 // eigenvector, so that the continuation engine detects and locates where the count changes.
 // Eigenvalues far from every shift are not computed: a count is "among the eigenvalues nearest
@@ -27,6 +28,7 @@ struct StabilityOptions {
   double residual_tolerance = 1e-8;                   // relative eigen-residual that is accepted
   int ncv = 0;                                        // Arnoldi basis size (0: EigenSolver's default)
   double arpack_tolerance = 1e-10;                    // ARPACK's relative accuracy of the Ritz values
+  double neutral_tolerance = 1e-8;                    // |Re sigma| <= this x max(1,|sigma|): neutral
   static void declare(SceneSchema& schema);
   static StabilityOptions from_scene(const Scene& scene);
 };

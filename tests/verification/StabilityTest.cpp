@@ -178,6 +178,12 @@ TEST(Stability, BrusselatorHopfLocatedWithItsFrequency) {
     EXPECT_EQ(h.label.rfind("omega = ", 0), 0u) << h.label;
     EXPECT_TRUE(rec.of_kind(PointKind::Fold).empty());
     EXPECT_TRUE(rec.of_kind(PointKind::BranchPoint).empty());
+    // the critical pair sits on the axis (|Re sigma| ~ 1e-9 or below at the located b) and counts as
+    // neutral in the table: 0 unstable there, 2 at the end (b = 1 + a^2 + 1.5, Re sigma = -0.75)
+    const size_t iu = 2 * 6;  // columns: sigma1_re, sigma1_im, ..., sigma6_im, unstable
+    ASSERT_GT(h.analysis.size(), iu);
+    EXPECT_EQ(h.analysis[iu], 0.0);
+    EXPECT_EQ(rec.points.back().analysis[iu], 2.0);
     // the critical eigenvector (complex) is stored with the point and is an eigenvector of (J, B)
     ASSERT_EQ(h.critical_re.size(), p.size());
   }
