@@ -4,7 +4,7 @@ killed (those open only in SWMR read mode)."""
 import h5py
 import numpy as np
 
-KINDS = {0: "point", 1: "start", 2: "requested", 3: "event", 4: "fold", 5: "branch point", 6: "end"}
+KINDS = {0: "point", 1: "start", 2: "requested", 3: "event", 4: "fold", 5: "branch point", 6: "end", 7: "Hopf"}
 
 
 def open_h5(path):

@@ -360,3 +360,33 @@ TEST(Trace, CollapsibleFiguresFromTheBranchFile) {
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
   EXPECT_GT(fs::file_size(dir + "/i.png"), 10000u);
 }
+
+// runs/scripts/mesh_convergence.py on the Bratu fold branch at 16, 32 and 64 intervals: u_mid is
+// compared at the requested lambda = 1, 2, 3, then 3, 2 again past the fold (second visits kept
+// apart). Central differences are second order, so halving h divides the change by 4.
+TEST(Trace, MeshConvergenceScript) {
+  const std::string dir = test::scratch_dir("trace_mesh_convergence");
+  std::string files;
+  for (int n : {16, 32, 64}) {
+    const std::string out = dir + "/b" + std::to_string(n) + ".h5";
+    const auto r = test::run_keller("trace " + test::source_path("runs/scenes/bratu1d_fold.toml") + " -o " + out +
+                                    " --set bratu.intervals=" + std::to_string(n));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    files += " " + out;
+  }
+  const std::string cmd = std::string(KELLER_PYTHON) + " " + test::source_path("runs/scripts/mesh_convergence.py") +
+                          files + " --labels h16 h32 h64 --observables u_mid --csv " + dir + "/c.csv > " + dir +
+                          "/c.txt";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  const auto [cols, rows] = read_csv(dir + "/c.csv");
+  ASSERT_EQ(cols, (std::vector<std::string>{"lambda", "u_mid:h16->h32", "u_mid:h32->h64"}));
+  ASSERT_EQ(rows.size(), 5u);  // lambda = 1, 2, 3 before the fold, 3, 2 after it
+  const std::vector<double> lambdas = {1, 2, 3, 3, 2};
+  for (size_t i = 0; i < rows.size(); ++i) {
+    EXPECT_EQ(rows[i][0], lambdas[i]);
+    EXPECT_NEAR(rows[i][1] / rows[i][2], 4.0, 0.1) << "lambda = " << rows[i][0];
+  }
+  std::ifstream txt(dir + "/c.txt");
+  const std::string all((std::istreambuf_iterator<char>(txt)), std::istreambuf_iterator<char>());
+  EXPECT_NE(all.find("mesh converged (h32 -> h64 within 0.01 in u_mid) up to lambda = 2"), std::string::npos) << all;
+}
