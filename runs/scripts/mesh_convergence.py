@@ -64,6 +64,7 @@ def main():
     print(f"ends: " + "; ".join(f"{l}: {st}" for l, (_, _, st) in zip(labels, runs)))
     pairs = [f"{labels[k]}->{labels[k + 1]}" for k in range(len(labels) - 1)]
     worst = {}
+    per_observable = {}
     csv_rows = {v: [v[0]] for v in common}
     csv_header = [parameter]
     for o in a.observables:
@@ -76,6 +77,7 @@ def main():
             vals = [cols[o][r[v]] for (_, cols, _), r in zip(runs, rows)]
             changes = [abs(vals[k + 1] - vals[k]) / max(abs(vals[k + 1]), 1e-300) for k in range(len(vals) - 1)]
             worst[v] = max(worst.get(v, 0.0), changes[-1])
+            per_observable.setdefault(o, []).append((v, changes[-1]))
             csv_rows[v] += changes
             line = f"{v[0]:>10.4g} " + " ".join(f"{x:>14.7g}" for x in vals) + " " + " ".join(f"{c:>12.2e}" for c in changes)
             if len(changes) > 1:
@@ -88,6 +90,16 @@ def main():
             for v in common:
                 f.write(",".join(repr(float(x)) for x in csv_rows[v]) + "\n")
         os.replace(tmp, a.csv)
+    print(f"\nlargest {parameter} up to which {labels[-2]} -> {labels[-1]} changes by <= {a.tolerance:g}:")
+    for o in a.observables:
+        last = None
+        for v, c in per_observable[o]:
+            if c > a.tolerance:
+                break
+            last = v[0]
+        print(f"  {o:>12}: " + (f"{last:g}" if last is not None else f"none (already {per_observable[o][0][1]:.2e} at "
+                                                                       f"{parameter} = {common[0][0]:g})") +
+              (f" (the last common value)" if last is not None and last == common[-1][0] else ""))
     converged = None
     for v in common:
         if worst[v] <= a.tolerance:
