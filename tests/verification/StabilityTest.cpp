@@ -2,6 +2,7 @@
 // engine): eigenvalues crossing zero at a fold and at pitchforks with known locations, a Hopf
 // point with a known location and frequency, branch switching onto the bifurcated branch, and
 // the spectrum of the collapsible channel on a coarse mesh.
+#include <complex>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -21,10 +22,11 @@ using namespace keller;
 
 namespace {
 
-StabilityOptions stability(int count) {
+StabilityOptions stability(int count, std::vector<std::complex<double>> shifts = {0.0}) {
   StabilityOptions s;
   s.enabled = true;
   s.count = count;
+  s.shifts = std::move(shifts);
   return s;
 }
 
@@ -37,9 +39,10 @@ struct Traced {
 // Traces from the problem's initial guess (or switches branches at *switch_at) with the spectrum
 // of `count` eigenvalues at every point.
 Traced trace_with_stability(Problem& p, const ContinuationOptions& o, int count,
-                            const BranchPoint* switch_at = nullptr) {
+                            const BranchPoint* switch_at = nullptr,
+                            std::vector<std::complex<double>> shifts = {0.0}) {
   Continuation cont(p, o);
-  StabilityAnalysis analysis(stability(count));
+  StabilityAnalysis analysis(stability(count, std::move(shifts)));
   cont.set_analysis(&analysis);
   Traced t;
   t.columns = analysis.column_names();
@@ -241,4 +244,38 @@ TEST(Stability, CollapsibleChannelSpectraOnACoarseMesh) {
       EXPECT_TRUE(std::isfinite(std::abs(e.value)));
     }
   }
+}
+
+// The same Hopf point found through a complex shift alone: s = 1.9 i next to the crossing pair
+// (omega = a = 2), two eigenvalues per point, complex arithmetic (znaupd on a complex
+// factorisation of J - s B) at every point of the branch. The pair found is the crossing one and
+// its conjugate is completed, so the count still changes 0 -> 2 and the location agrees with the
+// exact b = 1 + a^2.
+TEST(Stability, BrusselatorHopfThroughAComplexShift) {
+  const double a = 2.0;
+  Brusselator1DOptions bo;
+  bo.intervals = 32;
+  bo.a = a;
+  bo.b = 1.0 + a * a - 1.7;
+  Brusselator1DProblem p(bo);
+  ContinuationOptions o;
+  o.parameter = "b";
+  o.upper = 1.0 + a * a + 1.5;
+  o.initial_step = 0.1;
+  o.max_step = 0.5;
+  o.event_tolerance = 1e-10;
+  const Traced t = trace_with_stability(p, o, 2, nullptr, {std::complex<double>(0.0, 1.9)});
+  ASSERT_EQ(t.result.code, StopCode::UpperBound) << t.result.reason;
+  const auto hopf = t.rec.of_kind(PointKind::Hopf);
+  ASSERT_EQ(hopf.size(), 1u);
+  const BranchPoint& h = *hopf[0];
+  std::cout << std::setprecision(12) << "complex shift 1.9i: Hopf at b = " << h.lambda << ", omega = "
+            << std::abs(h.critical_imag) << " (" << h.label << ")\n";
+  EXPECT_NEAR(h.lambda, 1.0 + a * a, 1e-8);
+  EXPECT_NEAR(std::abs(h.critical_imag), a, 1e-6);
+  EXPECT_NE(h.label.find("0 -> 2"), std::string::npos) << h.label;
+  // the columns hold the conjugate pair (sigma1, sigma2) = (x - i omega, x + i omega)
+  const double im1 = h.analysis[column(t.columns, "sigma1_im")], im2 = h.analysis[column(t.columns, "sigma2_im")];
+  EXPECT_NEAR(im1, -a, 1e-6);
+  EXPECT_NEAR(im2, a, 1e-6);
 }
