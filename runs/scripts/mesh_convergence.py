@@ -40,6 +40,7 @@ def main():
     ap.add_argument("--observables", nargs="*", default=["dP", "dy_max", "gap_min", "max_m3"])
     ap.add_argument("--tolerance", type=float, default=0.01, help="relative change between the two finest meshes")
     ap.add_argument("--figure", help="PNG: each observable against the parameter, one curve per mesh")
+    ap.add_argument("--xmax", type=float, help="figure: largest parameter value shown")
     ap.add_argument("--csv", help="write the relative changes (one column per observable and mesh pair)")
     a = ap.parse_args()
     if len(a.files) < 2:
@@ -122,10 +123,14 @@ def main():
         fig, axes = plt.subplots(1, len(a.observables), figsize=(4 * len(a.observables), 3.4), squeeze=False)
         for ax, o in zip(axes[0], a.observables):
             for (_, cols, _), l in zip(runs, labels):
-                order = np.argsort(cols[parameter], kind="stable")
-                ax.plot(cols[parameter][order], cols[o][order], ".-", label=l)
+                x, y = cols[parameter], cols[o]
+                if a.xmax is not None:
+                    x, y = x[x <= a.xmax], y[x <= a.xmax]
+                ax.plot(x, y, ".-", label=l)  # in the order of the branch
             if converged is not None:
                 ax.axvline(converged, color="0.6", ls=":", lw=1)
+            if a.xmax is not None:
+                ax.set_xlim(right=a.xmax)
             ax.set_xlabel(parameter)
             ax.set_ylabel(o)
         axes[0][0].legend()
