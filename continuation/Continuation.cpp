@@ -597,6 +597,8 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
   next_index_ = 0;
   last_count_ = -1;
   last_count_index_ = -1;
+  last_analysed_.reset();
+  unanalysed_.clear();
   observer.on_start(problem_.observable_names(), monitor_names_);
 
   // the start: observables, and the sign of det of the bordered matrix with its own tangent
@@ -624,6 +626,7 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
   if (start.analysed && start.count >= 0 && start.label != "switched") {
     last_count_ = start.count;
     last_count_index_ = start.index;
+    if (analysis_ && analysis_->every() > 1) last_analysed_ = start;
   }
   report(observer, start);
 
@@ -688,7 +691,9 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
       if (angle > max_angle && ds > options_.min_step)
         st = {StatusCode::NotConverged, fmt::format("tangent turned by {:.1f} degrees", angle * 180.0 / M_PI)};
     }
-    const bool analyse_now = analysis_ && (steps + 1) % std::max(analysis_->every(), 1) == 0;
+    // (the last step analyses its point too, so that no change of the count goes unchecked)
+    const bool analyse_now =
+        analysis_ && ((steps + 1) % std::max(analysis_->every(), 1) == 0 || steps + 1 >= options_.max_steps);
     if (st.is_ok()) st = evaluate(nxt, analyse_now);
     if (!st.is_ok()) {
       ++result.rejected;
@@ -731,7 +736,9 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
         return;
       }
       location_note_.clear();
-      if (analysis_ && !p->analysed) analyse(*p);
+      // located points get their spectrum with every point analysed (with every N > 1 they cost
+      // one spectrum each, more than the branch's own: left out)
+      if (analysis_ && !p->analysed && analysis_->every() == 1) analyse(*p);
       p->kind = kind;
       p->label = std::move(label);
       located.push_back({std::move(*p), terminal, code});
@@ -761,21 +768,52 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
     // changes of the analysis count (stability): a real eigenvalue through zero is a fold where the
     // parameter turns, else a branch point; a complex pair through the imaginary axis a Hopf point.
     // Where the engine located the same fold or branch point itself, that point says so instead.
+    // a branch that ends on this step: its last stretch is checked too (analysis every N points)
+    if (analysis_ && !nxt.analysed &&
+        std::any_of(located.begin(), located.end(), [](const Located& l) { return l.terminal; }))
+      analyse(nxt);
     if (analysis_ && nxt.analysed) {
       if (last_count_ >= 0 && nxt.count >= 0 && last_count_ != nxt.count) {
-        const std::string change = fmt::format("{} {} -> {}", analysis_->count_name(), last_count_, nxt.count);
-        if (last_count_index_ != cur.index) {
+        // the analysed pair that brackets the change: cur and nxt, or (analysis every N points)
+        // found by bisection over the accepted points since the last analysed one, analysing
+        // about log2(N) of them
+        BranchPoint* a = &cur;
+        BranchPoint* b = &nxt;
+        bool bracketed = last_count_index_ == cur.index;
+        if (!bracketed && last_analysed_ && last_analysed_->index == last_count_index_ && !unanalysed_.empty() &&
+            unanalysed_.back().index == cur.index) {
+          std::vector<BranchPoint*> seq{&*last_analysed_};
+          for (BranchPoint& q : unanalysed_) seq.push_back(&q);
+          seq.push_back(&nxt);
+          size_t lo = 0, hi = seq.size() - 1;
+          bracketed = true;
+          while (hi - lo > 1) {
+            const size_t mid = (lo + hi) / 2;
+            analyse(*seq[mid]);
+            if (seq[mid]->count < 0) {
+              bracketed = false;
+              break;
+            }
+            (seq[mid]->count == last_count_ ? lo : hi) = mid;
+          }
+          a = seq[lo];
+          b = seq[hi];
+        }
+        const std::string change = fmt::format("{} {} -> {}", analysis_->count_name(), a->count, b->count);
+        if (!bracketed) {
           observer.on_note(fmt::format("{} between rows {} and {} (not located: analysis every {} points)", change,
                                        last_count_index_, next_index_, analysis_->every()));
         } else {
-          const bool fold = cur.tlambda * nxt.tlambda < 0;
-          std::optional<BranchPoint> p = locate_root(cur, nxt, -4, cur.locator, nxt.locator);
+          const bool fold = a->tlambda * b->tlambda < 0;
+          std::optional<BranchPoint> p = locate_root(*a, *b, -4, a->locator, b->locator);
           if (p) {
             const double scale = 1.0 + std::abs(p->locator);
             const bool complex = std::abs(p->critical_imag) > 1e-8 * scale;
             const PointKind kind = complex ? PointKind::Hopf : (fold ? PointKind::Fold : PointKind::BranchPoint);
             std::string label = complex ? fmt::format("omega = {:.8g}, {}", std::abs(p->critical_imag), change)
                                         : fmt::format("eigenvalue crosses zero, {}", change);
+            if (a != &cur) label += fmt::format(" (bracketed by bisection between rows {} and {})", a->index,
+                                                b == &nxt ? next_index_ : b->index);
             auto same = std::find_if(located.begin(), located.end(), [&](const Located& l) { return l.point.kind == kind; });
             if (same != located.end()) {
               same->point.label += ", " + label;
@@ -812,6 +850,14 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
     if (nxt.analysed && nxt.count >= 0) {
       last_count_ = nxt.count;
       last_count_index_ = nxt.index;
+    }
+    if (analysis_ && analysis_->every() > 1) {
+      if (nxt.analysed) {
+        last_analysed_ = nxt;
+        unanalysed_.clear();
+      } else {
+        unanalysed_.push_back(nxt);
+      }
     }
     report(observer, nxt);
     prev = std::move(cur);

@@ -160,6 +160,10 @@ class Continuation {
   bool reusable_ = false;
   PointAnalysis* analysis_ = nullptr;
   int last_count_ = -1, last_count_index_ = -1;  // the last analysed point's count and row
+  // analysis every N > 1 points: the last analysed point and the accepted points after it, so
+  // that a change of the count is bracketed by bisection over them and located
+  std::optional<BranchPoint> last_analysed_;
+  std::vector<BranchPoint> unanalysed_;
   bool refactored_ = false;      // the last corrector call made a factorisation
   ContinuationTimings timings_;        // the kept factorisation belongs to a converged corrector
   SparseMatrix J_;

@@ -12,6 +12,8 @@ Reads only the HDF5 files (also one whose run was killed)."""
 import argparse
 import sys
 
+import numpy as np
+
 import matplotlib
 
 matplotlib.use("Agg")
@@ -39,6 +41,13 @@ def main(argv=None):
     args = ap.parse_args(argv)
 
     branches = [(path, *read_branch(path)) for path in args.branch]
+    # rows in the order along the branch: a change located by bisection (stability every N points)
+    # is written after rows that lie beyond it
+    for _, _, cols, _ in branches:
+        if "s" in cols:
+            order = np.argsort(cols["s"], kind="stable")
+            for c in cols:
+                cols[c] = cols[c][order]
     parameter, cols0 = branches[0][1], branches[0][2]
     fixed = {"row", "kind", "s", parameter, "iterations", "step", "seconds", "det_sign", "tangent_parameter",
              "saved_slot"}

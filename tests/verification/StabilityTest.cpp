@@ -22,11 +22,12 @@ using namespace keller;
 
 namespace {
 
-StabilityOptions stability(int count, std::vector<std::complex<double>> shifts = {0.0}) {
+StabilityOptions stability(int count, std::vector<std::complex<double>> shifts = {0.0}, int every = 1) {
   StabilityOptions s;
   s.enabled = true;
   s.count = count;
   s.shifts = std::move(shifts);
+  s.every = every;
   return s;
 }
 
@@ -40,9 +41,9 @@ struct Traced {
 // of `count` eigenvalues at every point.
 Traced trace_with_stability(Problem& p, const ContinuationOptions& o, int count,
                             const BranchPoint* switch_at = nullptr,
-                            std::vector<std::complex<double>> shifts = {0.0}) {
+                            std::vector<std::complex<double>> shifts = {0.0}, int every = 1) {
   Continuation cont(p, o);
-  StabilityAnalysis analysis(stability(count, std::move(shifts)));
+  StabilityAnalysis analysis(stability(count, std::move(shifts), every));
   cont.set_analysis(&analysis);
   Traced t;
   t.columns = analysis.column_names();
@@ -278,4 +279,57 @@ TEST(Stability, BrusselatorHopfThroughAComplexShift) {
   const double im1 = h.analysis[column(t.columns, "sigma1_im")], im2 = h.analysis[column(t.columns, "sigma2_im")];
   EXPECT_NEAR(im1, -a, 1e-6);
   EXPECT_NEAR(im2, a, 1e-6);
+}
+
+// Spectra only every 5th point: a change of the count is bracketed by bisection over the accepted
+// points since the last spectrum (about log2(5) more spectra) and located as with every point.
+// Pitchfork: both branch points to 1e-8 at their discrete values; Brusselator: the Hopf point at
+// b = 1 + a^2 with omega = a. Far fewer spectra than points.
+TEST(Stability, EveryNthPointStillLocatesByBisection) {
+  {
+    Pitchfork1DProblem p(32, 1.0);
+    ContinuationOptions o;
+    o.parameter = "lambda";
+    o.upper = 45.0;
+    o.initial_step = 0.5;
+    o.max_step = 2.0;
+    o.event_tolerance = 1e-10;
+    o.detect_branch_points = false;
+    o.state_scale = 1.0;
+    const Traced t = trace_with_stability(p, o, 4, nullptr, {0.0}, 5);
+    ASSERT_EQ(t.result.code, StopCode::UpperBound) << t.result.reason;
+    const auto bps = t.rec.of_kind(PointKind::BranchPoint);
+    ASSERT_EQ(bps.size(), 2u);
+    for (int k = 1; k <= 2; ++k) {
+      EXPECT_NEAR(bps[k - 1]->lambda, Pitchfork1DProblem::branch_point(k, 32), 1e-8) << "k = " << k;
+      EXPECT_NE(bps[k - 1]->label.find(std::to_string(k - 1) + " -> " + std::to_string(k)), std::string::npos)
+          << bps[k - 1]->label;
+    }
+    EXPECT_NE(bps[0]->label.find("bisection"), std::string::npos) << bps[0]->label;
+    const long analysed = std::count_if(t.rec.points.begin(), t.rec.points.end(),
+                                        [](const BranchPoint& q) { return q.analysed; });
+    std::cout << "pitchfork, every 5: " << analysed << " of " << t.rec.points.size() << " rows analysed\n";
+    EXPECT_LT(analysed, static_cast<long>(t.rec.points.size()) / 2);
+  }
+  {
+    const double a = 2.0;
+    Brusselator1DOptions bo;
+    bo.intervals = 32;
+    bo.a = a;
+    bo.b = 1.0 + a * a - 1.7;
+    Brusselator1DProblem p(bo);
+    ContinuationOptions o;
+    o.parameter = "b";
+    o.upper = 1.0 + a * a + 1.5;
+    o.initial_step = 0.05;
+    o.max_step = 0.1;
+    o.event_tolerance = 1e-10;
+    const Traced t = trace_with_stability(p, o, 6, nullptr, {0.0}, 5);
+    ASSERT_EQ(t.result.code, StopCode::UpperBound) << t.result.reason;
+    const auto hopf = t.rec.of_kind(PointKind::Hopf);
+    ASSERT_EQ(hopf.size(), 1u);
+    EXPECT_NEAR(hopf[0]->lambda, 1.0 + a * a, 1e-8);
+    EXPECT_NEAR(std::abs(hopf[0]->critical_imag), a, 1e-6);
+    EXPECT_NE(hopf[0]->label.find("0 -> 2"), std::string::npos) << hopf[0]->label;
+  }
 }
