@@ -765,13 +765,14 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
     if (arclength && options_.detect_branch_points && cur.bordered_det_sign * nxt.bordered_det_sign < 0)
       add(locate_root(cur, nxt, -2, cur.bordered_det_sign, nxt.bordered_det_sign), PointKind::BranchPoint,
           "det sign change", false, StopCode::MaxSteps);
-    // changes of the analysis count (stability): a real eigenvalue through zero is a fold where the
-    // parameter turns, else a branch point; a complex pair through the imaginary axis a Hopf point.
-    // Where the engine located the same fold or branch point itself, that point says so instead.
     // a branch that ends on this step: its last stretch is checked too (analysis every N points)
     if (analysis_ && !nxt.analysed &&
         std::any_of(located.begin(), located.end(), [](const Located& l) { return l.terminal; }))
       analyse(nxt);
+    // changes of the analysis count (stability): a real eigenvalue through zero is a fold where the
+    // parameter turns, else a branch point; a complex pair through the imaginary axis a Hopf point.
+    // Where the engine located the same fold or branch point on this step itself, that point says
+    // so instead.
     if (analysis_ && nxt.analysed) {
       if (last_count_ >= 0 && nxt.count >= 0 && last_count_ != nxt.count) {
         // the analysed pair that brackets the change: cur and nxt, or (analysis every N points)
@@ -812,9 +813,13 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
             const PointKind kind = complex ? PointKind::Hopf : (fold ? PointKind::Fold : PointKind::BranchPoint);
             std::string label = complex ? fmt::format("omega = {:.8g}, {}", std::abs(p->critical_imag), change)
                                         : fmt::format("eigenvalue crosses zero, {}", change);
-            if (a != &cur) label += fmt::format(" (bracketed by bisection between rows {} and {})", a->index,
-                                                b == &nxt ? next_index_ : b->index);
-            auto same = std::find_if(located.begin(), located.end(), [&](const Located& l) { return l.point.kind == kind; });
+            const bool this_step = a == &cur && b == &nxt;
+            if (!this_step)
+              label += fmt::format(" (bracketed by bisection between {} = {:.8g} and {:.8g})", options_.parameter,
+                                   a->lambda, b->lambda);
+            auto same = this_step ? std::find_if(located.begin(), located.end(),
+                                                 [&](const Located& l) { return l.point.kind == kind; })
+                                  : located.end();
             if (same != located.end()) {
               same->point.label += ", " + label;
             } else {
