@@ -45,6 +45,8 @@ class BorderedSystem {
   const SparseMatrix& matrix() const { return A_; }
   // The factorisation in use: J's in block mode, the extended matrix's otherwise.
   const SparseLU& lu() const { return mode_ == Mode::Block ? lu_j_ : lu_; }
+  // J's own factorisation (block mode, J regular), for others to solve with; null otherwise.
+  SparseLU* j_factorisation() { return mode_ == Mode::Block && block_ok_ ? &lu_j_ : nullptr; }
   // Factorisations that fell back from block elimination to the full matrix.
   long fallbacks() const { return fallbacks_; }
   // Cumulative wall time of numeric factorisations and solves (both factorisations).

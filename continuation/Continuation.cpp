@@ -153,7 +153,7 @@ Status Continuation::correct_iterations(Vector& u, double& lambda, const Constra
       st = timed_parameter_derivative(u);
       if (!st.is_ok()) return st;
       bordered_->set(J_, Fp_, c.cu, c.cl);
-      st = bordered_->factorize();
+      st = factorise(u, lambda);
       if (!st.is_ok()) return st;
       ++factorisations_;
     }
@@ -196,17 +196,37 @@ Status Continuation::factorize_at(const Vector& u, double lambda, const Constrai
   if (st.is_ok()) st = timed_parameter_derivative(u);
   if (!st.is_ok()) return st;
   bordered_->set(J_, Fp_, c.cu, c.cl);
-  st = bordered_->factorize();
+  st = factorise(u, lambda);
   if (!st.is_ok()) return st;
   ++factorisations_;
   reusable_ = true;
   return {};
 }
 
+Status Continuation::factorise(const Vector& u, double lambda) {
+  j_lambda_ = NAN;
+  const Status st = bordered_->factorize();
+  if (st.is_ok()) {
+    j_u_ = u;
+    j_lambda_ = lambda;
+  }
+  return st;
+}
+
+SparseLU* Continuation::factorisation_at(const BranchPoint& p) {
+  if (!(j_lambda_ == p.lambda) || j_u_.size() != p.u.size() || j_u_ != p.u) return nullptr;
+  return bordered_->j_factorisation();
+}
+
 Status Continuation::point_tangent(BranchPoint& p, const Constraint& c, const Vector& tu_prev, double tl_prev,
                                    bool refresh) {
-  if (!options_.reuse_factorisation)
+  if (!options_.reuse_factorisation) {
+    if (refresh) {
+      const Status st = factorize_at(p.u, p.lambda, c);
+      if (!st.is_ok()) return st;
+    }
     return tangent_from_factorisation(tu_prev, tl_prev, p.tu, p.tlambda, p.det_sign);
+  }
   // the determinant (branch points) needs a factorisation at the point itself; so does a kept
   // factorisation that has grown too old (refresh)
   bool converged = false;
@@ -278,12 +298,12 @@ Status Continuation::initial_tangent(const Vector& u, double lambda, Vector& tu,
   // [J F_p; 0 1] gives (-J^-1 F_p, 1) where J is regular; at a fold J is singular and a generic
   // border row (0 on the parameter) is used instead.
   bordered_->set(J_, Fp_, Vector(), 1.0);
-  st = bordered_->factorize();
+  st = factorise(u, lambda);
   if (st.code() == StatusCode::SingularMatrix) {
     Vector w(problem_.size());
     for (int i = 0; i < w.size(); ++i) w[i] = std::sin(1.0 + 0.7 * i);  // deterministic, generic
     bordered_->set(J_, Fp_, w, 0.0);
-    st = bordered_->factorize();
+    st = factorise(u, lambda);
   }
   if (!st.is_ok()) return st;
   ++factorisations_;
@@ -317,7 +337,13 @@ void Continuation::analyse(BranchPoint& p) {
   const auto t0 = std::chrono::steady_clock::now();
   Status st = set_parameter(p.lambda);
   PointAnalysisResult r;
-  if (st.is_ok()) st = analysis_->analyse(problem_, p.u, r);
+  SparseLU* shared = st.is_ok() ? factorisation_at(p) : nullptr;
+  const double solve_seconds0 = bordered_->solve_seconds();
+  const long solves0 = bordered_->solves();
+  if (st.is_ok()) st = analysis_->analyse(problem_, p.u, r, shared);
+  // solves with the shared factorisation are the analysis's time, not the continuation's
+  shared_solve_seconds_ += bordered_->solve_seconds() - solve_seconds0;
+  shared_solves_ += bordered_->solves() - solves0;
   timings_.analysis += seconds_since(t0);
   ++timings_.analyses;
   p.analysed = true;
@@ -601,20 +627,22 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
   unanalysed_.clear();
   observer.on_start(problem_.observable_names(), monitor_names_);
 
-  // the start: observables, and the sign of det of the bordered matrix with its own tangent
-  Status st = evaluate(start);
+  // the start: observables, the sign of det of the bordered matrix with its own tangent, and
+  // the analysis (with that factorisation of J)
+  Status st = evaluate(start, false);
   if (st.is_ok() && arclength) {
     st = timed_jacobian(start.u);
     if (st.is_ok()) st = timed_parameter_derivative(start.u);
     if (st.is_ok()) {
       bordered_->set(J_, Fp_, wu_ * start.tu, wl_ * start.tlambda);
-      st = bordered_->factorize();
+      st = factorise(start.u, start.lambda);
       ++factorisations_;
       reusable_ = st.is_ok();
       start.bordered_det_sign = st.is_ok() ? bordered_->determinant_sign() : 0;
       st = {};
     }
   }
+  if (st.is_ok() && analysis_) analyse(start);
   if (!st.is_ok()) {
     result.code = StopCode::StepFloor;
     result.reason = "the starting point cannot be evaluated: " + st.describe();
@@ -637,8 +665,8 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
     result.factorisations = factorisations_;
     result.tangent_iterations = tangent_iterations_;
     timings_.factorisation = bordered_->factor_seconds();
-    timings_.solve = bordered_->solve_seconds();
-    timings_.solves = bordered_->solves();
+    timings_.solve = bordered_->solve_seconds() - shared_solve_seconds_;
+    timings_.solves = bordered_->solves() - shared_solves_;
     timings_.total = seconds_since(t_start_);
     result.timings = timings_;
     result.last = last;
@@ -682,7 +710,13 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
     // A kept factorisation that made the chord corrector slower than the target is renewed at the
     // new point instead of shrinking the step (the step was not too long: the matrix was too old).
     const bool stale = options_.reuse_factorisation && !refactored_ && nxt.iterations > options_.target_iterations;
-    if (st.is_ok()) st = point_tangent(nxt, c, cur.tu, cur.tlambda, stale);
+    // (the last step analyses its point too, so that no change of the count goes unchecked)
+    const bool analyse_now =
+        analysis_ && ((steps + 1) % std::max(analysis_->every(), 1) == 0 || steps + 1 >= options_.max_steps);
+    // a point about to be analysed gets J's factorisation at itself (block elimination): the
+    // tangent is then exact and the analysis solves with it instead of factorising J again
+    const bool share = analyse_now && options_.block_elimination && analysis_->uses_j_factorisation();
+    if (st.is_ok()) st = point_tangent(nxt, c, cur.tu, cur.tlambda, stale || share);
     if (!st.is_ok()) reusable_ = false;
     // a sharp turn of the tangent means the step skipped a feature of the branch or, in natural
     // continuation, jumped to another branch past a fold
@@ -691,9 +725,6 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
       if (angle > max_angle && ds > options_.min_step)
         st = {StatusCode::NotConverged, fmt::format("tangent turned by {:.1f} degrees", angle * 180.0 / M_PI)};
     }
-    // (the last step analyses its point too, so that no change of the count goes unchecked)
-    const bool analyse_now =
-        analysis_ && ((steps + 1) % std::max(analysis_->every(), 1) == 0 || steps + 1 >= options_.max_steps);
     if (st.is_ok()) st = evaluate(nxt, analyse_now);
     if (!st.is_ok()) {
       ++result.rejected;

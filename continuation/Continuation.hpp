@@ -9,6 +9,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -126,6 +127,10 @@ class Continuation {
   Status point_tangent(BranchPoint& p, const Constraint& c, const Vector& tu_prev, double tl_prev,
                        bool refresh = false);
   Status factorize_at(const Vector& u, double lambda, const Constraint& c);
+  // bordered_->factorize() on the system set up at (u, lambda), remembering where
+  Status factorise(const Vector& u, double lambda);
+  // J's factorisation if it was made at exactly p (else null), for the point analysis
+  SparseLU* factorisation_at(const BranchPoint& p);
   Status evaluate(BranchPoint& p, bool analyse_point = true);
   void analyse(BranchPoint& p);  // the PointAnalysis of p (analysis_ set)
   Status timed_jacobian(const Vector& u);  // into F_, J_
@@ -160,6 +165,11 @@ class Continuation {
   bool reusable_ = false;
   PointAnalysis* analysis_ = nullptr;
   int last_count_ = -1, last_count_index_ = -1;  // the last analysed point's count and row
+  // where the bordered system's J was last factorised (NaN lambda: nowhere known)
+  Vector j_u_;
+  double shared_solve_seconds_ = 0.0;  // solves of the analysis with the continuation's factorisation
+  long shared_solves_ = 0;
+  double j_lambda_ = std::numeric_limits<double>::quiet_NaN();
   // analysis every N > 1 points: the last analysed point and the accepted points after it, so
   // that a change of the count is bracketed by bisection over them and located
   std::optional<BranchPoint> last_analysed_;

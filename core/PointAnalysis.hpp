@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/Problem.hpp"
+#include "core/SparseLU.hpp"
 #include "core/Status.hpp"
 #include "core/Types.hpp"
 
@@ -29,9 +30,16 @@ class PointAnalysis {
   // What `count` counts, for messages ("unstable eigenvalues").
   virtual std::string count_name() const = 0;
   // Analyses the converged solution u of `problem` at its current parameter values.
-  virtual Status analyse(Problem& problem, const Vector& u, PointAnalysisResult& out) = 0;
+  // `factorised_j`, when not null, holds a factorisation of J at exactly this u and these
+  // parameters that the caller made anyway (the continuation's, for the tangent): an analysis
+  // that needs J's factorisation uses it instead of making its own.
+  virtual Status analyse(Problem& problem, const Vector& u, PointAnalysisResult& out,
+                         SparseLU* factorised_j = nullptr) = 0;
   // Analyse every N-th accepted point (located points always).
   virtual int every() const { return 1; }
+  // Whether analyse() would factorise J itself (so a caller about to analyse a point gains by
+  // factorising J there first and passing it).
+  virtual bool uses_j_factorisation() const { return false; }
 };
 
 }  // namespace keller

@@ -50,6 +50,11 @@ StabilityOptions StabilityOptions::from_scene(const Scene& sc) {
 StabilityAnalysis::StabilityAnalysis(StabilityOptions options, SparseLUOptions lu)
     : options_(std::move(options)), solver_(lu) {}
 
+bool StabilityAnalysis::uses_j_factorisation() const {
+  return std::any_of(options_.shifts.begin(), options_.shifts.end(),
+                     [](const std::complex<double>& s) { return s == std::complex<double>(0.0); });
+}
+
 std::vector<std::string> StabilityAnalysis::column_names() const {
   std::vector<std::string> c;
   for (int i = 1; i <= options_.count; ++i) {
@@ -61,7 +66,8 @@ std::vector<std::string> StabilityAnalysis::column_names() const {
   return c;
 }
 
-Status StabilityAnalysis::analyse(Problem& problem, const Vector& u, PointAnalysisResult& out) {
+Status StabilityAnalysis::analyse(Problem& problem, const Vector& u, PointAnalysisResult& out,
+                                  SparseLU* factorised_j) {
   const auto t0 = std::chrono::steady_clock::now();
   struct AddTime {
     double& to;
@@ -98,7 +104,7 @@ Status StabilityAnalysis::analyse(Problem& problem, const Vector& u, PointAnalys
     eo.tolerance = options_.arpack_tolerance;
     if (options_.ncv > 0) eo.ncv = std::min(options_.ncv, static_cast<int>(u.size()));
     EigenResult r;
-    st = solver_.solve(J_, B_, eo, r);
+    st = solver_.solve(J_, B_, eo, r, factorised_j);  // used at s = 0 only
     factorisations_ += r.factorisations;
     solves_ += r.solves;
     // A shift almost at an eigenvalue (at a located fold or branch point, s = 0 is one) makes OP's

@@ -38,8 +38,11 @@ class StabilityAnalysis final : public PointAnalysis {
   explicit StabilityAnalysis(StabilityOptions options, SparseLUOptions lu = {});
   std::vector<std::string> column_names() const override;
   std::string count_name() const override { return "unstable eigenvalues"; }
-  Status analyse(Problem& problem, const Vector& u, PointAnalysisResult& out) override;
+  Status analyse(Problem& problem, const Vector& u, PointAnalysisResult& out,
+                 SparseLU* factorised_j = nullptr) override;
   int every() const override { return options_.every; }
+  // a real shift at 0 solves with J's factorisation
+  bool uses_j_factorisation() const override;
 
   // The merged spectrum of the last analyse() (Re ascending), with eigenvectors.
   const std::vector<EigenPair>& spectrum() const { return spectrum_; }

@@ -35,6 +35,7 @@ struct Traced {
   ContinuationResult result;
   test::RecordingObserver rec;
   std::vector<std::string> columns;  // of the analysis
+  long eigen_factorisations = 0;     // of J - s B by the analysis itself
 };
 
 // Traces from the problem's initial guess (or switches branches at *switch_at) with the spectrum
@@ -48,6 +49,7 @@ Traced trace_with_stability(Problem& p, const ContinuationOptions& o, int count,
   Traced t;
   t.columns = analysis.column_names();
   t.result = switch_at ? cont.switch_branch(*switch_at, +1, t.rec) : cont.run(p.initial_guess(), t.rec);
+  t.eigen_factorisations = analysis.factorisations();
   return t;
 }
 
@@ -332,4 +334,35 @@ TEST(Stability, EveryNthPointStillLocatesByBisection) {
     EXPECT_NEAR(std::abs(hopf[0]->critical_imag), a, 1e-6);
     EXPECT_NE(hopf[0]->label.find("0 -> 2"), std::string::npos) << hopf[0]->label;
   }
+}
+
+// With block elimination a point about to be analysed gets J's factorisation at itself (exact
+// tangent), and the spectrum at s = 0 solves with it instead of factorising J again: the same
+// branch points, and at least one eigen-solver factorisation fewer per analysed accepted point.
+TEST(Stability, SpectrumReusesTheContinuationsFactorisation) {
+  std::vector<Traced> runs;
+  for (bool block : {false, true}) {
+    Pitchfork1DProblem p(32, 1.0);
+    ContinuationOptions o;
+    o.parameter = "lambda";
+    o.upper = 45.0;
+    o.initial_step = 0.5;
+    o.max_step = 2.0;
+    o.event_tolerance = 1e-10;
+    o.detect_branch_points = false;
+    o.state_scale = 1.0;
+    o.block_elimination = block;
+    runs.push_back(trace_with_stability(p, o, 4));
+    ASSERT_EQ(runs.back().result.code, StopCode::UpperBound) << runs.back().result.reason;
+  }
+  const auto full = runs[0].rec.of_kind(PointKind::BranchPoint), block = runs[1].rec.of_kind(PointKind::BranchPoint);
+  ASSERT_EQ(full.size(), 2u);
+  ASSERT_EQ(block.size(), 2u);
+  for (size_t k = 0; k < 2; ++k) EXPECT_NEAR(block[k]->lambda, full[k]->lambda, 1e-9);
+  const long accepted = std::count_if(runs[1].rec.points.begin(), runs[1].rec.points.end(), [](const BranchPoint& q) {
+    return q.analysed && (q.kind == PointKind::Regular || q.kind == PointKind::Start);
+  });
+  std::cout << "eigen-solver factorisations: full " << runs[0].eigen_factorisations << ", block "
+            << runs[1].eigen_factorisations << " (" << accepted << " accepted points analysed)\n";
+  EXPECT_LE(runs[1].eigen_factorisations, runs[0].eigen_factorisations - accepted);
 }
