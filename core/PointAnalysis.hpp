@@ -35,7 +35,8 @@ class PointAnalysis {
   // that needs J's factorisation uses it instead of making its own.
   virtual Status analyse(Problem& problem, const Vector& u, PointAnalysisResult& out,
                          SparseLU* factorised_j = nullptr) = 0;
-  // Analyse every N-th accepted point (located points always).
+  // Analyse every N-th accepted point (and located points when N = 1; with N > 1 a change is
+  // bracketed by analysing points in between).
   virtual int every() const { return 1; }
   // Whether analyse() would factorise J itself (so a caller about to analyse a point gains by
   // factorising J there first and passing it).

@@ -15,7 +15,8 @@ void StabilityOptions::declare(SceneSchema& s) {
   s.real_list("stability.shifts_re", {0.0}, "real parts of the shifts (eigenvalues nearest each are computed)");
   s.real_list("stability.shifts_im", {0.0},
               "imaginary parts of the shifts (same length as shifts_re; nonzero: complex arithmetic, for Hopf)");
-  s.integer("stability.every", 1, "analyse every N-th accepted point (changes are located only with 1)",
+  s.integer("stability.every", 1, "analyse every N-th accepted point and the last; a change in between is bracketed by bisection "
+            "over the points in between and located",
             Range::at_least(1));
   s.integer("stability.ncv", 0, "Arnoldi basis size per shift (0: max(2 count + 1, 20)); larger helps clustered spectra",
             Range::non_negative());
