@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <mutex>
 #include <stdexcept>
 
 namespace keller {
@@ -113,10 +114,32 @@ void SparseLU::free_numeric() {
   numeric_ = nullptr;
 }
 
-void SparseLU::free_symbolic() {
-  if (symbolic_) umfpack_di_free_symbolic(&symbolic_);
-  symbolic_ = nullptr;
+void SparseLU::free_symbolic() { symbolic_.reset(); }
+
+namespace {
+
+// The last symbolic analysis with its pattern and controls (one entry: a run factorises one
+// pattern, J's, again and again from several places).
+struct SymbolicCache {
+  std::mutex mutex;
+  std::vector<int> outer, inner;
+  std::vector<double> control;
+  std::shared_ptr<void> symbolic;
+  double ordering_used = 0;
+};
+
+SymbolicCache& symbolic_cache() {
+  static SymbolicCache cache;
+  return cache;
 }
+
+std::shared_ptr<void> own_symbolic(void* s) {
+  return std::shared_ptr<void>(s, [](void* p) {
+    if (p) umfpack_di_free_symbolic(&p);
+  });
+}
+
+}  // namespace
 
 bool SparseLU::same_pattern(const SparseMatrix& A) const {
   if (!symbolic_ || A.cols() + 1 != static_cast<long>(outer_.size()) || A.nonZeros() != static_cast<long>(inner_.size()))
@@ -132,18 +155,37 @@ Status SparseLU::analyze(const SparseMatrix& A) {
   free_symbolic();
   const double t0 = now_seconds();
   const int n = static_cast<int>(A.rows());
-  const int st = umfpack_di_symbolic(n, n, A.outerIndexPtr(), A.innerIndexPtr(), A.valuePtr(), &symbolic_, control_, info_);
-  stats_.analyze_seconds += now_seconds() - t0;
-  ++stats_.analyses;
-  if (st != UMFPACK_OK) {
-    symbolic_ = nullptr;
-    return umfpack_status(st, "symbolic analysis");
-  }
   outer_.assign(A.outerIndexPtr(), A.outerIndexPtr() + n + 1);
   inner_.assign(A.innerIndexPtr(), A.innerIndexPtr() + A.nonZeros());
   stats_.n = n;
   stats_.nnz_matrix = A.nonZeros();
+  SymbolicCache& cache = symbolic_cache();
+  std::lock_guard<std::mutex> lock(cache.mutex);
+  const std::vector<double> control(control_, control_ + UMFPACK_CONTROL);
+  if (cache.symbolic && cache.outer == outer_ && cache.inner == inner_ && cache.control == control) {
+    symbolic_ = cache.symbolic;
+    stats_.ordering_used = ordering_name(cache.ordering_used);
+    stats_.analyze_seconds += now_seconds() - t0;
+    ++stats_.analyses_reused;
+    return {};
+  }
+  void* symbolic = nullptr;
+  const int st = umfpack_di_symbolic(n, n, A.outerIndexPtr(), A.innerIndexPtr(), A.valuePtr(), &symbolic, control_, info_);
+  stats_.analyze_seconds += now_seconds() - t0;
+  ++stats_.analyses;
+  if (st != UMFPACK_OK) {
+    if (symbolic) umfpack_di_free_symbolic(&symbolic);
+    outer_.clear();
+    inner_.clear();
+    return umfpack_status(st, "symbolic analysis");
+  }
+  symbolic_ = own_symbolic(symbolic);
   stats_.ordering_used = ordering_name(info_[UMFPACK_ORDERING_USED]);
+  cache.outer = outer_;
+  cache.inner = inner_;
+  cache.control = control;
+  cache.symbolic = symbolic_;
+  cache.ordering_used = info_[UMFPACK_ORDERING_USED];
   return {};
 }
 
@@ -155,7 +197,7 @@ Status SparseLU::factorize(const SparseMatrix& A) {
   free_numeric();
   values_.assign(A.valuePtr(), A.valuePtr() + A.nonZeros());
   const double t0 = now_seconds();
-  const int st = umfpack_di_numeric(outer_.data(), inner_.data(), values_.data(), symbolic_, &numeric_, control_, info_);
+  const int st = umfpack_di_numeric(outer_.data(), inner_.data(), values_.data(), symbolic_.get(), &numeric_, control_, info_);
   stats_.factor_seconds += now_seconds() - t0;
   ++stats_.factorisations;
   stats_.nnz_lu = info_[UMFPACK_LNZ] + info_[UMFPACK_UNZ] - info_[UMFPACK_NROW];

@@ -4,6 +4,7 @@
 // (singular matrix, out of memory) come back as a Status, never as an abort.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -46,6 +47,7 @@ class SparseLU {
     double rcond = 0;             // UMFPACK's estimate of the reciprocal condition number
     double analyze_seconds = 0, factor_seconds = 0, solve_seconds = 0;  // cumulative wall time
     long analyses = 0, factorisations = 0, solves = 0;
+    long analyses_reused = 0;     // symbolic analyses taken from an earlier identical one
     std::string ordering_used;
   };
 
@@ -78,7 +80,10 @@ class SparseLU {
   SparseLUOptions options_;
   double control_[20];
   double info_[90];
-  void* symbolic_ = nullptr;
+  // shared: the last symbolic analysis is kept process-wide and reused by any SparseLU that
+  // analyses the same pattern with the same controls (the first steady state's Newton solver,
+  // the continuation's and the eigen-solver's factorisations of J: one analysis per run)
+  std::shared_ptr<void> symbolic_;
   void* numeric_ = nullptr;
   std::vector<int> outer_, inner_;  // pattern of the analysed matrix
   std::vector<double> values_;      // values of the factorised matrix (used by refinement)

@@ -61,6 +61,34 @@ TEST(SparseLU, AnalysesOncePerPattern) {
   EXPECT_GT(lu.statistics().nnz_lu, 0);
 }
 
+// A second SparseLU with the same pattern and controls takes the last symbolic analysis instead
+// of repeating it (a run factorises J from several places), and solves its own values exactly;
+// other controls (ordering) or another pattern get their own analysis.
+TEST(SparseLU, SymbolicAnalysisSharedBetweenObjects) {
+  const SparseMatrix A = random_sparse(50, 0.1, 11);
+  SparseMatrix A2 = A;
+  A2.coeffs() = A2.coeffs().array() * Vector::LinSpaced(A2.nonZeros(), 0.5, 1.5).array();
+  const Vector b = Vector::LinSpaced(50, -1, 2);
+  SparseLU first, second;
+  ASSERT_TRUE(first.factorize(A).is_ok());
+  EXPECT_EQ(first.statistics().analyses, 1);
+  ASSERT_TRUE(second.factorize(A2).is_ok());
+  EXPECT_EQ(second.statistics().analyses, 0);
+  EXPECT_EQ(second.statistics().analyses_reused, 1);
+  Vector x;
+  ASSERT_TRUE(second.solve(b, x).is_ok());
+  EXPECT_LT((A2 * x - b).norm() / b.norm(), 1e-13);
+  // the first object still solves with its own factorisation
+  ASSERT_TRUE(first.solve(b, x).is_ok());
+  EXPECT_LT((A * x - b).norm() / b.norm(), 1e-13);
+  SparseLUOptions metis;
+  metis.ordering = SparseLUOptions::Ordering::Metis;
+  SparseLU third(metis);
+  ASSERT_TRUE(third.factorize(A).is_ok());
+  EXPECT_EQ(third.statistics().analyses, 1);
+  EXPECT_EQ(third.statistics().analyses_reused, 0);
+}
+
 TEST(SparseLU, SingularMatrixIsAStatusNotACrash) {
   const SparseMatrix A = random_sparse(30, 0.1, 4, true);
   SparseLU lu;
