@@ -33,6 +33,7 @@ struct BranchPoint {
   double tlambda = 0.0;     //               parameter part
   double step = 0.0;        // step size the controller chose for the next step
   int iterations = 0;       // corrector iterations (location: corrector solves)
+  double residual = 0.0;    // |F|_inf where the corrector converged (the start: |F|_inf there)
   double seconds = 0.0;     // wall time since the run started
   int det_sign = 0;         // sign of det(dF/du) (0: not known)
   int bordered_det_sign = 0;

@@ -129,7 +129,10 @@ Status Continuation::correct_iterations(Vector& u, double& lambda, const Constra
       const bool small_update = update <= newton_.update_tolerance * std::max(u.lpNorm<Eigen::Infinity>(), 1.0);
       // the rounding floor: within 1e3 of the tolerance and no longer falling (as in Newton)
       const bool stalled = normF > 0.5 * previous;
-      if (normF <= tol || ((small_update || stalled) && normF <= 1e3 * tol)) return {};
+      if (normF <= tol || ((small_update || stalled) && normF <= 1e3 * tol)) {
+        last_residual_ = normF;
+        return {};
+      }
       if (normF > 1e3 * previous) return {StatusCode::Diverged, fmt::format("corrector diverged (|F| = {:.3e})", normF)};
     }
     if (k >= options_.max_iterations)
@@ -403,6 +406,7 @@ BranchPoint Continuation::point_on_segment(const BranchPoint& a, const BranchPoi
   p.lambda = p0.lambda + w * (p1.lambda - p0.lambda);
   const Constraint c = arclength ? arclength_constraint(a, a.tu, a.tlambda, target) : lambda_constraint(target);
   st = correct(p.u, p.lambda, c, p.iterations);
+  p.residual = last_residual_;
   // The corrector's last factorisation is at its second-last iterate. Locating a fold (a zero of
   // the tangent's parameter part) or a sign change of the determinant needs them at the point
   // itself: one more factorisation there.
@@ -426,6 +430,7 @@ std::optional<BranchPoint> Continuation::locate_value(const BranchPoint& a, cons
   p.lambda = value;
   const Constraint c = lambda_constraint(value);
   Status st = correct(p.u, p.lambda, c, p.iterations);
+  p.residual = last_residual_;
   if (st.is_ok()) st = point_tangent(p, c, a.tu, a.tlambda);
   if (st.is_ok()) st = evaluate(p, false);
   if (st.is_ok()) {
@@ -630,6 +635,8 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
   // the start: observables, the sign of det of the bordered matrix with its own tangent, and
   // the analysis (with that factorisation of J)
   Status st = evaluate(start, false);
+  if (st.is_ok()) st = problem_.residual(start.u, F_);
+  if (st.is_ok()) start.residual = F_.lpNorm<Eigen::Infinity>();
   if (st.is_ok() && arclength) {
     st = timed_jacobian(start.u);
     if (st.is_ok()) st = timed_parameter_derivative(start.u);
@@ -707,6 +714,7 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
       c = lambda_constraint(nxt.lambda);
     }
     st = correct(nxt.u, nxt.lambda, c, nxt.iterations);
+    nxt.residual = last_residual_;
     // A kept factorisation that made the chord corrector slower than the target is renewed at the
     // new point instead of shrinking the step (the step was not too long: the matrix was too old).
     const bool stale = options_.reuse_factorisation && !refactored_ && nxt.iterations > options_.target_iterations;

@@ -175,6 +175,7 @@ class Continuation {
   std::optional<BranchPoint> last_analysed_;
   std::vector<BranchPoint> unanalysed_;
   bool refactored_ = false;      // the last corrector call made a factorisation
+  double last_residual_ = 0.0;   // |F|_inf where the last corrector call converged
   ContinuationTimings timings_;        // the kept factorisation belongs to a converged corrector
   SparseMatrix J_;
   Vector F_, Fp_;

@@ -14,7 +14,7 @@ void ProgressPrinter::on_start(const std::vector<std::string>& observable_names,
   if (static_cast<int>(names_.size()) > shown_) names_.resize(shown_);
   std::string head = fmt::format("  {:>5}  {:<12} {:>14}", "row", "kind", parameter_);
   for (const auto& n : names_) head += fmt::format(" {:>14}", n);
-  head += fmt::format(" {:>5} {:>10} {:>9}", "iters", "next step", "time s");
+  head += fmt::format(" {:>5} {:>9} {:>10} {:>9}", "iters", "|F|", "next step", "time s");
   fmt::print("{}\n", head);
   std::fflush(stdout);
 }
@@ -24,7 +24,7 @@ void ProgressPrinter::on_point(const BranchPoint& p) {
   if (!p.label.empty() && p.kind != PointKind::Requested) kind += " " + p.label;
   std::string line = fmt::format("  {:>5}  {:<12} {:>14.8g}", p.index, kind, p.lambda);
   for (size_t i = 0; i < names_.size() && i < p.observables.size(); ++i) line += fmt::format(" {:>14.7g}", p.observables[i]);
-  line += fmt::format(" {:>5} {:>10.3e} {:>9.2f}", p.iterations, p.step, p.seconds);
+  line += fmt::format(" {:>5} {:>9.2e} {:>10.3e} {:>9.2f}", p.iterations, p.residual, p.step, p.seconds);
   fmt::print("{}\n", line);
   std::fflush(stdout);
 }

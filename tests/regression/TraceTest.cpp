@@ -110,6 +110,7 @@ TEST(Trace, ExportCsvAndFigure) {
                             "/b.h5 --set bratu.intervals=32");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("fold max"), std::string::npos);  // progress lines name located points
+  EXPECT_NE(r.out.find("|F|"), std::string::npos);       // and show the corrector's residual
   r = test::run_keller("export " + dir + "/b.h5 --csv " + dir + "/b.csv");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto [cols, rows] = read_csv(dir + "/b.csv");
