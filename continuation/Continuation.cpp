@@ -635,11 +635,10 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
   // the start: observables, the sign of det of the bordered matrix with its own tangent, and
   // the analysis (with that factorisation of J)
   Status st = evaluate(start, false);
-  if (st.is_ok()) st = problem_.residual(start.u, F_);
+  if (st.is_ok()) st = arclength ? timed_jacobian(start.u) : problem_.residual(start.u, F_);  // both give F
   if (st.is_ok()) start.residual = F_.lpNorm<Eigen::Infinity>();
   if (st.is_ok() && arclength) {
-    st = timed_jacobian(start.u);
-    if (st.is_ok()) st = timed_parameter_derivative(start.u);
+    st = timed_parameter_derivative(start.u);
     if (st.is_ok()) {
       bordered_->set(J_, Fp_, wu_ * start.tu, wl_ * start.tlambda);
       st = factorise(start.u, start.lambda);

@@ -2,10 +2,10 @@
 // engine): eigenvalues crossing zero at a fold and at pitchforks with known locations, a Hopf
 // point with a known location and frequency, branch switching onto the bifurcated branch, and
 // the spectrum of the collapsible channel on a coarse mesh.
-#include <complex>
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <complex>
 #include <iomanip>
 #include <iostream>
 
@@ -57,6 +57,38 @@ int column(const std::vector<std::string>& names, const std::string& n) {
   return static_cast<int>(std::find(names.begin(), names.end(), n) - names.begin());
 }
 
+// The trivial branch u = 0 of the pitchfork problem from lambda = 1 to 45 (through its first two
+// branch points), found by the spectrum alone (no determinant).
+ContinuationOptions pitchfork_trivial_branch() {
+  ContinuationOptions o;
+  o.parameter = "lambda";
+  o.upper = 45.0;
+  o.initial_step = 0.5;
+  o.max_step = 2.0;
+  o.event_tolerance = 1e-10;
+  o.detect_branch_points = false;
+  o.state_scale = 1.0;
+  return o;
+}
+
+// The uniform Brusselator state from 1.7 below its Hopf point b = 1 + a^2 to 1.5 above it.
+Brusselator1DOptions brusselator(double a) {
+  Brusselator1DOptions bo;
+  bo.intervals = 32;
+  bo.a = a;
+  bo.b = 1.0 + a * a - 1.7;
+  return bo;
+}
+ContinuationOptions brusselator_branch(double a) {
+  ContinuationOptions o;
+  o.parameter = "b";
+  o.upper = 1.0 + a * a + 1.5;
+  o.initial_step = 0.1;
+  o.max_step = 0.5;
+  o.event_tolerance = 1e-10;
+  return o;
+}
+
 }  // namespace
 
 // Bratu: the stable lower branch turns at the fold into the unstable upper one. The count of
@@ -101,14 +133,7 @@ TEST(Stability, PitchforkBranchPointsConvergeAndTheSwitchedBranchBifurcates) {
   std::vector<double> err1;
   for (int n : {16, 32, 64}) {
     Pitchfork1DProblem p(n, 1.0);
-    ContinuationOptions o;
-    o.parameter = "lambda";
-    o.upper = 45.0;
-    o.initial_step = 0.5;
-    o.max_step = 2.0;
-    o.event_tolerance = 1e-10;
-    o.detect_branch_points = false;
-    o.state_scale = 1.0;
+    ContinuationOptions o = pitchfork_trivial_branch();
     const Traced t = trace_with_stability(p, o, 4);
     const auto& rec = t.rec;
     ASSERT_EQ(t.result.code, StopCode::UpperBound) << t.result.reason;
@@ -159,18 +184,8 @@ TEST(Stability, PitchforkBranchPointsConvergeAndTheSwitchedBranchBifurcates) {
 // bifurcation of the uniform mode at b = 1 + a^2 with frequency a (exact also on the grid).
 TEST(Stability, BrusselatorHopfLocatedWithItsFrequency) {
   for (double a : {2.0, 1.3}) {
-    Brusselator1DOptions bo;
-    bo.intervals = 32;
-    bo.a = a;
-    bo.b = 1.0 + a * a - 1.7;
-    Brusselator1DProblem p(bo);
-    ContinuationOptions o;
-    o.parameter = "b";
-    o.upper = 1.0 + a * a + 1.5;
-    o.initial_step = 0.1;
-    o.max_step = 0.5;
-    o.event_tolerance = 1e-10;
-    const Traced t = trace_with_stability(p, o, 6);
+    Brusselator1DProblem p(brusselator(a));
+    const Traced t = trace_with_stability(p, brusselator_branch(a), 6);
     const auto& rec = t.rec;
     ASSERT_EQ(t.result.code, StopCode::UpperBound) << t.result.reason;
     const auto hopf = rec.of_kind(PointKind::Hopf);
@@ -256,18 +271,8 @@ TEST(Stability, CollapsibleChannelSpectraOnACoarseMesh) {
 // exact b = 1 + a^2.
 TEST(Stability, BrusselatorHopfThroughAComplexShift) {
   const double a = 2.0;
-  Brusselator1DOptions bo;
-  bo.intervals = 32;
-  bo.a = a;
-  bo.b = 1.0 + a * a - 1.7;
-  Brusselator1DProblem p(bo);
-  ContinuationOptions o;
-  o.parameter = "b";
-  o.upper = 1.0 + a * a + 1.5;
-  o.initial_step = 0.1;
-  o.max_step = 0.5;
-  o.event_tolerance = 1e-10;
-  const Traced t = trace_with_stability(p, o, 2, nullptr, {std::complex<double>(0.0, 1.9)});
+  Brusselator1DProblem p(brusselator(a));
+  const Traced t = trace_with_stability(p, brusselator_branch(a), 2, nullptr, {std::complex<double>(0.0, 1.9)});
   ASSERT_EQ(t.result.code, StopCode::UpperBound) << t.result.reason;
   const auto hopf = t.rec.of_kind(PointKind::Hopf);
   ASSERT_EQ(hopf.size(), 1u);
@@ -290,15 +295,7 @@ TEST(Stability, BrusselatorHopfThroughAComplexShift) {
 TEST(Stability, EveryNthPointStillLocatesByBisection) {
   {
     Pitchfork1DProblem p(32, 1.0);
-    ContinuationOptions o;
-    o.parameter = "lambda";
-    o.upper = 45.0;
-    o.initial_step = 0.5;
-    o.max_step = 2.0;
-    o.event_tolerance = 1e-10;
-    o.detect_branch_points = false;
-    o.state_scale = 1.0;
-    const Traced t = trace_with_stability(p, o, 4, nullptr, {0.0}, 5);
+    const Traced t = trace_with_stability(p, pitchfork_trivial_branch(), 4, nullptr, {0.0}, 5);
     ASSERT_EQ(t.result.code, StopCode::UpperBound) << t.result.reason;
     const auto bps = t.rec.of_kind(PointKind::BranchPoint);
     ASSERT_EQ(bps.size(), 2u);
@@ -315,17 +312,10 @@ TEST(Stability, EveryNthPointStillLocatesByBisection) {
   }
   {
     const double a = 2.0;
-    Brusselator1DOptions bo;
-    bo.intervals = 32;
-    bo.a = a;
-    bo.b = 1.0 + a * a - 1.7;
-    Brusselator1DProblem p(bo);
-    ContinuationOptions o;
-    o.parameter = "b";
-    o.upper = 1.0 + a * a + 1.5;
-    o.initial_step = 0.05;
+    Brusselator1DProblem p(brusselator(a));
+    ContinuationOptions o = brusselator_branch(a);
+    o.initial_step = 0.05;  // shorter steps: several points between two spectra before the Hopf
     o.max_step = 0.1;
-    o.event_tolerance = 1e-10;
     const Traced t = trace_with_stability(p, o, 6, nullptr, {0.0}, 5);
     ASSERT_EQ(t.result.code, StopCode::UpperBound) << t.result.reason;
     const auto hopf = t.rec.of_kind(PointKind::Hopf);
@@ -343,14 +333,7 @@ TEST(Stability, SpectrumReusesTheContinuationsFactorisation) {
   std::vector<Traced> runs;
   for (bool block : {false, true}) {
     Pitchfork1DProblem p(32, 1.0);
-    ContinuationOptions o;
-    o.parameter = "lambda";
-    o.upper = 45.0;
-    o.initial_step = 0.5;
-    o.max_step = 2.0;
-    o.event_tolerance = 1e-10;
-    o.detect_branch_points = false;
-    o.state_scale = 1.0;
+    ContinuationOptions o = pitchfork_trivial_branch();
     o.block_elimination = block;
     runs.push_back(trace_with_stability(p, o, 4));
     ASSERT_EQ(runs.back().result.code, StopCode::UpperBound) << runs.back().result.reason;
