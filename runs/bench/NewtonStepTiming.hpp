@@ -22,6 +22,7 @@ struct StepTiming {
   double nnz_lu = 0;
   double residual = 0, assembly = 0, factor = 0, solve = 0;  // seconds
   double lu_mb = 0, rss_mb = 0;
+  double gflop = 0;  // of one numeric factorisation
 };
 
 template <class F>
@@ -51,6 +52,7 @@ inline StepTiming time_newton_step(Problem& p, const Vector& u, const SparseLUOp
   s.nnz = J.nonZeros();
   s.nnz_lu = lu.statistics().nnz_lu;
   s.lu_mb = lu.statistics().peak_memory_bytes / 1048576.0;
+  s.gflop = lu.statistics().flops * 1e-9;
   rusage r{};
   getrusage(RUSAGE_SELF, &r);
   s.rss_mb = r.ru_maxrss / 1024.0;
@@ -58,15 +60,16 @@ inline StepTiming time_newton_step(Problem& p, const Vector& u, const SparseLUOp
 }
 
 inline void print_header() {
-  fmt::print("{:>6} {:>6} {:>8} {:>9} {:>10} {:>6} {:>9} {:>9} {:>9} {:>9} {:>7} {:>8} {:>8}\n", "mesh", "elems",
+  fmt::print("{:>6} {:>6} {:>8} {:>9} {:>10} {:>6} {:>9} {:>9} {:>9} {:>9} {:>7} {:>8} {:>8} {:>6} {:>7}\n", "mesh", "elems",
              "unknowns", "nnz(J)", "nnz(L+U)", "fill", "resid ms", "assem ms", "factor ms", "solve ms", "assem/f",
-             "LU MB", "RSS MB");
+             "LU MB", "RSS MB", "GFlop", "GFlop/s");
 }
 
 inline void print_row(const std::string& mesh, int elements, const StepTiming& s) {
-  fmt::print("{:>6} {:>6} {:>8} {:>9} {:>10.0f} {:>6.2f} {:>9.2f} {:>9.2f} {:>9.2f} {:>9.2f} {:>7.2f} {:>8.1f} {:>8.1f}\n",
+  fmt::print("{:>6} {:>6} {:>8} {:>9} {:>10.0f} {:>6.2f} {:>9.2f} {:>9.2f} {:>9.2f} {:>9.2f} {:>7.2f} {:>8.1f} {:>8.1f} {:>6.2f} {:>7.2f}\n",
              mesh, elements, s.unknowns, s.nnz, s.nnz_lu, s.nnz_lu / static_cast<double>(s.nnz), 1e3 * s.residual,
-             1e3 * s.assembly, 1e3 * s.factor, 1e3 * s.solve, s.assembly / s.factor, s.lu_mb, s.rss_mb);
+             1e3 * s.assembly, 1e3 * s.factor, 1e3 * s.solve, s.assembly / s.factor, s.lu_mb, s.rss_mb, s.gflop,
+             s.gflop / s.factor);
   std::fflush(stdout);
 }
 
