@@ -9,6 +9,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include "continuation/Hermite.hpp"
+
 namespace keller {
 
 const char* to_string(PointKind k) {
@@ -102,18 +104,19 @@ Continuation::Constraint Continuation::lambda_constraint(double lambda) const {
   return c;
 }
 
-Status Continuation::correct(Vector& u, double& lambda, const Constraint& c, int& iterations) {
+Status Continuation::correct(Vector& u, double& lambda, const Constraint& c, int& iterations, bool step) {
   // a factorisation made at a diverging iterate is not kept for the next attempt
-  Status st = correct_iterations(u, lambda, c, iterations);
+  Status st = correct_iterations(u, lambda, c, iterations, step);
   reusable_ = st.is_ok();
   return st;
 }
 
-Status Continuation::correct_iterations(Vector& u, double& lambda, const Constraint& c, int& iterations) {
+Status Continuation::correct_iterations(Vector& u, double& lambda, const Constraint& c, int& iterations, bool step) {
   iterations = 0;
   refactored_ = false;
   const double tol = newton_.residual_tolerance * problem_.residual_scale();
-  double previous = INFINITY, update = INFINITY;
+  double previous = INFINITY, before_previous = INFINITY, update = INFINITY;
+  int on_this_matrix = 0;  // iterations made with the present factorisation
   Vector du;
   double dl = 0;
   for (int k = 0;; ++k) {
@@ -140,12 +143,22 @@ Status Continuation::correct_iterations(Vector& u, double& lambda, const Constra
               fmt::format("corrector did not converge in {} iterations (|F| = {:.3e})", k, normF)};
     // chord: keep the factorisation while |F| falls fast enough (with reuse_factorisation also
     // the one of the previous step, under this step's border row)
-    bool refactor = options_.corrector == ContinuationOptions::Corrector::Newton || k == 0 ||
-                    !(normF <= options_.chord_rate * previous);
+    const bool chord = options_.corrector == ContinuationOptions::Corrector::Chord;
+    bool refactor = !chord || k == 0 || !(normF <= options_.chord_rate * previous);
+    if (chord && k > 0 && options_.reuse_factorisation && !step) {
+      // At a located point a kept factorisation is renewed only when the chord, at its observed
+      // rate (the mean of its last two, which wander), would not reach the tolerance two
+      // iterations before the limit: a few more solves are cheaper than a factorisation. (In a
+      // step the rate rule stays: there the iteration count also steers the step size.)
+      const double rate = on_this_matrix >= 2 ? std::sqrt(normF / before_previous) : normF / previous;
+      const double more = rate < 1.0 ? std::max(0.0, std::log(tol / normF) / std::log(rate)) : INFINITY;
+      refactor = k + more > options_.max_iterations - 2;
+    }
     // near the rounding floor a slower fall is rounding, not an old matrix: no new factorisation
-    if (options_.corrector == ContinuationOptions::Corrector::Chord && k > 0 && normF <= 1e3 * tol) refactor = false;
+    if (chord && k > 0 && normF <= 1e3 * tol) refactor = false;
     if (k == 0 && options_.reuse_factorisation && reusable_ && bordered_->block_factorised())
       refactor = !bordered_->set_row(c.cu, c.cl).is_ok();
+    before_previous = previous;
     previous = normF;
     double N = c.cl * (lambda - c.l0) - c.target;
     if (c.cu.size()) N += c.cu.dot(u - *c.u0);
@@ -159,7 +172,9 @@ Status Continuation::correct_iterations(Vector& u, double& lambda, const Constra
       st = factorise(u, lambda);
       if (!st.is_ok()) return st;
       ++factorisations_;
+      on_this_matrix = 0;
     }
+    ++on_this_matrix;
     // the chord iteration corrects the error of an unrefined solve like that of its old matrix
     st = bordered_->solve(-F_, -N, du, dl, options_.corrector == ContinuationOptions::Corrector::Newton);
     if (!st.is_ok()) return st;
@@ -265,7 +280,10 @@ Status Continuation::point_tangent(BranchPoint& p, const Constraint& c, const Ve
     };
     Vector v = Vector::Zero(n), rf = Vector::Zero(n), dv, jv;
     double mu = 0.0, rg = 1.0, dmu = 0.0, previous = INFINITY;
-    for (int it = 0; it < 12; ++it) {
+    // as many iterations as the corrector may make, while each halves the residual and the
+    // rate says the tolerance is within reach
+    const int limit = std::max(12, options_.max_iterations);
+    for (int it = 0; it < limit; ++it) {
       st = bordered_->solve(rf, rg, dv, dmu, false);
       ++tangent_iterations_;
       if (!st.is_ok()) break;
@@ -278,11 +296,12 @@ Status Continuation::point_tangent(BranchPoint& p, const Constraint& c, const Ve
       const double res = rf.cwiseAbs().maxCoeff() + std::abs(rg);
       const double scale = 1.0 + scale_a * (v.cwiseAbs().maxCoeff() + std::abs(mu));
       if (!(res <= 0.5 * previous) || !std::isfinite(res)) break;  // diverging or stalling
-      previous = res;
       if (res <= 1e-9 * scale) {
         converged = true;
         break;
       }
+      if (it > 0 && it + 1 + std::log(1e-9 * scale / res) / std::log(res / previous) > limit) break;
+      previous = res;
     }
     // converged: the kept factorisation and this point's system are close (a contraction), so
     // the sign of det of the bordered matrix is the kept one's
@@ -402,8 +421,17 @@ BranchPoint Continuation::point_on_segment(const BranchPoint& a, const BranchPoi
   const double c0 = coord(p0), c1 = coord(p1);
   const double w = c1 != c0 ? (target - c0) / (c1 - c0) : tau;
   BranchPoint p;
-  p.u = p0.u + w * (p1.u - p0.u);
-  p.lambda = p0.lambda + w * (p1.lambda - p0.lambda);
+  // the cubic Hermite interpolant of the bracket (see locate_value) where it has the target
+  // coordinate; the chord between them where it has none
+  const BranchFunctional coordinate = [&](const Vector& u, double l, bool point) {
+    if (!arclength) return l;
+    return point ? dot(u - a.u, l - a.lambda, a.tu, a.tlambda) : dot(u, l, a.tu, a.tlambda);
+  };
+  double x = w;
+  if (!hermite_point(p0, p1, coordinate, target, p.u, p.lambda, x)) {
+    p.u = p0.u + w * (p1.u - p0.u);
+    p.lambda = p0.lambda + w * (p1.lambda - p0.lambda);
+  }
   const Constraint c = arclength ? arclength_constraint(a, a.tu, a.tlambda, target) : lambda_constraint(target);
   st = correct(p.u, p.lambda, c, p.iterations);
   p.residual = last_residual_;
@@ -424,9 +452,15 @@ BranchPoint Continuation::point_on_segment(const BranchPoint& a, const BranchPoi
 }
 
 std::optional<BranchPoint> Continuation::locate_value(const BranchPoint& a, const BranchPoint& b, double value) {
-  const double tau = (value - a.lambda) / (b.lambda - a.lambda);
+  double tau = (value - a.lambda) / (b.lambda - a.lambda);
   BranchPoint p;
-  p.u = a.u + tau * (b.u - a.u);
+  // predictor: the cubic Hermite interpolant of the two points and their tangents (error O(h^4)
+  // against O(h^2) for the chord between them), so that the corrector converges on the kept
+  // factorisation instead of renewing it; the chord where the cubic does not reach the value
+  double x = tau, lambda = value;
+  const BranchFunctional parameter = [](const Vector&, double l, bool) { return l; };
+  if (hermite_point(a, b, parameter, value, p.u, lambda, x)) tau = x;
+  else p.u = a.u + tau * (b.u - a.u);
   p.lambda = value;
   const Constraint c = lambda_constraint(value);
   Status st = correct(p.u, p.lambda, c, p.iterations);
@@ -712,7 +746,7 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
       nxt.u = std::abs(dl_dir) > 1e-12 ? Vector(cur.u + (dlam / dl_dir) * du_dir) : cur.u;
       c = lambda_constraint(nxt.lambda);
     }
-    st = correct(nxt.u, nxt.lambda, c, nxt.iterations);
+    st = correct(nxt.u, nxt.lambda, c, nxt.iterations, true);
     nxt.residual = last_residual_;
     // A kept factorisation that made the chord corrector slower than the target is renewed at the
     // new point instead of shrinking the step (the step was not too long: the matrix was too old).
@@ -875,6 +909,22 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
     }
     std::stable_sort(located.begin(), located.end(),
                      [](const Located& x, const Located& y) { return x.point.s < y.point.s; });
+    // a point found twice (a problem monitor that is also the stop observable: the event and the
+    // end are the same zero) is reported once, as the end
+    {
+      auto same_as_an_end = [&](const Located& l) {
+        return !l.terminal && std::any_of(located.begin(), located.end(), [&](const Located& t) {
+          return t.terminal && std::abs(t.point.lambda - l.point.lambda) <= options_.event_tolerance &&
+                 std::abs(t.point.s - l.point.s) <= options_.event_tolerance;
+        });
+      };
+      std::vector<bool> drop(located.size());
+      for (size_t i = 0; i < located.size(); ++i) drop[i] = same_as_an_end(located[i]);
+      std::vector<Located> kept;
+      for (size_t i = 0; i < located.size(); ++i)
+        if (!drop[i]) kept.push_back(std::move(located[i]));
+      located = std::move(kept);
+    }
     for (Located& l : located) {
       l.point.index = next_index_++;
       l.point.save = true;

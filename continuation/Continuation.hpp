@@ -112,8 +112,10 @@ class Continuation {
   struct Segment;  // two consecutive accepted points
 
   Status set_parameter(double lambda);
-  Status correct(Vector& u, double& lambda, const Constraint& c, int& iterations);
-  Status correct_iterations(Vector& u, double& lambda, const Constraint& c, int& iterations);
+  // step: the correction of a continuation step (true) or of a located point (false: a kept
+  // factorisation is renewed only when the chord would not converge; see correct_iterations)
+  Status correct(Vector& u, double& lambda, const Constraint& c, int& iterations, bool step = false);
+  Status correct_iterations(Vector& u, double& lambda, const Constraint& c, int& iterations, bool step);
   // Unit tangent at the point of the last factorisation, oriented along (tu_prev, tl_prev).
   Status tangent_from_factorisation(const Vector& tu_prev, double tl_prev, Vector& tu, double& tl, int& det_sign);
   // Normalises (v, mu) in the arclength norm, oriented along (tu_prev, tl_prev) when given; the sign

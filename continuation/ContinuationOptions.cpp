@@ -32,8 +32,9 @@ void ContinuationOptions::declare(SceneSchema& s) {
   s.real("continuation.chord_rate", 0.25, "chord corrector: refactorise when |F| falls by less than this factor",
          Range{0.0, 1.0, true, true});
   s.boolean("continuation.reuse_factorisation", false,
-            "chord + block only: keep J's factorisation across steps while the chord rate holds; tangents by "
-            "iteration on it (fewer than one factorisation per point on smooth branches)");
+            "chord + block only: keep J's factorisation across steps, renewed when the chord rate fails in a step and, "
+            "at a located point, only when the chord at its observed rate would need more than max_iterations; "
+            "tangents by iteration on it (fewer than one factorisation per point on smooth branches)");
   s.integer("continuation.target_iterations", 4, "corrector iterations aimed at by the step control",
             Range::at_least(1));
   s.integer("continuation.max_iterations", 10, "corrector iterations before a step is rejected", Range::at_least(1));

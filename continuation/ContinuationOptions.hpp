@@ -37,7 +37,8 @@ struct ContinuationOptions {
   Corrector corrector = Corrector::Newton;
   double chord_rate = 0.25;
   // Chord corrector with block elimination: keep J's factorisation across steps too (a new one
-  // only when the chord rate fails), tangents by iterating with the kept factorisation on the
+  // when the chord rate fails in a step, and at a located point only when the chord at its
+  // observed rate would need more than max_iterations), tangents by iterating with the kept factorisation on the
   // exact tangent system of the new point (a factorisation there only if that iteration does
   // not converge). With detect_branch_points the determinant must be exact: every accepted
   // point then gets its own factorisation.

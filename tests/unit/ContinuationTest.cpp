@@ -10,6 +10,7 @@
 
 #include "continuation/BorderedSystem.hpp"
 #include "continuation/Continuation.hpp"
+#include "continuation/Hermite.hpp"
 #include "problems/Bratu1DProblem.hpp"
 #include "support/TestProblems.hpp"
 
@@ -154,6 +155,24 @@ TEST(Continuation, EventOnAMonitorWithAKnownCrossing) {
   EXPECT_NEAR(events[0]->u[0], 0.5, 1e-9);
 }
 
+// A stop observable whose threshold is a zero of a problem monitor (here u = 1/2 both ways) finds
+// the same point twice: it is reported once, as the end of the branch.
+TEST(Continuation, AStopThatIsAlsoAnEventIsReportedOnce) {
+  CubicProblem problem(-2.0);
+  ContinuationOptions o = cubic_options();
+  o.event_tolerance = 1e-11;
+  o.stop_observable = "u";
+  o.stop_above = 0.5;
+  Continuation cont(problem, o);
+  RecordingObserver rec;
+  const ContinuationResult r = cont.run(problem.initial_guess(), rec);
+  ASSERT_EQ(r.code, StopCode::StopObservable) << r.reason;
+  EXPECT_TRUE(rec.of_kind(PointKind::Event).empty());
+  ASSERT_EQ(rec.of_kind(PointKind::End).size(), 1u);
+  EXPECT_NEAR(rec.points.back().lambda, -1.375, o.event_tolerance);
+  EXPECT_EQ(rec.points.back().kind, PointKind::End);
+}
+
 TEST(Continuation, RequestedValuesAtEveryCrossing) {
   CubicProblem problem(-2.0);
   ContinuationOptions o = cubic_options();
@@ -244,6 +263,184 @@ TEST(Continuation, AnOversizedStepIsHalvedUntilItWorks) {
   const auto& lu = cont.bordered().lu().statistics();
   EXPECT_EQ(lu.analyses + lu.analyses_reused, 1);  // made here or taken from an identical one
   EXPECT_GT(lu.factorisations, 10);
+}
+
+// The predictor of located points: the cubic Hermite interpolant of the bracketing points and
+// their tangents. A cubic curve is reproduced to rounding.
+TEST(Hermite, ReproducesACubicCurveToRounding) {
+  auto at = [](double s) {
+    BranchPoint p;
+    p.s = s;
+    p.u = Vector(2);
+    p.u << 1 + 2 * s - s * s * s, s * s;
+    p.lambda = s + 0.5 * s * s * s;
+    p.tu = Vector(2);
+    p.tu << 2 - 3 * s * s, 2 * s;  // d/ds: the cubic's own derivative
+    p.tlambda = 1 + 1.5 * s * s;
+    return p;
+  };
+  const BranchPoint a = at(0.2), b = at(0.9), want = at(0.55);
+  const BranchFunctional parameter = [](const Vector&, double l, bool) { return l; };
+  Vector u;
+  double lambda = 0, x = 0;
+  ASSERT_TRUE(hermite_point(a, b, parameter, want.lambda, u, lambda, x));
+  EXPECT_NEAR(x, 0.5, 1e-14);
+  EXPECT_NEAR(lambda, want.lambda, 1e-14);
+  EXPECT_NEAR((u - want.u).lpNorm<Eigen::Infinity>(), 0.0, 1e-14);
+  // a functional of the state: where u_1 = u_1(0.55)
+  const BranchFunctional second = [](const Vector& v, double, bool) { return v[1]; };
+  ASSERT_TRUE(hermite_point(a, b, second, want.u[1], u, lambda, x));
+  EXPECT_NEAR(lambda, want.lambda, 1e-14);
+}
+
+// On a curve that is not a cubic (the unit circle by arclength) the error falls as h^4, against
+// h^2 for the chord between the two points.
+TEST(Hermite, FourthOrderOnACircle) {
+  auto at = [](double s) {
+    BranchPoint p;
+    p.s = s;
+    p.u = Vector::Constant(1, std::cos(s));
+    p.lambda = std::sin(s);
+    p.tu = Vector::Constant(1, -std::sin(s));
+    p.tlambda = std::cos(s);
+    return p;
+  };
+  const BranchFunctional parameter = [](const Vector&, double l, bool) { return l; };
+  double previous = NAN, previous_chord = NAN;
+  for (double h : {0.4, 0.2, 0.1, 0.05}) {
+    const BranchPoint a = at(0.1), b = at(0.1 + h);
+    const double target = std::sin(0.1 + 0.37 * h);
+    Vector u;
+    double lambda = 0, x = 0;
+    ASSERT_TRUE(hermite_point(a, b, parameter, target, u, lambda, x));
+    const double exact = std::sqrt(1 - target * target);
+    const double error = std::abs(u[0] - exact);
+    const double tau = (target - a.lambda) / (b.lambda - a.lambda);
+    const double chord = std::abs(a.u[0] + tau * (b.u[0] - a.u[0]) - exact);
+    if (std::isfinite(previous)) {
+      std::cout << "h = " << h << ": Hermite order " << std::log2(previous / error) << ", chord order "
+                << std::log2(previous_chord / chord) << "\n";
+      EXPECT_NEAR(std::log2(previous / error), 4.0, 0.3);
+      EXPECT_NEAR(std::log2(previous_chord / chord), 2.0, 0.3);
+    }
+    EXPECT_LT(error, 0.1 * chord);
+    previous = error;
+    previous_chord = chord;
+  }
+}
+
+// Past the top of the circle the parameter does not reach the target on the segment: no point
+// (the caller falls back to the chord), and nothing is written.
+TEST(Hermite, NoPointWhereTheCubicMissesTheTarget) {
+  auto at = [](double s) {
+    BranchPoint p;
+    p.s = s;
+    p.u = Vector::Constant(1, std::cos(s));
+    p.lambda = std::sin(s);
+    p.tu = Vector::Constant(1, -std::sin(s));
+    p.tlambda = std::cos(s);
+    return p;
+  };
+  const BranchFunctional parameter = [](const Vector&, double l, bool) { return l; };
+  Vector u = Vector::Constant(1, 7.0);
+  double lambda = 7.0, x = 7.0;
+  EXPECT_FALSE(hermite_point(at(1.3), at(1.9), parameter, 1.01, u, lambda, x));
+  EXPECT_EQ(u[0], 7.0);
+  EXPECT_EQ(lambda, 7.0);
+  BranchPoint no_tangent = at(1.9);
+  no_tangent.tu.resize(0);
+  EXPECT_FALSE(hermite_point(at(1.3), no_tangent, parameter, 0.95, u, lambda, x));
+}
+
+// F_i = (1 + lambda) d_i u_i - 1, d_i = 1 + i: u_i = 1 / ((1 + lambda) d_i). With a factorisation
+// kept from lambda_b the chord contracts the error of a correction at lambda by exactly
+// |1 - (1 + lambda) / (1 + lambda_b)| per iteration.
+class ScaledLinear final : public Problem {
+ public:
+  explicit ScaledLinear(int n) : n_(n), pattern_(n, n) {
+    params_.add("lambda", 0.0, "scale");
+    for (int i = 0; i < n; ++i) pattern_.insert(i, i) = 0.0;
+    pattern_.makeCompressed();
+  }
+  std::string name() const override { return "scaled-linear"; }
+  int size() const override { return n_; }
+  ParameterSet& parameters() override { return params_; }
+  const ParameterSet& parameters() const override { return params_; }
+  const SparseMatrix& jacobian_pattern() const override { return pattern_; }
+  Status residual(const Vector& u, Vector& F) override {
+    F.resize(n_);
+    for (int i = 0; i < n_; ++i) F[i] = (1 + params_.value(0)) * (1 + i) * u[i] - 1;
+    return {};
+  }
+  Status jacobian(const Vector& u, Vector& F, SparseMatrix& J) override {
+    residual(u, F);
+    J = pattern_;
+    for (int i = 0; i < n_; ++i) J.valuePtr()[i] = (1 + params_.value(0)) * (1 + i);
+    return {};
+  }
+  Status parameter_derivative(int, const Vector& u, Vector& dF) override {
+    dF.resize(n_);
+    for (int i = 0; i < n_; ++i) dF[i] = (1 + i) * u[i];
+    return {};
+  }
+  Vector initial_guess() override {
+    Vector u(n_);
+    for (int i = 0; i < n_; ++i) u[i] = 1.0 / (1 + i);
+    return u;
+  }
+  std::vector<std::string> observable_names() const override { return {"u0"}; }
+  Status observables(const Vector& u, std::vector<double>& v) override {
+    v = {u[0]};
+    return {};
+  }
+  SolutionFields fields(const Vector&) const override { return {}; }
+
+ private:
+  int n_;
+  ParameterSet params_;
+  SparseMatrix pattern_;
+};
+
+// With the factorisation kept across steps, a requested value is located on the kept matrix while
+// the chord, at its observed rate, reaches the tolerance within the iteration limit: a few more
+// solves are cheaper than a factorisation. Here one step goes from lambda = 0 to 1.2 (its
+// corrector renews the factorisation near 1.2) and the stop at 0.25 is corrected on it at the
+// rate 1 - 1.25 / 2.2 = 0.43, which the rate rule of a step (0.25) would refuse.
+TEST(Continuation, RequestedValueLocatedOnTheKeptFactorisation) {
+  auto trace = [](const std::vector<double>& stops, RecordingObserver& rec) {
+    ScaledLinear p(3);
+    ContinuationOptions o;
+    o.parameter = "lambda";
+    o.method = ContinuationOptions::Method::Natural;  // steps in lambda: one step, 0 -> 1.2
+    o.max_angle_degrees = 80;                         // the tangent turns by 33 degrees on it
+    o.upper = 1.0;
+    o.initial_step = 1.2;
+    o.max_step = 1.2;
+    o.corrector = ContinuationOptions::Corrector::Chord;
+    o.block_elimination = true;
+    o.reuse_factorisation = true;
+    o.detect_branch_points = false;
+    o.target_iterations = 8;
+    o.max_iterations = 30;
+    o.stops = stops;
+    Continuation cont(p, o);
+    return cont.run(p.initial_guess(), rec);
+  };
+  RecordingObserver plain, with_stop;
+  const ContinuationResult r0 = trace({}, plain);
+  const ContinuationResult r1 = trace({0.25}, with_stop);
+  ASSERT_EQ(r0.code, StopCode::UpperBound) << r0.reason;
+  ASSERT_EQ(r1.code, StopCode::UpperBound) << r1.reason;
+  ASSERT_EQ(plain.points.size(), 2u);  // start, end: one step
+  const auto requested = with_stop.of_kind(PointKind::Requested);
+  ASSERT_EQ(requested.size(), 1u);
+  const BranchPoint& q = *requested[0];
+  EXPECT_EQ(q.lambda, 0.25);
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(q.u[i], 1.0 / (1.25 * (1 + i)), 1e-10);
+  std::cout << "stop corrected in " << q.iterations << " chord iterations; factorisations " << r0.factorisations
+            << " without the stop, " << r1.factorisations << " with it\n";
+  EXPECT_GT(q.iterations, 5);  // at the rate 0.40: on the old matrix, not a fresh one
+  EXPECT_EQ(r1.factorisations, r0.factorisations);
 }
 
 TEST(Continuation, BadOptionsAreRejected) {

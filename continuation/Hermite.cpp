@@ -1,0 +1,54 @@
+#include "continuation/Hermite.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace keller {
+
+namespace {
+
+// Cubic Hermite basis on [0, 1] and its derivative.
+struct HermiteBasis {
+  double h00, h10, h01, h11;
+};
+HermiteBasis basis(double x) {
+  const double x2 = x * x, x3 = x2 * x;
+  return {2 * x3 - 3 * x2 + 1, x3 - 2 * x2 + x, -2 * x3 + 3 * x2, x3 - x2};
+}
+HermiteBasis basis_derivative(double x) {
+  const double x2 = x * x;
+  return {6 * x2 - 6 * x, 3 * x2 - 4 * x + 1, -6 * x2 + 6 * x, 3 * x2 - 2 * x};
+}
+
+}  // namespace
+
+bool hermite_point(const BranchPoint& a, const BranchPoint& b, const BranchFunctional& g, double target, Vector& u,
+                   double& lambda, double& x) {
+  const double h = b.s - a.s;
+  if (!(h > 0) || !std::isfinite(h) || a.tu.size() != a.u.size() || b.tu.size() != b.u.size() ||
+      a.u.size() != b.u.size())
+    return false;
+  // g is linear, so g along the cubic is the cubic with g's values and slopes at the ends
+  const double ga = g(a.u, a.lambda, true), gb = g(b.u, b.lambda, true);
+  const double sa = h * g(a.tu, a.tlambda, false), sb = h * g(b.tu, b.tlambda, false);
+  auto g_at = [&](const HermiteBasis& w) { return w.h00 * ga + w.h10 * sa + w.h01 * gb + w.h11 * sb; };
+  double t = (target - ga) / (gb - ga);  // the chord's answer starts Newton's iteration
+  if (!std::isfinite(t)) return false;
+  for (int it = 0; it < 30; ++it) {
+    const double d = g_at(basis_derivative(t));
+    if (!(std::abs(d) > 0)) return false;
+    const double dt = (g_at(basis(t)) - target) / d;
+    t -= dt;
+    if (!std::isfinite(t)) return false;
+    if (std::abs(dt) <= 1e-15) break;
+  }
+  const double scale = std::max({std::abs(ga), std::abs(gb), std::abs(target), 1e-300});
+  if (!(t >= 0.0 && t <= 1.0) || std::abs(g_at(basis(t)) - target) > 1e-12 * scale) return false;
+  const HermiteBasis w = basis(t);
+  u = w.h00 * a.u + (w.h10 * h) * a.tu + w.h01 * b.u + (w.h11 * h) * b.tu;
+  lambda = w.h00 * a.lambda + (w.h10 * h) * a.tlambda + w.h01 * b.lambda + (w.h11 * h) * b.tlambda;
+  x = t;
+  return true;
+}
+
+}  // namespace keller
