@@ -130,8 +130,12 @@ Status Continuation::correct_iterations(Vector& u, double& lambda, const Constra
     const double normF = F_.lpNorm<Eigen::Infinity>();
     if (k > 0) {
       const bool small_update = update <= newton_.update_tolerance * std::max(u.lpNorm<Eigen::Infinity>(), 1.0);
-      // the rounding floor: within 1e3 of the tolerance and no longer falling (as in Newton)
-      const bool stalled = normF > 0.5 * previous;
+      // the rounding floor: within 1e3 of the tolerance and no longer falling (as in Newton). A
+      // located point's chord on a kept factorisation may fall slowly but steadily (see below):
+      // there the fall over two iterations must stall too, or a slow chord passes for rounding
+      const bool slow_chord_allowed = options_.corrector == ContinuationOptions::Corrector::Chord &&
+                                      options_.reuse_factorisation && !step;
+      const bool stalled = normF > 0.5 * previous && (!slow_chord_allowed || k < 2 || normF > 0.5 * before_previous);
       if (normF <= tol || ((small_update || stalled) && normF <= 1e3 * tol)) {
         last_residual_ = normF;
         return {};
@@ -155,7 +159,9 @@ Status Continuation::correct_iterations(Vector& u, double& lambda, const Constra
       refactor = k + more > options_.max_iterations - 2;
     }
     // near the rounding floor a slower fall is rounding, not an old matrix: no new factorisation
-    if (chord && k > 0 && normF <= 1e3 * tol) refactor = false;
+    // (a located point's chord on a kept factorisation has its own rule above, which near the
+    // tolerance asks for few iterations anyway)
+    if (chord && k > 0 && normF <= 1e3 * tol && !(options_.reuse_factorisation && !step)) refactor = false;
     if (k == 0 && options_.reuse_factorisation && reusable_ && bordered_->block_factorised())
       refactor = !bordered_->set_row(c.cu, c.cl).is_ok();
     before_previous = previous;

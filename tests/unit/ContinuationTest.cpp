@@ -443,6 +443,37 @@ TEST(Continuation, RequestedValueLocatedOnTheKeptFactorisation) {
   EXPECT_EQ(r1.factorisations, r0.factorisations);
 }
 
+// The same with a slow chord: the stop at 0.1 on a factorisation kept from lambda = 2 contracts by
+// 1 - 1.1 / 3 = 0.63 per iteration, which a ratio test alone takes for the rounding floor once
+// |F| is within 1e3 of the tolerance. The fall over two iterations (0.40) says it is not.
+TEST(Continuation, ASlowChordAtALocatedPointIsNotTakenForRounding) {
+  ScaledLinear p(3);
+  ContinuationOptions o;
+  o.parameter = "lambda";
+  o.method = ContinuationOptions::Method::Natural;
+  o.max_angle_degrees = 89;
+  o.upper = 1.9;
+  o.initial_step = 2.0;
+  o.max_step = 2.0;
+  o.corrector = ContinuationOptions::Corrector::Chord;
+  o.block_elimination = true;
+  o.reuse_factorisation = true;
+  o.detect_branch_points = false;
+  o.target_iterations = 8;
+  o.max_iterations = 60;
+  o.stops = {0.1};
+  Continuation cont(p, o);
+  RecordingObserver rec;
+  const ContinuationResult r = cont.run(p.initial_guess(), rec);
+  ASSERT_EQ(r.code, StopCode::UpperBound) << r.reason;
+  const auto requested = rec.of_kind(PointKind::Requested);
+  ASSERT_EQ(requested.size(), 1u);
+  const BranchPoint& q = *requested[0];
+  std::cout << "stop corrected in " << q.iterations << " chord iterations to |F| = " << q.residual << "\n";
+  EXPECT_LE(q.residual, 1e-10);  // the tolerance (residual_tolerance 1e-10, scale 1)
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(q.u[i], 1.0 / (1.1 * (1 + i)), 1e-10);
+}
+
 TEST(Continuation, BadOptionsAreRejected) {
   CubicProblem problem(0.0);
   ContinuationOptions o = cubic_options();
