@@ -105,8 +105,23 @@ Continuation::Constraint Continuation::lambda_constraint(double lambda) const {
 }
 
 Status Continuation::correct(Vector& u, double& lambda, const Constraint& c, int& iterations, bool step) {
-  // a factorisation made at a diverging iterate is not kept for the next attempt
+  const bool kept_chord = options_.corrector == ContinuationOptions::Corrector::Chord &&
+                          options_.reuse_factorisation && !step;
+  Vector u0;
+  if (kept_chord) u0 = u;
+  const double lambda0 = lambda;
   Status st = correct_iterations(u, lambda, c, iterations, step);
+  if (!st.is_ok() && kept_chord && !refactored_) {
+    // a located point's chord that failed on the kept factorisation (its rate worsened): once
+    // more from the same prediction with a factorisation made there
+    u = std::move(u0);
+    lambda = lambda0;
+    reusable_ = false;
+    int more = 0;
+    st = correct_iterations(u, lambda, c, more, step);
+    iterations += more;
+  }
+  // a factorisation made at a diverging iterate is not kept for the next attempt
   reusable_ = st.is_ok();
   return st;
 }
@@ -132,10 +147,12 @@ Status Continuation::correct_iterations(Vector& u, double& lambda, const Constra
       const bool small_update = update <= newton_.update_tolerance * std::max(u.lpNorm<Eigen::Infinity>(), 1.0);
       // the rounding floor: within 1e3 of the tolerance and no longer falling (as in Newton). A
       // located point's chord on a kept factorisation may fall slowly but steadily (see below):
-      // there the fall over two iterations must stall too, or a slow chord passes for rounding
+      // there the fall over two iterations must stall too (under 10%), or a slow chord passes
+      // for rounding; a chord slower than the tolerance allows is renewed instead (below)
       const bool slow_chord_allowed = options_.corrector == ContinuationOptions::Corrector::Chord &&
                                       options_.reuse_factorisation && !step;
-      const bool stalled = normF > 0.5 * previous && (!slow_chord_allowed || k < 2 || normF > 0.5 * before_previous);
+      const bool stalled =
+          normF > 0.5 * previous && (!slow_chord_allowed || (k >= 2 && normF > 0.9 * before_previous));
       if (normF <= tol || ((small_update || stalled) && normF <= 1e3 * tol)) {
         last_residual_ = normF;
         return {};
@@ -285,7 +302,7 @@ Status Continuation::point_tangent(BranchPoint& p, const Constraint& c, const Ve
       return {};
     };
     Vector v = Vector::Zero(n), rf = Vector::Zero(n), dv, jv;
-    double mu = 0.0, rg = 1.0, dmu = 0.0, previous = INFINITY;
+    double mu = 0.0, rg = 1.0, dmu = 0.0, previous = INFINITY, before_previous = INFINITY;
     // as many iterations as the corrector may make, while each halves the residual and the
     // rate says the tolerance is within reach
     const int limit = std::max(12, options_.max_iterations);
@@ -306,7 +323,9 @@ Status Continuation::point_tangent(BranchPoint& p, const Constraint& c, const Ve
         converged = true;
         break;
       }
-      if (it > 0 && it + 1 + std::log(1e-9 * scale / res) / std::log(res / previous) > limit) break;
+      // (the rate over the last two iterations: one alone wanders)
+      if (it > 1 && it + 1 + std::log(1e-9 * scale / res) / std::log(std::sqrt(res / before_previous)) > limit) break;
+      before_previous = previous;
       previous = res;
     }
     // converged: the kept factorisation and this point's system are close (a contraction), so
@@ -434,7 +453,8 @@ BranchPoint Continuation::point_on_segment(const BranchPoint& a, const BranchPoi
     return point ? dot(u - a.u, l - a.lambda, a.tu, a.tlambda) : dot(u, l, a.tu, a.tlambda);
   };
   double x = w;
-  if (!hermite_point(p0, p1, coordinate, target, p.u, p.lambda, x)) {
+  const bool cubic = hermite_point(p0, p1, coordinate, target, p.u, p.lambda, x);
+  if (!cubic) {
     p.u = p0.u + w * (p1.u - p0.u);
     p.lambda = p0.lambda + w * (p1.lambda - p0.lambda);
   }
@@ -452,7 +472,8 @@ BranchPoint Continuation::point_on_segment(const BranchPoint& a, const BranchPoi
   }
   if (st.is_ok()) st = evaluate(p, analyse);
   p.bordered_det_sign = bordered_->determinant_sign();
-  p.s = a.s + tau * (b.s - a.s);
+  // where along the branch: on the cubic, the bracket's fraction x; else the coordinate's
+  p.s = cubic ? p0.s + x * (p1.s - p0.s) : a.s + tau * (b.s - a.s);
   p.step = b.step;
   return p;
 }
@@ -915,13 +936,15 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
     }
     std::stable_sort(located.begin(), located.end(),
                      [](const Located& x, const Located& y) { return x.point.s < y.point.s; });
-    // a point found twice (a problem monitor that is also the stop observable: the event and the
-    // end are the same zero) is reported once, as the end
+    // a zero found twice (a problem monitor that is also the stop observable: the event and the
+    // end are the same point) is reported once, as the end; other kinds are always kept
     {
+      const double near = 1e-3 * std::abs(nxt.s - cur.s);
       auto same_as_an_end = [&](const Located& l) {
-        return !l.terminal && std::any_of(located.begin(), located.end(), [&](const Located& t) {
-          return t.terminal && std::abs(t.point.lambda - l.point.lambda) <= options_.event_tolerance &&
-                 std::abs(t.point.s - l.point.s) <= options_.event_tolerance;
+        return l.point.kind == PointKind::Event && std::any_of(located.begin(), located.end(), [&](const Located& t) {
+          return t.terminal && t.code == StopCode::StopObservable &&
+                 std::abs(t.point.lambda - l.point.lambda) <= options_.event_tolerance &&
+                 std::abs(t.point.s - l.point.s) <= near;
         });
       };
       std::vector<bool> drop(located.size());

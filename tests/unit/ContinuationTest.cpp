@@ -123,6 +123,10 @@ TEST(Continuation, CubicFoldsLocatedTo1e10AndEndHitExactly) {
   const auto folds = rec.of_kind(PointKind::Fold);
   ASSERT_EQ(folds.size(), 2u) << r.reason;
   std::cout << "cubic folds at lambda = " << folds[0]->lambda << " and " << folds[1]->lambda << "\n";
+  // the trial points start on the cubic Hermite interpolant of the bracket: 3 and 4 corrector
+  // iterations in all (4 and 5 from the straight chord between the bracket's points)
+  EXPECT_LE(folds[0]->iterations, 3);
+  EXPECT_LE(folds[1]->iterations, 4);
   EXPECT_NEAR(folds[0]->lambda, 2.0, 1e-10);
   EXPECT_NEAR(folds[0]->u[0], -1.0, 1e-5);  // lambda - 2 = -3 (u + 1)^2 + ...: u to the square root
   EXPECT_EQ(folds[0]->label, "max");
@@ -153,6 +157,9 @@ TEST(Continuation, EventOnAMonitorWithAKnownCrossing) {
   std::cout << "event u = 1/2 located at lambda = " << events[0]->lambda << " (exact -1.375)\n";
   EXPECT_NEAR(events[0]->lambda, -1.375, o.event_tolerance);
   EXPECT_NEAR(events[0]->u[0], 0.5, 1e-9);
+  // secant trials predicted on the cubic Hermite interpolant of the bracket: 9 corrector
+  // iterations in all (11 from the straight chord between the bracket's points)
+  EXPECT_LE(events[0]->iterations, 9);
 }
 
 // A stop observable whose threshold is a zero of a problem monitor (here u = 1/2 both ways) finds
@@ -171,6 +178,21 @@ TEST(Continuation, AStopThatIsAlsoAnEventIsReportedOnce) {
   ASSERT_EQ(rec.of_kind(PointKind::End).size(), 1u);
   EXPECT_NEAR(rec.points.back().lambda, -1.375, o.event_tolerance);
   EXPECT_EQ(rec.points.back().kind, PointKind::End);
+  // a requested value at the same place is another kind of point: it stays
+  o.stops = {-1.375};
+  Continuation again(problem, o);
+  RecordingObserver rec2;
+  problem.parameters().set("lambda", -2.0);
+  again.run(problem.initial_guess(), rec2);
+  // (the branch crosses lambda = -1.375 first at u = -1.93, then at the end, u = 1/2)
+  ASSERT_EQ(rec2.of_kind(PointKind::Requested).size(), 2u);
+  ASSERT_GE(rec2.points.size(), 2u);
+  const BranchPoint& last_but_one = rec2.points[rec2.points.size() - 2];
+  EXPECT_EQ(last_but_one.kind, PointKind::Requested);
+  EXPECT_EQ(last_but_one.lambda, -1.375);
+  EXPECT_NEAR(last_but_one.u[0], 0.5, 1e-9);
+  EXPECT_TRUE(rec2.of_kind(PointKind::Event).empty());
+  EXPECT_EQ(rec2.points.back().kind, PointKind::End);
 }
 
 TEST(Continuation, RequestedValuesAtEveryCrossing) {
@@ -439,39 +461,56 @@ TEST(Continuation, RequestedValueLocatedOnTheKeptFactorisation) {
   for (int i = 0; i < 3; ++i) EXPECT_NEAR(q.u[i], 1.0 / (1.25 * (1 + i)), 1e-10);
   std::cout << "stop corrected in " << q.iterations << " chord iterations; factorisations " << r0.factorisations
             << " without the stop, " << r1.factorisations << " with it\n";
-  EXPECT_GT(q.iterations, 5);  // at the rate 0.40: on the old matrix, not a fresh one
+  EXPECT_GT(q.iterations, 5);  // at the rate 0.43: on the old matrix, not a fresh one
+  // The predictor is the cubic Hermite interpolant of the start and the step's point: at the
+  // rate 0.43 the chord needs 20 iterations from it, 25 from the straight chord between the two
+  // points (whose error, 0.09 in u_0, is about 60 times the cubic's)
+  EXPECT_LE(q.iterations, 22);
   EXPECT_EQ(r1.factorisations, r0.factorisations);
 }
 
-// The same with a slow chord: the stop at 0.1 on a factorisation kept from lambda = 2 contracts by
-// 1 - 1.1 / 3 = 0.63 per iteration, which a ratio test alone takes for the rounding floor once
-// |F| is within 1e3 of the tolerance. The fall over two iterations (0.40) says it is not.
+// The same with slow chords: on a factorisation kept from lambda = L the stop at v contracts by
+// 1 - (1 + v) / (1 + L) per iteration, which a ratio test alone takes for the rounding floor once
+// |F| is within 1e3 of the tolerance (accepted at 1e-8 to 1e-7 before). Each stop must reach the
+// tolerance, on the kept factorisation or on a renewed one.
 TEST(Continuation, ASlowChordAtALocatedPointIsNotTakenForRounding) {
-  ScaledLinear p(3);
-  ContinuationOptions o;
-  o.parameter = "lambda";
-  o.method = ContinuationOptions::Method::Natural;
-  o.max_angle_degrees = 89;
-  o.upper = 1.9;
-  o.initial_step = 2.0;
-  o.max_step = 2.0;
-  o.corrector = ContinuationOptions::Corrector::Chord;
-  o.block_elimination = true;
-  o.reuse_factorisation = true;
-  o.detect_branch_points = false;
-  o.target_iterations = 8;
-  o.max_iterations = 60;
-  o.stops = {0.1};
-  Continuation cont(p, o);
-  RecordingObserver rec;
-  const ContinuationResult r = cont.run(p.initial_guess(), rec);
-  ASSERT_EQ(r.code, StopCode::UpperBound) << r.reason;
-  const auto requested = rec.of_kind(PointKind::Requested);
-  ASSERT_EQ(requested.size(), 1u);
-  const BranchPoint& q = *requested[0];
-  std::cout << "stop corrected in " << q.iterations << " chord iterations to |F| = " << q.residual << "\n";
-  EXPECT_LE(q.residual, 1e-10);  // the tolerance (residual_tolerance 1e-10, scale 1)
-  for (int i = 0; i < 3; ++i) EXPECT_NEAR(q.u[i], 1.0 / (1.1 * (1 + i)), 1e-10);
+  struct Case {
+    double step;
+    int max_iterations;
+    std::vector<double> stops;
+  };
+  // rates 0.63 (stop 0.1, max 60); 0.67 with the default 10 iterations (stop 0.001); 0.82-0.83
+  // (stops 0.003-0.1 after a step to 5, max 200)
+  const Case cases[] = {{2.0, 60, {0.1}}, {2.0, 10, {0.001}}, {5.0, 200, {0.003, 0.01, 0.03, 0.1}}};
+  for (const Case& cs : cases) {
+    ScaledLinear p(3);
+    ContinuationOptions o;
+    o.parameter = "lambda";
+    o.method = ContinuationOptions::Method::Natural;
+    o.max_angle_degrees = 89;
+    o.upper = cs.step - 0.1;
+    o.initial_step = cs.step;
+    o.max_step = cs.step;
+    o.corrector = ContinuationOptions::Corrector::Chord;
+    o.block_elimination = true;
+    o.reuse_factorisation = true;
+    o.detect_branch_points = false;
+    o.target_iterations = 8;
+    o.max_iterations = cs.max_iterations;
+    o.stops = cs.stops;
+    Continuation cont(p, o);
+    RecordingObserver rec;
+    const ContinuationResult r = cont.run(p.initial_guess(), rec);
+    ASSERT_EQ(r.code, StopCode::UpperBound) << r.reason;
+    const auto requested = rec.of_kind(PointKind::Requested);
+    ASSERT_EQ(requested.size(), cs.stops.size());
+    for (const BranchPoint* q : requested) {
+      std::cout << "step to " << cs.step << ", stop " << q->lambda << ": " << q->iterations
+                << " chord iterations to |F| = " << q->residual << "\n";
+      EXPECT_LE(q->residual, 1e-10) << q->lambda;  // the tolerance (residual_tolerance 1e-10, scale 1)
+      for (int i = 0; i < 3; ++i) EXPECT_NEAR(q->u[i], 1.0 / ((1 + q->lambda) * (1 + i)), 1e-10);
+    }
+  }
 }
 
 TEST(Continuation, BadOptionsAreRejected) {
