@@ -143,17 +143,20 @@ Status Continuation::correct_iterations(Vector& u, double& lambda, const Constra
     ++timings_.residuals;
     if (!st.is_ok()) return st;
     const double normF = F_.lpNorm<Eigen::Infinity>();
+    // a located point's chord on a kept factorisation aims at the tolerance or, where that lies
+    // below rounding, at the floor its neighbours reached (within 1e3 of the tolerance)
+    const bool slow_chord_allowed = options_.corrector == ContinuationOptions::Corrector::Chord &&
+                                    options_.reuse_factorisation && !step;
+    const double goal = slow_chord_allowed ? std::max(tol, std::min(located_floor_, 1e3 * tol)) : tol;
     if (k > 0) {
       const bool small_update = update <= newton_.update_tolerance * std::max(u.lpNorm<Eigen::Infinity>(), 1.0);
       // the rounding floor: within 1e3 of the tolerance and no longer falling (as in Newton). A
       // located point's chord on a kept factorisation may fall slowly but steadily (see below):
       // there the fall over two iterations must stall too (under 10%), or a slow chord passes
       // for rounding; a chord slower than the tolerance allows is renewed instead (below)
-      const bool slow_chord_allowed = options_.corrector == ContinuationOptions::Corrector::Chord &&
-                                      options_.reuse_factorisation && !step;
       const bool stalled =
           normF > 0.5 * previous && (!slow_chord_allowed || (k >= 2 && normF > 0.9 * before_previous));
-      if (normF <= tol || ((small_update || stalled) && normF <= 1e3 * tol)) {
+      if (normF <= goal || ((small_update || stalled) && normF <= 1e3 * tol)) {
         last_residual_ = normF;
         return {};
       }
@@ -168,11 +171,11 @@ Status Continuation::correct_iterations(Vector& u, double& lambda, const Constra
     bool refactor = !chord || k == 0 || !(normF <= options_.chord_rate * previous);
     if (chord && k > 0 && options_.reuse_factorisation && !step) {
       // At a located point a kept factorisation is renewed only when the chord, at its observed
-      // rate (the mean of its last two, which wander), would not reach the tolerance two
+      // rate (the mean of its last two, which wander), would not reach its goal two
       // iterations before the limit: a few more solves are cheaper than a factorisation. (In a
       // step the rate rule stays: there the iteration count also steers the step size.)
       const double rate = on_this_matrix >= 2 ? std::sqrt(normF / before_previous) : normF / previous;
-      const double more = rate < 1.0 ? std::max(0.0, std::log(tol / normF) / std::log(rate)) : INFINITY;
+      const double more = rate < 1.0 ? std::max(0.0, std::log(goal / normF) / std::log(rate)) : INFINITY;
       refactor = k + more > options_.max_iterations - 2;
     }
     // near the rounding floor a slower fall is rounding, not an old matrix: no new factorisation
@@ -459,7 +462,9 @@ BranchPoint Continuation::point_on_segment(const BranchPoint& a, const BranchPoi
     p.lambda = p0.lambda + w * (p1.lambda - p0.lambda);
   }
   const Constraint c = arclength ? arclength_constraint(a, a.tu, a.tlambda, target) : lambda_constraint(target);
+  located_floor_ = 2.0 * std::max(p0.residual, p1.residual);
   st = correct(p.u, p.lambda, c, p.iterations);
+  located_floor_ = 0.0;
   p.residual = last_residual_;
   // The corrector's last factorisation is at its second-last iterate. Locating a fold (a zero of
   // the tangent's parameter part) or a sign change of the determinant needs them at the point
@@ -490,7 +495,9 @@ std::optional<BranchPoint> Continuation::locate_value(const BranchPoint& a, cons
   else p.u = a.u + tau * (b.u - a.u);
   p.lambda = value;
   const Constraint c = lambda_constraint(value);
+  located_floor_ = 2.0 * std::max(a.residual, b.residual);
   Status st = correct(p.u, p.lambda, c, p.iterations);
+  located_floor_ = 0.0;
   p.residual = last_residual_;
   if (st.is_ok()) st = point_tangent(p, c, a.tu, a.tlambda);
   if (st.is_ok()) st = evaluate(p, false);

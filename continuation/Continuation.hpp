@@ -178,6 +178,9 @@ class Continuation {
   std::vector<BranchPoint> unanalysed_;
   bool refactored_ = false;      // the last corrector call made a factorisation
   double last_residual_ = 0.0;   // |F|_inf where the last corrector call converged
+  // |F|_inf the corrector reached at the points around a located point (twice the larger): where
+  // the rounding floor lies for its chord; 0 outside location
+  double located_floor_ = 0.0;
   ContinuationTimings timings_;        // the kept factorisation belongs to a converged corrector
   SparseMatrix J_;
   Vector F_, Fp_;

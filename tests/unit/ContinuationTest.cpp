@@ -379,7 +379,8 @@ TEST(Hermite, NoPointWhereTheCubicMissesTheTarget) {
 // |1 - (1 + lambda) / (1 + lambda_b)| per iteration.
 class ScaledLinear final : public Problem {
  public:
-  explicit ScaledLinear(int n) : n_(n), pattern_(n, n) {
+  // scale multiplies F: its rounding floor is about 1e-16 x scale
+  explicit ScaledLinear(int n, double scale = 1.0) : n_(n), scale_(scale), pattern_(n, n) {
     params_.add("lambda", 0.0, "scale");
     for (int i = 0; i < n; ++i) pattern_.insert(i, i) = 0.0;
     pattern_.makeCompressed();
@@ -391,18 +392,18 @@ class ScaledLinear final : public Problem {
   const SparseMatrix& jacobian_pattern() const override { return pattern_; }
   Status residual(const Vector& u, Vector& F) override {
     F.resize(n_);
-    for (int i = 0; i < n_; ++i) F[i] = (1 + params_.value(0)) * (1 + i) * u[i] - 1;
+    for (int i = 0; i < n_; ++i) F[i] = scale_ * ((1 + params_.value(0)) * (1 + i) * u[i] - 1);
     return {};
   }
   Status jacobian(const Vector& u, Vector& F, SparseMatrix& J) override {
     residual(u, F);
     J = pattern_;
-    for (int i = 0; i < n_; ++i) J.valuePtr()[i] = (1 + params_.value(0)) * (1 + i);
+    for (int i = 0; i < n_; ++i) J.valuePtr()[i] = scale_ * (1 + params_.value(0)) * (1 + i);
     return {};
   }
   Status parameter_derivative(int, const Vector& u, Vector& dF) override {
     dF.resize(n_);
-    for (int i = 0; i < n_; ++i) dF[i] = (1 + i) * u[i];
+    for (int i = 0; i < n_; ++i) dF[i] = scale_ * (1 + i) * u[i];
     return {};
   }
   Vector initial_guess() override {
@@ -419,6 +420,7 @@ class ScaledLinear final : public Problem {
 
  private:
   int n_;
+  double scale_;
   ParameterSet params_;
   SparseMatrix pattern_;
 };
@@ -511,6 +513,110 @@ TEST(Continuation, ASlowChordAtALocatedPointIsNotTakenForRounding) {
       for (int i = 0; i < 3; ++i) EXPECT_NEAR(q->u[i], 1.0 / ((1 + q->lambda) * (1 + i)), 1e-10);
     }
   }
+}
+
+// Where the tolerance lies below the residual's rounding floor (here F scaled by 1e4: |F| stalls
+// near 1e-12, the tolerance is 1e-14), the points of a step stop at the floor; the chord of a
+// point located between them aims at the floor they reached instead of renewing the
+// factorisation for a tolerance it cannot reach: 21 stops on one step cost no factorisation (one
+// of them, aiming at the tolerance, renewed it at the floor).
+TEST(Continuation, ALocatedChordAimsAtTheFloorItsNeighboursReached) {
+  NewtonOptions newton;
+  newton.residual_tolerance = 1e-14;
+  auto trace = [&](const std::vector<double>& stops, RecordingObserver& rec) {
+    ScaledLinear p(3, 1e4);
+    ContinuationOptions o;
+    o.parameter = "lambda";
+    o.method = ContinuationOptions::Method::Natural;
+    o.max_angle_degrees = 80;
+    o.upper = 1.0;
+    o.initial_step = 1.2;
+    o.max_step = 1.2;
+    o.corrector = ContinuationOptions::Corrector::Chord;
+    o.block_elimination = true;
+    o.reuse_factorisation = true;
+    o.detect_branch_points = false;
+    o.target_iterations = 8;
+    o.max_iterations = 30;
+    o.stops = stops;
+    Continuation cont(p, o, newton);
+    return cont.run(p.initial_guess(), rec);
+  };
+  RecordingObserver plain, with_stops;
+  const ContinuationResult r0 = trace({}, plain);
+  std::vector<double> stops;  // rates 0.30 down to 0.12
+  for (int k = 0; k < 21; ++k) stops.push_back(0.54 + 0.02 * k);
+  const ContinuationResult r1 = trace(stops, with_stops);
+  ASSERT_EQ(r1.code, StopCode::UpperBound) << r1.reason;
+  const auto requested = with_stops.of_kind(PointKind::Requested);
+  ASSERT_EQ(requested.size(), stops.size());
+  for (const BranchPoint* q : requested) {
+    EXPECT_LE(q->residual, 1e-11);  // within 1e3 of the tolerance
+    for (int i = 0; i < 3; ++i) EXPECT_NEAR(q->u[i], 1.0 / ((1 + q->lambda) * (1 + i)), 1e-12);
+  }
+  std::cout << r0.factorisations << " factorisations without the stops, " << r1.factorisations << " with them\n";
+  EXPECT_EQ(r1.factorisations, r0.factorisations);
+}
+
+// A located point whose correction fails on the kept factorisation is tried once more from its
+// prediction with a factorisation made there. Here the first residual at the requested value
+// fails (an injected failure standing for a chord that broke down); the second attempt lands on
+// it exactly. Without that attempt the value would be found by root finding along the arclength,
+// to the event tolerance only.
+TEST(Continuation, ALocatedCorrectionThatFailsIsRetriedWithAFreshFactorisation) {
+  class FailOnceAt final : public Problem {
+   public:
+    explicit FailOnceAt(double value) : value_(value), inner_(3) {}
+    std::string name() const override { return "fail-once"; }
+    int size() const override { return inner_.size(); }
+    ParameterSet& parameters() override { return inner_.parameters(); }
+    const ParameterSet& parameters() const override { return inner_.parameters(); }
+    const SparseMatrix& jacobian_pattern() const override { return inner_.jacobian_pattern(); }
+    Status residual(const Vector& u, Vector& F) override {
+      if (inner_.parameters().value(0) == value_ && !failed_) {
+        failed_ = true;
+        return {StatusCode::InvalidState, "injected failure"};
+      }
+      return inner_.residual(u, F);
+    }
+    Status jacobian(const Vector& u, Vector& F, SparseMatrix& J) override { return inner_.jacobian(u, F, J); }
+    Status parameter_derivative(int i, const Vector& u, Vector& dF) override {
+      return inner_.parameter_derivative(i, u, dF);
+    }
+    Vector initial_guess() override { return inner_.initial_guess(); }
+    std::vector<std::string> observable_names() const override { return inner_.observable_names(); }
+    Status observables(const Vector& u, std::vector<double>& v) override { return inner_.observables(u, v); }
+    SolutionFields fields(const Vector& u) const override { return inner_.fields(u); }
+    bool failed() const { return failed_; }
+
+   private:
+    double value_;
+    ScaledLinear inner_;
+    bool failed_ = false;
+  };
+  FailOnceAt p(0.25);
+  ContinuationOptions o;
+  o.parameter = "lambda";
+  o.max_angle_degrees = 89;
+  o.upper = 1.0;
+  o.initial_step = 0.5;
+  o.max_step = 0.5;
+  o.corrector = ContinuationOptions::Corrector::Chord;
+  o.block_elimination = true;
+  o.reuse_factorisation = true;
+  o.detect_branch_points = false;
+  o.target_iterations = 8;
+  o.max_iterations = 30;
+  o.stops = {0.25};
+  Continuation cont(p, o);
+  RecordingObserver rec;
+  const ContinuationResult r = cont.run(p.initial_guess(), rec);
+  ASSERT_EQ(r.code, StopCode::UpperBound) << r.reason;
+  EXPECT_TRUE(p.failed());
+  const auto requested = rec.of_kind(PointKind::Requested);
+  ASSERT_EQ(requested.size(), 1u);
+  EXPECT_EQ(requested[0]->lambda, 0.25);  // exactly: the fixed-parameter corrector, not root finding
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(requested[0]->u[i], 1.0 / (1.25 * (1 + i)), 1e-10);
 }
 
 TEST(Continuation, BadOptionsAreRejected) {
