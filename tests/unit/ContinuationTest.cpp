@@ -47,6 +47,37 @@ ContinuationOptions cubic_options() {
   return o;
 }
 
+// The unit circle by arclength s: u = cos s, lambda = sin s, with its unit tangent.
+BranchPoint circle_point(double s) {
+  BranchPoint p;
+  p.s = s;
+  p.u = Vector::Constant(1, std::cos(s));
+  p.lambda = std::sin(s);
+  p.tu = Vector::Constant(1, -std::sin(s));
+  p.tlambda = std::cos(s);
+  return p;
+}
+
+// Options of the ScaledLinear tests: natural steps of the given size (one step to just past
+// upper), chord corrector with the factorisation kept across steps.
+ContinuationOptions kept_chord_options(double step, double upper, int max_iterations, std::vector<double> stops) {
+  ContinuationOptions o;
+  o.parameter = "lambda";
+  o.method = ContinuationOptions::Method::Natural;
+  o.max_angle_degrees = 89;  // the tangent turns by up to about 45 degrees on one step
+  o.upper = upper;
+  o.initial_step = step;
+  o.max_step = step;
+  o.corrector = ContinuationOptions::Corrector::Chord;
+  o.block_elimination = true;
+  o.reuse_factorisation = true;
+  o.detect_branch_points = false;
+  o.target_iterations = 8;
+  o.max_iterations = max_iterations;
+  o.stops = std::move(stops);
+  return o;
+}
+
 // (x, y) and the determinant sign against a dense LU of [J b; c^T d] (x, y) = (f, g): to 1e-12.
 void expect_dense_solution(const SparseMatrix& J, const Vector& b, const Vector& c, double d, const Vector& f, double g,
                            const Vector& x, double y, int det_sign) {
@@ -318,15 +349,7 @@ TEST(Hermite, ReproducesACubicCurveToRounding) {
 // On a curve that is not a cubic (the unit circle by arclength) the error falls as h^4, against
 // h^2 for the chord between the two points.
 TEST(Hermite, FourthOrderOnACircle) {
-  auto at = [](double s) {
-    BranchPoint p;
-    p.s = s;
-    p.u = Vector::Constant(1, std::cos(s));
-    p.lambda = std::sin(s);
-    p.tu = Vector::Constant(1, -std::sin(s));
-    p.tlambda = std::cos(s);
-    return p;
-  };
+  const auto at = circle_point;
   const BranchFunctional parameter = [](const Vector&, double l, bool) { return l; };
   double previous = NAN, previous_chord = NAN;
   for (double h : {0.4, 0.2, 0.1, 0.05}) {
@@ -354,15 +377,7 @@ TEST(Hermite, FourthOrderOnACircle) {
 // Past the top of the circle the parameter does not reach the target on the segment: no point
 // (the caller falls back to the chord), and nothing is written.
 TEST(Hermite, NoPointWhereTheCubicMissesTheTarget) {
-  auto at = [](double s) {
-    BranchPoint p;
-    p.s = s;
-    p.u = Vector::Constant(1, std::cos(s));
-    p.lambda = std::sin(s);
-    p.tu = Vector::Constant(1, -std::sin(s));
-    p.tlambda = std::cos(s);
-    return p;
-  };
+  const auto at = circle_point;
   const BranchFunctional parameter = [](const Vector&, double l, bool) { return l; };
   Vector u = Vector::Constant(1, 7.0);
   double lambda = 7.0, x = 7.0;
@@ -433,21 +448,7 @@ class ScaledLinear final : public Problem {
 TEST(Continuation, RequestedValueLocatedOnTheKeptFactorisation) {
   auto trace = [](const std::vector<double>& stops, RecordingObserver& rec) {
     ScaledLinear p(3);
-    ContinuationOptions o;
-    o.parameter = "lambda";
-    o.method = ContinuationOptions::Method::Natural;  // steps in lambda: one step, 0 -> 1.2
-    o.max_angle_degrees = 80;                         // the tangent turns by 33 degrees on it
-    o.upper = 1.0;
-    o.initial_step = 1.2;
-    o.max_step = 1.2;
-    o.corrector = ContinuationOptions::Corrector::Chord;
-    o.block_elimination = true;
-    o.reuse_factorisation = true;
-    o.detect_branch_points = false;
-    o.target_iterations = 8;
-    o.max_iterations = 30;
-    o.stops = stops;
-    Continuation cont(p, o);
+    Continuation cont(p, kept_chord_options(1.2, 1.0, 30, stops));  // one step, 0 -> 1.2
     return cont.run(p.initial_guess(), rec);
   };
   RecordingObserver plain, with_stop;
@@ -486,21 +487,7 @@ TEST(Continuation, ASlowChordAtALocatedPointIsNotTakenForRounding) {
   const Case cases[] = {{2.0, 60, {0.1}}, {2.0, 10, {0.001}}, {5.0, 200, {0.003, 0.01, 0.03, 0.1}}};
   for (const Case& cs : cases) {
     ScaledLinear p(3);
-    ContinuationOptions o;
-    o.parameter = "lambda";
-    o.method = ContinuationOptions::Method::Natural;
-    o.max_angle_degrees = 89;
-    o.upper = cs.step - 0.1;
-    o.initial_step = cs.step;
-    o.max_step = cs.step;
-    o.corrector = ContinuationOptions::Corrector::Chord;
-    o.block_elimination = true;
-    o.reuse_factorisation = true;
-    o.detect_branch_points = false;
-    o.target_iterations = 8;
-    o.max_iterations = cs.max_iterations;
-    o.stops = cs.stops;
-    Continuation cont(p, o);
+    Continuation cont(p, kept_chord_options(cs.step, cs.step - 0.1, cs.max_iterations, cs.stops));
     RecordingObserver rec;
     const ContinuationResult r = cont.run(p.initial_guess(), rec);
     ASSERT_EQ(r.code, StopCode::UpperBound) << r.reason;
@@ -525,21 +512,7 @@ TEST(Continuation, ALocatedChordAimsAtTheFloorItsNeighboursReached) {
   newton.residual_tolerance = 1e-14;
   auto trace = [&](const std::vector<double>& stops, RecordingObserver& rec) {
     ScaledLinear p(3, 1e4);
-    ContinuationOptions o;
-    o.parameter = "lambda";
-    o.method = ContinuationOptions::Method::Natural;
-    o.max_angle_degrees = 80;
-    o.upper = 1.0;
-    o.initial_step = 1.2;
-    o.max_step = 1.2;
-    o.corrector = ContinuationOptions::Corrector::Chord;
-    o.block_elimination = true;
-    o.reuse_factorisation = true;
-    o.detect_branch_points = false;
-    o.target_iterations = 8;
-    o.max_iterations = 30;
-    o.stops = stops;
-    Continuation cont(p, o, newton);
+    Continuation cont(p, kept_chord_options(1.2, 1.0, 30, stops), newton);
     return cont.run(p.initial_guess(), rec);
   };
   RecordingObserver plain, with_stops;
@@ -595,19 +568,8 @@ TEST(Continuation, ALocatedCorrectionThatFailsIsRetriedWithAFreshFactorisation) 
     bool failed_ = false;
   };
   FailOnceAt p(0.25);
-  ContinuationOptions o;
-  o.parameter = "lambda";
-  o.max_angle_degrees = 89;
-  o.upper = 1.0;
-  o.initial_step = 0.5;
-  o.max_step = 0.5;
-  o.corrector = ContinuationOptions::Corrector::Chord;
-  o.block_elimination = true;
-  o.reuse_factorisation = true;
-  o.detect_branch_points = false;
-  o.target_iterations = 8;
-  o.max_iterations = 30;
-  o.stops = {0.25};
+  ContinuationOptions o = kept_chord_options(0.5, 1.0, 30, {0.25});
+  o.method = ContinuationOptions::Method::Arclength;  // root finding along the arclength is the fallback
   Continuation cont(p, o);
   RecordingObserver rec;
   const ContinuationResult r = cont.run(p.initial_guess(), rec);
