@@ -52,6 +52,28 @@ Status FailingBand::jacobian(const Vector& u, Vector& F, SparseMatrix& J) {
   return st.is_ok() ? inner_->jacobian(u, F, J) : st;
 }
 
+ContinuationOptions bratu_fold_options(const std::string& stop, double above) {
+  ContinuationOptions o;
+  o.parameter = "lambda";
+  o.lower = 0.0;
+  o.initial_step = 0.1;
+  o.max_step = 0.5;
+  o.event_tolerance = 1e-12;
+  o.stop_observable = stop;
+  o.stop_above = above;
+  return o;
+}
+
+ContinuationOptions pitchfork_trivial_options() {
+  ContinuationOptions o;
+  o.parameter = "lambda";
+  o.upper = 45.0;
+  o.initial_step = 0.5;
+  o.max_step = 2.0;
+  o.event_tolerance = 1e-10;
+  return o;
+}
+
 std::vector<const BranchPoint*> RecordingObserver::of_kind(PointKind k) const {
   std::vector<const BranchPoint*> out;
   for (const auto& p : points)

@@ -62,6 +62,14 @@ class FailingBand final : public Problem {
   double a_, b_;
 };
 
+// Bratu from lambda = 0 up its lower branch, through the fold, until the observable `stop`
+// exceeds `above` on the upper branch.
+ContinuationOptions bratu_fold_options(const std::string& stop, double above);
+
+// The trivial branch u = 0 of the pitchfork problem from lambda = 1 to 45, through its first two
+// branch points.
+ContinuationOptions pitchfork_trivial_options();
+
 // Keeps every reported point, rejection and note.
 class RecordingObserver final : public BranchObserver {
  public:

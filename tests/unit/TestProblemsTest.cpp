@@ -153,12 +153,7 @@ TEST(Pitchfork1D, TrivialBranchLosesStabilityAtTheDiscreteEigenvalues) {
 TEST(Pitchfork1D, ContinuationLocatesTheBranchPointsOfTheTrivialBranch) {
   const int n = 50;
   Pitchfork1DProblem p(n, 1.0);
-  ContinuationOptions o;
-  o.parameter = "lambda";
-  o.upper = 45.0;
-  o.initial_step = 0.5;
-  o.max_step = 2.0;
-  o.event_tolerance = 1e-10;
+  const ContinuationOptions o = test::pitchfork_trivial_options();
   Continuation cont(p, o);
   test::RecordingObserver rec;
   const auto r = cont.run(p.initial_guess(), rec);

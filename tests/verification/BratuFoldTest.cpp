@@ -13,28 +13,14 @@
 
 using namespace keller;
 
-namespace {
-
-ContinuationOptions fold_options(const std::string& stop, double above) {
-  ContinuationOptions o;
-  o.parameter = "lambda";
-  o.lower = 0.0;
-  o.initial_step = 0.1;
-  o.max_step = 0.5;
-  o.event_tolerance = 1e-12;
-  o.stop_observable = stop;
-  o.stop_above = above;
-  return o;
-}
-
-}  // namespace
+using test::bratu_fold_options;
 
 // Central differences: the discrete fold is lambda_c + O(h^2), and u(1/2) there too.
 TEST(BratuFold, OneDimensionalFoldConvergesAtSecondOrder) {
   std::vector<double> err, umid;
   for (int n : {16, 32, 64, 128}) {
     Bratu1DProblem p(n, 0.0);
-    Continuation cont(p, fold_options("u_mid", 4.0));
+    Continuation cont(p, bratu_fold_options("u_mid", 4.0));
     test::RecordingObserver rec;
     const auto r = cont.run(p.initial_guess(), rec);
     const auto folds = rec.of_kind(PointKind::Fold);
@@ -72,7 +58,7 @@ TEST(BratuFold, TwoDimensionalFoldConvergesToThePublishedValue) {
   std::vector<int> sizes = {4, 8, 16, 32};
   for (int n : sizes) {
     Bratu2DProblem p(n, 0.0);
-    Continuation cont(p, fold_options("u_max", 2.0));
+    Continuation cont(p, bratu_fold_options("u_max", 2.0));
     test::RecordingObserver rec;
     cont.run(p.initial_guess(), rec);
     const auto folds = rec.of_kind(PointKind::Fold);
@@ -112,7 +98,7 @@ TEST(BratuFold, ChordCorrectorAndBlockEliminationFindTheSameFold) {
   long factorisations[5];
   for (int k = 0; k < 5; ++k) {
     Bratu1DProblem p(64, 0.0);
-    ContinuationOptions o = fold_options("u_mid", 4.0);
+    ContinuationOptions o = bratu_fold_options("u_mid", 4.0);
     o.corrector = variants[k].corrector;
     o.block_elimination = variants[k].block;
     if (k == 4) {

@@ -60,12 +60,7 @@ int column(const std::vector<std::string>& names, const std::string& n) {
 // The trivial branch u = 0 of the pitchfork problem from lambda = 1 to 45 (through its first two
 // branch points), found by the spectrum alone (no determinant).
 ContinuationOptions pitchfork_trivial_branch() {
-  ContinuationOptions o;
-  o.parameter = "lambda";
-  o.upper = 45.0;
-  o.initial_step = 0.5;
-  o.max_step = 2.0;
-  o.event_tolerance = 1e-10;
+  ContinuationOptions o = test::pitchfork_trivial_options();
   o.detect_branch_points = false;
   o.state_scale = 1.0;
   return o;
@@ -97,15 +92,7 @@ ContinuationOptions brusselator_branch(double a) {
 // accuracy of the located point.
 TEST(Stability, BratuFoldIsWhereAnEigenvalueCrossesZero) {
   Bratu1DProblem p(64, 0.0);
-  ContinuationOptions o;
-  o.parameter = "lambda";
-  o.lower = 0.0;
-  o.initial_step = 0.1;
-  o.max_step = 0.5;
-  o.event_tolerance = 1e-12;
-  o.stop_observable = "u_mid";
-  o.stop_above = 4.0;
-  const Traced t = trace_with_stability(p, o, 4);
+  const Traced t = trace_with_stability(p, test::bratu_fold_options("u_mid", 4.0), 4);
   const auto& rec = t.rec;
   ASSERT_EQ(t.result.code, StopCode::StopObservable) << t.result.reason;
   const auto folds = rec.of_kind(PointKind::Fold);
