@@ -105,8 +105,7 @@ Continuation::Constraint Continuation::lambda_constraint(double lambda) const {
 }
 
 Status Continuation::correct(Vector& u, double& lambda, const Constraint& c, int& iterations, bool step) {
-  const bool kept_chord = options_.corrector == ContinuationOptions::Corrector::Chord &&
-                          options_.reuse_factorisation && !step;
+  const bool kept_chord = located_on_kept_factorisation(step);
   Vector u0;
   if (kept_chord) u0 = u;
   const double lambda0 = lambda;
@@ -132,6 +131,11 @@ Status Continuation::correct_iterations(Vector& u, double& lambda, const Constra
   const double tol = newton_.residual_tolerance * problem_.residual_scale();
   double previous = INFINITY, before_previous = INFINITY, update = INFINITY;
   int on_this_matrix = 0;  // iterations made with the present factorisation
+  const bool chord = options_.corrector == ContinuationOptions::Corrector::Chord;
+  // a located point's chord on a kept factorisation aims at the tolerance or, where that lies
+  // below rounding, at the floor its neighbours reached (within 1e3 of the tolerance)
+  const bool slow_chord_allowed = located_on_kept_factorisation(step);
+  const double goal = slow_chord_allowed ? std::max(tol, std::min(located_floor_, 1e3 * tol)) : tol;
   Vector du;
   double dl = 0;
   for (int k = 0;; ++k) {
@@ -143,11 +147,6 @@ Status Continuation::correct_iterations(Vector& u, double& lambda, const Constra
     ++timings_.residuals;
     if (!st.is_ok()) return st;
     const double normF = F_.lpNorm<Eigen::Infinity>();
-    // a located point's chord on a kept factorisation aims at the tolerance or, where that lies
-    // below rounding, at the floor its neighbours reached (within 1e3 of the tolerance)
-    const bool slow_chord_allowed = options_.corrector == ContinuationOptions::Corrector::Chord &&
-                                    options_.reuse_factorisation && !step;
-    const double goal = slow_chord_allowed ? std::max(tol, std::min(located_floor_, 1e3 * tol)) : tol;
     if (k > 0) {
       const bool small_update = update <= newton_.update_tolerance * std::max(u.lpNorm<Eigen::Infinity>(), 1.0);
       // the rounding floor: within 1e3 of the tolerance and no longer falling (as in Newton). A
@@ -167,9 +166,8 @@ Status Continuation::correct_iterations(Vector& u, double& lambda, const Constra
               fmt::format("corrector did not converge in {} iterations (|F| = {:.3e})", k, normF)};
     // chord: keep the factorisation while |F| falls fast enough (with reuse_factorisation also
     // the one of the previous step, under this step's border row)
-    const bool chord = options_.corrector == ContinuationOptions::Corrector::Chord;
     bool refactor = !chord || k == 0 || !(normF <= options_.chord_rate * previous);
-    if (chord && k > 0 && options_.reuse_factorisation && !step) {
+    if (slow_chord_allowed && k > 0) {
       // At a located point a kept factorisation is renewed only when the chord, at its observed
       // rate (the mean of its last two, which wander), would not reach its goal two
       // iterations before the limit: a few more solves are cheaper than a factorisation. (In a
@@ -181,7 +179,7 @@ Status Continuation::correct_iterations(Vector& u, double& lambda, const Constra
     // near the rounding floor a slower fall is rounding, not an old matrix: no new factorisation
     // (a located point's chord on a kept factorisation has its own rule above, which near the
     // tolerance asks for few iterations anyway)
-    if (chord && k > 0 && normF <= 1e3 * tol && !(options_.reuse_factorisation && !step)) refactor = false;
+    if (chord && !slow_chord_allowed && k > 0 && normF <= 1e3 * tol) refactor = false;
     if (k == 0 && options_.reuse_factorisation && reusable_ && bordered_->block_factorised())
       refactor = !bordered_->set_row(c.cu, c.cl).is_ok();
     before_previous = previous;
@@ -202,7 +200,7 @@ Status Continuation::correct_iterations(Vector& u, double& lambda, const Constra
     }
     ++on_this_matrix;
     // the chord iteration corrects the error of an unrefined solve like that of its old matrix
-    st = bordered_->solve(-F_, -N, du, dl, options_.corrector == ContinuationOptions::Corrector::Newton);
+    st = bordered_->solve(-F_, -N, du, dl, !chord);
     if (!st.is_ok()) return st;
     u += du;
     lambda += dl;

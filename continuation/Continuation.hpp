@@ -116,6 +116,11 @@ class Continuation {
   // factorisation is renewed only when the chord would not converge; see correct_iterations)
   Status correct(Vector& u, double& lambda, const Constraint& c, int& iterations, bool step = false);
   Status correct_iterations(Vector& u, double& lambda, const Constraint& c, int& iterations, bool step);
+  // A located point's correction by the chord on a factorisation kept across steps (its own
+  // renewal, floor and retry rules).
+  bool located_on_kept_factorisation(bool step) const {
+    return !step && options_.corrector == ContinuationOptions::Corrector::Chord && options_.reuse_factorisation;
+  }
   // Unit tangent at the point of the last factorisation, oriented along (tu_prev, tl_prev).
   Status tangent_from_factorisation(const Vector& tu_prev, double tl_prev, Vector& tu, double& tl, int& det_sign);
   // Normalises (v, mu) in the arclength norm, oriented along (tu_prev, tl_prev) when given; the sign
