@@ -96,6 +96,25 @@ Continuation::Constraint Continuation::arclength_constraint(const BranchPoint& f
   return c;
 }
 
+std::optional<Continuation::Landing> Continuation::landing(const BranchPoint& cur, double ds, double dl_dir) const {
+  if (!options_.land_on_values || options_.method != ContinuationOptions::Method::Arclength) return std::nullopt;
+  // a predictor that barely moves the parameter (near a fold) is left alone: there the value is
+  // located after the step
+  if (!(std::abs(dl_dir) >= kLandingSlope)) return std::nullopt;
+  const double predicted = cur.lambda + ds * dl_dir;
+  std::optional<Landing> best;
+  auto consider = [&](double v, PointKind kind, std::string label, bool terminal, StopCode code) {
+    if (!std::isfinite(v) || v == cur.lambda || !((cur.lambda - v) * (predicted - v) <= 0)) return;
+    const double fraction = (v - cur.lambda) / (predicted - cur.lambda);
+    if (!best || fraction < best->fraction) best = Landing{v, fraction, kind, std::move(label), terminal, code};
+  };
+  consider(options_.upper, PointKind::End, "upper", true, StopCode::UpperBound);
+  consider(options_.lower, PointKind::End, "lower", true, StopCode::LowerBound);
+  for (double v : options_.stops)
+    consider(v, PointKind::Requested, fmt::format("{} = {}", options_.parameter, v), false, StopCode::MaxSteps);
+  return best;
+}
+
 Continuation::Constraint Continuation::lambda_constraint(double lambda) const {
   Constraint c;
   c.cl = 1.0;
@@ -768,7 +787,14 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
     }
     BranchPoint nxt;
     Constraint c;
-    if (arclength) {
+    const std::optional<Landing> land = landing(cur, ds, dl_dir);
+    if (land) {
+      // shortened to land on a stop or a bound: predicted along the same direction, corrected at
+      // that parameter value; its tangent is taken under the step's own border row (below)
+      nxt.lambda = land->value;
+      nxt.u = cur.u + ((land->value - cur.lambda) / dl_dir) * du_dir;
+      c = lambda_constraint(land->value);
+    } else if (arclength) {
       nxt.u = cur.u + ds * du_dir;
       nxt.lambda = cur.lambda + ds * dl_dir;
       c = arclength_constraint(cur, du_dir, dl_dir, ds);
@@ -780,8 +806,11 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
     }
     st = correct(nxt.u, nxt.lambda, c, nxt.iterations, true);
     nxt.residual = last_residual_;
-    // A kept factorisation that made the chord corrector slower than the target is renewed at the
-    // new point instead of shrinking the step (the step was not too long: the matrix was too old).
+    // A chord on a kept factorisation that needed more iterations than the target without
+    // failing its rate does not shrink the step: the step was not too long, the matrix was old.
+    // (Nor is the matrix renewed here: the next step's chord renews it if its rate fails. A
+    // renewal at the point cost one factorisation per such step, and the chord of the next step
+    // on it converged no faster: 12 factorisations for 10 rows instead of 7 for 8, M2 t branch.)
     const bool stale = options_.reuse_factorisation && !refactored_ && nxt.iterations > options_.target_iterations;
     // (the last step analyses its point too, so that no change of the count goes unchecked)
     const bool analyse_now =
@@ -789,7 +818,17 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
     // a point about to be analysed gets J's factorisation at itself (block elimination): the
     // tangent is then exact and the analysis solves with it instead of factorising J again
     const bool share = analyse_now && options_.block_elimination && analysis_->uses_j_factorisation();
-    if (st.is_ok()) st = point_tangent(nxt, c, cur.tu, cur.tlambda, stale || share);
+    if (st.is_ok() && land) {
+      // the tangent (and the sign of det of the bordered matrix, for branch points) under the
+      // pseudo-arclength border row, as at every other point of the branch
+      c = arclength_constraint(cur, du_dir, dl_dir, ds);
+      if (options_.reuse_factorisation && bordered_->block_factorised()) st = bordered_->set_row(c.cu, c.cl);
+    }
+    // (without a kept factorisation the landed point's own one has the parameter row: a new one
+    // under the pseudo-arclength row, or the sign of det flips with the sign of the parameter
+    // part of the tangent and passes for a branch point)
+    if (st.is_ok())
+      st = point_tangent(nxt, c, cur.tu, cur.tlambda, share || (land && !options_.reuse_factorisation));
     if (!st.is_ok()) reusable_ = false;
     // a sharp turn of the tangent means the step skipped a feature of the branch or, in natural
     // continuation, jumped to another branch past a fold
@@ -812,7 +851,7 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
     }
     ++steps;
     nxt.bordered_det_sign = arclength ? bordered_->determinant_sign() : 0;
-    if (arclength) {
+    if (arclength && !land) {
       nxt.s = cur.s + ds;
     } else {
       const Vector du = nxt.u - cur.u;
@@ -820,7 +859,8 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
       nxt.s = cur.s + std::sqrt(dot(du, dl, du, dl));
     }
     double ds_next = ds;
-    if (nxt.iterations < options_.target_iterations) ds_next = ds * options_.growth;
+    // (a step shortened to land on a value says nothing for a longer one: not grown)
+    if (nxt.iterations < options_.target_iterations && !land) ds_next = ds * options_.growth;
     else if (nxt.iterations > options_.target_iterations && !stale) ds_next = ds * std::max(options_.shrink, 0.7);
     ds_next = std::clamp(ds_next, options_.min_step, options_.max_step);
     nxt.step = ds_next;
@@ -852,16 +892,26 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
     if (cur.lambda >= options_.lower && nxt.lambda < options_.lower)
       add(locate_value(cur, nxt, options_.lower), PointKind::End, "lower", true, StopCode::LowerBound);
     for (double v : options_.stops)
-      if ((cur.lambda - v) * (nxt.lambda - v) < 0 || (nxt.lambda == v && cur.lambda != v))
+      if (!(land && v == land->value) &&
+          ((cur.lambda - v) * (nxt.lambda - v) < 0 || (nxt.lambda == v && cur.lambda != v)))
         add(locate_value(cur, nxt, v), PointKind::Requested, fmt::format("{} = {}", options_.parameter, v), false,
             StopCode::MaxSteps);
     const std::vector<double> gc = monitor_values(cur), gn = monitor_values(nxt);
     const size_t n_problem_monitors = problem_.monitor_names().size();
     for (size_t k = 0; k < gc.size(); ++k) {
-      if (!(gc[k] * gn[k] < 0)) continue;
+      // a zero exactly at nxt (a step that landed on a stop where a monitor vanishes) is this
+      // step's, located at nxt itself; the next step starts on it and does not count it again
+      const bool at_next = gn[k] == 0.0 && gc[k] != 0.0;
+      if (!(gc[k] * gn[k] < 0) && !at_next) continue;
       const bool stop = k >= n_problem_monitors;
-      add(locate_root(cur, nxt, static_cast<int>(k), gc[k], gn[k]), stop ? PointKind::End : PointKind::Event,
-          monitor_names_[k], stop, StopCode::StopObservable);
+      std::optional<BranchPoint> p;
+      if (at_next) {
+        p = nxt;
+        p->iterations = 0;
+      } else {
+        p = locate_root(cur, nxt, static_cast<int>(k), gc[k], gn[k]);
+      }
+      add(std::move(p), stop ? PointKind::End : PointKind::Event, monitor_names_[k], stop, StopCode::StopObservable);
     }
     if (arclength && options_.detect_folds && cur.tlambda * nxt.tlambda < 0)
       add(locate_root(cur, nxt, -1, cur.tlambda, nxt.tlambda), PointKind::Fold, cur.tlambda > 0 ? "max" : "min",
@@ -871,7 +921,8 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
           "det sign change", false, StopCode::MaxSteps);
     // a branch that ends on this step: its last stretch is checked too (analysis every N points)
     if (analysis_ && !nxt.analysed &&
-        std::any_of(located.begin(), located.end(), [](const Located& l) { return l.terminal; }))
+        ((land && land->terminal) ||
+         std::any_of(located.begin(), located.end(), [](const Located& l) { return l.terminal; })))
       analyse(nxt);
     // changes of the analysis count (stability): a real eigenvalue through zero is a fold where the
     // parameter turns, else a branch point; a complex pair through the imaginary axis a Hopf point.
@@ -941,10 +992,10 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
     }
     std::stable_sort(located.begin(), located.end(),
                      [](const Located& x, const Located& y) { return x.point.s < y.point.s; });
+    const double near = 1e-3 * std::abs(nxt.s - cur.s);
     // a zero found twice (a problem monitor that is also the stop observable: the event and the
     // end are the same point) is reported once, as the end; other kinds are always kept
     {
-      const double near = 1e-3 * std::abs(nxt.s - cur.s);
       auto same_as_an_end = [&](const Located& l) {
         return l.point.kind == PointKind::Event && std::any_of(located.begin(), located.end(), [&](const Located& t) {
           return t.terminal && t.code == StopCode::StopObservable &&
@@ -959,7 +1010,34 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
         if (!drop[i]) kept.push_back(std::move(located[i]));
       located = std::move(kept);
     }
+    // nxt's own row (a landed stop or bound is labelled as such)
+    bool next_reported = false;
+    auto report_next = [&]() {
+      next_reported = true;
+      nxt.index = next_index_++;
+      nxt.save = nxt.index % options_.save_every == 0;
+      if (land) {
+        nxt.kind = land->kind;
+        nxt.label = land->label;
+        nxt.save = true;
+      }
+      if (nxt.analysed && nxt.count >= 0) {
+        last_count_ = nxt.count;
+        last_count_index_ = nxt.index;
+      }
+      if (analysis_ && analysis_->every() > 1) {
+        if (nxt.analysed) {
+          last_analysed_ = nxt;
+          unanalysed_.clear();
+        } else {
+          unanalysed_.push_back(nxt);
+        }
+      }
+      report(observer, nxt);
+    };
     for (Located& l : located) {
+      // an end found at a landed stop itself comes after the stop's row
+      if (l.terminal && land && !land->terminal && std::abs(l.point.s - nxt.s) <= near) report_next();
       l.point.index = next_index_++;
       l.point.save = true;
       report(observer, l.point);
@@ -972,21 +1050,10 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
         return finish(l.code, why, l.point);
       }
     }
-    nxt.index = next_index_++;
-    nxt.save = nxt.index % options_.save_every == 0;
-    if (nxt.analysed && nxt.count >= 0) {
-      last_count_ = nxt.count;
-      last_count_index_ = nxt.index;
-    }
-    if (analysis_ && analysis_->every() > 1) {
-      if (nxt.analysed) {
-        last_analysed_ = nxt;
-        unanalysed_.clear();
-      } else {
-        unanalysed_.push_back(nxt);
-      }
-    }
-    report(observer, nxt);
+    if (!next_reported) report_next();
+    if (land && land->terminal)
+      return finish(land->code,
+                    fmt::format("reached the {} bound {} = {:.10g}", land->label, options_.parameter, nxt.lambda), nxt);
     prev = std::move(cur);
     cur = std::move(nxt);
     ds = ds_next;

@@ -110,6 +110,18 @@ class Continuation {
     double target = 0.0;
   };
   struct Segment;  // two consecutive accepted points
+  // A stop or a bound that the next step lands on (see ContinuationOptions::land_on_values).
+  struct Landing {
+    double value;
+    double fraction;  // of the planned step
+    PointKind kind;
+    std::string label;
+    bool terminal;
+    StopCode code;
+  };
+  // steps land only where the unit tangent's parameter part is at least this (away from folds)
+  static constexpr double kLandingSlope = 0.1;
+  std::optional<Landing> landing(const BranchPoint& cur, double ds, double dl_dir) const;
 
   Status set_parameter(double lambda);
   // step: the correction of a continuation step (true) or of a located point (false: a kept

@@ -17,6 +17,9 @@ void ContinuationOptions::declare(SceneSchema& s) {
   s.real("continuation.lower", -INFINITY, "the branch ends where the parameter reaches this value (located exactly)");
   s.real("continuation.upper", INFINITY, "the branch ends where the parameter reaches this value (located exactly)");
   s.real_list("continuation.stops", {}, "parameter values where solutions are located and saved");
+  s.boolean("continuation.land_on_values", true,
+            "arclength: shorten a step whose predictor crosses a stop or a bound so that it lands on it (one "
+            "correction instead of two, no step beyond a bound); false: locate such points after the step");
   s.real("continuation.initial_step", 0.05, "first step (arclength; natural: parameter units)", Range::positive());
   s.real("continuation.min_step", 1e-8, "step-size floor: below it the branch ends", Range::positive());
   s.real("continuation.max_step", 1.0, "largest step", Range::positive());
@@ -72,6 +75,7 @@ ContinuationOptions ContinuationOptions::from_scene(const Scene& sc) {
   o.lower = sc.real("continuation.lower");
   o.upper = sc.real("continuation.upper");
   o.stops = sc.real_list("continuation.stops");
+  o.land_on_values = sc.boolean("continuation.land_on_values");
   o.initial_step = sc.real("continuation.initial_step");
   o.min_step = sc.real("continuation.min_step");
   o.max_step = sc.real("continuation.max_step");

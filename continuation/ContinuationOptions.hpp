@@ -21,6 +21,11 @@ struct ContinuationOptions {
   double lower = -std::numeric_limits<double>::infinity();  // the branch ends where the parameter
   double upper = std::numeric_limits<double>::infinity();   // reaches a bound (located exactly)
   std::vector<double> stops;             // parameter values where solutions are wanted
+  // Pseudo-arclength: a step whose predictor would cross a stop or a bound is shortened to land
+  // on it and corrected at that parameter value (one correction instead of a step past it and a
+  // located correction; never a step beyond a bound). Off: such points are located on the step
+  // that crosses them.
+  bool land_on_values = true;
 
   // Step sizes: arclength in the weighted norm below (natural method: parameter units).
   double initial_step = 0.05;

@@ -306,6 +306,7 @@ TEST(Continuation, AnOversizedStepIsHalvedUntilItWorks) {
   o.upper = 2.0;
   o.initial_step = 50.0;  // lands far off the branch: corrector diverges or overflows
   o.max_step = 50.0;
+  o.land_on_values = false;  // else the step is shortened to land on the bound (next test)
   Continuation cont(problem, o);
   RecordingObserver rec;
   const auto r = cont.run(problem.initial_guess(), rec);
@@ -316,6 +317,86 @@ TEST(Continuation, AnOversizedStepIsHalvedUntilItWorks) {
   const auto& lu = cont.bordered().lu().statistics();
   EXPECT_EQ(lu.analyses + lu.analyses_reused, 1);  // made here or taken from an identical one
   EXPECT_GT(lu.factorisations, 10);
+}
+
+// The same oversized step lands on the bound: shortened to it and corrected there, no step
+// beyond it, the end is the step's own point.
+TEST(Continuation, AStepThatWouldCrossTheBoundLandsOnIt) {
+  Bratu1DProblem problem(32, 0.0);
+  ContinuationOptions o;
+  o.parameter = "lambda";
+  o.upper = 2.0;
+  o.initial_step = 50.0;
+  o.max_step = 50.0;
+  Continuation cont(problem, o);
+  RecordingObserver rec;
+  const auto r = cont.run(problem.initial_guess(), rec);
+  EXPECT_EQ(r.code, StopCode::UpperBound) << r.reason;
+  EXPECT_TRUE(rec.rejections.empty());
+  ASSERT_EQ(rec.points.size(), 2u);  // the start and the end, one step
+  EXPECT_EQ(rec.points.back().kind, PointKind::End);
+  EXPECT_EQ(rec.points.back().label, "upper");
+  EXPECT_EQ(rec.points.back().lambda, 2.0);
+  Vector F;
+  problem.parameters().set("lambda", 2.0);
+  ASSERT_TRUE(problem.residual(rec.points.back().u, F).is_ok());
+  EXPECT_LT(F.lpNorm<Eigen::Infinity>(), 1e-9);
+}
+
+// Requested values are landed on: the same solutions as when located after the step, exactly at
+// the values, in fewer corrector iterations (one correction per value instead of a step past it
+// and a located one), and no step more than the branch needs.
+TEST(Continuation, StepsLandOnRequestedValues) {
+  auto trace = [](bool land, RecordingObserver& rec) {
+    CubicProblem problem(-2.0);
+    ContinuationOptions o = cubic_options();
+    o.stops = {-1.0, 0.0, 0.5, 1.0, 1.5};
+    o.land_on_values = land;
+    Continuation cont(problem, o);
+    return cont.run(problem.initial_guess(), rec);
+  };
+  RecordingObserver landed, located;
+  ASSERT_EQ(trace(true, landed).code, StopCode::UpperBound);
+  ASSERT_EQ(trace(false, located).code, StopCode::UpperBound);
+  const auto a = landed.of_kind(PointKind::Requested), b = located.of_kind(PointKind::Requested);
+  ASSERT_EQ(a.size(), 15u);  // each value at each of the three crossings of the S-shaped branch
+  ASSERT_EQ(a.size(), b.size());
+  int iterations_landed = 0, iterations_located = 0;
+  for (size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i]->lambda, b[i]->lambda);
+    EXPECT_NEAR(a[i]->u[0], b[i]->u[0], 1e-10);
+    EXPECT_NEAR(std::pow(a[i]->u[0], 3) - 3 * a[i]->u[0], a[i]->lambda, 1e-10);  // the corrector's tolerance
+  }
+  for (const BranchPoint& p : landed.points) iterations_landed += p.iterations;
+  for (const BranchPoint& p : located.points) iterations_located += p.iterations;
+  std::cout << "rows " << landed.points.size() << " landed, " << located.points.size()
+            << " located; corrector iterations " << iterations_landed << " and " << iterations_located << "\n";
+  EXPECT_LT(iterations_landed, iterations_located);
+  EXPECT_LT(landed.points.size(), located.points.size());
+  EXPECT_EQ(landed.of_kind(PointKind::Fold).size(), 2u);
+}
+
+// A landed point's bordered determinant is taken under the pseudo-arclength row like every
+// other point's: under the parameter row its sign flips wherever the parameter decreases, and
+// every stop on the middle (decreasing) part of the S would pass for two branch points.
+TEST(Continuation, LandedStopsAreNotBranchPoints) {
+  for (const bool kept : {false, true}) {
+    CubicProblem problem(-2.0);
+    ContinuationOptions o = cubic_options();
+    o.stops = {-1.0, 0.0, 1.0};
+    o.detect_branch_points = true;
+    if (kept) {
+      o.corrector = ContinuationOptions::Corrector::Chord;
+      o.block_elimination = true;
+      o.reuse_factorisation = true;
+    }
+    Continuation cont(problem, o);
+    RecordingObserver rec;
+    ASSERT_EQ(cont.run(problem.initial_guess(), rec).code, StopCode::UpperBound);
+    EXPECT_EQ(rec.of_kind(PointKind::Requested).size(), 9u) << "kept factorisation: " << kept;
+    EXPECT_TRUE(rec.of_kind(PointKind::BranchPoint).empty()) << "kept factorisation: " << kept;
+    EXPECT_EQ(rec.of_kind(PointKind::Fold).size(), 2u) << "kept factorisation: " << kept;
+  }
 }
 
 // The predictor of located points: the cubic Hermite interpolant of the bracketing points and
@@ -601,4 +682,24 @@ TEST(Continuation, BadOptionsAreRejected) {
   EXPECT_THROW(Continuation(problem, o), std::invalid_argument);
   o.block_elimination = true;
   EXPECT_NO_THROW(Continuation(problem, o));
+}
+
+// A chord on a kept factorisation that needs more iterations than the target while it contracts
+// well (many decades at a good rate) keeps its factorisation: renewing it at the new point made
+// the next step's chord no faster. On u_i = 1 / ((1 + lambda)(1 + i)) a factorisation made at
+// lambda0 contracts by 1 - (1 + lambda0) / (1 + lambda): with steps of 0.25 the rate passes 0.25
+// on the second step after each renewal, so the branch 0 -> 2 needs a renewal every second step.
+TEST(Continuation, AGoodChordSlowerThanTheTargetKeepsItsFactorisation) {
+  ScaledLinear p(3);
+  ContinuationOptions o = kept_chord_options(0.25, 2.0, 30, {});
+  Continuation cont(p, o);
+  RecordingObserver rec;
+  const ContinuationResult r = cont.run(p.initial_guess(), rec);
+  ASSERT_EQ(r.code, StopCode::UpperBound) << r.reason;
+  int slow = 0;
+  for (const BranchPoint& q : rec.points) slow += q.iterations > o.target_iterations;
+  std::cout << rec.points.size() << " rows, " << slow << " over the target, " << r.factorisations
+            << " factorisations\n";
+  EXPECT_GT(slow, 2);  // the case this is about
+  EXPECT_LE(r.factorisations, 1 + (static_cast<int>(rec.points.size()) - 1 + 1) / 2);
 }
