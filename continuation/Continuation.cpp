@@ -96,16 +96,26 @@ Continuation::Constraint Continuation::arclength_constraint(const BranchPoint& f
   return c;
 }
 
-std::optional<Continuation::Landing> Continuation::landing(const BranchPoint& cur, double ds, double dl_dir) const {
+std::optional<Continuation::Landing> Continuation::landing(const BranchPoint& cur, const BranchPoint* prev, double ds,
+                                                          double dl_dir) const {
   if (!options_.land_on_values || options_.method != ContinuationOptions::Method::Arclength) return std::nullopt;
-  // a predictor that barely moves the parameter (near a fold) is left alone: there the value is
-  // located after the step
-  if (!(std::abs(dl_dir) >= kLandingSlope)) return std::nullopt;
+  if (!(std::abs(dl_dir) > 0)) return std::nullopt;
+  // Near a fold the correction at a fixed parameter value is ill-posed and the value may lie
+  // beyond the fold: a step lands only within half the distance at which the parameter part of
+  // the tangent, extrapolated linearly from the last two points, vanishes (and not right after
+  // a fold). In units of the branch itself, whatever the scale of the parameter.
+  double to_fold = std::numeric_limits<double>::infinity();
+  if (prev && prev->tu.size() && cur.s > prev->s) {
+    if (prev->tlambda * cur.tlambda <= 0) return std::nullopt;
+    const double slope = (cur.tlambda - prev->tlambda) / (cur.s - prev->s);
+    if (slope * cur.tlambda < 0) to_fold = -cur.tlambda / slope;
+  }
   const double predicted = cur.lambda + ds * dl_dir;
   std::optional<Landing> best;
   auto consider = [&](double v, PointKind kind, std::string label, bool terminal, StopCode code) {
     if (!std::isfinite(v) || v == cur.lambda || !((cur.lambda - v) * (predicted - v) <= 0)) return;
     const double fraction = (v - cur.lambda) / (predicted - cur.lambda);
+    if (fraction * ds > 0.5 * to_fold) return;
     if (!best || fraction < best->fraction) best = Landing{v, fraction, kind, std::move(label), terminal, code};
   };
   consider(options_.upper, PointKind::End, "upper", true, StopCode::UpperBound);
@@ -113,6 +123,12 @@ std::optional<Continuation::Landing> Continuation::landing(const BranchPoint& cu
   for (double v : options_.stops)
     consider(v, PointKind::Requested, fmt::format("{} = {}", options_.parameter, v), false, StopCode::MaxSteps);
   return best;
+}
+
+double Continuation::residual_floor(double r0, double r1) const {
+  // neighbours that reached the tolerance say nothing of rounding: no floor then
+  const double r = std::max(r0, r1);
+  return r > newton_.residual_tolerance * problem_.residual_scale() ? 2.0 * r : 0.0;
 }
 
 Continuation::Constraint Continuation::lambda_constraint(double lambda) const {
@@ -153,8 +169,13 @@ Status Continuation::correct_iterations(Vector& u, double& lambda, const Constra
   const bool chord = options_.corrector == ContinuationOptions::Corrector::Chord;
   // a located point's chord on a kept factorisation aims at the tolerance or, where that lies
   // below rounding, at the floor its neighbours reached (within 1e3 of the tolerance)
-  const bool slow_chord_allowed = located_on_kept_factorisation(step);
-  const double goal = slow_chord_allowed ? std::max(tol, std::min(located_floor_, 1e3 * tol)) : tol;
+  const bool located_kept = located_on_kept_factorisation(step);
+  // so does a step's chord on a kept factorisation that may go on slowly (renewal_cost), at the
+  // floor the last two points reached
+  const bool costed_step = step && chord && options_.reuse_factorisation && options_.renewal_cost > 0;
+  const bool slow_chord_allowed = located_kept || costed_step;
+  const double floor = located_kept ? located_floor_ : step_floor_;
+  const double goal = slow_chord_allowed ? std::max(tol, std::min(floor, 1e3 * tol)) : tol;
   Vector du;
   double dl = 0;
   for (int k = 0;; ++k) {
@@ -186,14 +207,21 @@ Status Continuation::correct_iterations(Vector& u, double& lambda, const Constra
     // chord: keep the factorisation while |F| falls fast enough (with reuse_factorisation also
     // the one of the previous step, under this step's border row)
     bool refactor = !chord || k == 0 || !(normF <= options_.chord_rate * previous);
-    if (slow_chord_allowed && k > 0) {
+    if (located_kept && k > 0) {
       // At a located point a kept factorisation is renewed only when the chord, at its observed
       // rate (the mean of its last two, which wander), would not reach its goal two
-      // iterations before the limit: a few more solves are cheaper than a factorisation. (In a
-      // step the rate rule stays: there the iteration count also steers the step size.)
+      // iterations before the limit: a few more solves are cheaper than a factorisation. (A
+      // step keeps the rate rule unless renewal_cost is set: below.)
       const double rate = on_this_matrix >= 2 ? std::sqrt(normF / before_previous) : normF / previous;
       const double more = rate < 1.0 ? std::max(0.0, std::log(goal / normF) / std::log(rate)) : INFINITY;
       refactor = k + more > options_.max_iterations - 2;
+    }
+    if (costed_step && k > 0 && refactor) {
+      // a step's chord slower than chord_rate goes on where, at its observed rate, it reaches its
+      // goal in fewer solves than a renewal costs (and two before the limit)
+      const double rate = on_this_matrix >= 2 ? std::sqrt(normF / before_previous) : normF / previous;
+      const double more = rate < 1.0 ? std::max(0.0, std::log(goal / normF) / std::log(rate)) : INFINITY;
+      if (more <= options_.renewal_cost && k + more <= options_.max_iterations - 2) refactor = false;
     }
     // near the rounding floor a slower fall is rounding, not an old matrix: no new factorisation
     // (a located point's chord on a kept factorisation has its own rule above, which near the
@@ -479,7 +507,7 @@ BranchPoint Continuation::point_on_segment(const BranchPoint& a, const BranchPoi
     p.lambda = p0.lambda + w * (p1.lambda - p0.lambda);
   }
   const Constraint c = arclength ? arclength_constraint(a, a.tu, a.tlambda, target) : lambda_constraint(target);
-  located_floor_ = 2.0 * std::max(p0.residual, p1.residual);
+  located_floor_ = residual_floor(p0.residual, p1.residual);
   st = correct(p.u, p.lambda, c, p.iterations);
   located_floor_ = 0.0;
   p.residual = last_residual_;
@@ -512,7 +540,7 @@ std::optional<BranchPoint> Continuation::locate_value(const BranchPoint& a, cons
   else p.u = a.u + tau * (b.u - a.u);
   p.lambda = value;
   const Constraint c = lambda_constraint(value);
-  located_floor_ = 2.0 * std::max(a.residual, b.residual);
+  located_floor_ = residual_floor(a.residual, b.residual);
   Status st = correct(p.u, p.lambda, c, p.iterations);
   located_floor_ = 0.0;
   p.residual = last_residual_;
@@ -787,7 +815,7 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
     }
     BranchPoint nxt;
     Constraint c;
-    const std::optional<Landing> land = landing(cur, ds, dl_dir);
+    const std::optional<Landing> land = landing(cur, prev ? &*prev : nullptr, ds, dl_dir);
     if (land) {
       // shortened to land on a stop or a bound: predicted along the same direction, corrected at
       // that parameter value; its tangent is taken under the step's own border row (below)
@@ -804,6 +832,7 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
       nxt.u = std::abs(dl_dir) > 1e-12 ? Vector(cur.u + (dlam / dl_dir) * du_dir) : cur.u;
       c = lambda_constraint(nxt.lambda);
     }
+    step_floor_ = residual_floor(cur.residual, prev ? prev->residual : 0.0);
     st = correct(nxt.u, nxt.lambda, c, nxt.iterations, true);
     nxt.residual = last_residual_;
     // A chord on a kept factorisation that needed more iterations than the target without

@@ -119,9 +119,9 @@ class Continuation {
     bool terminal;
     StopCode code;
   };
-  // steps land only where the unit tangent's parameter part is at least this (away from folds)
-  static constexpr double kLandingSlope = 0.1;
-  std::optional<Landing> landing(const BranchPoint& cur, double ds, double dl_dir) const;
+  // The nearest stop or bound the step from cur (after prev, if any) would cross, if it may land
+  // on it: away from folds.
+  std::optional<Landing> landing(const BranchPoint& cur, const BranchPoint* prev, double ds, double dl_dir) const;
 
   Status set_parameter(double lambda);
   // step: the correction of a continuation step (true) or of a located point (false: a kept
@@ -197,7 +197,11 @@ class Continuation {
   double last_residual_ = 0.0;   // |F|_inf where the last corrector call converged
   // |F|_inf the corrector reached at the points around a located point (twice the larger): where
   // the rounding floor lies for its chord; 0 outside location
+  // The rounding floor two neighbouring points show: twice their larger residual where that is
+  // above the tolerance (they stalled there), else 0.
+  double residual_floor(double r0, double r1) const;
   double located_floor_ = 0.0;
+  double step_floor_ = 0.0;  // twice the residual the last two points reached (chord on a kept factorisation)
   ContinuationTimings timings_;        // the kept factorisation belongs to a converged corrector
   SparseMatrix J_;
   Vector F_, Fp_;

@@ -38,6 +38,10 @@ void ContinuationOptions::declare(SceneSchema& s) {
             "chord + block only: keep J's factorisation across steps, renewed when the chord rate fails in a step and, "
             "at a located point, only when the chord at its observed rate would need more than max_iterations; "
             "tangents by iteration on it (fewer than one factorisation per point on smooth branches)");
+  s.real("continuation.renewal_cost", 0.0,
+         "reuse_factorisation: a step's chord slower than chord_rate goes on while it needs at most this many more "
+         "solves at its observed rate (a factorisation's cost in solves; 0: the rate rule alone)",
+         Range::non_negative());
   s.integer("continuation.target_iterations", 4, "corrector iterations aimed at by the step control",
             Range::at_least(1));
   s.integer("continuation.max_iterations", 10, "corrector iterations before a step is rejected", Range::at_least(1));
@@ -71,6 +75,7 @@ ContinuationOptions ContinuationOptions::from_scene(const Scene& sc) {
   o.chord_rate = sc.real("continuation.chord_rate");
   o.block_elimination = sc.string("continuation.bordered") == "block";
   o.reuse_factorisation = sc.boolean("continuation.reuse_factorisation");
+  o.renewal_cost = sc.real("continuation.renewal_cost");
   o.direction = sc.string("continuation.direction") == "decrease" ? -1 : +1;
   o.lower = sc.real("continuation.lower");
   o.upper = sc.real("continuation.upper");

@@ -48,6 +48,10 @@ struct ContinuationOptions {
   // not converge). With detect_branch_points the determinant must be exact: every accepted
   // point then gets its own factorisation.
   bool reuse_factorisation = false;
+  // With reuse_factorisation: a step's chord slower than chord_rate goes on without a new
+  // factorisation where, at its observed rate, it needs at most this many more solves (what a
+  // factorisation costs in solves, counting the iterations after it). 0: the rate rule alone.
+  double renewal_cost = 0.0;
   int target_iterations = 4;   // grow the step when the corrector needs fewer, shrink when more
   int max_iterations = 10;     // corrector iterations before a step counts as failed
   double growth = 1.5;

@@ -687,7 +687,7 @@ TEST(Continuation, BadOptionsAreRejected) {
 // A chord on a kept factorisation that needs more iterations than the target while it contracts
 // well (many decades at a good rate) keeps its factorisation: renewing it at the new point made
 // the next step's chord no faster. On u_i = 1 / ((1 + lambda)(1 + i)) a factorisation made at
-// lambda0 contracts by 1 - (1 + lambda0) / (1 + lambda): with steps of 0.25 the rate passes 0.25
+// lambda0 contracts by (lambda - lambda0) / (1 + lambda0): with steps of 0.25 the rate passes 0.25
 // on the second step after each renewal, so the branch 0 -> 2 needs a renewal every second step.
 TEST(Continuation, AGoodChordSlowerThanTheTargetKeepsItsFactorisation) {
   ScaledLinear p(3);
@@ -702,4 +702,49 @@ TEST(Continuation, AGoodChordSlowerThanTheTargetKeepsItsFactorisation) {
             << " factorisations\n";
   EXPECT_GT(slow, 2);  // the case this is about
   EXPECT_LE(r.factorisations, 1 + (static_cast<int>(rec.points.size()) - 1 + 1) / 2);
+}
+
+// renewal_cost: a step's chord slower than chord_rate goes on where it needs fewer solves than a
+// factorisation costs. On the same branch as above the renewals fall, every point still solves
+// its equations to the tolerance.
+TEST(Continuation, ACostedChordGoesOnInsteadOfRenewing) {
+  auto trace = [](double renewal_cost, RecordingObserver& rec) {
+    ScaledLinear p(3);
+    ContinuationOptions o = kept_chord_options(0.25, 2.0, 30, {});
+    o.renewal_cost = renewal_cost;
+    Continuation cont(p, o);
+    return cont.run(p.initial_guess(), rec);
+  };
+  RecordingObserver by_rate, by_cost;
+  const ContinuationResult r0 = trace(0.0, by_rate), r1 = trace(25.0, by_cost);
+  ASSERT_EQ(r0.code, StopCode::UpperBound) << r0.reason;
+  ASSERT_EQ(r1.code, StopCode::UpperBound) << r1.reason;
+  std::cout << "factorisations: " << r0.factorisations << " by the rate rule, " << r1.factorisations
+            << " with renewal_cost = 25\n";
+  EXPECT_LT(r1.factorisations, r0.factorisations);
+  ASSERT_EQ(by_cost.points.size(), by_rate.points.size());  // the same steps
+  for (const BranchPoint& q : by_cost.points)
+    for (int i = 0; i < 3; ++i) EXPECT_NEAR(q.u[i], 1.0 / ((1 + q.lambda) * (1 + i)), 1e-10) << q.lambda;
+}
+
+// A costed chord falls slowly, which near the tolerance a ratio test takes for the rounding
+// floor (as at located points). Steps of 0.6 on matrices kept from lambda0 contract by
+// (lambda - lambda0) / (1 + lambda0) per iteration: 0.6 on the first step, up to 0.75 later.
+// Every point must still reach the tolerance (|F| <= 1e-10 here), not just come near it.
+TEST(Continuation, ASlowCostedChordIsNotTakenForRounding) {
+  ScaledLinear p(3);
+  ContinuationOptions o = kept_chord_options(0.6, 2.3, 200, {});
+  o.renewal_cost = 1000;  // never renewed while the chord converges
+  Continuation cont(p, o);
+  RecordingObserver rec;
+  const ContinuationResult r = cont.run(p.initial_guess(), rec);
+  ASSERT_EQ(r.code, StopCode::UpperBound) << r.reason;
+  std::cout << r.factorisations << " factorisations for " << rec.points.size() << " rows; iterations";
+  for (const BranchPoint& q : rec.points) std::cout << " " << q.iterations;
+  std::cout << "\n";
+  for (const BranchPoint& q : rec.points) {
+    EXPECT_LE(q.residual, 1e-10) << "lambda = " << q.lambda;
+    for (int i = 0; i < 3; ++i) EXPECT_NEAR(q.u[i], 1.0 / ((1 + q.lambda) * (1 + i)), 1e-10) << q.lambda;
+  }
+  EXPECT_GE(rec.points[1].iterations, 20);  // the slow chord this is about: 0.6 per iteration
 }
