@@ -29,6 +29,9 @@ NewtonResult NewtonSolver::solve(Vector& u, const Observer& observer) {
   const double F0 = inf_norm(F);
   double normF = F0;        // convergence is judged in the max norm
   double norm2 = F.norm();  // the line search in the 2-norm, for which du is a descent direction
+  // chord_rate: the last step was full and cut |F| by the rate (its matrix is then good enough
+  // for the next one)
+  bool reuse = false;
   for (int k = 0;; ++k) {
     if (normF <= tol_F) break;
     if (k >= options_.max_iterations) {
@@ -41,19 +44,23 @@ NewtonResult NewtonSolver::solve(Vector& u, const Observer& observer) {
     it.residual_norm = normF;
     const auto t_it = Clock::now();
 
+    it.chord = reuse;
     auto t0 = Clock::now();
-    st = problem_.jacobian(u, F, J_);
-    it.assembly_seconds = since(t0);
-    if (!st.is_ok()) {
-      res.status = {st.code(), "Jacobian: " + st.message()};
-      break;
-    }
-    t0 = Clock::now();
-    st = lu_.factorize(J_);
-    it.factor_seconds = since(t0);
-    if (!st.is_ok()) {
-      res.status = st;
-      break;
+    if (!reuse) {
+      st = problem_.jacobian(u, F, J_);
+      it.assembly_seconds = since(t0);
+      if (!st.is_ok()) {
+        res.status = {st.code(), "Jacobian: " + st.message()};
+        break;
+      }
+      t0 = Clock::now();
+      st = lu_.factorize(J_);
+      it.factor_seconds = since(t0);
+      if (!st.is_ok()) {
+        res.status = st;
+        break;
+      }
+      ++res.factorisations;
     }
     t0 = Clock::now();
     st = lu_.solve(-F, du);
@@ -103,6 +110,11 @@ NewtonResult NewtonSolver::solve(Vector& u, const Observer& observer) {
       res.residual_norm = normF;
       break;
     }
+    if (!accepted && it.chord) {
+      // the old matrix's direction: the next iteration from the same iterate with a new one
+      reuse = false;
+      continue;
+    }
     if (!accepted) {
       res.status = last.is_ok() ? Status{StatusCode::Diverged,
                                          fmt::format("line search failed: no step length >= {} reduces |F| = {:.3e}",
@@ -110,10 +122,15 @@ NewtonResult NewtonSolver::solve(Vector& u, const Observer& observer) {
                                 : Status{last.code(), "every damped step failed: " + last.message()};
       break;
     }
+    const bool fell = alpha == 1.0 && norm_try <= options_.chord_rate * normF;
+    reuse = options_.chord_rate > 0 && fell;
     u.swap(u_try);
     F.swap(F_try);
     normF = norm_try;
     norm2 = norm2_try;
+    // a chord that stops falling within 1e3 of the tolerance has reached the rounding floor, not
+    // the end of its matrix: converged (a new Jacobian there would not lower |F| either)
+    if (it.chord && !fell && normF <= 1e3 * tol_F) break;
     if (normF > options_.divergence_factor * std::max(F0, tol_F)) {
       res.status = {StatusCode::Diverged, fmt::format("|F| grew to {:.3e} from {:.3e}", normF, F0)};
       break;
@@ -135,6 +152,10 @@ void declare_newton_keys(SceneSchema& s) {
          Range::positive());
   s.boolean("newton.line_search", true, "halve the step until |F| decreases");
   s.real("newton.min_step_length", 1.0 / 128.0, "smallest step length of the line search", Range::between(1e-8, 1.0));
+  s.real("newton.chord_rate", 0.0,
+         "0: a new Jacobian every iteration; else, once a full step cuts max |F| by this factor, keep its "
+         "factorisation while each iteration does",
+         Range{0.0, 1.0, false, true});
 }
 
 NewtonOptions newton_options_from(const Scene& scene) {
@@ -144,6 +165,7 @@ NewtonOptions newton_options_from(const Scene& scene) {
   o.update_tolerance = scene.real("newton.update_tolerance");
   o.line_search = scene.boolean("newton.line_search");
   o.min_step_length = scene.real("newton.min_step_length");
+  o.chord_rate = scene.real("newton.chord_rate");
   return o;
 }
 

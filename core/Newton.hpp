@@ -25,12 +25,17 @@ struct NewtonOptions {
   bool line_search = true;
   double min_step_length = 1.0 / 128.0;  // smallest damping factor before giving up
   double divergence_factor = 1e8;        // give up when ||F|| exceeds this times its first value
+  // Chord in the final phase (0: off, every iteration factorises): once a full step has cut ||F||
+  // by at least this factor, the next iterations solve with the same factorisation while each
+  // cuts ||F|| by this factor; a new Jacobian as soon as one does not.
+  double chord_rate = 0.0;
 };
 
 struct NewtonIteration {
   int iteration = 0;
   double residual_norm = 0;   // ||F||_inf at the start of the iteration
   double update_norm = 0;     // ||du||_inf of the full Newton step
+  bool chord = false;         // solved with the previous iteration's factorisation
   double step_length = 1;     // damping factor taken
   double seconds = 0;         // wall time of this iteration
   double assembly_seconds = 0, factor_seconds = 0, solve_seconds = 0, line_search_seconds = 0;
@@ -38,7 +43,8 @@ struct NewtonIteration {
 
 struct NewtonResult {
   Status status;                       // Ok iff converged
-  int iterations = 0;                  // Jacobian factorisations done
+  int iterations = 0;                  // iterations done
+  int factorisations = 0;              // Jacobian factorisations done (fewer with chord_rate)
   double residual_norm = 0;            // final ||F||_inf
   std::vector<NewtonIteration> history;
   double seconds = 0;

@@ -38,10 +38,10 @@ int run_solve(const SolveArguments& args) {
   print_newton_header();
   const NewtonResult res = newton.solve(u, print_newton_row);
   const auto& lu = newton.lu().statistics();
-  fmt::print("  final |F| = {:.4e} after {} iterations, {:.3f} s (assembly {:.3f}, factorisation {:.3f}, solve {:.3f}, "
-             "line search {:.3f})\n",
-             res.residual_norm, res.iterations, res.seconds, res.assembly_seconds, res.factor_seconds,
-             res.solve_seconds, res.line_search_seconds);
+  fmt::print("  final |F| = {:.4e} after {} iterations ({} factorisations), {:.3f} s (assembly {:.3f}, factorisation "
+             "{:.3f}, solve {:.3f}, line search {:.3f})\n",
+             res.residual_norm, res.iterations, res.factorisations, res.seconds, res.assembly_seconds,
+             res.factor_seconds, res.solve_seconds, res.line_search_seconds);
   if (lu.factorisations > 0)
     fmt::print("  LU: n = {}, nnz(A) = {}, nnz(L+U) = {:.0f} (fill {:.1f}x), ordering {}\n", lu.n, lu.nnz_matrix,
                lu.nnz_lu, lu.nnz_lu / static_cast<double>(lu.nnz_matrix), lu.ordering_used);

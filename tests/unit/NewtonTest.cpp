@@ -43,6 +43,26 @@ void expect_quadratic(const std::vector<double>& r) {
   EXPECT_LT(*std::max_element(C.begin(), C.end()) / *std::min_element(C.begin(), C.end()), 10.0);
 }
 
+// The solution to a tolerance above the rounding floor (1e-11), the reference for solves that
+// stop at the floor.
+Vector solved_to_reachable_tolerance(Problem& problem) {
+  NewtonOptions reachable;
+  reachable.residual_tolerance = 1e-11;
+  NewtonSolver solver(problem, reachable);
+  Vector u = problem.initial_guess();
+  EXPECT_TRUE(solver.solve(u).converged());
+  return u;
+}
+
+// A tolerance of 1e-15: unreachable, but the floor is within 1e3 of it; no help from the
+// small-update rule.
+NewtonOptions below_the_floor() {
+  NewtonOptions o;
+  o.update_tolerance = 0.0;
+  o.residual_tolerance = 1e-15;
+  return o;
+}
+
 }  // namespace
 
 TEST(Newton, ConvergesQuadraticallyOnBratu2D) {
@@ -163,15 +183,8 @@ TEST(Newton, FailuresAreStatuses) {
 // one a reachable tolerance gives); a residual far above the tolerance still fails.
 TEST(Newton, StopsAtTheRoundingFloor) {
   Bratu1DProblem problem(64, 2.0);  // its residual floor is about 3e-13 (1/h^2 = 4096 times rounding)
-  NewtonOptions reachable;
-  reachable.residual_tolerance = 1e-11;
-  NewtonSolver ref_solver(problem, reachable);
-  Vector ref = problem.initial_guess();
-  ASSERT_TRUE(ref_solver.solve(ref).converged());
-
-  NewtonOptions below;
-  below.update_tolerance = 0.0;  // no help from the small-update rule
-  below.residual_tolerance = 1e-15;  // unreachable, but the floor is within 1e3 of it
+  const Vector ref = solved_to_reachable_tolerance(problem);
+  NewtonOptions below = below_the_floor();
   NewtonSolver newton(problem, below);
   Vector u = problem.initial_guess();
   const NewtonResult res = newton.solve(u);
@@ -187,4 +200,55 @@ TEST(Newton, StopsAtTheRoundingFloor) {
   const NewtonResult bad = strict.solve(w);
   std::cout << "tolerance 1e-18: " << bad.status.describe() << "\n";
   EXPECT_FALSE(bad.converged());
+}
+
+// chord_rate: once a full step has cut |F| by the rate, later iterations keep its factorisation
+// while each cuts |F| by the rate. Near Bratu's fold, to 1e-13: the same solution (to the
+// tolerance over the Jacobian's smallest singular scale) with fewer factorisations.
+TEST(Newton, ChordRateSavesFactorisationsInTheFinalPhase) {
+  Bratu2DProblem problem(8, 6.5);
+  NewtonOptions newton_only;
+  newton_only.residual_tolerance = 1e-13;
+  NewtonOptions chord = newton_only;
+  chord.chord_rate = 0.25;
+  Vector u_newton = problem.initial_guess(), u_chord = problem.initial_guess();
+  NewtonSolver a(problem, newton_only), b(problem, chord);
+  const NewtonResult ra = a.solve(u_newton), rb = b.solve(u_chord);
+  ASSERT_TRUE(ra.converged()) << ra.status.describe();
+  ASSERT_TRUE(rb.converged()) << rb.status.describe();
+  std::cout << "Newton: " << ra.iterations << " iterations, " << ra.factorisations << " factorisations; chord_rate 0.25: "
+            << rb.iterations << " iterations, " << rb.factorisations << " factorisations\n";
+  EXPECT_EQ(ra.factorisations, ra.iterations);
+  EXPECT_LT(rb.factorisations, ra.factorisations);
+  EXPECT_LE(rb.residual_norm, 1e-13);
+  EXPECT_LT((u_chord - u_newton).cwiseAbs().maxCoeff(), 1e-10);
+  // an iteration that did not cut |F| by the rate (chord or not) is followed by a new Jacobian
+  int chords = 0;
+  for (size_t k = 0; k + 1 < rb.history.size(); ++k) {
+    chords += rb.history[k].chord;
+    if (!(rb.history[k + 1].residual_norm <= 0.25 * rb.history[k].residual_norm) || rb.history[k].step_length < 1) {
+      EXPECT_FALSE(rb.history[k + 1].chord) << "iteration " << k + 1;
+    }
+  }
+  EXPECT_GE(chords, 2);
+}
+
+// With chord_rate a tolerance below the rounding floor ends on the chord: a chord iteration that
+// stops falling within 1e3 of the tolerance is the floor, not a reason for a new Jacobian.
+TEST(Newton, ChordStopsAtTheRoundingFloorWithoutANewJacobian) {
+  Bratu1DProblem problem(64, 2.0);  // floor about 3e-13
+  const Vector ref = solved_to_reachable_tolerance(problem);
+  NewtonOptions below = below_the_floor();
+  below.chord_rate = 0.25;
+  NewtonSolver newton(problem, below);
+  Vector u = problem.initial_guess();
+  const NewtonResult res = newton.solve(u);
+  ASSERT_TRUE(res.converged()) << res.status.describe();
+  std::cout << res.iterations << " iterations, " << res.factorisations << " factorisations, |F| = " << res.residual_norm
+            << "\n";
+  EXPECT_LE(res.residual_norm, 1e-12);
+  EXPECT_LT((u - ref).cwiseAbs().maxCoeff(), 1e-10);
+  ASSERT_FALSE(res.history.empty());
+  EXPECT_TRUE(res.history.back().chord);  // the last iteration solved on a kept factorisation
+  EXPECT_LT(res.factorisations, res.iterations);
 }
