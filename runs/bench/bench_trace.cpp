@@ -125,7 +125,7 @@ int main(int argc, char** argv) {
     return 1;
   }
   const double start_value = problem->parameters().get(copt.parameter);
-  fmt::print("first steady state: {} Newton steps, {:.2f} s (not in the runs below)\n\n", r.iterations,
+  fmt::print("first steady state: {} Newton iterations ({} factorisations), {:.2f} s (not in the runs below)\n\n", r.iterations, r.factorisations,
              std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
 
   fmt::print("{:<22} {:>5} {:>6} {:>7} {:>8} {:>8} {:>9} {:>8} {:>7} {:>8} {:>8}  {}\n", "run", "rows", "factor",
