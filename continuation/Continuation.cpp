@@ -927,6 +927,7 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
             StopCode::MaxSteps);
     const std::vector<double> gc = monitor_values(cur), gn = monitor_values(nxt);
     const size_t n_problem_monitors = problem_.monitor_names().size();
+    std::vector<std::optional<BranchPoint>> zero_of(gc.size());  // located on this step, by monitor
     for (size_t k = 0; k < gc.size(); ++k) {
       // a zero exactly at nxt (a step that landed on a stop where a monitor vanishes) is this
       // step's, located at nxt itself; the next step starts on it and does not count it again
@@ -938,9 +939,15 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
         p = nxt;
         p->iterations = 0;
       } else {
-        p = locate_root(cur, nxt, static_cast<int>(k), gc[k], gn[k]);
+        // the same function as a monitor located before on this step (a stop observable on a
+        // problem monitor with threshold 0): the same zero, not a second search
+        for (size_t j = 0; j < k && !p; ++j)
+          if (zero_of[j] && gc[j] == gc[k] && gn[j] == gn[k]) p = zero_of[j];
+        if (!p) p = locate_root(cur, nxt, static_cast<int>(k), gc[k], gn[k]);
       }
+      const size_t before = located.size();
       add(std::move(p), stop ? PointKind::End : PointKind::Event, monitor_names_[k], stop, StopCode::StopObservable);
+      if (located.size() > before) zero_of[k] = located.back().point;  // (analysed, if it was)
     }
     if (arclength && options_.detect_folds && cur.tlambda * nxt.tlambda < 0)
       add(locate_root(cur, nxt, -1, cur.tlambda, nxt.tlambda), PointKind::Fold, cur.tlambda > 0 ? "max" : "min",

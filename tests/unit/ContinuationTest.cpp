@@ -209,6 +209,22 @@ TEST(Continuation, AStopThatIsAlsoAnEventIsReportedOnce) {
   ASSERT_EQ(rec.of_kind(PointKind::End).size(), 1u);
   EXPECT_NEAR(rec.points.back().lambda, -1.375, o.event_tolerance);
   EXPECT_EQ(rec.points.back().kind, PointKind::End);
+  // found once, too: the end is the event's zero (the same function), not a second search. With a
+  // threshold 1e-7 away (another function) the search is made twice and costs more solves.
+  {
+    ContinuationOptions apart = o;
+    apart.stop_above = 0.5 + 1e-7;
+    CubicProblem p2(-2.0);
+    Continuation c2(p2, apart);
+    RecordingObserver rec_apart;
+    const ContinuationResult r2 = c2.run(p2.initial_guess(), rec_apart);
+    ASSERT_EQ(r2.code, StopCode::StopObservable) << r2.reason;
+    ASSERT_EQ(rec_apart.of_kind(PointKind::Event).size(), 1u);
+    const BranchPoint& end = rec.points.back();
+    std::cout << "solves: " << r.timings.solves << " with the zero shared, " << r2.timings.solves
+              << " searched twice; the end's search " << end.iterations << "\n";
+    EXPECT_LE(r.timings.solves + end.iterations, r2.timings.solves);
+  }
   // a requested value at the same place is another kind of point: it stays
   o.stops = {-1.375};
   Continuation again(problem, o);
