@@ -98,7 +98,10 @@ Continuation::Constraint Continuation::arclength_constraint(const BranchPoint& f
 
 std::optional<Continuation::Landing> Continuation::landing(const BranchPoint& cur, const BranchPoint* prev, double ds,
                                                           double dl_dir) const {
-  if (!options_.land_on_values || options_.method != ContinuationOptions::Method::Arclength) return std::nullopt;
+  // (after a landing that failed, the step's retries are ordinary steps: the value is located
+  // after them, or reported as not located, instead of failing again at the same place)
+  if (!options_.land_on_values || options_.method != ContinuationOptions::Method::Arclength || landing_failed_)
+    return std::nullopt;
   if (!(std::abs(dl_dir) > 0)) return std::nullopt;
   // Near a fold the correction at a fixed parameter value is ill-posed and the value may lie
   // beyond the fold: a step lands only within half the distance at which the parameter part of
@@ -112,16 +115,19 @@ std::optional<Continuation::Landing> Continuation::landing(const BranchPoint& cu
   }
   const double predicted = cur.lambda + ds * dl_dir;
   std::optional<Landing> best;
-  auto consider = [&](double v, PointKind kind, std::string label, bool terminal, StopCode code) {
+  // sense: +1 only crossing upwards (the upper bound, left from inside), -1 only downwards (the
+  // lower bound), 0 either way (stops)
+  auto consider = [&](double v, int sense, PointKind kind, std::string label, bool terminal, StopCode code) {
     if (!std::isfinite(v) || v == cur.lambda || !((cur.lambda - v) * (predicted - v) <= 0)) return;
+    if (sense * (v - cur.lambda) < 0) return;
     const double fraction = (v - cur.lambda) / (predicted - cur.lambda);
     if (fraction * ds > 0.5 * to_fold) return;
     if (!best || fraction < best->fraction) best = Landing{v, fraction, kind, std::move(label), terminal, code};
   };
-  consider(options_.upper, PointKind::End, "upper", true, StopCode::UpperBound);
-  consider(options_.lower, PointKind::End, "lower", true, StopCode::LowerBound);
+  consider(options_.upper, +1, PointKind::End, "upper", true, StopCode::UpperBound);
+  consider(options_.lower, -1, PointKind::End, "lower", true, StopCode::LowerBound);
   for (double v : options_.stops)
-    consider(v, PointKind::Requested, fmt::format("{} = {}", options_.parameter, v), false, StopCode::MaxSteps);
+    consider(v, 0, PointKind::Requested, fmt::format("{} = {}", options_.parameter, v), false, StopCode::MaxSteps);
   return best;
 }
 
@@ -795,6 +801,7 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
 
   BranchPoint cur = std::move(start);
   std::optional<BranchPoint> prev;
+  landing_failed_ = false;
   double ds = std::clamp(cur.step, options_.min_step, options_.max_step);
   const double max_angle = options_.max_angle_degrees * M_PI / 180.0;
   int steps = 0;
@@ -868,6 +875,7 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
     }
     if (st.is_ok()) st = evaluate(nxt, analyse_now);
     if (!st.is_ok()) {
+      if (land) landing_failed_ = true;
       ++result.rejected;
       observer.on_rejected(nxt.lambda, ds, st);
       ds *= 0.5;
@@ -879,6 +887,7 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
       continue;
     }
     ++steps;
+    landing_failed_ = false;
     nxt.bordered_det_sign = arclength ? bordered_->determinant_sign() : 0;
     if (arclength && !land) {
       nxt.s = cur.s + ds;

@@ -200,6 +200,7 @@ class Continuation {
   // The rounding floor two neighbouring points show: twice their larger residual where that is
   // above the tolerance (they stalled there), else 0.
   double residual_floor(double r0, double r1) const;
+  bool landing_failed_ = false;  // the present step's landing was rejected: retries do not land
   double located_floor_ = 0.0;
   double step_floor_ = 0.0;  // twice the residual the last two points reached (chord on a kept factorisation)
   ContinuationTimings timings_;        // the kept factorisation belongs to a converged corrector

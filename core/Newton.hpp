@@ -15,7 +15,7 @@
 namespace keller {
 
 struct NewtonOptions {
-  int max_iterations = 20;
+  int max_iterations = 20;  // iterations, chord ones (chord_rate) included
   // Converged when ||F||_inf <= residual_tolerance * problem.residual_scale() ...
   double residual_tolerance = 1e-10;
   // ... or when a full step has ||du||_inf <= update_tolerance * max(||u||_inf, 1) and did not

@@ -372,22 +372,23 @@ TEST(Continuation, StepsLandOnRequestedValues) {
     return cont.run(problem.initial_guess(), rec);
   };
   RecordingObserver landed, located;
-  ASSERT_EQ(trace(true, landed).code, StopCode::UpperBound);
-  ASSERT_EQ(trace(false, located).code, StopCode::UpperBound);
+  const ContinuationResult r_landed = trace(true, landed), r_located = trace(false, located);
+  ASSERT_EQ(r_landed.code, StopCode::UpperBound);
+  ASSERT_EQ(r_located.code, StopCode::UpperBound);
   const auto a = landed.of_kind(PointKind::Requested), b = located.of_kind(PointKind::Requested);
   ASSERT_EQ(a.size(), 15u);  // each value at each of the three crossings of the S-shaped branch
   ASSERT_EQ(a.size(), b.size());
-  int iterations_landed = 0, iterations_located = 0;
+
   for (size_t i = 0; i < a.size(); ++i) {
     EXPECT_EQ(a[i]->lambda, b[i]->lambda);
     EXPECT_NEAR(a[i]->u[0], b[i]->u[0], 1e-10);
     EXPECT_NEAR(std::pow(a[i]->u[0], 3) - 3 * a[i]->u[0], a[i]->lambda, 1e-10);  // the corrector's tolerance
   }
-  for (const BranchPoint& p : landed.points) iterations_landed += p.iterations;
-  for (const BranchPoint& p : located.points) iterations_located += p.iterations;
-  std::cout << "rows " << landed.points.size() << " landed, " << located.points.size()
-            << " located; corrector iterations " << iterations_landed << " and " << iterations_located << "\n";
-  EXPECT_LT(iterations_landed, iterations_located);
+  // (all solves, those of rejected attempts included)
+  std::cout << "rows " << landed.points.size() << " landed, " << located.points.size() << " located; solves "
+            << r_landed.timings.solves << " and " << r_located.timings.solves << ", rejected steps "
+            << r_landed.rejected << " and " << r_located.rejected << "\n";
+  EXPECT_LT(r_landed.timings.solves, r_located.timings.solves);
   EXPECT_LT(landed.points.size(), located.points.size());
   EXPECT_EQ(landed.of_kind(PointKind::Fold).size(), 2u);
 }
@@ -763,4 +764,86 @@ TEST(Continuation, ASlowCostedChordIsNotTakenForRounding) {
     for (int i = 0; i < 3; ++i) EXPECT_NEAR(q.u[i], 1.0 / ((1 + q.lambda) * (1 + i)), 1e-10) << q.lambda;
   }
   EXPECT_GE(rec.points[1].iterations, 20);  // the slow chord this is about: 0.6 per iteration
+}
+
+// The upper bound ends a branch that leaves the interval upwards, the lower one a branch that
+// leaves it downwards; a branch that starts below the lower bound and rises through it goes on
+// (as when the bound is located after the step): landing must not end it there.
+TEST(Continuation, ABoundApproachedFromOutsideIsNotLandedOn) {
+  auto trace = [](bool land, RecordingObserver& rec) {
+    CubicProblem problem(-2.0);
+    ContinuationOptions o = cubic_options();
+    o.lower = -1.0;  // the start, lambda = -2, lies below it
+    o.land_on_values = land;
+    Continuation cont(problem, o);
+    return cont.run(problem.initial_guess(), rec);
+  };
+  RecordingObserver landed, located;
+  const ContinuationResult a = trace(true, landed), b = trace(false, located);
+  EXPECT_EQ(a.code, b.code) << a.reason << " / " << b.reason;
+  ASSERT_FALSE(landed.points.empty());
+  EXPECT_EQ(landed.points.back().lambda, located.points.back().lambda);
+  EXPECT_EQ(landed.points.back().label, located.points.back().label);
+  // the same crossing: the one on the way down (u = 0.35), not the first one (u = -1.88)
+  EXPECT_NEAR(landed.points.back().u[0], located.points.back().u[0], 1e-9);
+}
+
+namespace {
+// u^3 - 3u = lambda, whose residual cannot be evaluated for lambda in [2.9999, 3.0001]
+class BandFailingCubic final : public Problem {
+ public:
+  BandFailingCubic() : pattern_(1, 1) {
+    params_.add("lambda", -2.0, "load");
+    pattern_.insert(0, 0) = 0.0;
+    pattern_.makeCompressed();
+  }
+  std::string name() const override { return "band-failing-cubic"; }
+  int size() const override { return 1; }
+  ParameterSet& parameters() override { return params_; }
+  const ParameterSet& parameters() const override { return params_; }
+  const SparseMatrix& jacobian_pattern() const override { return pattern_; }
+  Status residual(const Vector& u, Vector& F) override {
+    const double lambda = params_.value(0);
+    if (lambda >= 2.9999 && lambda <= 3.0001) return {StatusCode::InvalidState, "no residual in the band"};
+    F.resize(1);
+    F[0] = u[0] * u[0] * u[0] - 3 * u[0] - lambda;
+    return {};
+  }
+  Status jacobian(const Vector& u, Vector& F, SparseMatrix& J) override {
+    const Status st = residual(u, F);
+    if (!st.is_ok()) return st;
+    J = pattern_;
+    J.valuePtr()[0] = 3 * u[0] * u[0] - 3;
+    return {};
+  }
+  Status parameter_derivative(int, const Vector&, Vector& dF) override {
+    dF = Vector::Constant(1, -1.0);
+    return {};
+  }
+  Vector initial_guess() override { return Vector::Constant(1, -2.0); }
+  SolutionFields fields(const Vector&) const override { return {}; }
+
+ private:
+  ParameterSet params_;
+  SparseMatrix pattern_;
+};
+}  // namespace
+
+// A stop where the problem cannot be solved: the landing fails, the step's retries are ordinary
+// steps and the branch goes on past it (the stop reported as not located), as it does without
+// landing; before, the same landing was retried at every halving until the step floor.
+TEST(Continuation, AFailedLandingDoesNotEndTheBranch) {
+  for (const bool land : {true, false}) {
+    BandFailingCubic problem;
+    ContinuationOptions o = cubic_options();
+    o.initial_step = 0.5;
+    o.max_step = 0.5;
+    o.stops = {3.0};
+    o.land_on_values = land;
+    Continuation cont(problem, o);
+    RecordingObserver rec;
+    const ContinuationResult r = cont.run(problem.initial_guess(), rec);
+    EXPECT_EQ(r.code, StopCode::UpperBound) << "landing " << land << ": " << r.reason;
+    EXPECT_TRUE(rec.of_kind(PointKind::Requested).empty()) << "landing " << land;
+  }
 }

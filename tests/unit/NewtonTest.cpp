@@ -10,6 +10,7 @@
 #include "problems/Bratu1DProblem.hpp"
 #include "problems/Bratu2DProblem.hpp"
 #include "problems/ChannelProblem.hpp"
+#include "support/TestProblems.hpp"
 
 using namespace keller;
 
@@ -251,4 +252,24 @@ TEST(Newton, ChordStopsAtTheRoundingFloorWithoutANewJacobian) {
   ASSERT_FALSE(res.history.empty());
   EXPECT_TRUE(res.history.back().chord);  // the last iteration solved on a kept factorisation
   EXPECT_LT(res.factorisations, res.iterations);
+}
+
+// With chord_rate a reachable tolerance is reached: a chord that slows down within 1e3 of the
+// tolerance gets a new Jacobian, it is not taken for the rounding floor (which stalls). u^3 - 3u
+// = lambda from u = -2, to tolerances between 1e-3 and 1e-8: every solve ends at or below its
+// tolerance.
+TEST(Newton, ChordReachesAReachableTolerance) {
+  for (const double lambda : {-50.0, -20.0, -5.0, 10.0, 30.0})
+    for (const double tol : {1e-3, 1e-4, 2e-4, 1e-6, 1e-8}) {
+      test::CubicProblem problem(lambda);
+      NewtonOptions o;
+      o.residual_tolerance = tol;
+      o.update_tolerance = 0.0;
+      o.chord_rate = 0.25;
+      NewtonSolver newton(problem, o);
+      Vector u = problem.initial_guess();
+      const NewtonResult res = newton.solve(u);
+      ASSERT_TRUE(res.converged()) << "lambda " << lambda << ", tolerance " << tol << ": " << res.status.describe();
+      EXPECT_LE(res.residual_norm, tol * problem.residual_scale()) << "lambda " << lambda << ", tolerance " << tol;
+    }
 }
