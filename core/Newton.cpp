@@ -127,7 +127,10 @@ NewtonResult NewtonSolver::solve(Vector& u, const Observer& observer) {
     // a chord that had been cutting |F| by the rate and now stalls (under 10%) within 1e3 of the
     // tolerance has reached the rounding floor: converged (a new Jacobian would not lower |F|
     // there). A chord that merely slows down gets a new Jacobian next.
-    const bool stalled = it.chord && norm_try > 0.9 * normF && norm_try <= 1e3 * tol_F;
+    // So has, with chord_rate, a step on a new Jacobian that cuts |F| by less than the rate
+    // there (or only damped): so close to the solution Newton cuts it by orders of magnitude.
+    const bool stalled = norm_try <= 1e3 * tol_F &&
+                         ((it.chord && norm_try > 0.9 * normF) || (!it.chord && options_.chord_rate > 0 && !fell));
     reuse = options_.chord_rate > 0 && fell;
     u.swap(u_try);
     F.swap(F_try);
