@@ -213,20 +213,19 @@ Status Continuation::correct_iterations(Vector& u, double& lambda, const Constra
     // chord: keep the factorisation while |F| falls fast enough (with reuse_factorisation also
     // the one of the previous step, under this step's border row)
     bool refactor = !chord || k == 0 || !(normF <= options_.chord_rate * previous);
-    if (located_kept && k > 0) {
-      // At a located point a kept factorisation is renewed only when the chord, at its observed
-      // rate (the mean of its last two, which wander), would not reach its goal two
-      // iterations before the limit: a few more solves are cheaper than a factorisation. (A
-      // step keeps the rate rule unless renewal_cost is set: below.)
+    // the iterations this matrix's chord still needs to reach the goal at its observed rate (the
+    // mean of its last two, which wander)
+    auto more_at_its_rate = [&]() {
       const double rate = on_this_matrix >= 2 ? std::sqrt(normF / before_previous) : normF / previous;
-      const double more = rate < 1.0 ? std::max(0.0, std::log(goal / normF) / std::log(rate)) : INFINITY;
-      refactor = k + more > options_.max_iterations - 2;
-    }
+      return rate < 1.0 ? std::max(0.0, std::log(goal / normF) / std::log(rate)) : INFINITY;
+    };
+    // At a located point a kept factorisation is renewed only when the chord would not reach its
+    // goal two iterations before the limit: a few more solves are cheaper than a factorisation.
+    // A step keeps the rate rule unless renewal_cost is set: then its chord goes on where it
+    // needs fewer solves than a renewal costs (and reaches its goal two before the limit).
+    if (located_kept && k > 0) refactor = k + more_at_its_rate() > options_.max_iterations - 2;
     if (costed_step && k > 0 && refactor) {
-      // a step's chord slower than chord_rate goes on where, at its observed rate, it reaches its
-      // goal in fewer solves than a renewal costs (and two before the limit)
-      const double rate = on_this_matrix >= 2 ? std::sqrt(normF / before_previous) : normF / previous;
-      const double more = rate < 1.0 ? std::max(0.0, std::log(goal / normF) / std::log(rate)) : INFINITY;
+      const double more = more_at_its_rate();
       if (more <= options_.renewal_cost && k + more <= options_.max_iterations - 2) refactor = false;
     }
     // near the rounding floor a slower fall is rounding, not an old matrix: no new factorisation
@@ -1055,6 +1054,9 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
         if (!drop[i]) kept.push_back(std::move(located[i]));
       located = std::move(kept);
     }
+    auto bound_reached = [&](const BranchPoint& p) {
+      return fmt::format("reached the {} bound {} = {:.10g}", p.label, options_.parameter, p.lambda);
+    };
     // nxt's own row (a landed stop or bound is labelled as such)
     bool next_reported = false;
     auto report_next = [&]() {
@@ -1090,15 +1092,12 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
         const std::string why = l.code == StopCode::StopObservable
                                     ? fmt::format("{} crossed at {} = {:.10g}", l.point.label, options_.parameter,
                                                   l.point.lambda)
-                                    : fmt::format("reached the {} bound {} = {:.10g}", l.point.label, options_.parameter,
-                                                  l.point.lambda);
+                                    : bound_reached(l.point);
         return finish(l.code, why, l.point);
       }
     }
     if (!next_reported) report_next();
-    if (land && land->terminal)
-      return finish(land->code,
-                    fmt::format("reached the {} bound {} = {:.10g}", land->label, options_.parameter, nxt.lambda), nxt);
+    if (land && land->terminal) return finish(land->code, bound_reached(nxt), nxt);
     prev = std::move(cur);
     cur = std::move(nxt);
     ds = ds_next;

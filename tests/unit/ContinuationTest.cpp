@@ -788,53 +788,13 @@ TEST(Continuation, ABoundApproachedFromOutsideIsNotLandedOn) {
   EXPECT_NEAR(landed.points.back().u[0], located.points.back().u[0], 1e-9);
 }
 
-namespace {
-// u^3 - 3u = lambda, whose residual cannot be evaluated for lambda in [2.9999, 3.0001]
-class BandFailingCubic final : public Problem {
- public:
-  BandFailingCubic() : pattern_(1, 1) {
-    params_.add("lambda", -2.0, "load");
-    pattern_.insert(0, 0) = 0.0;
-    pattern_.makeCompressed();
-  }
-  std::string name() const override { return "band-failing-cubic"; }
-  int size() const override { return 1; }
-  ParameterSet& parameters() override { return params_; }
-  const ParameterSet& parameters() const override { return params_; }
-  const SparseMatrix& jacobian_pattern() const override { return pattern_; }
-  Status residual(const Vector& u, Vector& F) override {
-    const double lambda = params_.value(0);
-    if (lambda >= 2.9999 && lambda <= 3.0001) return {StatusCode::InvalidState, "no residual in the band"};
-    F.resize(1);
-    F[0] = u[0] * u[0] * u[0] - 3 * u[0] - lambda;
-    return {};
-  }
-  Status jacobian(const Vector& u, Vector& F, SparseMatrix& J) override {
-    const Status st = residual(u, F);
-    if (!st.is_ok()) return st;
-    J = pattern_;
-    J.valuePtr()[0] = 3 * u[0] * u[0] - 3;
-    return {};
-  }
-  Status parameter_derivative(int, const Vector&, Vector& dF) override {
-    dF = Vector::Constant(1, -1.0);
-    return {};
-  }
-  Vector initial_guess() override { return Vector::Constant(1, -2.0); }
-  SolutionFields fields(const Vector&) const override { return {}; }
-
- private:
-  ParameterSet params_;
-  SparseMatrix pattern_;
-};
-}  // namespace
-
 // A stop where the problem cannot be solved: the landing fails, the step's retries are ordinary
 // steps and the branch goes on past it (the stop reported as not located), as it does without
 // landing; before, the same landing was retried at every halving until the step floor.
 TEST(Continuation, AFailedLandingDoesNotEndTheBranch) {
   for (const bool land : {true, false}) {
-    BandFailingCubic problem;
+    // u^3 - 3u = lambda with no residual for lambda in [2.9999, 3.0001]
+    test::FailingBand problem(std::make_unique<CubicProblem>(-2.0), 2.9999, 3.0001);
     ContinuationOptions o = cubic_options();
     o.initial_step = 0.5;
     o.max_step = 0.5;
