@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "continuation/Hermite.hpp"
+#include "core/Anderson.hpp"
 
 namespace keller {
 
@@ -184,6 +185,10 @@ Status Continuation::correct_iterations(Vector& u, double& lambda, const Constra
   const double goal = slow_chord_allowed ? std::max(tol, std::min(floor, 1e3 * tol)) : tol;
   Vector du;
   double dl = 0;
+  // the chord's iterates on one factorisation, accelerated (anderson_depth > 0)
+  AndersonMixer mixer(chord ? options_.anderson_depth : 0);
+  bool newton_iteration = false;  // the last iteration was made on a Jacobian of its own iterate
+  Vector x_mix, f_mix;
   for (int k = 0;; ++k) {
     Status st = set_parameter(lambda);
     if (!st.is_ok()) return st;
@@ -206,6 +211,13 @@ Status Continuation::correct_iterations(Vector& u, double& lambda, const Constra
         return {};
       }
       if (normF > 1e3 * previous) return {StatusCode::Diverged, fmt::format("corrector diverged (|F| = {:.3e})", normF)};
+      // a step whose Newton iteration (on a Jacobian made at the last iterate) raised |F| starts
+      // outside Newton's region of contraction: a shorter step is cheaper than more Jacobians
+      // (Deuflhard's monotonicity test; it had cost up to 9 factorisations before the same
+      // rejection came from an inverted element)
+      if (step && newton_iteration && normF > previous)
+        return {StatusCode::Diverged,
+                fmt::format("corrector: a Newton iteration raised |F| from {:.3e} to {:.3e}", previous, normF)};
     }
     if (k >= options_.max_iterations)
       return {StatusCode::NotConverged,
@@ -238,6 +250,7 @@ Status Continuation::correct_iterations(Vector& u, double& lambda, const Constra
     previous = normF;
     double N = c.cl * (lambda - c.l0) - c.target;
     if (c.cu.size()) N += c.cu.dot(u - *c.u0);
+    newton_iteration = refactor;
     if (refactor) {
       refactored_ = true;
       st = timed_jacobian(u);
@@ -249,11 +262,22 @@ Status Continuation::correct_iterations(Vector& u, double& lambda, const Constra
       if (!st.is_ok()) return st;
       ++factorisations_;
       on_this_matrix = 0;
+      mixer.reset();
     }
     ++on_this_matrix;
     // the chord iteration corrects the error of an unrefined solve like that of its old matrix
     st = bordered_->solve(-F_, -N, du, dl, !chord);
     if (!st.is_ok()) return st;
+    if (mixer.depth() > 0) {
+      const Eigen::Index n = u.size();
+      x_mix.resize(n + 1);
+      f_mix.resize(n + 1);
+      x_mix << u, lambda;
+      f_mix << du, dl;
+      const Vector inc = mixer.increment(x_mix, f_mix);
+      du = inc.head(n);
+      dl = inc(n);
+    }
     u += du;
     lambda += dl;
     ++iterations;
@@ -359,10 +383,23 @@ Status Continuation::point_tangent(BranchPoint& p, const Constraint& c, const Ve
     // as many iterations as the corrector may make, while each halves the residual and the
     // rate says the tolerance is within reach
     const int limit = std::max(12, options_.max_iterations);
+    // accelerated like the corrector's chord (anderson_depth): on this linear system that is
+    // GMRES with the kept factorisation as preconditioner
+    AndersonMixer mixer(options_.anderson_depth);
+    Vector x_mix(n + 1), f_mix(n + 1);
+    double best = INFINITY;
+    int it_best = -1;
     for (int it = 0; it < limit; ++it) {
       st = bordered_->solve(rf, rg, dv, dmu, false);
       ++tangent_iterations_;
       if (!st.is_ok()) break;
+      if (mixer.depth() > 0) {
+        x_mix << v, mu;
+        f_mix << dv, dmu;
+        const Vector inc = mixer.increment(x_mix, f_mix);
+        dv = inc.head(n);
+        dmu = inc(n);
+      }
       v += dv;
       mu += dmu;
       st = jacobian_times(v, jv);
@@ -371,7 +408,15 @@ Status Continuation::point_tangent(BranchPoint& p, const Constraint& c, const Ve
       rg = 1.0 - cu.dot(v) - c.cl * mu;
       const double res = rf.cwiseAbs().maxCoeff() + std::abs(rg);
       const double scale = 1.0 + scale_a * (v.cwiseAbs().maxCoeff() + std::abs(mu));
-      if (!(res <= 0.5 * previous) || !std::isfinite(res)) break;  // diverging or stalling
+      // diverging or stalling: plain Richardson must halve the residual at every iteration;
+      // accelerated, which need not fall at every iteration, must find a new least residual
+      // every three (an iteration costs a solve and two residuals, a factorisation about 25)
+      if (res < best) {
+        best = res;
+        it_best = it;
+      }
+      const bool stalled = mixer.depth() > 0 ? it - it_best >= 3 || !(res <= 10.0 * best) : !(res <= 0.5 * previous);
+      if (stalled || !std::isfinite(res)) break;
       if (res <= 1e-9 * scale) {
         converged = true;
         break;
@@ -753,9 +798,15 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
   // the start: observables, the sign of det of the bordered matrix with its own tangent, and
   // the analysis (with that factorisation of J)
   Status st = evaluate(start, false);
-  if (st.is_ok()) st = arclength ? timed_jacobian(start.u) : problem_.residual(start.u, F_);  // both give F
+  // J's block factorisation made at this very point for the initial tangent (run) takes the
+  // arclength row through its Schur complement: no second factorisation of the same matrix
+  const bool factorised_here = arclength && bordered_->block_factorised() && factorisation_at(start) != nullptr;
+  if (st.is_ok()) st = arclength && !factorised_here ? timed_jacobian(start.u) : problem_.residual(start.u, F_);
   if (st.is_ok()) start.residual = F_.lpNorm<Eigen::Infinity>();
-  if (st.is_ok() && arclength) {
+  if (st.is_ok() && factorised_here && bordered_->set_row(wu_ * start.tu, wl_ * start.tlambda).is_ok()) {
+    reusable_ = true;
+    start.bordered_det_sign = bordered_->determinant_sign();
+  } else if (st.is_ok() && arclength) {
     st = timed_parameter_derivative(start.u);
     if (st.is_ok()) {
       bordered_->set(J_, Fp_, wu_ * start.tu, wl_ * start.tlambda);

@@ -42,6 +42,9 @@ void ContinuationOptions::declare(SceneSchema& s) {
          "reuse_factorisation: a step's chord slower than chord_rate goes on while it needs at most this many more "
          "solves at its observed rate (a factorisation's cost in solves; 0: the rate rule alone)",
          Range::non_negative());
+  s.integer("continuation.anderson_depth", 0,
+            "chord corrector: Anderson acceleration over this many past updates on one factorisation (0: plain chord)",
+            Range::between(0, 20));
   s.integer("continuation.target_iterations", 4, "corrector iterations aimed at by the step control",
             Range::at_least(1));
   s.integer("continuation.max_iterations", 10, "corrector iterations before a step is rejected", Range::at_least(1));
@@ -76,6 +79,7 @@ ContinuationOptions ContinuationOptions::from_scene(const Scene& sc) {
   o.block_elimination = sc.string("continuation.bordered") == "block";
   o.reuse_factorisation = sc.boolean("continuation.reuse_factorisation");
   o.renewal_cost = sc.real("continuation.renewal_cost");
+  o.anderson_depth = static_cast<int>(sc.integer("continuation.anderson_depth"));
   o.direction = sc.string("continuation.direction") == "decrease" ? -1 : +1;
   o.lower = sc.real("continuation.lower");
   o.upper = sc.real("continuation.upper");
@@ -116,6 +120,8 @@ void ContinuationOptions::validate() const {
         fmt::format("need min_step <= initial_step <= max_step (got {}, {}, {})", min_step, initial_step, max_step));
   if (reuse_factorisation && !(corrector == Corrector::Chord && block_elimination))
     throw std::invalid_argument("reuse_factorisation needs corrector = \"chord\" and bordered = \"block\"");
+  if (anderson_depth > 0 && corrector != Corrector::Chord)
+    throw std::invalid_argument("anderson_depth needs corrector = \"chord\"");
   if (max_iterations < target_iterations)
     throw std::invalid_argument("max_iterations must be at least target_iterations");
   if (stop_observable.empty() && (std::isfinite(stop_above) || std::isfinite(stop_below)))

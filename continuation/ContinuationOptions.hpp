@@ -52,6 +52,10 @@ struct ContinuationOptions {
   // factorisation where, at its observed rate, it needs at most this many more solves (what a
   // factorisation costs in solves, counting the iterations after it). 0: the rate rule alone.
   double renewal_cost = 0.0;
+  // Chord corrector: Anderson acceleration of the iterations on one factorisation, over this many
+  // past updates (0: plain chord). Its combination of past updates cancels the slow or
+  // oscillating modes that an old matrix leaves, at no extra solve.
+  int anderson_depth = 0;
   int target_iterations = 4;   // grow the step when the corrector needs fewer, shrink when more
   int max_iterations = 10;     // corrector iterations before a step counts as failed
   double growth = 1.5;

@@ -487,42 +487,35 @@ TEST(Hermite, NoPointWhereTheCubicMissesTheTarget) {
   EXPECT_FALSE(hermite_point(at(1.3), no_tangent, parameter, 0.95, u, lambda, x));
 }
 
-// F_i = (1 + lambda) d_i u_i - 1, d_i = 1 + i: u_i = 1 / ((1 + lambda) d_i). With a factorisation
-// kept from lambda_b the chord contracts the error of a correction at lambda by exactly
-// |1 - (1 + lambda) / (1 + lambda_b)| per iteration.
-class ScaledLinear final : public Problem {
+// The Problem boilerplate of the small diagonal problems below: F_i depends on u_i and one
+// parameter "lambda" only; observable u0.
+class DiagonalProblem : public Problem {
  public:
-  // scale multiplies F: its rounding floor is about 1e-16 x scale
-  explicit ScaledLinear(int n, double scale = 1.0) : n_(n), scale_(scale), pattern_(n, n) {
-    params_.add("lambda", 0.0, "scale");
+  DiagonalProblem(std::string name, int n, double lambda0) : name_(std::move(name)), n_(n), pattern_(n, n) {
+    params_.add("lambda", lambda0, name_);
     for (int i = 0; i < n; ++i) pattern_.insert(i, i) = 0.0;
     pattern_.makeCompressed();
   }
-  std::string name() const override { return "scaled-linear"; }
+  std::string name() const override { return name_; }
   int size() const override { return n_; }
   ParameterSet& parameters() override { return params_; }
   const ParameterSet& parameters() const override { return params_; }
   const SparseMatrix& jacobian_pattern() const override { return pattern_; }
   Status residual(const Vector& u, Vector& F) override {
     F.resize(n_);
-    for (int i = 0; i < n_; ++i) F[i] = scale_ * ((1 + params_.value(0)) * (1 + i) * u[i] - 1);
+    for (int i = 0; i < n_; ++i) F[i] = f(i, u[i], lambda());
     return {};
   }
   Status jacobian(const Vector& u, Vector& F, SparseMatrix& J) override {
     residual(u, F);
     J = pattern_;
-    for (int i = 0; i < n_; ++i) J.valuePtr()[i] = scale_ * (1 + params_.value(0)) * (1 + i);
+    for (int i = 0; i < n_; ++i) J.valuePtr()[i] = df_du(i, u[i], lambda());
     return {};
   }
   Status parameter_derivative(int, const Vector& u, Vector& dF) override {
     dF.resize(n_);
-    for (int i = 0; i < n_; ++i) dF[i] = scale_ * (1 + i) * u[i];
+    for (int i = 0; i < n_; ++i) dF[i] = df_dlambda(i, u[i], lambda());
     return {};
-  }
-  Vector initial_guess() override {
-    Vector u(n_);
-    for (int i = 0; i < n_; ++i) u[i] = 1.0 / (1 + i);
-    return u;
   }
   std::vector<std::string> observable_names() const override { return {"u0"}; }
   Status observables(const Vector& u, std::vector<double>& v) override {
@@ -531,11 +524,37 @@ class ScaledLinear final : public Problem {
   }
   SolutionFields fields(const Vector&) const override { return {}; }
 
+ protected:
+  virtual double f(int i, double u, double lambda) const = 0;
+  virtual double df_du(int i, double u, double lambda) const = 0;
+  virtual double df_dlambda(int i, double u, double lambda) const = 0;
+  double lambda() const { return params_.value(0); }
+
  private:
+  std::string name_;
   int n_;
-  double scale_;
   ParameterSet params_;
   SparseMatrix pattern_;
+};
+
+// F_i = (1 + lambda) d_i u_i - 1, d_i = 1 + i: u_i = 1 / ((1 + lambda) d_i). With a factorisation
+// kept from lambda_b the chord contracts the error of a correction at lambda by exactly
+// |1 - (1 + lambda) / (1 + lambda_b)| per iteration.
+class ScaledLinear final : public DiagonalProblem {
+ public:
+  // scale multiplies F: its rounding floor is about 1e-16 x scale
+  explicit ScaledLinear(int n, double scale = 1.0) : DiagonalProblem("scaled-linear", n, 0.0), scale_(scale) {}
+  Vector initial_guess() override {
+    Vector u(size());
+    for (int i = 0; i < size(); ++i) u[i] = 1.0 / (1 + i);
+    return u;
+  }
+
+ private:
+  double f(int i, double u, double l) const override { return scale_ * ((1 + l) * (1 + i) * u - 1); }
+  double df_du(int i, double, double l) const override { return scale_ * (1 + l) * (1 + i); }
+  double df_dlambda(int i, double u, double) const override { return scale_ * (1 + i) * u; }
+  double scale_;
 };
 
 // With the factorisation kept across steps, a requested value is located on the kept matrix while
@@ -806,4 +825,125 @@ TEST(Continuation, AFailedLandingDoesNotEndTheBranch) {
     EXPECT_EQ(r.code, StopCode::UpperBound) << "landing " << land << ": " << r.reason;
     EXPECT_TRUE(rec.of_kind(PointKind::Requested).empty()) << "landing " << land;
   }
+}
+
+namespace {
+
+// F_i = (1 + c_i lambda) u_i - 1, u_i = 1 / (1 + c_i lambda): a factorisation kept from lambda0
+// leaves the chord the rates 1 - (1 + c_i lambda) / (1 + c_i lambda0), of both signs (slow and
+// oscillating modes), like the old matrix of a real branch.
+class SpreadLinear final : public DiagonalProblem {
+ public:
+  SpreadLinear() : DiagonalProblem("spread-linear", 4, 0.0) {}
+  static constexpr double c[4] = {1.0, -0.35, 0.5, 2.0};
+  static double exact(int i, double lambda) { return 1.0 / (1.0 + c[i] * lambda); }
+  Vector initial_guess() override { return Vector::Ones(4); }
+
+ private:
+  double f(int i, double u, double l) const override { return (1 + c[i] * l) * u - 1; }
+  double df_du(int i, double, double l) const override { return 1 + c[i] * l; }
+  double df_dlambda(int i, double u, double) const override { return c[i] * u; }
+};
+
+}  // namespace
+
+// anderson_depth: the chord on a kept factorisation, accelerated. On a linear problem with four
+// distinct chord rates it is GMRES: at most 4 + 1 updates to the solution (one more for
+// rounding), where the plain chord contracts by its slowest rate (up to 0.55 here) per iteration.
+// Same steps, the same points to the tolerance, no more factorisations.
+TEST(Continuation, AndersonAccelerationShortensTheKeptChord) {
+  auto trace = [](int depth, RecordingObserver& rec) {
+    SpreadLinear p;
+    ContinuationOptions o = kept_chord_options(0.3, 1.5, 200, {});
+    o.renewal_cost = 1000;  // never renewed while the chord converges
+    o.anderson_depth = depth;
+    Continuation cont(p, o);
+    return cont.run(p.initial_guess(), rec);
+  };
+  RecordingObserver plain, accelerated;
+  const ContinuationResult r0 = trace(0, plain), r1 = trace(4, accelerated);
+  ASSERT_EQ(r0.code, StopCode::UpperBound) << r0.reason;
+  ASSERT_EQ(r1.code, StopCode::UpperBound) << r1.reason;
+  ASSERT_EQ(plain.points.size(), accelerated.points.size());
+  int most_plain = 0, most_accelerated = 0;
+  for (size_t k = 1; k < plain.points.size(); ++k) {
+    most_plain = std::max(most_plain, plain.points[k].iterations);
+    most_accelerated = std::max(most_accelerated, accelerated.points[k].iterations);
+    const BranchPoint& q = accelerated.points[k];
+    EXPECT_DOUBLE_EQ(q.lambda, plain.points[k].lambda);
+    EXPECT_LE(q.residual, 1e-10);
+    for (int i = 0; i < 4; ++i) EXPECT_NEAR(q.u[i], SpreadLinear::exact(i, q.lambda), 1e-10) << q.lambda;
+  }
+  std::cout << "most corrector iterations in a step: plain " << most_plain << ", depth 4 " << most_accelerated
+            << "; factorisations " << r0.factorisations << " and " << r1.factorisations << "; tangent solves "
+            << r0.tangent_iterations << " and " << r1.tangent_iterations << "\n";
+  EXPECT_LE(most_accelerated, 6);
+  EXPECT_GE(most_plain, 15);
+  EXPECT_LE(r1.factorisations, r0.factorisations);
+  EXPECT_LT(r1.tangent_iterations, r0.tangent_iterations);
+}
+
+namespace {
+
+// F = atan(u - lambda^3): u = lambda^3. Newton on atan(e) diverges from |e| > 1.39 with |F| rising
+// towards pi/2, never by the 1e3 that counts as divergence: a step predicted that far off must
+// be rejected at the first Newton iteration that raises |F|, not after a Jacobian per iteration.
+class AtanCubic final : public DiagonalProblem {
+ public:
+  AtanCubic() : DiagonalProblem("atan-cubic", 1, 1.0) {}
+  Vector initial_guess() override { return Vector::Ones(1); }
+
+ private:
+  double f(int, double u, double l) const override { return std::atan(u - l * l * l); }
+  double df_du(int, double u, double l) const override { return 1.0 / (1.0 + std::pow(u - l * l * l, 2)); }
+  double df_dlambda(int, double u, double l) const override { return -3.0 * l * l * df_du(0, u, l); }
+};
+
+}  // namespace
+
+TEST(Continuation, AStepWhoseNewtonIterationRaisesTheResidualIsRejectedAtOnce) {
+  auto trace = [](double first_step, RecordingObserver& rec) {
+    AtanCubic p;
+    ContinuationOptions o = kept_chord_options(1.0, 3.0, 20, {});
+    o.initial_step = first_step;
+    Continuation cont(p, o);
+    return cont.run(p.initial_guess(), rec);
+  };
+  // the first step of 1 predicts e = 4 and is halved; compared with a branch started with the
+  // halved step (no rejection; 7 rows either way)
+  RecordingObserver rec, halved;
+  const ContinuationResult r = trace(1.0, rec), h = trace(0.5, halved);
+  ASSERT_EQ(r.code, StopCode::UpperBound) << r.reason;
+  ASSERT_EQ(h.code, StopCode::UpperBound) << h.reason;
+  int raised = 0;
+  for (const std::string& why : rec.rejections) raised += why.find("raised |F|") != std::string::npos;
+  std::cout << rec.points.size() << " rows, " << r.rejected << " rejected, " << r.factorisations
+            << " factorisations; started with the halved step: " << h.factorisations << "\n";
+  EXPECT_GE(raised, 1);  // the case this is about
+  for (const BranchPoint& q : rec.points) EXPECT_NEAR(q.u[0], std::pow(q.lambda, 3), 1e-9);
+  // each rejected attempt costs one Jacobian, its Newton iteration's (without the test the
+  // attempt renewed the Jacobian at each of its iterations: 12 factorisations instead of 4,
+  // against 5 from the halved step)
+  EXPECT_LE(r.factorisations, h.factorisations + r.rejected);
+}
+
+// The start's J is factorised once: the initial tangent's block factorisation takes the
+// arclength row through its Schur complement (it was factorised a second time at the same point,
+// a whole factorisation per branch). A small first step's chord and tangent converge on it.
+TEST(Continuation, TheStartIsFactorisedOnce) {
+  ScaledLinear p(3);
+  ContinuationOptions o = kept_chord_options(0.01, 2.0, 30, {});
+  o.method = ContinuationOptions::Method::Arclength;
+  o.max_steps = 1;
+  Continuation cont(p, o);
+  RecordingObserver rec;
+  const ContinuationResult r = cont.run(p.initial_guess(), rec);
+  ASSERT_EQ(r.code, StopCode::MaxSteps) << r.reason;
+  ASSERT_EQ(rec.points.size(), 2u);
+  EXPECT_EQ(r.factorisations, 1);
+  // det [J b; c^T d] = det J (d - c^T J^-1 b), and with the start's own unit tangent as the row
+  // (tu = -J^-1 b tl) the second factor is (wl tl^2 + wu |tu|^2) / tl = 1 / tl > 0: the sign of
+  // det J, which is positive here (J = diag((1 + lambda)(1 + i)))
+  EXPECT_EQ(rec.points[0].bordered_det_sign, 1);
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(rec.points[1].u[i], 1.0 / ((1 + rec.points[1].lambda) * (1 + i)), 1e-10);
 }

@@ -1,0 +1,48 @@
+#include "core/Anderson.hpp"
+
+#include <Eigen/QR>
+#include <cmath>
+
+namespace keller {
+
+void AndersonMixer::reset() {
+  dX_.clear();
+  dF_.clear();
+  x_prev_.resize(0);
+  f_prev_.resize(0);
+}
+
+Vector AndersonMixer::increment(const Vector& x, const Vector& f) {
+  if (depth_ <= 0) return f;
+  if (x_prev_.size() == x.size()) {
+    dX_.push_back(x - x_prev_);
+    dF_.push_back(f - f_prev_);
+    if (static_cast<int>(dF_.size()) > depth_) {
+      dX_.pop_front();
+      dF_.pop_front();
+    }
+  }
+  x_prev_ = x;
+  f_prev_ = f;
+  // drop the oldest differences while the least-squares matrix is too ill-conditioned for its
+  // solution to mean anything (near the solution the updates are rounding and nearly parallel)
+  while (!dF_.empty()) {
+    const int m = static_cast<int>(dF_.size());
+    Eigen::MatrixXd A(f.size(), m);
+    for (int j = 0; j < m; ++j) A.col(j) = dF_[j];
+    Eigen::HouseholderQR<Eigen::MatrixXd> qr(A);
+    const Eigen::VectorXd d = qr.matrixQR().diagonal().head(m).cwiseAbs();
+    if (d.minCoeff() > 1e-8 * d.maxCoeff() && d.minCoeff() > 0) {
+      const Eigen::VectorXd gamma = qr.solve(f);
+      Vector step = f;
+      for (int j = 0; j < m; ++j) step -= gamma(j) * (dX_[j] + dF_[j]);
+      if (step.allFinite()) return step;
+      break;
+    }
+    dX_.pop_front();
+    dF_.pop_front();
+  }
+  return f;
+}
+
+}  // namespace keller
