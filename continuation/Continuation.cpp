@@ -188,6 +188,7 @@ Status Continuation::correct_iterations(Vector& u, double& lambda, const Constra
   // the chord's iterates on one factorisation, accelerated (anderson_depth > 0)
   AndersonMixer mixer(chord ? options_.anderson_depth : 0);
   bool newton_iteration = false;  // the last iteration was made on a Jacobian of its own iterate
+  double newton_correction = 0.0;  // the length of its correction
   Vector x_mix, f_mix;
   for (int k = 0;; ++k) {
     Status st = set_parameter(lambda);
@@ -211,13 +212,6 @@ Status Continuation::correct_iterations(Vector& u, double& lambda, const Constra
         return {};
       }
       if (normF > 1e3 * previous) return {StatusCode::Diverged, fmt::format("corrector diverged (|F| = {:.3e})", normF)};
-      // a step whose Newton iteration (on a Jacobian made at the last iterate) raised |F| starts
-      // outside Newton's region of contraction: a shorter step is cheaper than more Jacobians
-      // (Deuflhard's monotonicity test; it had cost up to 9 factorisations before the same
-      // rejection came from an inverted element)
-      if (step && newton_iteration && normF > previous)
-        return {StatusCode::Diverged,
-                fmt::format("corrector: a Newton iteration raised |F| from {:.3e} to {:.3e}", previous, normF)};
     }
     if (k >= options_.max_iterations)
       return {StatusCode::NotConverged,
@@ -250,6 +244,25 @@ Status Continuation::correct_iterations(Vector& u, double& lambda, const Constra
     previous = normF;
     double N = c.cl * (lambda - c.l0) - c.target;
     if (c.cu.size()) N += c.cu.dot(u - *c.u0);
+    // Deuflhard's monotonicity test for a step: after an iteration on a Jacobian made at its own
+    // iterate (a Newton iteration), the simplified Newton correction -J^-1 F on that same
+    // factorisation must be shorter than the Newton correction, or the step started outside
+    // Newton's region of contraction and a shorter one is cheaper than more Jacobians (a step had
+    // renewed the Jacobian at every iteration until an element inverted, up to 9 factorisations).
+    // In the arclength norm of the corrections, not in |F|, whose rows scale unevenly. Where the
+    // factorisation is kept, the simplified correction is this iteration's update: no extra solve.
+    bool have_update = false;
+    if (step && chord && newton_iteration && newton_correction > 0) {
+      st = bordered_->solve(-F_, -N, du, dl, false);
+      if (!st.is_ok()) return st;
+      const double theta = std::sqrt(dot(du, dl, du, dl)) / newton_correction;
+      if (!(theta < 1.0))
+        return {StatusCode::Diverged,
+                fmt::format("corrector: the simplified Newton correction is {:.3g} times the Newton correction "
+                            "(monotonicity test)",
+                            theta)};
+      have_update = !refactor;
+    }
     newton_iteration = refactor;
     if (refactor) {
       refactored_ = true;
@@ -266,8 +279,11 @@ Status Continuation::correct_iterations(Vector& u, double& lambda, const Constra
     }
     ++on_this_matrix;
     // the chord iteration corrects the error of an unrefined solve like that of its old matrix
-    st = bordered_->solve(-F_, -N, du, dl, !chord);
+    if (!have_update) st = bordered_->solve(-F_, -N, du, dl, !chord);
     if (!st.is_ok()) return st;
+    if (refactor) newton_correction = std::sqrt(dot(du, dl, du, dl));
+    // (the unaccelerated update: the accelerated one may be small where the chord is not)
+    update = std::max(du.lpNorm<Eigen::Infinity>(), std::abs(dl));
     if (mixer.depth() > 0) {
       const Eigen::Index n = u.size();
       x_mix.resize(n + 1);
@@ -281,7 +297,6 @@ Status Continuation::correct_iterations(Vector& u, double& lambda, const Constra
     u += du;
     lambda += dl;
     ++iterations;
-    update = std::max(du.lpNorm<Eigen::Infinity>(), std::abs(dl));
     if (!u.allFinite() || !std::isfinite(lambda)) return {StatusCode::NotFinite, "corrector produced a non-finite state"};
   }
 }
@@ -387,8 +402,9 @@ Status Continuation::point_tangent(BranchPoint& p, const Constraint& c, const Ve
     // GMRES with the kept factorisation as preconditioner
     AndersonMixer mixer(options_.anderson_depth);
     Vector x_mix(n + 1), f_mix(n + 1);
-    double best = INFINITY;
+    double best = INFINITY, first = INFINITY;
     int it_best = -1;
+    bool contracting = true;  // every iteration halved the residual
     for (int it = 0; it < limit; ++it) {
       st = bordered_->solve(rf, rg, dv, dmu, false);
       ++tangent_iterations_;
@@ -415,20 +431,34 @@ Status Continuation::point_tangent(BranchPoint& p, const Constraint& c, const Ve
         best = res;
         it_best = it;
       }
-      const bool stalled = mixer.depth() > 0 ? it - it_best >= 3 || !(res <= 10.0 * best) : !(res <= 0.5 * previous);
+      const bool accelerated = mixer.depth() > 0;
+      const bool stalled = accelerated ? it - it_best >= 3 || !(res <= 10.0 * best) : !(res <= 0.5 * previous);
+      if (!(res <= 0.5 * previous)) contracting = false;
+      if (it == 0) first = res;
       if (stalled || !std::isfinite(res)) break;
       if (res <= 1e-9 * scale) {
         converged = true;
         break;
       }
-      // (the rate over the last two iterations: one alone wanders)
-      if (it > 1 && it + 1 + std::log(1e-9 * scale / res) / std::log(std::sqrt(res / before_previous)) > limit) break;
+      // (the rate over the last two iterations, one alone wanders; accelerated, the mean rate to
+      // the least residual so far, as its residual need not fall at every iteration)
+      const double rate =
+          accelerated ? std::pow(best / first, 1.0 / std::max(it_best, 1)) : std::sqrt(res / before_previous);
+      if (it > 1 && rate < 1.0 && it + 1 + std::log(1e-9 * scale / (accelerated ? best : res)) / std::log(rate) > limit)
+        break;
       before_previous = previous;
       previous = res;
     }
     // converged: the kept factorisation and this point's system are close (a contraction), so
-    // the sign of det of the bordered matrix is the kept one's
-    if (converged) return unit_tangent(std::move(v), mu, tu_prev, tl_prev, p.tu, p.tlambda, p.det_sign);
+    // the sign of det of the bordered matrix is the kept one's. Accelerated (GMRES-like), the
+    // iteration also converges where an eigenvalue of the preconditioned matrix has crossed
+    // zero: the sign is then known only if every iteration contracted as plain Richardson's must
+    // (else 0, not determined; branch points, which need it, factorise at every point anyway)
+    if (converged) {
+      const Status su = unit_tangent(std::move(v), mu, tu_prev, tl_prev, p.tu, p.tlambda, p.det_sign);
+      if (!contracting) p.det_sign = 0;
+      return su;
+    }
   }
   Status st = factorize_at(p.u, p.lambda, c);
   if (!st.is_ok()) return st;

@@ -25,15 +25,21 @@ Vector AndersonMixer::increment(const Vector& x, const Vector& f) {
   x_prev_ = x;
   f_prev_ = f;
   // drop the oldest differences while the least-squares matrix is too ill-conditioned for its
-  // solution to mean anything (near the solution the updates are rounding and nearly parallel)
+  // solution to mean anything (near the solution the updates are rounding and nearly parallel).
+  // Its columns are normalised first: they shrink with the updates, and R's diagonal would
+  // then measure their lengths, not how nearly they depend on each other.
   while (!dF_.empty()) {
     const int m = static_cast<int>(dF_.size());
     Eigen::MatrixXd A(f.size(), m);
-    for (int j = 0; j < m; ++j) A.col(j) = dF_[j];
+    Eigen::VectorXd norms(m);
+    for (int j = 0; j < m; ++j) {
+      norms(j) = dF_[j].norm();
+      A.col(j) = norms(j) > 0 ? Vector(dF_[j] / norms(j)) : dF_[j];
+    }
     Eigen::HouseholderQR<Eigen::MatrixXd> qr(A);
     const Eigen::VectorXd d = qr.matrixQR().diagonal().head(m).cwiseAbs();
-    if (d.minCoeff() > 1e-8 * d.maxCoeff() && d.minCoeff() > 0) {
-      const Eigen::VectorXd gamma = qr.solve(f);
+    if (d.minCoeff() > 1e-8 && norms.minCoeff() > 0) {
+      const Eigen::VectorXd gamma = qr.solve(f).cwiseQuotient(norms);
       Vector step = f;
       for (int j = 0; j < m; ++j) step -= gamma(j) * (dX_[j] + dF_[j]);
       if (step.allFinite()) return step;
