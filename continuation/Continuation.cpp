@@ -404,7 +404,6 @@ Status Continuation::point_tangent(BranchPoint& p, const Constraint& c, const Ve
     Vector x_mix(n + 1), f_mix(n + 1);
     double best = INFINITY, first = INFINITY;
     int it_best = -1;
-    bool contracting = true;  // every iteration halved the residual
     for (int it = 0; it < limit; ++it) {
       st = bordered_->solve(rf, rg, dv, dmu, false);
       ++tangent_iterations_;
@@ -433,7 +432,6 @@ Status Continuation::point_tangent(BranchPoint& p, const Constraint& c, const Ve
       }
       const bool accelerated = mixer.depth() > 0;
       const bool stalled = accelerated ? it - it_best >= 3 || !(res <= 10.0 * best) : !(res <= 0.5 * previous);
-      if (!(res <= 0.5 * previous)) contracting = false;
       if (it == 0) first = res;
       if (stalled || !std::isfinite(res)) break;
       if (res <= 1e-9 * scale) {
@@ -449,14 +447,14 @@ Status Continuation::point_tangent(BranchPoint& p, const Constraint& c, const Ve
       before_previous = previous;
       previous = res;
     }
-    // converged: the kept factorisation and this point's system are close (a contraction), so
-    // the sign of det of the bordered matrix is the kept one's. Accelerated (GMRES-like), the
-    // iteration also converges where an eigenvalue of the preconditioned matrix has crossed
-    // zero: the sign is then known only if every iteration contracted as plain Richardson's must
-    // (else 0, not determined; branch points, which need it, factorise at every point anyway)
+    // converged: the tangent is this point's, but the sign of det J is not: convergence on
+    // another point's factorisation does not show that no eigenvalue crossed zero in between
+    // (accelerated, the iteration converges past such a crossing; where F_p = 0 it is exact
+    // from any matrix). So 0, not determined here; branch points, which need the sign, get a
+    // factorisation at every point.
     if (converged) {
       const Status su = unit_tangent(std::move(v), mu, tu_prev, tl_prev, p.tu, p.tlambda, p.det_sign);
-      if (!contracting) p.det_sign = 0;
+      p.det_sign = 0;
       return su;
     }
   }

@@ -12,6 +12,7 @@
 #include "continuation/Continuation.hpp"
 #include "continuation/Hermite.hpp"
 #include "problems/Bratu1DProblem.hpp"
+#include "problems/Pitchfork1DProblem.hpp"
 #include "support/TestProblems.hpp"
 
 using namespace keller;
@@ -982,4 +983,43 @@ TEST(Continuation, TheStartIsFactorisedOnce) {
   // det J, which is positive here (J = diag((1 + lambda)(1 + i)))
   EXPECT_EQ(rec.points[0].bordered_det_sign, 1);
   for (int i = 0; i < 3; ++i) EXPECT_NEAR(rec.points[1].u[i], 1.0 / ((1 + rec.points[1].lambda) * (1 + i)), 1e-10);
+}
+
+// The sign of det J is reported only where J was factorised at the point. On the trivial branch
+// of the pitchfork (F_p = 0) a tangent by iteration on a kept factorisation is exact from any
+// matrix, also past the branch points where det J changes sign: the kept sign was reported there
+// (wrong after each crossing). Every reported sign must be det J's at its point (dense LU); the
+// points whose tangent came by iteration report 0.
+TEST(Continuation, TheDeterminantSignIsReportedOnlyWhereJWasFactorised) {
+  Pitchfork1DProblem p(20, 1.0, 0.0);
+  ContinuationOptions o = test::pitchfork_trivial_options();
+  o.corrector = ContinuationOptions::Corrector::Chord;
+  o.block_elimination = true;
+  o.reuse_factorisation = true;
+  o.detect_branch_points = false;
+  o.anderson_depth = 5;
+  Continuation cont(p, o);
+  RecordingObserver rec;
+  const ContinuationResult r = cont.run(Vector::Zero(p.size()), rec);
+  ASSERT_EQ(r.code, StopCode::UpperBound) << r.reason;
+  int reported = 0, by_iteration = 0, past_a_crossing = 0;
+  for (const BranchPoint& q : rec.points) {
+    Vector F;
+    SparseMatrix J;
+    p.parameters().set(0, q.lambda);
+    ASSERT_TRUE(p.jacobian(q.u, F, J).is_ok());
+    const int truth = Eigen::MatrixXd(J).partialPivLu().determinant() > 0 ? 1 : -1;
+    if (q.det_sign == 0) {
+      ++by_iteration;
+    } else {
+      ++reported;
+      EXPECT_EQ(q.det_sign, truth) << "lambda = " << q.lambda;
+    }
+    past_a_crossing += q.lambda > 4.0 * 400.0 * std::pow(std::sin(M_PI / 40.0), 2);  // lambda_1 of the mesh
+  }
+  std::cout << rec.points.size() << " rows: " << reported << " with the sign of det J, " << by_iteration
+            << " by iteration (0)\n";
+  EXPECT_GT(reported, 0);
+  EXPECT_GT(by_iteration, 0);
+  EXPECT_GT(past_a_crossing, 0);
 }
