@@ -189,7 +189,6 @@ Status Continuation::correct_iterations(Vector& u, double& lambda, const Constra
   AndersonMixer mixer(chord ? options_.anderson_depth : 0);
   bool newton_iteration = false;  // the last iteration was made on a Jacobian of its own iterate
   double newton_correction = 0.0;  // the length of its correction
-  Vector x_mix, f_mix;
   for (int k = 0;; ++k) {
     Status st = set_parameter(lambda);
     if (!st.is_ok()) return st;
@@ -284,16 +283,7 @@ Status Continuation::correct_iterations(Vector& u, double& lambda, const Constra
     if (refactor) newton_correction = std::sqrt(dot(du, dl, du, dl));
     // (the unaccelerated update: the accelerated one may be small where the chord is not)
     update = std::max(du.lpNorm<Eigen::Infinity>(), std::abs(dl));
-    if (mixer.depth() > 0) {
-      const Eigen::Index n = u.size();
-      x_mix.resize(n + 1);
-      f_mix.resize(n + 1);
-      x_mix << u, lambda;
-      f_mix << du, dl;
-      const Vector inc = mixer.increment(x_mix, f_mix);
-      du = inc.head(n);
-      dl = inc(n);
-    }
+    mixer.mix(u, lambda, du, dl);
     u += du;
     lambda += dl;
     ++iterations;
@@ -401,20 +391,13 @@ Status Continuation::point_tangent(BranchPoint& p, const Constraint& c, const Ve
     // accelerated like the corrector's chord (anderson_depth): on this linear system that is
     // GMRES with the kept factorisation as preconditioner
     AndersonMixer mixer(options_.anderson_depth);
-    Vector x_mix(n + 1), f_mix(n + 1);
     double best = INFINITY, first = INFINITY;
     int it_best = -1;
     for (int it = 0; it < limit; ++it) {
       st = bordered_->solve(rf, rg, dv, dmu, false);
       ++tangent_iterations_;
       if (!st.is_ok()) break;
-      if (mixer.depth() > 0) {
-        x_mix << v, mu;
-        f_mix << dv, dmu;
-        const Vector inc = mixer.increment(x_mix, f_mix);
-        dv = inc.head(n);
-        dmu = inc(n);
-      }
+      mixer.mix(v, mu, dv, dmu);
       v += dv;
       mu += dmu;
       st = jacobian_times(v, jv);

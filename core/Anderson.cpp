@@ -51,4 +51,16 @@ Vector AndersonMixer::increment(const Vector& x, const Vector& f) {
   return f;
 }
 
+void AndersonMixer::mix(const Vector& u, double l, Vector& du, double& dl) {
+  if (depth_ <= 0) return;
+  const Eigen::Index n = u.size();
+  x_.resize(n + 1);
+  f_.resize(n + 1);
+  x_ << u, l;
+  f_ << du, dl;
+  const Vector inc = increment(x_, f_);
+  du = inc.head(n);
+  dl = inc(n);
+}
+
 }  // namespace keller

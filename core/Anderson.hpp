@@ -23,12 +23,16 @@ public:
   // x: the current iterate, f: the chord update at it. Returns the increment to add to x (f itself
   // on the first call after a reset, or where the history is too ill-conditioned to use).
   Vector increment(const Vector& x, const Vector& f);
+  // The same for an iterate (u, l) with its update (du, dl) (an unknown vector and a scalar, as
+  // in a bordered system): (du, dl) becomes the increment.
+  void mix(const Vector& u, double l, Vector& du, double& dl);
   int history() const { return static_cast<int>(dF_.size()); }
 
 private:
   int depth_;
   std::deque<Vector> dX_, dF_;
   Vector x_prev_, f_prev_;
+  Vector x_, f_;  // (u, l) and (du, dl) stacked, for mix
 };
 
 }  // namespace keller

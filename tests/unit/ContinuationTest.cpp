@@ -79,6 +79,12 @@ ContinuationOptions kept_chord_options(double step, double upper, int max_iterat
   return o;
 }
 
+// Traces p from its initial guess with o.
+ContinuationResult trace_from_guess(Problem& p, const ContinuationOptions& o, RecordingObserver& rec) {
+  Continuation cont(p, o);
+  return cont.run(p.initial_guess(), rec);
+}
+
 // (x, y) and the determinant sign against a dense LU of [J b; c^T d] (x, y) = (f, g): to 1e-12.
 void expect_dense_solution(const SparseMatrix& J, const Vector& b, const Vector& c, double d, const Vector& f, double g,
                            const Vector& x, double y, int det_sign) {
@@ -369,8 +375,7 @@ TEST(Continuation, StepsLandOnRequestedValues) {
     ContinuationOptions o = cubic_options();
     o.stops = {-1.0, 0.0, 0.5, 1.0, 1.5};
     o.land_on_values = land;
-    Continuation cont(problem, o);
-    return cont.run(problem.initial_guess(), rec);
+    return trace_from_guess(problem, o, rec);
   };
   RecordingObserver landed, located;
   const ContinuationResult r_landed = trace(true, landed), r_located = trace(false, located);
@@ -749,8 +754,7 @@ TEST(Continuation, ACostedChordGoesOnInsteadOfRenewing) {
     ScaledLinear p(3);
     ContinuationOptions o = kept_chord_options(0.25, 2.0, 30, {});
     o.renewal_cost = renewal_cost;
-    Continuation cont(p, o);
-    return cont.run(p.initial_guess(), rec);
+    return trace_from_guess(p, o, rec);
   };
   RecordingObserver by_rate, by_cost;
   const ContinuationResult r0 = trace(0.0, by_rate), r1 = trace(25.0, by_cost);
@@ -846,6 +850,14 @@ class SpreadLinear final : public DiagonalProblem {
   double df_dlambda(int i, double u, double) const override { return c[i] * u; }
 };
 
+// A kept factorisation never renewed while the chord converges, steps of 0.3 from 0 to 1.5.
+ContinuationOptions spread_options(int anderson_depth) {
+  ContinuationOptions o = kept_chord_options(0.3, 1.5, 200, {});
+  o.renewal_cost = 1000;
+  o.anderson_depth = anderson_depth;
+  return o;
+}
+
 }  // namespace
 
 // anderson_depth: the chord on a kept factorisation, accelerated. On a linear problem with four
@@ -855,11 +867,7 @@ class SpreadLinear final : public DiagonalProblem {
 TEST(Continuation, AndersonAccelerationShortensTheKeptChord) {
   auto trace = [](int depth, RecordingObserver& rec) {
     SpreadLinear p;
-    ContinuationOptions o = kept_chord_options(0.3, 1.5, 200, {});
-    o.renewal_cost = 1000;  // never renewed while the chord converges
-    o.anderson_depth = depth;
-    Continuation cont(p, o);
-    return cont.run(p.initial_guess(), rec);
+    return trace_from_guess(p, spread_options(depth), rec);
   };
   RecordingObserver plain, accelerated;
   const ContinuationResult r0 = trace(0, plain), r1 = trace(4, accelerated);
@@ -890,15 +898,12 @@ TEST(Continuation, AndersonAccelerationShortensTheKeptChord) {
 TEST(Continuation, AndersonAccelerationKeepsTheArclengthRow) {
   auto trace = [](int depth, RecordingObserver& rec) {
     SpreadLinear p;
-    ContinuationOptions o = kept_chord_options(0.3, 1.5, 200, {});
+    ContinuationOptions o = spread_options(depth);
     o.method = ContinuationOptions::Method::Arclength;
     o.land_on_values = false;
-    o.growth = 1.0;               // the same steps in both runs
-    o.target_iterations = 200;    // (never shrunk)
-    o.renewal_cost = 1000;
-    o.anderson_depth = depth;
-    Continuation cont(p, o);
-    return cont.run(p.initial_guess(), rec);
+    o.growth = 1.0;             // the same steps in both runs
+    o.target_iterations = 200;  // (never shrunk)
+    return trace_from_guess(p, o, rec);
   };
   RecordingObserver plain, accelerated;
   const ContinuationResult r0 = trace(0, plain), r1 = trace(4, accelerated);
@@ -943,8 +948,7 @@ TEST(Continuation, AStepOutsideNewtonsRegionOfContractionIsRejectedAtOnce) {
     AtanCubic p;
     ContinuationOptions o = kept_chord_options(1.0, 3.0, 20, {});
     o.initial_step = first_step;
-    Continuation cont(p, o);
-    return cont.run(p.initial_guess(), rec);
+    return trace_from_guess(p, o, rec);
   };
   // the first step of 1 predicts e = 4 and is halved; compared with a branch started with the
   // halved step (no rejection; 7 rows either way)
