@@ -102,6 +102,7 @@ int run_trace(const TraceArguments& args) {
   const SparseLUOptions lopt = sparse_lu_options_from(scene);
 
   Vector u0;
+  StartFactorisation start_factorisation;  // the first state's last factorisation of J
   if (restart_point) {
     if (restart_point->u.size() != problem->size()) {
       fmt::print(stderr, "keller: error: --restart: stored point has {} unknowns, this scene's problem {}\n",
@@ -121,6 +122,9 @@ int run_trace(const TraceArguments& args) {
       fmt::print(stderr, "keller: the first steady state failed: {}; no output written\n", r.status.describe());
       return 1;
     }
+    fmt::print("first steady state: Newton from the initial guess, {} Newton iterations, {} factorisations, {:.2f} s\n",
+               r.iterations, r.factorisations, r.seconds);
+    if (r.factorisations > 0) start_factorisation = {newton.factorisation(), newton.jacobian(), newton.factorised_at()};
   }
 
   ContinuationResult result;
@@ -166,7 +170,7 @@ int run_trace(const TraceArguments& args) {
     auto old_term = std::signal(SIGTERM, on_signal);
     result = switching       ? run.switch_branch(*restart_point, args.switch_direction, observers)
              : restart_point ? run.resume(*restart_point, observers)
-                             : run.run(u0, observers);
+                             : run.run(u0, observers, start_factorisation);
     std::signal(SIGINT, old_int);
     std::signal(SIGTERM, old_term);
     g_running = nullptr;
@@ -175,10 +179,11 @@ int run_trace(const TraceArguments& args) {
       fmt::print("stability: {} s in {} factorisations and {} solves of (J - sB)\n", stability->seconds(),
                  stability->factorisations(), stability->solves());
   }
-  fmt::print("{} points, {} rejected steps, {} factorisations ({:.2f} per point), {} tangent solves by iteration; {}\n",
+  fmt::print("{} points, {} rejected steps, {} factorisations ({:.2f} per point), {} tangent solves by iteration, "
+             "renewal cost {:.1f} solves; {}\n",
              result.points, result.rejected, result.factorisations,
              result.points > 0 ? static_cast<double>(result.factorisations) / result.points : 0.0,
-             result.tangent_iterations, result.reason);
+             result.tangent_iterations, result.renewal_cost, result.reason);
   const ContinuationTimings& tm = result.timings;
   fmt::print("time {:.2f} s: factorisations {:.2f}, solves {:.2f} ({}), Jacobians {:.2f} ({}), dF/dp {:.2f}, residuals {:.2f} ({}), "
              "observables {:.2f}, stability {:.2f} ({} spectra), output {:.2f}, other {:.2f}\n",
