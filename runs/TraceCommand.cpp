@@ -9,6 +9,7 @@
 #include "continuation/BranchFile.hpp"
 #include "continuation/Continuation.hpp"
 #include "continuation/ProgressPrinter.hpp"
+#include "continuation/StartSolver.hpp"
 #include "core/SolutionWriter.hpp"
 #include "runs/OutputFile.hpp"
 #include "runs/SceneLoader.hpp"
@@ -113,18 +114,19 @@ int run_trace(const TraceArguments& args) {
     fmt::print("{} row {} of {} ({} = {:.10g})\n", switching ? "switching branches at" : "restarting from",
                restart_point->index, restart->file, copt.parameter, restart_point->lambda);
   } else {
-    NewtonSolver newton(*problem, nopt, lopt);
+    StartSolver start(*problem, nopt, lopt, StartOptions::from_scene(scene),
+                      [](const std::string& line) { fmt::print("{}\n", line); });
     u0 = problem->initial_guess();
     fmt::print("first steady state at {} = {}\n", copt.parameter, problem->parameters().get(copt.parameter));
     print_newton_header();
-    const NewtonResult r = newton.solve(u0, print_newton_row);
-    if (!r.converged()) {
+    const StartResult r = start.solve(u0, print_newton_row);
+    if (!r.status.is_ok()) {
       fmt::print(stderr, "keller: the first steady state failed: {}; no output written\n", r.status.describe());
       return 1;
     }
-    fmt::print("first steady state: Newton from the initial guess, {} Newton iterations, {} factorisations, {:.2f} s\n",
-               r.iterations, r.factorisations, r.seconds);
-    if (r.factorisations > 0) start_factorisation = {newton.factorisation(), newton.jacobian(), newton.factorised_at()};
+    fmt::print("first steady state: {}, {} Newton iterations, {} factorisations, {:.2f} s\n", r.path,
+               r.newton_iterations, r.factorisations, r.seconds);
+    start_factorisation = {r.factorisation, r.jacobian, r.factorised_at};
   }
 
   ContinuationResult result;
