@@ -60,6 +60,7 @@ struct ContinuationResult {
   int rejected = 0;             // rejected step attempts
   long factorisations = 0;      // numeric factorisations of the bordered matrix (corrector, tangents, probes)
   long tangent_iterations = 0;  // solves of tangents by iteration on a kept factorisation
+  long probes = 0;              // of the factorisations: determinant probes for branch points (BranchPointMonitor)
   double renewal_cost = 0.0;    // the corrector's renewal cost at the end (chord iterations per factorisation)
   ContinuationTimings timings;
   BranchPoint last;

@@ -181,10 +181,10 @@ int run_trace(const TraceArguments& args) {
       fmt::print("stability: {} s in {} factorisations and {} solves of (J - sB)\n", stability->seconds(),
                  stability->factorisations(), stability->solves());
   }
-  fmt::print("{} points, {} rejected steps, {} factorisations ({:.2f} per point), {} tangent solves by iteration, "
-             "renewal cost {:.1f} solves; {}\n",
+  fmt::print("{} points, {} rejected steps, {} factorisations ({:.2f} per point; {} of them branch-point probes), {} "
+             "tangent solves by iteration, renewal cost {:.1f} solves; {}\n",
              result.points, result.rejected, result.factorisations,
-             result.points > 0 ? static_cast<double>(result.factorisations) / result.points : 0.0,
+             result.points > 0 ? static_cast<double>(result.factorisations) / result.points : 0.0, result.probes,
              result.tangent_iterations, result.renewal_cost, result.reason);
   const ContinuationTimings& tm = result.timings;
   fmt::print("time {:.2f} s: factorisations {:.2f}, solves {:.2f} ({}), Jacobians {:.2f} ({}), dF/dp {:.2f}, residuals {:.2f} ({}), "

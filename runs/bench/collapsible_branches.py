@@ -73,6 +73,7 @@ def trace(keller, name, overrides, workdir):
         raise RuntimeError(f"{name}: exit {p.returncode}\n{p.stderr}\n{p.stdout[-3000:]}")
     text = p.stdout
     m = re.search(r"(\d+) points, (\d+) rejected steps, (\d+) factorisations", text)
+    probes = re.search(r"(\d+) of them branch-point probes", text)
     t = re.search(r"^time ([0-9.]+) s: factorisations ([0-9.]+), solves ([0-9.]+) \((\d+)\)", text, re.M)
     newton_fact = None
     nf = re.search(r"first steady state: .*?(\d+) factorisations", text)
@@ -89,6 +90,7 @@ def trace(keller, name, overrides, workdir):
         "rows": int(m.group(1)) - 1,
         "rejected": int(m.group(2)),
         "factorisations": int(m.group(3)),
+        "probes": int(probes.group(1)) if probes else 0,
         "trace_seconds": float(t.group(1)),
         "factor_seconds": float(t.group(2)),
         "solve_seconds": float(t.group(3)),
@@ -105,17 +107,18 @@ def trace(keller, name, overrides, workdir):
 
 def print_table(label, results):
     print(f"\n{label}")
-    print(f"{'branch':<26} {'rows':>4} {'fact':>4} {'rej':>3} {'f/row':>5} {'trace s':>8} {'run s':>7}  located ... | end")
-    tot = {"rows": 0, "factorisations": 0, "rejected": 0, "trace_seconds": 0.0, "run_seconds": 0.0}
+    print(f"{'branch':<26} {'rows':>4} {'fact':>4} {'prb':>3} {'rej':>3} {'f/row':>5} {'trace s':>8} {'run s':>7}  "
+          "located ... | end")
+    tot = {"rows": 0, "factorisations": 0, "probes": 0, "rejected": 0, "trace_seconds": 0.0, "run_seconds": 0.0}
     for name, r in results.items():
         for k in tot:
-            tot[k] += r[k]
+            tot[k] += r.get(k, 0)
         loc = ", ".join(f"{kind[0]}{v:.10g}" for kind, v in r["located"])
         end = " ".join(f"{k}={v:.10g}" for k, v in r["end"].items())
-        print(f"{name:<26} {r['rows']:>4} {r['factorisations']:>4} {r['rejected']:>3} "
+        print(f"{name:<26} {r['rows']:>4} {r['factorisations']:>4} {r.get('probes', 0):>3} {r['rejected']:>3} "
               f"{r['factorisations'] / max(r['rows'], 1):>5.2f} {r['trace_seconds']:>8.2f} {r['run_seconds']:>7.2f}  "
               f"{loc} | {end}")
-    print(f"{'total':<26} {tot['rows']:>4} {tot['factorisations']:>4} {tot['rejected']:>3} "
+    print(f"{'total':<26} {tot['rows']:>4} {tot['factorisations']:>4} {tot['probes']:>3} {tot['rejected']:>3} "
           f"{tot['factorisations'] / max(tot['rows'], 1):>5.2f} {tot['trace_seconds']:>8.2f} {tot['run_seconds']:>7.2f}")
     return tot
 
