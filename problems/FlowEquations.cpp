@@ -82,10 +82,10 @@ FlowEquations::FlowEquations(const Mesh& mesh, const std::string& group, FluidOp
   index_.Re = params.add("Re", options_.Re, "Reynolds number", 0.0);
   if (options_.Re > 0 && !options_.inertia) throw std::invalid_argument("Re > 0 needs the convective term");
   if (options_.viscoelastic()) {
-    index_.Wi = params.add("Wi", options_.Wi, "Weissenberg number", std::numeric_limits<double>::min());
-    index_.beta = params.add("beta", options_.beta, "viscosity ratio eta_s / eta0", std::numeric_limits<double>::min(), 1.0);
+    index_.Wi = params.add("Wi", options_.Wi, "Weissenberg number", Range::positive());
+    index_.beta = params.add("beta", options_.beta, "viscosity ratio eta_s / eta0", Range{0.0, 1.0, true, false});
     if (options_.model == FluidModel::FeneP)
-      index_.b = params.add("b", options_.b, "FENE-P extensibility", 1.0 + 1e-12);
+      index_.b = params.add("b", options_.b, "FENE-P extensibility", Range::above(1.0));
   }
   elements_ = mesh.elements_in_group(mesh.group_index(group));
   geometry_.resize(elements_.size());
