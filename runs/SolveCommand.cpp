@@ -1,14 +1,19 @@
 #include "runs/SolveCommand.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <filesystem>
 
 #include "core/Newton.hpp"
 #include "core/SolutionWriter.hpp"
 #include "core/SparseLU.hpp"
+#include "core/PendingFile.hpp"
+#include "core/RunFiles.hpp"
+#include "runs/ExitCode.hpp"
 #include "runs/OutputFile.hpp"
 #include "runs/SceneLoader.hpp"
+#include "runs/TraceCommand.hpp"
 
 namespace keller {
 
@@ -18,17 +23,45 @@ int run_solve(const SolveArguments& args) {
   std::unique_ptr<Problem> problem;
   std::string out = args.output;
   try {
-    loaded = load_scene(args.scene, {}, args.overrides);
-    if (out.empty()) out = fs::path(args.scene).stem().string() + ".h5";
-    check_output_path(out);
-    fmt::print("{}\n", loaded.scene.resolved_toml());
+    // a branch scene solves its first state: the trace sections are read and left aside
+    loaded = load_scene(args.scene, declare_trace_keys, args.overrides);
+  } catch (const SceneError& e) {
+    fmt::print(stderr, "keller: error: {}\n", e.what());
+    return exit_code::usage;
+  }
+  if (out.empty()) out = fs::path(args.scene).stem().string() + ".h5";
+  const bool with_xdmf = loaded.scene.boolean("output.xdmf");
+  try {
+    RunFiles files;
+    files.input("scene file", args.scene);
+    files.output("output file", out);
+    files.output("output file's temporary", PendingFile::temporary_for(out));
+    if (with_xdmf) files.output("XDMF file", xdmf_path_for(out));
+    files.check();
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "keller: error: {}\n", e.what());
+    return exit_code::usage;
+  }
+  std::vector<std::string> ignored;
+  for (const auto& [section, doc] : loaded.scene.schema().sections())
+    if (section == "continuation" || section == "stability")
+      for (const std::string& key : loaded.scene.schema().keys_in(section))
+        if (loaded.scene.given(section + "." + key)) {
+          ignored.push_back("[" + section + "]");
+          break;
+        }
+  fmt::print("{}\n", loaded.scene.resolved_toml());
+  if (!ignored.empty())
+    fmt::print("note: keller solve solves the scene's first steady state; {} {} for keller trace and left aside\n",
+               fmt::join(ignored, " and "), ignored.size() > 1 ? "are" : "is");
+  try {
     problem = loaded.type->build(loaded.scene);
   } catch (const SceneError& e) {
     fmt::print(stderr, "keller: error: {}\n", e.what());
-    return 2;
+    return exit_code::usage;
   } catch (const std::exception& e) {
     fmt::print(stderr, "keller: error: {}: {}\n", args.scene, e.what());
-    return 2;
+    return exit_code::usage;
   }
   const Scene& scene = loaded.scene;
   fmt::print("problem: {}\n", problem->summary());
@@ -47,7 +80,7 @@ int run_solve(const SolveArguments& args) {
                lu.nnz_lu, lu.nnz_lu / static_cast<double>(lu.nnz_matrix), lu.ordering_used);
   if (!res.converged()) {
     fmt::print(stderr, "keller: Newton failed: {}; no output written\n", res.status.describe());
-    return 1;
+    return exit_code::numerical_failure;
   }
 
   std::vector<double> obs;
@@ -56,11 +89,12 @@ int run_solve(const SolveArguments& args) {
     for (size_t i = 0; i < names.size(); ++i) fmt::print("  {} = {:.10g}\n", names[i], obs[i]);
   }
 
-  const std::string part = out + ".part";
   try {
+    PendingFile pending(out);
+    SolutionFields f;
     {
-      H5File file(part, H5File::Mode::Create);
-      write_run_header(file, scene, *problem);
+      H5File file(pending.path(), H5File::Mode::Create);
+      write_run_header(file, loaded, *problem);
       write_solution(file, "/solution", *problem, u);
       std::vector<double> hist;
       for (const auto& it : res.history)
@@ -71,19 +105,17 @@ int run_solve(const SolveArguments& args) {
                          std::string("iteration,residual_norm,update_norm,step_length,seconds,assembly_seconds,"
                                      "factor_seconds,solve_seconds"));
       file.set_attribute("/solution/newton", "final_residual_norm", res.residual_norm);
-      const SolutionFields f = problem->fields(u);
+      f = problem->fields(u);
       if (f.mesh) write_mesh(file, "/mesh", *f.mesh);
       file.close();
-      if (f.mesh && scene.boolean("output.xdmf"))
-        write_xdmf(xdmf_path_for(out), fs::path(out).filename().string(), "mesh", *f.mesh,
-                   {{"solution/fields", "solution", 0.0}}, f);
     }
-    fs::rename(part, out);
+    pending.commit();
+    if (f.mesh && with_xdmf)
+      write_xdmf(xdmf_path_for(out), fs::path(out).filename().string(), "mesh", *f.mesh,
+                 {{"solution/fields", "solution", 0.0}}, f);
   } catch (const std::exception& e) {
-    std::error_code ec;
-    fs::remove(part, ec);
     fmt::print(stderr, "keller: error writing output: {}\n", e.what());
-    return 2;
+    return exit_code::usage;
   }
   fmt::print("wrote {}\n", out);
   return 0;

@@ -19,7 +19,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from keller_h5 import read_branch  # noqa: E402
+from keller_h5 import OutputError, check_outputs, read_branch, save_figure  # noqa: E402
 
 MARKERS = {  # kind: (label, marker, colour)
     1: ("start", "o", "tab:green"),
@@ -60,6 +60,10 @@ def main(argv=None):
         if y not in cols:
             sys.exit(f"plot_branch: no observable '{y}' in {path}; the first file has: {', '.join(observables)}")
     out = args.output or args.branch[0].rsplit(".", 1)[0] + ".png"
+    try:
+        check_outputs([out], args.branch)
+    except OutputError as e:
+        sys.exit(f"plot_branch: {e}")
 
     fig, ax = plt.subplots(figsize=(6.4, 4.4))
     seen = set()
@@ -103,7 +107,7 @@ def main(argv=None):
     ax.grid(alpha=0.3)
     fig.text(0.01, 0.01, f"ended: {status}", fontsize=7, color="0.4")
     fig.tight_layout(rect=(0, 0.03, 1, 1))
-    fig.savefig(out, dpi=150)
+    save_figure(fig, out, args.branch, dpi=150)
     print(f"wrote {out}")
 
 
