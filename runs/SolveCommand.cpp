@@ -17,7 +17,18 @@
 
 namespace keller {
 
-int run_solve(const SolveArguments& args) {
+std::string solve_run_record(const LoadedScene& loaded) { return loaded.scene.canonical_values() + "start = solve\n"; }
+
+int run_solve(const SolveArguments& args, RunSummary* out_summary) {
+  RunSummary local;
+  RunSummary& summary = out_summary ? *out_summary : local;
+  summary = {};
+  auto fail = [&](int code, const std::string& message) {
+    fmt::print(stderr, "keller: error: {}\n", message);
+    summary.exit_code = code;
+    summary.reason = message;
+    return code;
+  };
   namespace fs = std::filesystem;
   LoadedScene loaded;
   std::unique_ptr<Problem> problem;
@@ -26,8 +37,7 @@ int run_solve(const SolveArguments& args) {
     // a branch scene solves its first state: the trace sections are read and left aside
     loaded = load_scene(args.scene, declare_trace_keys, args.overrides);
   } catch (const SceneError& e) {
-    fmt::print(stderr, "keller: error: {}\n", e.what());
-    return exit_code::usage;
+    return fail(exit_code::usage, e.what());
   }
   if (out.empty()) out = fs::path(args.scene).stem().string() + ".h5";
   const bool with_xdmf = loaded.scene.boolean("output.xdmf");
@@ -39,8 +49,7 @@ int run_solve(const SolveArguments& args) {
     if (with_xdmf) files.output("XDMF file", xdmf_path_for(out));
     files.check();
   } catch (const std::exception& e) {
-    fmt::print(stderr, "keller: error: {}\n", e.what());
-    return exit_code::usage;
+    return fail(exit_code::usage, e.what());
   }
   std::vector<std::string> ignored;
   for (const auto& [section, doc] : loaded.scene.schema().sections())
@@ -57,11 +66,9 @@ int run_solve(const SolveArguments& args) {
   try {
     problem = loaded.type->build(loaded.scene);
   } catch (const SceneError& e) {
-    fmt::print(stderr, "keller: error: {}\n", e.what());
-    return exit_code::usage;
+    return fail(exit_code::usage, e.what());
   } catch (const std::exception& e) {
-    fmt::print(stderr, "keller: error: {}: {}\n", args.scene, e.what());
-    return exit_code::usage;
+    return fail(exit_code::usage, fmt::format("{}: {}", args.scene, e.what()));
   }
   const Scene& scene = loaded.scene;
   fmt::print("problem: {}\n", problem->summary());
@@ -80,7 +87,11 @@ int run_solve(const SolveArguments& args) {
                lu.nnz_lu, lu.nnz_lu / static_cast<double>(lu.nnz_matrix), lu.ordering_used);
   if (!res.converged()) {
     fmt::print(stderr, "keller: Newton failed: {}; no output written\n", res.status.describe());
-    return exit_code::numerical_failure;
+    summary.exit_code = exit_code::numerical_failure;
+    summary.reason = "Newton failed: " + res.status.describe();
+    summary.unknowns = problem->size();
+    summary.seconds = res.seconds;
+    return summary.exit_code;
   }
 
   std::vector<double> obs;
@@ -95,6 +106,7 @@ int run_solve(const SolveArguments& args) {
     {
       H5File file(pending.path(), H5File::Mode::Create);
       write_run_header(file, loaded, *problem);
+      file.write_string("/problem/run", solve_run_record(loaded));
       write_solution(file, "/solution", *problem, u);
       std::vector<double> hist;
       for (const auto& it : res.history)
@@ -114,11 +126,16 @@ int run_solve(const SolveArguments& args) {
       write_xdmf(xdmf_path_for(out), fs::path(out).filename().string(), "mesh", *f.mesh,
                  {{"solution/fields", "solution", 0.0}}, f);
   } catch (const std::exception& e) {
-    fmt::print(stderr, "keller: error writing output: {}\n", e.what());
-    return exit_code::usage;
+    return fail(exit_code::usage, fmt::format("writing output: {}", e.what()));
   }
   fmt::print("wrote {}\n", out);
-  return 0;
+  summary.exit_code = exit_code::ok;
+  summary.reason = fmt::format("converged in {} iterations", res.iterations);
+  summary.output = out;
+  summary.unknowns = problem->size();
+  summary.factorisations = res.factorisations;
+  summary.seconds = res.seconds;
+  return summary.exit_code;
 }
 
 }  // namespace keller

@@ -36,32 +36,25 @@ StoredStart parse_stored_start(const std::string& flag, const std::string& s) {
   return r;
 }
 
-BranchPoint read_stored_start(const StoredStart& start, const LoadedScene& scene, const Problem& problem,
+std::optional<double> StoredPoint::value_of(const std::string& parameter) const {
+  if (parameter == table.parameter) return point.lambda;
+  auto it = header.parameters.find(parameter);
+  if (it == header.parameters.end()) return std::nullopt;
+  return it->second;
+}
+
+StoredPoint read_stored_start(const StoredStart& start, const LoadedScene& scene, const Problem& problem,
                               const std::string& parameter, std::vector<std::string>& warnings) {
   const std::string where = fmt::format("{} '{}'", start.flag, start.file);
-  RunHeader stored;
+  StoredPoint stored;
   {
     H5File f(start.file, H5File::Mode::Read);
-    stored = read_run_header(f);
+    stored.header = read_run_header(f);
   }
+  stored.table = read_branch_table(start.file);
+  stored.point = read_branch_point(start.file, start.row);
+  const BranchPoint& point = stored.point;
   std::vector<std::string> refusals;
-  if (stored.problem != problem.name())
-    refusals.push_back(fmt::format("it was made by problem '{}', this scene is '{}'", stored.problem, problem.name()));
-  const std::string physics = scene.physics();
-  if (stored.physics.empty())
-    refusals.push_back("it holds no record of its physics (written by an older keller)");
-  else if (stored.physics != physics)
-    refusals.push_back("its physics differs: " + record_difference(stored.physics, physics));
-  const BranchTable table = read_branch_table(start.file);
-  for (const Parameter& p : problem.parameters().list()) {
-    if (p.name == parameter || p.name == table.parameter) continue;
-    auto it = stored.parameters.find(p.name);
-    if (it == stored.parameters.end()) continue;
-    const double tol = 1e-12 * std::max({1.0, std::abs(it->second), std::abs(p.value)});
-    if (std::abs(it->second - p.value) > tol)
-      refusals.push_back(fmt::format("it was traced at {} = {}, this scene sets {} = {}", p.name, it->second, p.name,
-                                     p.value));
-  }
   auto refuse = [&]() {
     for (const std::string& r : refusals) {
       if (!start.force)
@@ -70,13 +63,34 @@ BranchPoint read_stored_start(const StoredStart& start, const LoadedScene& scene
     }
     refusals.clear();
   };
+  if (stored.header.problem != problem.name())
+    refusals.push_back(
+        fmt::format("it was made by problem '{}', this scene is '{}'", stored.header.problem, problem.name()));
+  const std::string physics = scene.physics();
+  if (stored.header.physics.empty())
+    refusals.push_back("it holds no record of its physics (written by an older keller)");
+  else if (stored.header.physics != physics)
+    refusals.push_back("its physics differs: " + record_difference(stored.header.physics, physics));
+  for (const Parameter& p : problem.parameters().list()) {
+    if (p.name == parameter) continue;  // the run's own parameter starts at the point's value
+    const std::optional<double> v = stored.value_of(p.name);
+    if (!v) continue;
+    const double tol = 1e-12 * std::max({1.0, std::abs(*v), std::abs(p.value)});
+    if (std::abs(*v - p.value) > tol)
+      refusals.push_back(fmt::format("{} is at {} = {}, this scene sets {} = {}",
+                                     p.name == stored.table.parameter ? "the point" : "it was traced", p.name, *v,
+                                     p.name, p.value));
+  }
   refuse();
-  BranchPoint point = read_branch_point(start.file, start.row);
   if (point.u.size() != problem.size())
     throw std::invalid_argument(fmt::format("{}: the stored point has {} unknowns, this scene's problem {}", where,
                                             point.u.size(), problem.size()));
+  if (start.switching && stored.table.parameter != parameter)
+    throw std::invalid_argument(fmt::format("{}: a branch in '{}' cannot be switched to a branch in '{}'", where,
+                                            stored.table.parameter, parameter));
   if (start.switching && point.kind != PointKind::BranchPoint) {
     std::string located;
+    const BranchTable& table = stored.table;
     const int kind = table.column("kind");
     for (int r : table.saved_rows)
       if (r < table.rows.rows() && static_cast<int>(table.rows(r, kind)) == static_cast<int>(PointKind::BranchPoint))
@@ -86,7 +100,7 @@ BranchPoint read_stored_start(const StoredStart& start, const LoadedScene& scene
                                    point.index, located.empty() ? "none" : located));
   }
   refuse();
-  return point;
+  return stored;
 }
 
 }  // namespace keller

@@ -30,16 +30,14 @@ void declare_trace_keys(SceneSchema& schema) {
   StabilityOptions::declare(schema);
 }
 
-namespace {
-
-// How the run starts, as stored with its branch: a rerun of the same command recognises its own
-// unfinished file by this record and the resolved scene.
-std::string run_record(const LoadedScene& loaded, const TraceArguments& a) {
+std::string trace_run_record(const LoadedScene& loaded, const TraceArguments& a) {
   std::string start = "steady state";
   if (!a.restart.empty()) start = "restart " + a.restart;
   if (!a.switch_at.empty()) start = fmt::format("switch {} {}", a.switch_at, a.switch_direction);
   return loaded.scene.canonical_values() + fmt::format("start = {}\n", start);
 }
+
+namespace {
 
 // A branch whose run did not end by itself: killed (its status still "running") or stopped by
 // SIGINT or SIGTERM (the engine's reason then begins with "interrupted").
@@ -103,7 +101,16 @@ void print_summary(const ContinuationResult& result) {
 
 }  // namespace
 
-int run_trace(const TraceArguments& args) {
+int run_trace(const TraceArguments& args, RunSummary* out_summary) {
+  RunSummary local;
+  RunSummary& summary = out_summary ? *out_summary : local;
+  summary = {};
+  auto fail = [&](int code, const std::string& message) {
+    fmt::print(stderr, "keller: error: {}\n", message);
+    summary.exit_code = code;
+    summary.reason = message;
+    return code;
+  };
   LoadedScene loaded;
   std::unique_ptr<Problem> problem;
   ContinuationOptions copt;
@@ -115,11 +122,9 @@ int run_trace(const TraceArguments& args) {
     copt = ContinuationOptions::from_scene(loaded.scene);
     sopt = StabilityOptions::from_scene(loaded.scene);
   } catch (const SceneError& e) {
-    fmt::print(stderr, "keller: error: {}\n", e.what());
-    return exit_code::usage;
+    return fail(exit_code::usage, e.what());
   } catch (const std::exception& e) {
-    fmt::print(stderr, "keller: error: {}: {}\n", args.scene, e.what());
-    return exit_code::usage;
+    return fail(exit_code::usage, fmt::format("{}: {}", args.scene, e.what()));
   }
   const std::string out = args.output.empty() ? fs::path(args.scene).stem().string() + ".h5" : args.output;
   const std::string work = PendingFile::temporary_for(out);
@@ -143,8 +148,7 @@ int run_trace(const TraceArguments& args) {
     if (with_fields) files.output("XDMF file", xdmf_path_for(out));
     files.check();
   } catch (const std::exception& e) {
-    fmt::print(stderr, "keller: error: {}\n", e.what());
-    return exit_code::usage;
+    return fail(exit_code::usage, e.what());
   }
   fmt::print("{}\n", loaded.scene.resolved_toml());
   try {
@@ -153,16 +157,16 @@ int run_trace(const TraceArguments& args) {
       throw loaded.scene.error("continuation.parameter", "unknown parameter '" + copt.parameter +
                                                              "'; this problem has: " + problem->parameters().names());
   } catch (const SceneError& e) {
-    fmt::print(stderr, "keller: error: {}\n", e.what());
-    return exit_code::usage;
+    return fail(exit_code::usage, e.what());
   } catch (const std::exception& e) {
-    fmt::print(stderr, "keller: error: {}: {}\n", args.scene, e.what());
-    return exit_code::usage;
+    return fail(exit_code::usage, fmt::format("{}: {}", args.scene, e.what()));
   }
   // 2. where the branch starts: an unfinished run of this command, a stored point, or a solve
-  const std::string record = run_record(loaded, args);
+  const std::string record = trace_run_record(loaded, args);
   std::optional<Unfinished> unfinished;
+  std::optional<StoredPoint> stored;
   std::optional<BranchPoint> start;
+  bool other_parameter = false;  // a restart from a branch traced in another parameter
   std::vector<std::string> warnings;
   try {
     unfinished = unfinished_run(work, record, args.fresh);
@@ -171,17 +175,24 @@ int run_trace(const TraceArguments& args) {
       copt.state_scale = unfinished->state_scale;
       copt.theta = unfinished->theta;
     } else if (from) {
-      const BranchTable t = read_branch_table(from->file);
-      if (t.parameter != copt.parameter)
-        throw std::invalid_argument(fmt::format("{}: '{}' continues in '{}', the scene in '{}'", from->flag, from->file,
-                                                t.parameter, copt.parameter));
-      start = read_stored_start(*from, loaded, *problem, copt.parameter, warnings);
-      copt.state_scale = t.state_scale;
-      copt.theta = t.theta;
+      stored = read_stored_start(*from, loaded, *problem, copt.parameter, warnings);
+      start = stored->point;
+      other_parameter = stored->table.parameter != copt.parameter;
+      if (other_parameter) {
+        // a new branch in another parameter from a state of the stored one: its start value is the
+        // point's, and its tangent and state scale are its own
+        const std::optional<double> v = stored->value_of(copt.parameter);
+        if (!v)
+          throw std::invalid_argument(fmt::format("{}: '{}' does not record the value of '{}'", from->flag, from->file,
+                                                  copt.parameter));
+        start->lambda = *v;
+      } else {
+        copt.state_scale = stored->table.state_scale;
+        copt.theta = stored->table.theta;
+      }
     }
   } catch (const std::exception& e) {
-    fmt::print(stderr, "keller: error: {}\n", e.what());
-    return exit_code::usage;
+    return fail(exit_code::usage, e.what());
   }
   for (const std::string& w : warnings) fmt::print(stderr, "keller: warning: {}\n", w);
   const Scene& scene = loaded.scene;
@@ -190,7 +201,19 @@ int run_trace(const TraceArguments& args) {
   const SparseLUOptions lopt = sparse_lu_options_from(scene);
 
   Vector u0;
-  if (start) {
+  if (other_parameter) {
+    for (const Parameter& q : problem->parameters().list())
+      if (const auto v = stored->value_of(q.name)) problem->parameters().set(q.name, *v);
+    u0 = start->u;
+    fmt::print("starting a branch in {} at row {} of {}, a branch in {} ({} = {:.10g}, {} = {:.10g})\n", copt.parameter,
+               start->index, from->file, stored->table.parameter, stored->table.parameter, stored->point.lambda,
+               copt.parameter, start->lambda);
+    const std::string key = "parameters." + copt.parameter;
+    if (loaded.scene.schema().find(key) && loaded.scene.real(key) != start->lambda)
+      fmt::print("note: {} starts at the stored point's value {:.10g}, not at the scene's {}\n", copt.parameter,
+                 start->lambda, loaded.scene.real(key));
+    start.reset();
+  } else if (start) {
     problem->parameters().set(copt.parameter, start->lambda);
     if (unfinished)
       fmt::print("continuing the unfinished branch in {} from its row {} ({} = {:.10g}; --fresh starts over)\n", work,
@@ -206,7 +229,9 @@ int run_trace(const TraceArguments& args) {
     const NewtonResult r = newton.solve(u0, print_newton_row);
     if (!r.converged()) {
       fmt::print(stderr, "keller: the first steady state failed: {}; no output written\n", r.status.describe());
-      return exit_code::numerical_failure;
+      summary.reason = "the first steady state failed: " + r.status.describe();
+      summary.exit_code = exit_code::numerical_failure;
+      return summary.exit_code;
     }
   }
 
@@ -220,8 +245,7 @@ int run_trace(const TraceArguments& args) {
   try {
     run = std::make_unique<Continuation>(*problem, fixed, nopt, lopt);
   } catch (const std::exception& e) {
-    fmt::print(stderr, "keller: error: {}: [continuation]: {}\n", args.scene, e.what());
-    return exit_code::usage;
+    return fail(exit_code::usage, fmt::format("{}: [continuation]: {}", args.scene, e.what()));
   }
   std::unique_ptr<StabilityAnalysis> stability;
   if (sopt.enabled) {
@@ -245,8 +269,7 @@ int run_trace(const TraceArguments& args) {
           },
           run->analysis_columns(), unfinished ? &unfinished->seed : nullptr);
     } catch (const std::exception& e) {
-      fmt::print(stderr, "keller: error: {}\n", e.what());
-      return exit_code::usage;
+      return fail(exit_code::usage, e.what());
     }
     ProgressPrinter printer(copt.parameter);
     ObserverList observers({file.get(), &printer});
@@ -265,17 +288,27 @@ int run_trace(const TraceArguments& args) {
     fmt::print("stability: {} s in {} factorisations and {} solves of (J - sB)\n", stability->seconds(),
                stability->factorisations(), stability->solves());
   print_summary(result);
+  summary.reason = result.reason;
+  summary.unknowns = problem->size();
+  summary.points = result.points;
+  summary.rejected = result.rejected;
+  summary.factorisations = result.factorisations;
+  summary.seconds = result.timings.total;
   signal_point("traced");
 
   // 4. the branch takes its name: an interrupted one stays where it is, to be continued; a
   // failed one never replaces an existing file
   if (result.code == StopCode::Interrupted) {
     fmt::print("interrupted: the branch so far is in {}; run the same command again to continue it\n", work);
-    return exit_code::interrupted;
+    summary.output = work;
+    summary.exit_code = exit_code::interrupted;
+    return summary.exit_code;
   }
   const int code = result.code == StopCode::StepFloor ? exit_code::numerical_failure : exit_code::ok;
   if (code != exit_code::ok && fs::exists(out)) {
     fmt::print("the branch ended before its range; {} is kept as it was, this run's branch is in {}\n", out, work);
+    summary.output = work;
+    summary.exit_code = code;
     return code;
   }
   const int p = problem->parameters().index(copt.parameter);
@@ -287,18 +320,20 @@ int run_trace(const TraceArguments& args) {
   try {
     published = publish_branch(work, out, xdmf_path_for(out), with_fields, fields_at, &InterruptGuard::requested);
   } catch (const std::exception& e) {
-    fmt::print(stderr, "keller: error: the branch stays in {}: {}\n", work, e.what());
-    return exit_code::usage;
+    return fail(exit_code::usage, fmt::format("the branch stays in {}: {}", work, e.what()));
   }
   if (published.modes > 0)
     fmt::print("wrote {} critical eigenmode(s): {}_mode<k>.xdmf\n", published.modes,
                fs::path(xdmf_path_for(out)).replace_extension().string());
   fmt::print("wrote {}\n", out);
+  summary.output = out;
+  summary.exit_code = code;
   if (with_fields && !published.fields) {
     fmt::print("interrupted while writing the fields: the branch is complete in {} without them; `keller export {} "
                "--xdmf` writes them\n",
                out, out);
-    return exit_code::interrupted;
+    summary.exit_code = exit_code::interrupted;
+    return summary.exit_code;
   }
   return code;
 }

@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "runs/RunSummary.hpp"
+
 namespace keller {
 
 struct TraceArguments {
@@ -26,9 +28,16 @@ struct TraceArguments {
 // Exit codes of runs/ExitCode.hpp: 0 the branch ended at a bound, the stop observable or
 // max_steps; 1 the first steady state failed (nothing written) or the branch ended at the step
 // floor; 2 bad input (nothing written); 130 interrupted (OUT.h5.part holds every completed point).
-int run_trace(const TraceArguments& args);
+// `summary`, when given, receives what a study collects about the run.
+int run_trace(const TraceArguments& args, RunSummary* summary = nullptr);
 class SceneSchema;
 // The keys `keller trace` reads beyond the problem's: [continuation] and [stability].
 void declare_trace_keys(SceneSchema& schema);
+
+struct LoadedScene;
+// What defines a run (its resolved scene's values and how it starts), as stored in its branch
+// file (/problem/run): a rerun of the same command recognises its unfinished file by it, and a
+// study its completed tasks.
+std::string trace_run_record(const LoadedScene& loaded, const TraceArguments& args);
 
 }  // namespace keller

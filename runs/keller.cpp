@@ -10,10 +10,11 @@
 #include "runs/SceneLoader.hpp"
 #include "runs/SolveCommand.hpp"
 #include "runs/TraceCommand.hpp"
+#include "runs/study/StudyCommand.hpp"
 
 namespace {
 
-int run(int argc, char** argv) {
+int run(int argc, char** argv) {  // argc and argv go on to MPI_Init under mpirun
   CLI::App app{"keller: continuation and bifurcation toolkit for steady flows"};
   app.require_subcommand(1);
   app.footer(keller::exit_code::help);
@@ -53,6 +54,24 @@ int run(int argc, char** argv) {
   cmd_export->add_flag("--xdmf", exp.xdmf, "write the fields of the stored solutions and an XDMF file for ParaView");
   cmd_export->footer(keller::exit_code::help);
 
+  keller::StudyArguments study;
+  CLI::App* cmd_study = app.add_subcommand(
+      "study", "run a study: a family of traces or solves over overrides of a base scene (here, or under mpirun)");
+  cmd_study->add_option("study", study.study, "study file (TOML)");
+  cmd_study->add_option("--jobs,-j", study.jobs, "worker processes on this machine (default: one per core)")
+      ->check(CLI::Range(1, 4096));
+  cmd_study->add_option("-o,--output", study.folder, "folder of the study's files (default: <study name> here)");
+  cmd_study->footer(keller::exit_code::help);
+  cmd_study->require_subcommand(0, 1);
+  CLI::App* study_list = cmd_study->add_subcommand("list", "list the tasks, one a line: index, status, name, overrides");
+  CLI::App* study_run = cmd_study->add_subcommand("run", "run one task here (for batch schedulers: --task K)");
+  CLI::App* study_collect = cmd_study->add_subcommand("collect", "collect the tasks' results into STUDY.csv and .h5");
+  for (CLI::App* sub : {study_list, study_run, study_collect}) {
+    sub->add_option("study", study.study, "study file (TOML)")->required();
+    sub->add_option("-o,--output", study.folder, "folder of the study's files (default: <study name> here)");
+  }
+  study_run->add_option("--task", study.task, "index of the task (keller study list)")->required();
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -88,6 +107,14 @@ int run(int argc, char** argv) {
     return keller::run_trace(trace);
   }
   if (cmd_export->parsed()) return keller::run_export(exp);
+  if (cmd_study->parsed()) {
+    study.action = study_list->parsed() ? "list" : study_run->parsed() ? "run" : study_collect->parsed() ? "collect" : "";
+    if (study.study.empty()) {
+      fmt::print(stderr, "keller: error: study needs a study file (keller study STUDY.toml)\n");
+      return keller::exit_code::usage;
+    }
+    return keller::run_study_command(study, argc, argv);
+  }
   return keller::exit_code::ok;
 }
 
