@@ -135,6 +135,14 @@ void StudyProgress::finished(const StudyTask& task, const TaskRecord& record) {
   std::fflush(stdout);
 }
 
+void print_overhead(int gaps, double gap_seconds, int tasks, double process_seconds) {
+  if (gaps == 0 || tasks == 0) return;
+  const double per_task = gap_seconds / gaps, task = process_seconds / tasks;
+  fmt::print("scheduling: {:.2f} ms between a task's end and the next task's start on its worker, {:.3f}% of a "
+             "task's mean {:.3f} s\n",
+             1e3 * per_task, task > 0 ? 100 * per_task / task : 0.0, task);
+}
+
 void write_study_table(const Study& study) {
   const StudyTable table = StudyTable::collect(study);
   table.write(study.table_csv(), study.table_h5());
@@ -155,15 +163,29 @@ int run_study_local(const Study& study, int jobs) {
   InterruptGuard interrupts;
   std::deque<int> queue(order.begin(), order.end());
   std::map<pid_t, int> running;
+  std::map<pid_t, double> started;
   std::map<int, int> attempts;
   bool failures = false;
-  while (!queue.empty() || !running.empty()) {
+  // the scheduling overhead: from a task's end to the start of the next on its worker
+  double reaped = -1, gaps = 0, process = 0;
+  int spawned_after_reap = 0, finished = 0;
+  auto fill = [&]() {  // a free worker starts the next task before anything else is done
     while (!InterruptGuard::requested() && !queue.empty() && static_cast<int>(running.size()) < workers) {
       const int i = queue.front();
       queue.pop_front();
       ++attempts[i];
-      running[spawn_task(study, study.tasks()[static_cast<size_t>(i)], blas_threads_for(workers))] = i;
+      const pid_t pid = spawn_task(study, study.tasks()[static_cast<size_t>(i)], blas_threads_for(workers));
+      running[pid] = i;
+      started[pid] = now_seconds();
+      if (reaped >= 0) {
+        gaps += started[pid] - reaped;
+        ++spawned_after_reap;
+        reaped = -1;
+      }
     }
+  };
+  while (!queue.empty() || !running.empty()) {
+    fill();
     if (running.empty()) break;
     int status = 0;
     const pid_t pid = ::waitpid(-1, &status, 0);
@@ -173,10 +195,16 @@ int run_study_local(const Study& study, int jobs) {
     }
     const auto it = running.find(pid);
     if (it == running.end()) continue;
+    reaped = now_seconds();
     const StudyTask& task = study.tasks()[static_cast<size_t>(it->second)];
     running.erase(it);
+    const double task_seconds = reaped - started[pid];
+    fill();
     TaskRecord record = finished_task(study, task, status);
     record.attempts = attempts[task.index];
+    record.process_seconds = task_seconds;
+    process += record.process_seconds;
+    ++finished;
     if (record.status == "died" && record.attempts < 2 && !InterruptGuard::requested()) {
       fmt::print("task {} ({}): {}; running it again\n", task.index, task.label(), record.summary.reason);
       queue.push_back(task.index);
@@ -187,6 +215,7 @@ int run_study_local(const Study& study, int jobs) {
     failures |= record.status == "failed";
     progress.finished(task, record);
   }
+  print_overhead(spawned_after_reap, gaps, finished, process);
   write_study_table(study);
   if (InterruptGuard::requested()) {
     fmt::print("interrupted: the tasks that were running stop after their current point; run the study again to "

@@ -53,6 +53,10 @@ int run_study_mpi(const Study& study, int& argc, char**& argv);
 // Whether this process was started by mpirun (and keller was built with MPI).
 bool under_mpi();
 
+// Prints the scheduling overhead: the mean gap between the end of a task on a worker and the
+// start of its next one, against the mean time of a task's process.
+void print_overhead(int gaps, double gap_seconds, int tasks, double process_seconds);
+
 // Writes the collected table (FOLDER/NAME.csv and .h5) and prints where.
 void write_study_table(const Study& study);
 

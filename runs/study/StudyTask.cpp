@@ -96,6 +96,7 @@ std::optional<TaskRecord> read_task_record(const Study& study, const StudyTask& 
     r.hash = t["hash"].value_or(std::string());
     r.status = t["status"].value_or(std::string());
     r.attempts = static_cast<int>(t["attempts"].value_or(int64_t{1}));
+    r.process_seconds = t["process_seconds"].value_or(0.0);
     RunSummary& s = r.summary;
     s.exit_code = static_cast<int>(t["exit_code"].value_or(int64_t{-1}));
     s.reason = t["reason"].value_or(std::string());
@@ -123,6 +124,7 @@ void write_task_record(const Study& study, const StudyTask& task, const TaskReco
                      quoted(r.status), r.attempts, s.exit_code, quoted(s.reason), quoted(s.output));
     o << fmt::format("unknowns = {}\npoints = {}\nrejected = {}\nfactorisations = {}\nseconds = {:.17g}\n", s.unknowns,
                      s.points, s.rejected, s.factorisations, s.seconds);
+    o << fmt::format("process_seconds = {:.17g}\n", r.process_seconds);
     if (!o) throw std::runtime_error("cannot write '" + file.path() + "'");
   }
   file.commit();

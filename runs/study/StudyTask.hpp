@@ -18,6 +18,7 @@ struct TaskRecord {
   std::string status;     // "done", "failed" or "interrupted"
   RunSummary summary;     // exit code, why it ended, the output, the cost
   int attempts = 1;       // runs of this task by the executor (a worker that died is retried once)
+  double process_seconds = 0;  // the task's process from start to end, as its executor saw it
 };
 
 // Runs the task (continuing its unfinished output if a run of it was interrupted; removing an

@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <fstream>
 #include <regex>
+#include <set>
 #include <sstream>
 #include <thread>
 
@@ -46,16 +47,18 @@ std::string bratu_study(const std::string& dir, const std::string& ends = "2.0, 
 std::string table_without_time(const std::string& csv) {
   std::ifstream in(csv);
   std::string line, out;
-  int seconds = -1;
+  std::set<size_t> timed;
+  bool header = true;
   while (std::getline(in, line)) {
     std::vector<std::string> cells;
     std::stringstream ss(line);
     for (std::string c; std::getline(ss, c, ',');) cells.push_back(c);
-    if (seconds < 0)
+    if (header)
       for (size_t i = 0; i < cells.size(); ++i)
-        if (cells[i] == "seconds") seconds = static_cast<int>(i);
+        if (cells[i] == "seconds" || cells[i] == "process_seconds") timed.insert(i);
+    header = false;
     for (size_t i = 0; i < cells.size(); ++i)
-      if (static_cast<int>(i) != seconds) out += cells[i] + ",";
+      if (!timed.count(i)) out += cells[i] + ",";
     out += "\n";
   }
   return out;
