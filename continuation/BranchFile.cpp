@@ -143,8 +143,8 @@ void BranchFile::on_point(const BranchPoint& p) {
     throw std::logic_error(fmt::format("branch row has {} values for {} columns", row.size(), columns_.size()));
   file_->append_rows("/branch/table", row.data(), 1);
   if (p.kind != PointKind::Regular && p.kind != PointKind::Start) {
-    double monitor = -1;
-    if (p.kind == PointKind::Event) {
+    double monitor = -1;  // an event's monitor, and an end's when a monitor's threshold ended the branch
+    if (p.kind == PointKind::Event || p.kind == PointKind::End) {
       const auto names = split(file_->read_string_attribute("/branch", "monitors"));
       auto it = std::find(names.begin(), names.end(), p.label);
       if (it != names.end()) monitor = static_cast<double>(it - names.begin());

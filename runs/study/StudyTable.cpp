@@ -20,7 +20,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr int kind_requested = 2, kind_event = 3, kind_fold = 4, kind_branch_point = 5, kind_hopf = 7;
+constexpr int kind_requested = 2, kind_event = 3, kind_fold = 4, kind_branch_point = 5, kind_end = 6, kind_hopf = 7;
 
 std::string unquoted(const std::string& v) {
   if (v.size() >= 2 && v.front() == '"' && v.back() == '"') return v.substr(1, v.size() - 2);
@@ -41,22 +41,30 @@ void collect_branch(const Study& study, const std::string& path, StudyRow& row) 
     H5File f(path, H5File::Mode::Read);
     if (f.exists("/branch/events")) events = f.read_matrix("/branch/events", &ev_rows, &ev_cols);
   }
+  const std::string& monitor_names_joined = t.status;  // for files whose end rows name no monitor
   for (const std::string& name : c.events) {
-    int want_kind = kind_event, monitor = -1;
+    int want_kind = kind_event;
     if (name == "fold") want_kind = kind_fold;
     else if (name == "branch-point") want_kind = kind_branch_point;
     else if (name == "hopf") want_kind = kind_hopf;
-    else {
-      const auto it = std::find(t.monitors.begin(), t.monitors.end(), name);
-      if (it != t.monitors.end()) monitor = static_cast<int>(it - t.monitors.begin());
+    // a monitor's zero is an event, or the end of the branch where the stop observable of that
+    // name crossed its threshold (the engine reports such a point once, as the end)
+    std::vector<int> monitors, thresholds;
+    for (size_t m = 0; m < t.monitors.size(); ++m) {
+      if (t.monitors[m] == name) monitors.push_back(static_cast<int>(m));
+      if (t.monitors[m].rfind(name + " < ", 0) == 0 || t.monitors[m].rfind(name + " > ", 0) == 0)
+        thresholds.push_back(static_cast<int>(m));
     }
+    auto in = [](const std::vector<int>& v, double x) { return std::find(v.begin(), v.end(), static_cast<int>(x)) != v.end(); };
     double value = NAN;
-    for (long i = 0; i < ev_rows; ++i) {
+    for (long i = 0; i < ev_rows && std::isnan(value); ++i) {
       const double* e = &events[static_cast<size_t>(i * ev_cols)];
-      if (static_cast<int>(e[1]) != want_kind) continue;
-      if (want_kind == kind_event && static_cast<int>(e[3]) != monitor) continue;
-      value = e[2];
-      break;
+      const int k = static_cast<int>(e[1]);
+      if (want_kind != kind_event ? k == want_kind : (k == kind_event && in(monitors, e[3])) ||
+                                                         (k == kind_end && (in(thresholds, e[3]) ||
+                                                                            (e[3] < 0 && (monitor_names_joined.rfind(name + " < ", 0) == 0 ||
+                                                                                          monitor_names_joined.rfind(name + " > ", 0) == 0)))))
+        value = e[2];
     }
     row.number["event:" + name] = value;
     if (std::isfinite(value)) found.push_back(fmt::format("{} at {} = {:.7g}", name, t.parameter, value));
