@@ -201,6 +201,39 @@ TEST(Study, AFailedTaskIsRecordedAndTheOthersComplete) {
   EXPECT_NE(again.out.find("2 done before, 2 to run"), std::string::npos) << again.out;
 }
 
+// A task whose process dies (here every task kills itself at its third point) is reported, run
+// once more, then recorded as failed with the signal; the study goes on to the end.
+TEST(Study, ATaskWhoseProcessDiesIsRunAgainThenRecordedAsFailed) {
+  const std::string dir = test::scratch_dir("study_died");
+  const std::string study = dir + "/died.toml";
+  std::ofstream(study) << "[study]\nscene = \"" << test::source_path("runs/scenes/bratu1d_fold.toml") << "\"\n"
+                       << "[set]\n\"output.xdmf\" = false\n[grid]\n\"bratu.intervals\" = [16, 24]\n";
+  std::vector<std::pair<std::string, std::string>> executors = {{"--jobs 2", "local"}};
+  if (!std::string(KELLER_MPIRUN).empty()) executors.push_back({"mpi", "mpi"});
+  for (const auto& [how, name] : executors) {
+    SCOPED_TRACE(name);
+    const std::string out = dir + "/" + name;
+    const std::string env = "KELLER_SIGNAL_AT=point:3 KELLER_SIGNAL=KILL";
+    test::CommandResult r;
+    if (how == "mpi") {
+      const std::string cmd = env + " " + std::string(KELLER_MPIRUN) + " --allow-run-as-root --oversubscribe -n 3 " +
+                              KELLER_BINARY + " study " + study + " -o " + out + " > " + dir + "/mpi.log 2>&1";
+      r.exit_code = WEXITSTATUS(std::system(cmd.c_str()));
+      r.out = contents(dir + "/mpi.log");
+    } else {
+      r = test::run_keller("study " + study + " " + how + " -o " + out, env);
+    }
+    EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+    EXPECT_EQ(count(r.out, "running it again"), 2) << r.out;
+    EXPECT_NE(r.out.find("collected 2 tasks (0 done, 2 failed, 0 not run)"), std::string::npos) << r.out;
+    for (const auto& row : read_table(out + "/died.csv")) {
+      EXPECT_EQ(row.at("status"), "failed");
+      EXPECT_EQ(row.at("reason"), "its process died of signal 9 (Killed)");
+      EXPECT_EQ(row.at("attempts"), "2");
+    }
+  }
+}
+
 TEST(Study, ABadStudyFileStopsBeforeAnyTask) {
   const std::string dir = test::scratch_dir("study_bad");
   const std::string scene = test::source_path("runs/scenes/bratu1d_fold.toml");
