@@ -77,9 +77,9 @@ StoredPoint read_stored_start(const StoredStart& start, const LoadedScene& scene
     if (!v) continue;
     const double tol = 1e-12 * std::max({1.0, std::abs(*v), std::abs(p.value)});
     if (std::abs(*v - p.value) > tol)
-      refusals.push_back(fmt::format("{} is at {} = {}, this scene sets {} = {}",
-                                     p.name == stored.table.parameter ? "the point" : "it was traced", p.name, *v,
-                                     p.name, p.value));
+      refusals.push_back(fmt::format("{} {} = {}, this scene sets {} = {}",
+                                     p.name == stored.table.parameter ? "the point is at" : "it was traced at", p.name,
+                                     *v, p.name, p.value));
   }
   refuse();
   if (point.u.size() != problem.size())
