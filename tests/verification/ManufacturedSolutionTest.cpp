@@ -28,7 +28,6 @@
 
 #include <cmath>
 #include <cstdio>
-#include <random>
 #include <string>
 #include <vector>
 
@@ -50,7 +49,9 @@ struct Study {
   Errors finest_orders() const {
     const Errors& c = errors[errors.size() - 2];
     const Errors& f = errors.back();
-    auto o = [](const FieldError& a, const FieldError& b) { return FieldError{order(a.l2, b.l2), order(a.max, b.max)}; };
+    auto o = [](const FieldError& a, const FieldError& b) {
+      return FieldError{order(a.l2, b.l2), order(a.max, b.max)};
+    };
     return {o(c.velocity, f.velocity), o(c.pressure, f.pressure), o(c.gradient, f.gradient),
             o(c.conformation, f.conformation)};
   }

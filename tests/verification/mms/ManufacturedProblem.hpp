@@ -7,7 +7,8 @@
 // replaces). On a moving mesh the mesh is the unit square, its positions are unknowns held by
 // Dirichlet rows at the map's image of its nodes (a prescribed non-affine motion), and the
 // fields are those of the deformed domain: the discrete problem is then the fixed-mesh one on
-// the mapped mesh, reached through the kernels' moving-mesh form. Errors of the discrete solution are measured on a 5x5 Gauss rule per element.
+// the mapped mesh, reached through the kernels' moving-mesh form. Errors of the discrete
+// solution are measured on a 5x5 Gauss rule per element.
 #pragma once
 
 #include <memory>

@@ -54,9 +54,8 @@ double innermost_value(const Eigen::AutoDiffScalar<D>& x) {
 // relative truncation error below 1e-25.
 template <class S>
 void series_exp(const S (&p)[3], S (&e)[3]) {
-  using std::sqrt;
-  const double norm = std::sqrt(innermost_value(p[0]) * innermost_value(p[0]) + 2 * innermost_value(p[1]) * innermost_value(p[1]) +
-                                innermost_value(p[2]) * innermost_value(p[2]));
+  const double p0 = innermost_value(p[0]), p1 = innermost_value(p[1]), p2 = innermost_value(p[2]);
+  const double norm = std::sqrt(p0 * p0 + 2 * p1 * p1 + p2 * p2);
   int squarings = 0;
   while (norm / std::ldexp(1.0, squarings) > 0.25) ++squarings;
   const double scale = std::ldexp(1.0, -squarings);
