@@ -164,7 +164,8 @@ void FlowEquations::add_kernels(const DofMap& dofs) {
   if (!options_.viscoelastic()) {
     NewtonianFlowParameters np{index_.Re, index_.Gamma, -1};
     terms_.push_back(std::make_shared<KernelTerm<NewtonianFlowKernel<Moving>>>(
-        NewtonianFlowKernel<Moving>(*mesh_, dofs, elements_, &geometry_, np, options_.inertia), params));
+        NewtonianFlowKernel<Moving>(*mesh_, dofs, elements_, &geometry_, np, options_.inertia, options_.kernel.source),
+        params));
   } else if (options_.conformation_components() == 3) {
     terms_.push_back(std::make_shared<KernelTerm<ViscoelasticFlowKernel<3, Moving>>>(
         ViscoelasticFlowKernel<3, Moving>(*mesh_, dofs, elements_, &geometry_, index_, options_.kernel), params));
