@@ -127,6 +127,7 @@ StudyRow StudyTable::row(const Study& study, const StudyTask& task) {
   row.number["seconds"] = s.seconds;
   row.number["attempts"] = record->attempts;
   row.number["process_seconds"] = record->process_seconds;
+  row.number["peak_mb"] = record->peak_mb;
   row.found = record->status == "done" ? "" : record->status + ": " + s.reason;
   if (current && record->status == "done" && fs::exists(study.task_output(task))) {
     try {
@@ -166,7 +167,7 @@ StudyTable StudyTable::collect(const Study& study) {
   for (const std::string& o : study.collect().end) end.push_back("end:" + o);
   t.number_columns_ = {"exit_code"};
   for (const auto* group : {&events, &stops, &end}) t.number_columns_.insert(t.number_columns_.end(), group->begin(), group->end());
-  for (const char* c : {"unknowns", "points", "rejected", "factorisations", "seconds", "process_seconds", "attempts"})
+  for (const char* c : {"unknowns", "points", "rejected", "factorisations", "seconds", "process_seconds", "peak_mb", "attempts"})
     t.number_columns_.push_back(c);
   return t;
 }

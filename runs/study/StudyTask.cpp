@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <sys/resource.h>
+
 #include <filesystem>
 #include <fstream>
 #include <toml++/toml.h>
@@ -77,6 +79,8 @@ TaskRecord run_study_task(const Study& study, const StudyTask& task) {
     record.summary.exit_code = exit_code::usage;
     record.summary.reason = e.what();
   }
+  struct rusage usage {};
+  if (::getrusage(RUSAGE_SELF, &usage) == 0) record.peak_mb = static_cast<double>(usage.ru_maxrss) / 1024.0;  // KiB
   const int code = record.summary.exit_code;
   const bool written = !record.summary.output.empty() && record.summary.output == out && fs::exists(out);
   // a branch that ended at the step floor is a result, like one that reached its bound
@@ -97,6 +101,7 @@ std::optional<TaskRecord> read_task_record(const Study& study, const StudyTask& 
     r.status = t["status"].value_or(std::string());
     r.attempts = static_cast<int>(t["attempts"].value_or(int64_t{1}));
     r.process_seconds = t["process_seconds"].value_or(0.0);
+    r.peak_mb = t["peak_mb"].value_or(0.0);
     RunSummary& s = r.summary;
     s.exit_code = static_cast<int>(t["exit_code"].value_or(int64_t{-1}));
     s.reason = t["reason"].value_or(std::string());
@@ -124,7 +129,7 @@ void write_task_record(const Study& study, const StudyTask& task, const TaskReco
                      quoted(r.status), r.attempts, s.exit_code, quoted(s.reason), quoted(s.output));
     o << fmt::format("unknowns = {}\npoints = {}\nrejected = {}\nfactorisations = {}\nseconds = {:.17g}\n", s.unknowns,
                      s.points, s.rejected, s.factorisations, s.seconds);
-    o << fmt::format("process_seconds = {:.17g}\n", r.process_seconds);
+    o << fmt::format("process_seconds = {:.17g}\npeak_mb = {:.17g}\n", r.process_seconds, r.peak_mb);
     if (!o) throw std::runtime_error("cannot write '" + file.path() + "'");
   }
   file.commit();

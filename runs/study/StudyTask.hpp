@@ -19,6 +19,7 @@ struct TaskRecord {
   RunSummary summary;     // exit code, why it ended, the output, the cost
   int attempts = 1;       // runs of this task by the executor (a worker that died is retried once)
   double process_seconds = 0;  // the task's process from start to end, as its executor saw it
+  double peak_mb = 0;          // the task process's peak resident memory
 };
 
 // Runs the task (continuing its unfinished output if a run of it was interrupted; removing an

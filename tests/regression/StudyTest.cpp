@@ -44,7 +44,7 @@ std::string bratu_study(const std::string& dir, const std::string& ends = "2.0, 
   return path;
 }
 
-// The collected CSV without the columns that measure time (the rest is deterministic).
+// The collected CSV without the columns that measure time and memory (the rest is deterministic).
 std::string table_without_time(const std::string& csv) {
   std::ifstream in(csv);
   std::string line, out;
@@ -56,7 +56,7 @@ std::string table_without_time(const std::string& csv) {
     for (std::string c; std::getline(ss, c, ',');) cells.push_back(c);
     if (header)
       for (size_t i = 0; i < cells.size(); ++i)
-        if (cells[i] == "seconds" || cells[i] == "process_seconds") timed.insert(i);
+        if (cells[i] == "seconds" || cells[i] == "process_seconds" || cells[i] == "peak_mb") timed.insert(i);
     header = false;
     for (size_t i = 0; i < cells.size(); ++i)
       if (!timed.count(i)) out += cells[i] + ",";
