@@ -77,6 +77,12 @@ CollapsibleChannelProblem::CollapsibleChannelProblem(const CollapsibleOptions& o
 
 double CollapsibleChannelProblem::residual_scale() const { return params_.value(iGamma_); }
 
+std::vector<Problem::Homotopy> CollapsibleChannelProblem::homotopies() const {
+  std::vector<Homotopy> h{{"Pe", 0.0}};
+  if (params_.has("Wi")) h.push_back({"Wi", 0.01});
+  return h;
+}
+
 Vector CollapsibleChannelProblem::initial_guess() {
   // fully developed flow in the undeformed channel; the wall at rest carries the external
   // pressure as its own pressure: P = (1 - pi) I with (1 - pi) = -Pe on the top face

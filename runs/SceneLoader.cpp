@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include "continuation/StartSolver.hpp"
 #include "core/Newton.hpp"
 #include "core/SparseLU.hpp"
 
@@ -11,6 +12,7 @@ void declare_common_keys(SceneSchema& s) {
   s.section("problem", "which problem the scene describes");
   s.string("problem.type", "channel", "problem type", problem_type_names());
   declare_newton_keys(s);
+  StartOptions::declare(s);
   declare_linear_solver_keys(s);
   s.section("output", "what is written besides the HDF5 file");
   s.boolean("output.xdmf", true, "write an XDMF file next to the HDF5 file for ParaView");

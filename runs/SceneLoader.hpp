@@ -11,7 +11,7 @@
 
 namespace keller {
 
-// Declares the keys every run has: [problem], [newton], [linear_solver], [output].
+// Declares the keys every run has: [problem], [newton], [start], [linear_solver], [output].
 void declare_common_keys(SceneSchema& schema);
 
 struct LoadedScene {

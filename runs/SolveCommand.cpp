@@ -5,6 +5,7 @@
 
 #include <filesystem>
 
+#include "continuation/StartSolver.hpp"
 #include "core/Newton.hpp"
 #include "core/SolutionWriter.hpp"
 #include "core/SparseLU.hpp"
@@ -76,7 +77,23 @@ int run_solve(const SolveArguments& args, RunSummary* out_summary) {
   NewtonSolver newton(*problem, newton_options_from(scene), sparse_lu_options_from(scene));
   Vector u = problem->initial_guess();
   print_newton_header();
-  const NewtonResult res = newton.solve(u, print_newton_row);
+  NewtonResult res = newton.solve(u, print_newton_row);
+  const StartOptions start_options = StartOptions::from_scene(scene);
+  if (!res.converged() && start_options.path != StartOptions::Path::Off) {
+    // from an easier state by continuation (StartSolver), then Newton's table from there
+    fmt::print("Newton from the initial guess failed ({}); continuing from an easier state\n", res.status.describe());
+    StartSolver start(*problem, newton_options_from(scene), sparse_lu_options_from(scene), start_options,
+                      [](const std::string& line) { fmt::print("{}\n", line); });
+    Vector v = problem->initial_guess();
+    const StartResult reached = start.reach(v);
+    if (reached.status.is_ok()) {
+      fmt::print("reached by {} ({} points, {} factorisations)\n", reached.path, reached.steps, reached.factorisations);
+      u = std::move(v);
+      res = newton.solve(u, print_newton_row);
+    } else {
+      fmt::print("no continuation path: {}\n", reached.status.describe());
+    }
+  }
   const auto& lu = newton.lu().statistics();
   fmt::print("  final |F| = {:.4e} after {} iterations ({} factorisations), {:.3f} s (assembly {:.3f}, factorisation "
              "{:.3f}, solve {:.3f}, line search {:.3f})\n",

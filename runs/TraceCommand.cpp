@@ -9,6 +9,7 @@
 #include "continuation/Continuation.hpp"
 #include "continuation/ContinuedBranch.hpp"
 #include "continuation/ProgressPrinter.hpp"
+#include "continuation/StartSolver.hpp"
 #include "core/PendingFile.hpp"
 #include "core/RunFiles.hpp"
 #include "core/SignalPoint.hpp"
@@ -86,10 +87,11 @@ std::optional<Unfinished> unfinished_run(const std::string& work, const std::str
 }
 
 void print_summary(const ContinuationResult& result) {
-  fmt::print("{} points, {} rejected steps, {} factorisations ({:.2f} per point), {} tangent solves by iteration; {}\n",
+  fmt::print("{} points, {} rejected steps, {} factorisations ({:.2f} per point; {} of them branch-point probes), {} "
+             "tangent solves by iteration, renewal cost {:.1f} solves; {}\n",
              result.points, result.rejected, result.factorisations,
-             result.points > 0 ? static_cast<double>(result.factorisations) / result.points : 0.0,
-             result.tangent_iterations, result.reason);
+             result.points > 0 ? static_cast<double>(result.factorisations) / result.points : 0.0, result.probes,
+             result.tangent_iterations, result.renewal_cost, result.reason);
   const ContinuationTimings& tm = result.timings;
   fmt::print("time {:.2f} s: factorisations {:.2f}, solves {:.2f} ({}), Jacobians {:.2f} ({}), dF/dp {:.2f}, residuals {:.2f} ({}), "
              "observables {:.2f}, stability {:.2f} ({} spectra), output {:.2f}, other {:.2f}\n",
@@ -201,6 +203,7 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
   const SparseLUOptions lopt = sparse_lu_options_from(scene);
 
   Vector u0;
+  StartFactorisation start_factorisation;  // the first state's last factorisation of J, handed to the branch
   if (other_parameter) {
     for (const Parameter& q : problem->parameters().list())
       if (const auto v = stored->value_of(q.name)) problem->parameters().set(q.name, *v);
@@ -222,17 +225,21 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
       fmt::print("{} row {} of {} ({} = {:.10g})\n", from->switching ? "switching branches at" : "restarting from",
                  start->index, from->file, copt.parameter, start->lambda);
   } else {
-    NewtonSolver newton(*problem, nopt, lopt);
+    StartSolver start_solver(*problem, nopt, lopt, StartOptions::from_scene(loaded.scene),
+                             [](const std::string& line) { fmt::print("{}\n", line); });
     u0 = problem->initial_guess();
     fmt::print("first steady state at {} = {}\n", copt.parameter, problem->parameters().get(copt.parameter));
     print_newton_header();
-    const NewtonResult r = newton.solve(u0, print_newton_row);
-    if (!r.converged()) {
+    const StartResult r = start_solver.solve(u0, print_newton_row);
+    if (!r.status.is_ok()) {
       fmt::print(stderr, "keller: the first steady state failed: {}; no output written\n", r.status.describe());
       summary.reason = "the first steady state failed: " + r.status.describe();
       summary.exit_code = exit_code::numerical_failure;
       return summary.exit_code;
     }
+    fmt::print("first steady state: {}, {} Newton iterations, {} factorisations, {:.2f} s\n", r.path,
+               r.newton_iterations, r.factorisations, r.seconds);
+    start_factorisation = {r.factorisation, r.jacobian, r.factorised_at};
   }
 
   // 3. the branch, written to `work` point by point
@@ -280,7 +287,7 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
     result = unfinished          ? run->resume(*start, *observer)
              : from && from->switching ? run->switch_branch(*start, args.switch_direction, *observer)
              : start                   ? run->resume(*start, *observer)
-                                       : run->run(u0, *observer);
+                                       : run->run(u0, *observer, start_factorisation);
     InterruptGuard::forward_to(nullptr);
     file->close();
   }
