@@ -12,8 +12,8 @@
 #include "core/Assembler.hpp"
 #include "core/KernelTerm.hpp"
 #include "core/Newton.hpp"
-#include "problems/ChannelMesh.hpp"
-#include "problems/FluidMeshMotion.hpp"
+#include "problems/channel/ChannelMesh.hpp"
+#include "problems/components/FluidMeshMotion.hpp"
 #include "support/TestSupport.hpp"
 
 using namespace keller;

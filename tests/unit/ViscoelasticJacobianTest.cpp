@@ -7,7 +7,7 @@
 #include <iostream>
 #include <random>
 
-#include "problems/ChannelProblem.hpp"
+#include "problems/channel/ChannelProblem.hpp"
 #include "support/TestSupport.hpp"
 
 using namespace keller;

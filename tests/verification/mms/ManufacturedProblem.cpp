@@ -5,7 +5,7 @@
 
 #include "core/BlockMeshBuilder.hpp"
 #include "core/KernelTerm.hpp"
-#include "problems/NewtonianFlowKernel.hpp"
+#include "problems/kernels/NewtonianFlowKernel.hpp"
 
 namespace keller::mms {
 

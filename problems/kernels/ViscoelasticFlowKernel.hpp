@@ -35,9 +35,9 @@
 #include "core/ElementGeometry.hpp"
 #include "core/Mesh.hpp"
 #include "core/Status.hpp"
-#include "problems/ConstitutiveLaw.hpp"
-#include "problems/FlowSource.hpp"
-#include "problems/LogConformation.hpp"
+#include "problems/laws/ConstitutiveLaw.hpp"
+#include "problems/kernels/FlowSource.hpp"
+#include "problems/laws/LogConformation.hpp"
 
 namespace keller {
 

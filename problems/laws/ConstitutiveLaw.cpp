@@ -1,4 +1,4 @@
-#include "problems/ConstitutiveLaw.hpp"
+#include "problems/laws/ConstitutiveLaw.hpp"
 
 namespace keller {
 

@@ -20,7 +20,7 @@
 #include "core/ElementGeometry.hpp"
 #include "core/Mesh.hpp"
 #include "core/Status.hpp"
-#include "problems/ViscoelasticFlowKernel.hpp"
+#include "problems/kernels/ViscoelasticFlowKernel.hpp"
 
 namespace keller {
 

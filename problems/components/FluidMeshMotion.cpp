@@ -1,4 +1,4 @@
-#include "problems/FluidMeshMotion.hpp"
+#include "problems/components/FluidMeshMotion.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 
 #include "core/ElementGeometry.hpp"
 #include "core/KernelTerm.hpp"
-#include "problems/EllipticMeshKernel.hpp"
+#include "problems/kernels/EllipticMeshKernel.hpp"
 
 namespace keller {
 

@@ -1,4 +1,4 @@
-#include "problems/CollapsibleChannelProblem.hpp"
+#include "problems/channel/CollapsibleChannelProblem.hpp"
 
 #include <fmt/format.h>
 

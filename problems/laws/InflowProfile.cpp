@@ -1,4 +1,4 @@
-#include "problems/InflowProfile.hpp"
+#include "problems/laws/InflowProfile.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "problems/SolidWall.hpp"
+#include "problems/components/SolidWall.hpp"
 
 #include <fmt/format.h>
 
@@ -9,8 +9,8 @@
 
 #include "core/ElementGeometry.hpp"
 #include "core/KernelTerm.hpp"
-#include "problems/FollowerPressureKernel.hpp"
-#include "problems/NeoHookeanSolidKernel.hpp"
+#include "problems/kernels/FollowerPressureKernel.hpp"
+#include "problems/kernels/NeoHookeanSolidKernel.hpp"
 
 namespace keller {
 

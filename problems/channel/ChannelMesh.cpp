@@ -1,4 +1,4 @@
-#include "problems/ChannelMesh.hpp"
+#include "problems/channel/ChannelMesh.hpp"
 
 #include <algorithm>
 #include <stdexcept>

@@ -1,4 +1,4 @@
-#include "problems/FlowEquations.hpp"
+#include "problems/components/FlowEquations.hpp"
 
 #include <fmt/format.h>
 
@@ -10,9 +10,9 @@
 #include <stdexcept>
 
 #include "core/KernelTerm.hpp"
-#include "problems/LogConformation.hpp"
-#include "problems/NewtonianFlowKernel.hpp"
-#include "problems/OutflowTractionKernel.hpp"
+#include "problems/laws/LogConformation.hpp"
+#include "problems/kernels/NewtonianFlowKernel.hpp"
+#include "problems/kernels/OutflowTractionKernel.hpp"
 
 namespace keller {
 

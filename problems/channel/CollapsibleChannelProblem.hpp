@@ -25,10 +25,10 @@
 #include "core/DofMap.hpp"
 #include "core/Problem.hpp"
 #include "core/Scene.hpp"
-#include "problems/ChannelMesh.hpp"
-#include "problems/FlowEquations.hpp"
-#include "problems/FluidMeshMotion.hpp"
-#include "problems/SolidWall.hpp"
+#include "problems/channel/ChannelMesh.hpp"
+#include "problems/components/FlowEquations.hpp"
+#include "problems/components/FluidMeshMotion.hpp"
+#include "problems/components/SolidWall.hpp"
 
 namespace keller {
 

@@ -1,11 +1,11 @@
-#include "problems/WallProblem.hpp"
+#include "problems/channel/WallProblem.hpp"
 
 #include <fmt/format.h>
 
 #include <cmath>
 
 #include "core/KernelTerm.hpp"
-#include "problems/FollowerPressureKernel.hpp"
+#include "problems/kernels/FollowerPressureKernel.hpp"
 
 namespace keller {
 

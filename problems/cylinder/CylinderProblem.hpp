@@ -17,7 +17,7 @@
 #include "core/DofMap.hpp"
 #include "core/Problem.hpp"
 #include "core/Scene.hpp"
-#include "problems/FlowEquations.hpp"
+#include "problems/components/FlowEquations.hpp"
 
 namespace keller {
 

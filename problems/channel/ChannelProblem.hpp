@@ -15,8 +15,8 @@
 #include "core/PointLocator.hpp"
 #include "core/Problem.hpp"
 #include "core/Scene.hpp"
-#include "problems/ChannelMesh.hpp"
-#include "problems/FlowEquations.hpp"
+#include "problems/channel/ChannelMesh.hpp"
+#include "problems/components/FlowEquations.hpp"
 
 namespace keller {
 

@@ -14,8 +14,8 @@
 #include "core/DofMap.hpp"
 #include "core/Problem.hpp"
 #include "core/Scene.hpp"
-#include "problems/ChannelMesh.hpp"
-#include "problems/SolidWall.hpp"
+#include "problems/channel/ChannelMesh.hpp"
+#include "problems/components/SolidWall.hpp"
 
 namespace keller {
 

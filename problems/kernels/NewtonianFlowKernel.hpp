@@ -28,7 +28,7 @@
 #include "core/ElementGeometry.hpp"
 #include "core/Mesh.hpp"
 #include "core/Status.hpp"
-#include "problems/FlowSource.hpp"
+#include "problems/kernels/FlowSource.hpp"
 
 namespace keller {
 

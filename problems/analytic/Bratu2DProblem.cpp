@@ -1,4 +1,4 @@
-#include "problems/Bratu2DProblem.hpp"
+#include "problems/analytic/Bratu2DProblem.hpp"
 
 #include <fmt/format.h>
 

@@ -1,4 +1,4 @@
-#include "problems/ChannelProblem.hpp"
+#include "problems/channel/ChannelProblem.hpp"
 
 #include <fmt/format.h>
 

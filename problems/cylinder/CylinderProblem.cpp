@@ -1,4 +1,4 @@
-#include "problems/CylinderProblem.hpp"
+#include "problems/cylinder/CylinderProblem.hpp"
 
 #include <fmt/format.h>
 

@@ -21,9 +21,9 @@
 #include "core/Scene.hpp"
 #include "core/SolutionFields.hpp"
 #include "core/Term.hpp"
-#include "problems/ConstitutiveLaw.hpp"
-#include "problems/InflowProfile.hpp"
-#include "problems/ViscoelasticFlowKernel.hpp"
+#include "problems/laws/ConstitutiveLaw.hpp"
+#include "problems/laws/InflowProfile.hpp"
+#include "problems/kernels/ViscoelasticFlowKernel.hpp"
 
 namespace keller {
 

@@ -1,4 +1,4 @@
-#include "problems/LogConformation.hpp"
+#include "problems/laws/LogConformation.hpp"
 
 #include <stdexcept>
 

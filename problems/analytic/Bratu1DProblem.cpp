@@ -1,6 +1,6 @@
-#include "problems/Bratu1DProblem.hpp"
+#include "problems/analytic/Bratu1DProblem.hpp"
 
-#include "problems/Grid1D.hpp"
+#include "problems/analytic/Grid1D.hpp"
 
 #include <fmt/format.h>
 
