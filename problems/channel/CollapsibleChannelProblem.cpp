@@ -8,6 +8,10 @@
 #include <set>
 
 #include "core/ElementGeometry.hpp"
+#include "problems/kernels/ConformationTransport.hpp"
+#include "problems/kernels/FlowParameters.hpp"
+#include "problems/kernels/Momentum.hpp"
+#include "problems/kernels/MovingGeometry.hpp"
 
 namespace keller {
 
@@ -97,10 +101,21 @@ Vector CollapsibleChannelProblem::initial_guess() {
 }
 
 void CollapsibleChannelProblem::element_positions(const Vector& u, int e, double (&xy)[9][2]) const {
-  const int fx = dofs_->field_index("position");
-  const auto& el = mesh_.element(e);
-  for (int a = 0; a < 9; ++a)
-    for (int i = 0; i < 2; ++i) xy[a][i] = u[dofs_->node_dof(fx, el[a], i)];
+  int d[18];
+  dofs_->element_dofs(dofs_->field_index("position"), e, d);
+  double x[18];
+  for (int k = 0; k < 18; ++k) x[k] = u[d[k]];
+  gather_positions(x, xy);
+}
+
+double CollapsibleChannelProblem::fluid_pressure(const Vector& u, int e, const double (&xy)[9][2],
+                                                 const double (&x)[2]) const {
+  const int fp = dofs_->field_index("pressure");
+  const double pc[3] = {u[dofs_->element_dof(fp, e, 0, 0)], u[dofs_->element_dof(fp, e, 1, 0)],
+                        u[dofs_->element_dof(fp, e, 2, 0)]};
+  double psi[3];
+  pressure_basis(x, xy[4], psi);
+  return pressure_at(pc, psi);
 }
 
 std::vector<double> CollapsibleChannelProblem::column_flow_rates(const Vector& u) const {
@@ -137,7 +152,6 @@ std::vector<double> CollapsibleChannelProblem::column_flow_rates(const Vector& u
 }
 
 double CollapsibleChannelProblem::section_pressure(const Vector& u, int end) const {
-  const int fp = dofs_->field_index("pressure");
   const MeshBlock& def = mesh_.block("deformable");
   const MeshBlock& other = mesh_.block(end == 0 ? "upstream" : "downstream");
   // (block, column, edge) of the two element columns meeting at the line
@@ -154,8 +168,7 @@ double CollapsibleChannelProblem::section_pressure(const Vector& u, int end) con
       std::array<EdgeQpGeometry<double>, ref::kEdgeQp> eg;
       if (!map_edge(xy, edge, eg)) return std::numeric_limits<double>::quiet_NaN();
       for (const auto& g : eg) {
-        const double p = u[dofs_->element_dof(fp, e, 0, 0)] + u[dofs_->element_dof(fp, e, 1, 0)] * (g.x[0] - xy[4][0]) +
-                         u[dofs_->element_dof(fp, e, 2, 0)] * (g.x[1] - xy[4][1]);
+        const double p = fluid_pressure(u, e, xy, g.x);
         pint += p * g.wds;
         len += g.wds;
       }
@@ -182,9 +195,10 @@ std::vector<CollapsibleChannelProblem::InterfaceSample> CollapsibleChannelProble
   const FluidOptions& fo = options_.fluid;
   const bool ve = fo.viscoelastic();
   const ParameterSet& ps = params_;
-  const double beta = ve ? ps.get("beta") : 1.0;
-  const double modulus = ve ? (1.0 - beta) * ps.value(iGamma_) / ps.get("Wi") : 0.0;
-  const int fv = dofs_->field_index("velocity"), fp = dofs_->field_index("pressure");
+  const FlowParameterIndices& index = flow_->parameter_indices();
+  const double beta = solvent_viscosity(index, ps.values());
+  const double modulus = ve ? polymer_modulus(index, ps.values()) : 0.0;
+  const int fv = dofs_->field_index("velocity");
   const int fm = ve ? dofs_->field_index("conformation") : -1;
   const int nc = ve ? dofs_->num_components(fm) : 0;
   const MeshBlock& def = mesh_.block("deformable");
@@ -199,22 +213,24 @@ std::vector<CollapsibleChannelProblem::InterfaceSample> CollapsibleChannelProble
     int vd[18], md[16];
     dofs_->element_dofs(fv, e, vd);
     if (ve) dofs_->element_dofs(fm, e, md);
+    double vx[9], vy[9];
+    for (int a = 0; a < 9; ++a) {
+      vx[a] = u[vd[a]];
+      vy[a] = u[vd[9 + a]];
+    }
     for (int k = 0; k < ref::kEdgeQp; ++k) {
       const EdgeQpGeometry<double>& g = eg[k];
       InterfaceSample smp;
       smp.x = {g.x[0], g.x[1]};
       smp.normal = {g.normal[0], g.normal[1]};
       smp.ds = g.wds;
-      double K[2][2] = {{0, 0}, {0, 0}};
-      for (int a = 0; a < 9; ++a)
-        for (int j = 0; j < 2; ++j) {
-          K[0][j] += g.dN2dx[a][j] * u[vd[a]];
-          K[1][j] += g.dN2dx[a][j] * u[vd[9 + a]];
-        }
-      smp.pressure = u[dofs_->element_dof(fp, e, 0, 0)] + u[dofs_->element_dof(fp, e, 1, 0)] * (g.x[0] - xy[4][0]) +
-                     u[dofs_->element_dof(fp, e, 2, 0)] * (g.x[1] - xy[4][1]);
-      for (int r = 0; r < 2; ++r)
-        for (int c = 0; c < 2; ++c) smp.extra[r][c] = beta * (K[r][c] + K[c][r]);
+      double K[2][2];
+      velocity_gradient(vx, vy, g.dN2dx, K);
+      smp.pressure = fluid_pressure(u, e, xy, g.x);
+      const PlaneStress<double> visc = viscous_stress(beta, K);
+      smp.extra[0][0] = visc.xx;
+      smp.extra[0][1] = smp.extra[1][0] = visc.xy;
+      smp.extra[1][1] = visc.yy;
       smp.Mxx = std::numeric_limits<double>::quiet_NaN();
       if (ve) {
         double m[4] = {0, 0, 0, 0};

@@ -112,7 +112,8 @@ class CollapsibleChannelProblem final : public Problem {
   };
   std::vector<InterfaceSample> interface_samples(const Vector& u) const;
   void element_positions(const Vector& u, int e, double (&xy)[9][2]) const;
-  double pressure_at(const Vector& u, int e, const double (&xy)[9][2], double s, double t) const;
+  // The fluid pressure at position x of element e (node positions xy).
+  double fluid_pressure(const Vector& u, int e, const double (&xy)[9][2], const double (&x)[2]) const;
 
   CollapsibleOptions options_;
   Mesh mesh_;

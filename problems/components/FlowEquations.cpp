@@ -55,9 +55,9 @@ FluidOptions FluidOptions::from_scene(const Scene& sc) {
   o.kernel.log_conformation = o.log_conformation;
   o.kernel.inertia = o.inertia;
   o.kernel.devss = sc.real("fluid.devss");
-  o.kernel.supg_local = sc.string("fluid.supg") == "local";
-  o.kernel.supg_scale = sc.real("fluid.supg_scale");
-  o.kernel.supg_velocity_floor = sc.real("fluid.supg_velocity_floor");
+  o.kernel.supg.local = sc.string("fluid.supg") == "local";
+  o.kernel.supg.scale = sc.real("fluid.supg_scale");
+  o.kernel.supg.velocity_floor = sc.real("fluid.supg_velocity_floor");
   o.profile = profile_kind_from_string(sc.string("inflow.profile"));
   o.power_index = sc.real("inflow.power_law_index");
   const std::string m = sc.string("fluid.model");
@@ -100,7 +100,7 @@ FlowEquations::FlowEquations(const Mesh& mesh, const std::string& group, FluidOp
   options_.kernel.model = options_.model;
   options_.kernel.log_conformation = options_.log_conformation;
   options_.kernel.inertia = options_.inertia;
-  options_.kernel.global_size = std::sqrt(area / static_cast<double>(elements_.size()));
+  options_.kernel.supg.global_size = std::sqrt(area / static_cast<double>(elements_.size()));
 
   fields_ = {{"velocity", Basis::Q2, {"vx", "vy"}, {group}}, {"pressure", Basis::P1Disc, {"p"}, {group}}};
   if (options_.viscoelastic()) {
@@ -162,9 +162,8 @@ template <bool Moving>
 void FlowEquations::add_kernels(const DofMap& dofs) {
   const ParameterSet& params = *params_;
   if (!options_.viscoelastic()) {
-    NewtonianFlowParameters np{index_.Re, index_.Gamma, -1};
     terms_.push_back(std::make_shared<KernelTerm<NewtonianFlowKernel<Moving>>>(
-        NewtonianFlowKernel<Moving>(*mesh_, dofs, elements_, &geometry_, np, options_.inertia, options_.kernel.source),
+        NewtonianFlowKernel<Moving>(*mesh_, dofs, elements_, &geometry_, index_, options_.inertia, options_.kernel.source),
         params));
   } else if (options_.conformation_components() == 3) {
     terms_.push_back(std::make_shared<KernelTerm<ViscoelasticFlowKernel<3, Moving>>>(

@@ -23,6 +23,7 @@
 #include "core/Term.hpp"
 #include "problems/laws/ConstitutiveLaw.hpp"
 #include "problems/laws/InflowProfile.hpp"
+#include "problems/kernels/FlowParameters.hpp"
 #include "problems/kernels/ViscoelasticFlowKernel.hpp"
 
 namespace keller {
@@ -77,6 +78,8 @@ class FlowEquations {
   const std::vector<std::shared_ptr<const Term>>& terms() const { return terms_; }
 
   const FluidOptions& options() const { return options_; }
+  // Where the fluid's parameters are in the ParameterSet.
+  const FlowParameterIndices& parameter_indices() const { return index_; }
   const std::vector<int>& elements() const { return elements_; }
   const std::vector<std::array<QpGeometry<double>, ref::kQp>>& geometry() const { return geometry_; }
   double velocity_scale() const;
@@ -106,7 +109,7 @@ class FlowEquations {
   FluidOptions options_;
   FlowBoundaries boundaries_;
   const ParameterSet* params_;
-  ViscoelasticParameterIndices index_;
+  FlowParameterIndices index_;
   std::vector<int> elements_;
   std::vector<std::array<QpGeometry<double>, ref::kQp>> geometry_;
   std::vector<FieldSpec> fields_;

@@ -20,6 +20,8 @@
 #include "core/ElementGeometry.hpp"
 #include "core/Mesh.hpp"
 #include "core/Status.hpp"
+#include "problems/kernels/ConformationTransport.hpp"
+#include "problems/kernels/FlowParameters.hpp"
 #include "problems/kernels/ViscoelasticFlowKernel.hpp"
 
 namespace keller {
@@ -31,7 +33,7 @@ class OutflowTractionKernel {
   static constexpr int kSize = 18 + 4 * NC;
 
   OutflowTractionKernel(const Mesh& mesh, const DofMap& dofs, const std::vector<BoundaryEdge>& edges,
-                        ViscoelasticParameterIndices p, ViscoelasticKernelOptions o)
+                        FlowParameterIndices p, ViscoelasticKernelOptions o)
       : edges_(edges), p_(p), o_(o) {
     const int fv = dofs.field_index("velocity"), fm = dofs.field_index("conformation");
     dofs_.resize(edges_.size() * kSize);
@@ -53,8 +55,7 @@ class OutflowTractionKernel {
   Status evaluate(int item, const T* u, const P* params, T* r) const {
     const ref::Tables& tb = ref::tables();
     const int e = edges_[item].edge;
-    const P Gamma = p_.Gamma >= 0 ? params[p_.Gamma] : P(1.0);
-    const P modulus = (1.0 - params[p_.beta]) * Gamma / params[p_.Wi];
+    const P modulus = polymer_modulus(p_, params);
     const T* mc = u + 18;
     for (int i = 0; i < kRows; ++i) r[i] = 0.0;
     for (int q = 0; q < ref::kEdgeQp; ++q) {
@@ -82,7 +83,7 @@ class OutflowTractionKernel {
   std::vector<BoundaryEdge> edges_;
   std::vector<int> dofs_;
   std::vector<std::array<EdgeQpGeometry<double>, ref::kEdgeQp>> geometry_;
-  ViscoelasticParameterIndices p_;
+  FlowParameterIndices p_;
   ViscoelasticKernelOptions o_;
 };
 

@@ -1,22 +1,16 @@
 // Element kernel of steady viscoelastic flow by DEVSS-TG/SUPG (method.md) on one 9-node element
 // of a fixed mesh, or of a moving one (Moving = true: the node positions are unknowns and the
 // geometry, the SUPG element size and the pressure basis are computed from them, so the
-// Jacobian holds the shape derivatives): Q2 velocity, P1-discontinuous pressure, Q1 interpolated velocity gradient L
-// (4 components, not symmetric), Q1 conformation M (xx, xy, yy, and zz where it is an unknown)
-// or its logarithm Psi.
-//
-// Residuals (chi: Q1, phi: Q2, psi: P1disc; K_ij = d v_i / d x_j):
-//   momentum     int phi (Re/Gamma) v . grad v + grad phi : [-P I + beta (K + K^T)
-//                    + beta_a ((K + K^T) - (L + L^T)) + tau_p]
-//   continuity   - int psi div v
-//   gradient     int chi [L - K + (div v / 2) I]
-//   conformation int (chi + tau_supg v . grad chi) [v . grad M - L M - M L^T + (f M - I) / lambda_eff]
-//   log form     int (chi + tau_supg v . grad chi) [v . grad Psi - T(L, Psi) - (exp(-Psi) - f I) / lambda_eff]
-//   zz (FENE-P, when an unknown)  [v . grad M_zz + (f M_zz - 1) / lambda_eff], log: - (exp(-psi_zz) - f)
-// with tau_p = (1 - beta) (Gamma / Wi) (f M - I), lambda = Wi / Gamma, lambda_eff = lambda
-// eta_p(gdot(L)) / eta_p0 for Owens (in the conformation equation only). Optional volume
-// sources (FlowSource.hpp, manufactured solutions) are subtracted: int phi . force from the
-// momentum rows, and the constitutive source inside the SUPG-weighted bracket.
+// Jacobian holds the shape derivatives): Q2 velocity, P1-discontinuous pressure, Q1
+// interpolated velocity gradient L (4 components, not symmetric), Q1 conformation M (xx, xy,
+// yy, and zz where it is an unknown) or its logarithm Psi. It assembles, at each Gauss point,
+// the terms of one file each:
+//   momentum, continuity  Momentum.hpp, with T = -P I + beta (K + K^T) + DEVSS + tau_p
+//   DEVSS                 Devss.hpp: beta_a ((K + K^T) - (L + L^T)) and the projection rows of L
+//   conformation          ConformationTransport.hpp, SUPG-weighted (Supg.hpp)
+// with tau_p = (1 - beta) (Gamma / Wi) (f M - I), lambda = Wi / Gamma. Optional volume sources
+// (FlowSource.hpp, manufactured solutions) are subtracted from the momentum rows and inside the
+// SUPG-weighted bracket.
 //
 // Local unknowns: v_x (9), v_y (9), P (3), L_xx L_xy L_yx L_yy (4 each), then the conformation
 // components (4 each): 37 + 4 NC rows; on a moving mesh then x and y of nodes 0..8, whose rows
@@ -27,6 +21,7 @@
 #include <array>
 #include <cmath>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -35,49 +30,26 @@
 #include "core/ElementGeometry.hpp"
 #include "core/Mesh.hpp"
 #include "core/Status.hpp"
-#include "problems/laws/ConstitutiveLaw.hpp"
+#include "problems/kernels/ConformationTransport.hpp"
+#include "problems/kernels/Devss.hpp"
+#include "problems/kernels/FlowParameters.hpp"
 #include "problems/kernels/FlowSource.hpp"
-#include "problems/laws/LogConformation.hpp"
+#include "problems/kernels/Momentum.hpp"
+#include "problems/kernels/MovingGeometry.hpp"
+#include "problems/kernels/Supg.hpp"
+#include "problems/laws/ConstitutiveLaw.hpp"
 
 namespace keller {
-
-// Indices of the ParameterSet entries a viscoelastic kernel reads (-1: absent).
-struct ViscoelasticParameterIndices {
-  int Re = -1;     // -1: no inertia
-  int Gamma = -1;  // velocity scale; -1: 1
-  int Wi = -1;
-  int beta = -1;
-  int b = -1;      // FENE-P only
-};
 
 struct ViscoelasticKernelOptions {
   FluidModel model = FluidModel::OldroydB;
   bool log_conformation = false;
   bool inertia = false;
-  double devss = -1.0;            // beta_a; negative: 1 - beta
-  bool supg_local = true;         // tau = scale h_e / |v| (guarded), or global scale h_c / v_c
-  double supg_scale = 1.0;
-  double supg_velocity_floor = 1e-3;  // |v| is floored at this fraction of the velocity scale
-  double global_size = 1.0;       // h_c for the global option
+  double devss = -1.0;  // beta_a; negative: 1 - beta
+  SupgOptions supg;
   OwensParameters owens;
   std::shared_ptr<const FlowSource> source;  // volume sources; null in every physical problem
 };
-
-// The conformation tensor from its unknowns at a point: M itself, or exp(Psi) in the log form;
-// M_zz = 1 unless it is an unknown (NC = 4).
-template <int NC, class T>
-Conformation<T> conformation_of(const T* m, bool log_form) {
-  Conformation<T> M{m[0], m[1], m[2], T(1.0)};
-  if (log_form) {
-    const Sym2<T> E = sym_exp(Sym2<T>{m[0], m[1], m[2]});
-    M = {E.xx, E.xy, E.yy, T(1.0)};
-  }
-  if constexpr (NC == 4) {
-    using std::exp;
-    M.zz = log_form ? T(exp(m[3])) : m[3];
-  }
-  return M;
-}
 
 // Number of conformation unknowns per node: 3, or 4 for FENE-P with a dynamic M_zz.
 template <int NC, bool Moving = false>
@@ -90,7 +62,7 @@ class ViscoelasticFlowKernel {
 
   ViscoelasticFlowKernel(const Mesh& mesh, const DofMap& dofs, std::vector<int> elements,
                          const std::vector<std::array<QpGeometry<double>, ref::kQp>>* geometry,
-                         ViscoelasticParameterIndices p, ViscoelasticKernelOptions o)
+                         FlowParameterIndices p, ViscoelasticKernelOptions o)
       : mesh_(&mesh), geometry_(geometry), elements_(std::move(elements)), p_(p), o_(o) {
     const int fv = dofs.field_index("velocity"), fp = dofs.field_index("pressure"),
               fl = dofs.field_index("gradient"), fm = dofs.field_index("conformation");
@@ -104,9 +76,7 @@ class ViscoelasticFlowKernel {
       dofs.element_dofs(fl, elements_[k], d + 21);
       dofs.element_dofs(fm, elements_[k], d + kConf);
       if constexpr (Moving) dofs.element_dofs(dofs.field_index("position"), elements_[k], d + kRows);
-      double area = 0;
-      for (const auto& g : (*geometry_)[k]) area += g.wdetJ;
-      size_[k] = std::sqrt(area);
+      size_[k] = element_size((*geometry_)[k]);
     }
   }
 
@@ -117,20 +87,13 @@ class ViscoelasticFlowKernel {
   template <class T, class P>
   Status evaluate(int item, const T* u, const P* params, T* r) const {
     if constexpr (Moving) {
-      using std::sqrt;
       T xy[9][2];
-      for (int a = 0; a < 9; ++a) {
-        xy[a][0] = u[kRows + a];
-        xy[a][1] = u[kRows + 9 + a];
-      }
       std::array<QpGeometry<T>, ref::kQp> geo;
-      if (!map_element(xy, geo)) {
+      if (!moving_geometry(u + kRows, xy, geo)) {
         for (int i = 0; i < kRows; ++i) r[i] = 0.0;
         return inverted(item);
       }
-      T area = 0.0;
-      for (const auto& g : geo) area += g.wdetJ;
-      return evaluate_on(u, params, r, geo, xy[4], T(sqrt(area)));
+      return evaluate_on(u, params, r, geo, xy[4], element_size(geo));
     } else {
       const auto& c = mesh_->node(mesh_->element(elements_[item])[4]);
       const double centre[2] = {c[0], c[1]};
@@ -145,42 +108,21 @@ class ViscoelasticFlowKernel {
     double h = 0;
     if constexpr (Moving) {
       double xy[9][2];
-      for (int a = 0; a < 9; ++a) {
-        xy[a][0] = u[kRows + a];
-        xy[a][1] = u[kRows + 9 + a];
-      }
-      if (!map_element(xy, moved)) return inverted(item);
-      for (const auto& g : moved) h += g.wdetJ;
-      h = std::sqrt(h);
+      if (!moving_geometry(u + kRows, xy, moved)) return inverted(item);
+      h = element_size(moved);
     } else {
       h = size_[item];
     }
     const auto& geo = Moving ? moved : (*geometry_)[item];
-    const ref::Tables& tb = ref::tables();
-    const double Gamma = p_.Gamma >= 0 ? params[p_.Gamma] : 1.0;
-    const double rho = o_.inertia ? params[p_.Re] / Gamma : 0.0;
+    const double Gamma = velocity_scale(p_, params);
+    const double rho = flow_density(p_, params, o_.inertia);
     std::fill(B, B + kRows * kSize, 0.0);
     for (int q = 0; q < ref::kQp; ++q) {
       const QpGeometry<double>& g = geo[q];
-      double v[2] = {0, 0};
-      for (int a = 0; a < 9; ++a) {
-        v[0] += tb.N2[q][a] * u[a];
-        v[1] += tb.N2[q][a] * u[9 + a];
-      }
-      const double floor = o_.supg_velocity_floor * Gamma;
-      const double tau = o_.supg_local ? o_.supg_scale * h / std::sqrt(v[0] * v[0] + v[1] * v[1] + floor * floor)
-                                       : o_.supg_scale * o_.global_size / Gamma;
-      for (int a = 0; a < 9; ++a)
-        for (int b = 0; b < 9; ++b) {
-          const double mab = rho * g.wdetJ * tb.N2[q][a] * tb.N2[q][b];
-          B[a * kSize + b] += mab;
-          B[(9 + a) * kSize + 9 + b] += mab;
-        }
-      for (int k = 0; k < 4; ++k) {
-        const double wk = g.wdetJ * (tb.N1[q][k] + tau * (v[0] * g.dN1dx[k][0] + v[1] * g.dN1dx[k][1]));
-        for (int l = 0; l < 4; ++l)
-          for (int c = 0; c < NC; ++c) B[(kConf + 4 * c + k) * kSize + kConf + 4 * c + l] += wk * tb.N1[q][l];
-      }
+      const VelocityAt<double> s = velocity_at(u, u + 9, q, g);
+      const double tau = supg_time_scale(o_.supg, h, s.v, Gamma);
+      add_velocity_mass(q, rho * g.wdetJ, kSize, B);
+      add_conformation_mass<NC>(q, g, tau, s.v, kSize, B + kConf * kSize + kConf);
     }
     return {};
   }
@@ -195,17 +137,16 @@ class ViscoelasticFlowKernel {
   template <class T, class P, class G>
   Status evaluate_on(const T* u, const P* params, T* r, const std::array<QpGeometry<G>, ref::kQp>& geo,
                      const G (&centre)[2], const G& h) const {
-    using std::sqrt;
-    const ref::Tables& tb = ref::tables();
-    const P Gamma = p_.Gamma >= 0 ? params[p_.Gamma] : P(1.0);
+    const P Gamma = velocity_scale(p_, params);
     const P Wi = params[p_.Wi], beta = params[p_.beta];
     const P lambda = Wi / Gamma;
-    const P modulus = (1.0 - beta) * Gamma / Wi;
-    const P beta_a = o_.devss >= 0 ? P(o_.devss) : P(1.0 - beta);
+    const P modulus = polymer_modulus(p_, params);
+    const P beta_a = devss_viscosity(o_.devss, beta);
+    const P rho = flow_density(p_, params, o_.inertia);
     const T* vx = u;
     const T* vy = u + 9;
     const T* pc = u + 18;
-    const T* Lc = u + 21;   // Lxx[4], Lxy[4], Lyx[4], Lyy[4]
+    const T* Lc = u + 21;     // Lxx[4], Lxy[4], Lyx[4], Lyy[4]
     const T* mc = u + kConf;  // component c at Q1 node k: mc[4 c + k]
     for (int i = 0; i < kRows; ++i) r[i] = 0.0;
     if (!(value_of(Wi) > 0.0)) return {StatusCode::InvalidState, "Wi must be positive in the viscoelastic equations"};
@@ -221,121 +162,37 @@ class ViscoelasticFlowKernel {
 
     for (int q = 0; q < ref::kQp; ++q) {
       const QpGeometry<G>& g = geo[q];
-      const G w = g.wdetJ;
-      T v[2] = {T(0.0), T(0.0)};
-      T K[2][2] = {{T(0.0), T(0.0)}, {T(0.0), T(0.0)}};
-      for (int a = 0; a < 9; ++a) {
-        const double N = tb.N2[q][a];
-        v[0] += N * vx[a];
-        v[1] += N * vy[a];
-        for (int j = 0; j < 2; ++j) {
-          K[0][j] += g.dN2dx[a][j] * vx[a];
-          K[1][j] += g.dN2dx[a][j] * vy[a];
-        }
-      }
-      const G psi[3] = {G(1.0), g.x[0] - centre[0], g.x[1] - centre[1]};
-      const T pressure = pc[0] + psi[1] * pc[1] + psi[2] * pc[2];
-      T L[2][2] = {{T(0.0), T(0.0)}, {T(0.0), T(0.0)}};
-      T m[NC], dm[NC][2];  // conformation (or Psi) components and their gradients
-      for (int c = 0; c < NC; ++c) {
-        m[c] = 0.0;
-        dm[c][0] = 0.0;
-        dm[c][1] = 0.0;
-      }
-      for (int k = 0; k < 4; ++k) {
-        const double N = tb.N1[q][k];
-        L[0][0] += N * Lc[k];
-        L[0][1] += N * Lc[4 + k];
-        L[1][0] += N * Lc[8 + k];
-        L[1][1] += N * Lc[12 + k];
-        for (int c = 0; c < NC; ++c) {
-          m[c] += N * mc[4 * c + k];
-          dm[c][0] += g.dN1dx[k][0] * mc[4 * c + k];
-          dm[c][1] += g.dN1dx[k][1] * mc[4 * c + k];
-        }
-      }
+      const VelocityAt<T> s = velocity_at(vx, vy, q, g);
+      G psi[3];
+      pressure_basis(g.x, centre, psi);
+      T L[2][2];
+      interpolated_gradient(Lc, q, L);
+      const ConformationAt<NC, T, G> mq(mc, q, g);
       // conformation tensor M (in-plane and zz) and the Peterlin factor
-      const Conformation<T> M = conformation_of<NC>(m, o_.log_conformation);
+      const Conformation<T> M = conformation_of<NC>(mq.m, o_.log_conformation);
       T f = 1.0;
       if (o_.model == FluidModel::FeneP) {
         f = peterlin(o_.model, NC == 4, M, params[p_.b]);
         if (!(value_of(f) > 0.0)) return {StatusCode::InvalidState, "FENE-P: tr M reached 3b"};
       }
       const Conformation<T> tp = polymer_stress(M, f, modulus);
-      const T txx = tp.xx, txy = tp.xy, tyy = tp.yy;
 
-      // momentum and continuity
-      const T devss_xy = beta_a * ((K[0][1] + K[1][0]) - (L[0][1] + L[1][0]));
-      const T Txx = 2.0 * beta * K[0][0] + 2.0 * beta_a * (K[0][0] - L[0][0]) + txx - pressure;
-      const T Tyy = 2.0 * beta * K[1][1] + 2.0 * beta_a * (K[1][1] - L[1][1]) + tyy - pressure;
-      const T Txy = beta * (K[0][1] + K[1][0]) + devss_xy + txy;
-      T conv[2] = {T(0.0), T(0.0)};
-      if (o_.inertia) {
-        const P rho = params[p_.Re] / Gamma;
-        conv[0] = rho * (v[0] * K[0][0] + v[1] * K[0][1]);
-        conv[1] = rho * (v[0] * K[1][0] + v[1] * K[1][1]);
-      }
-      const double x[2] = {value_of(g.x[0]), value_of(g.x[1])};
-      if (o_.source && o_.source->momentum) {
-        double force[2];
-        o_.source->momentum(x, force);
-        conv[0] -= force[0];
-        conv[1] -= force[1];
-      }
-      for (int a = 0; a < 9; ++a) {
-        const double N = tb.N2[q][a];
-        const G dx = g.dN2dx[a][0], dy = g.dN2dx[a][1];
-        r[a] += w * (N * conv[0] + dx * Txx + dy * Txy);
-        r[9 + a] += w * (N * conv[1] + dx * Txy + dy * Tyy);
-      }
-      const T div = K[0][0] + K[1][1];
-      for (int k = 0; k < 3; ++k) r[18 + k] -= (w * psi[k]) * div;
+      // momentum and continuity with the solvent, DEVSS and polymer stresses
+      const PlaneStress<T> visc = viscous_stress(beta, s.K), dv = devss_stress(beta_a, s.K, L);
+      const PlaneStress<T> stress{visc.xx + dv.xx + tp.xx, visc.xy + dv.xy + tp.xy, visc.yy + dv.yy + tp.yy};
+      T load[2];
+      momentum_load(s, o_.inertia, rho, o_.source.get(), g.x, load);
+      add_momentum_continuity(q, g, psi, s, load, stress, pressure_at(pc, psi), r);
 
-      // velocity-gradient projection (traceless in plane: tr I = 2)
-      const T rl[4] = {L[0][0] - K[0][0] + 0.5 * div, L[0][1] - K[0][1], L[1][0] - K[1][0], L[1][1] - K[1][1] + 0.5 * div};
-      for (int k = 0; k < 4; ++k)
-        for (int c = 0; c < 4; ++c) r[21 + 4 * c + k] += (w * tb.N1[q][k]) * rl[c];
+      // velocity-gradient projection
+      add_gradient_projection(q, g.wdetJ, s.K, L, r + 21);
 
-      // conformation: relaxation time and SUPG
-      T inv_lambda = 1.0 / lambda;
-      if (o_.model == FluidModel::Owens) {
-        const T dxx = L[0][0], dyy = L[1][1], dxy = 0.5 * (L[0][1] + L[1][0]);
-        const T gdot2 = 2.0 * (dxx * dxx + dyy * dyy + 2.0 * dxy * dxy);
-        inv_lambda = inv_lambda / owens_factor(gdot2, Gamma, o_.owens);
-      }
-      T tau;
-      if (o_.supg_local) {
-        const P floor = o_.supg_velocity_floor * Gamma;
-        tau = o_.supg_scale * h / sqrt(v[0] * v[0] + v[1] * v[1] + floor * floor);
-      } else {
-        tau = o_.supg_scale * o_.global_size / Gamma;
-      }
+      // conformation transport, SUPG-weighted
+      const T inv_lambda = inverse_relaxation_time(o_.model, lambda, L, Gamma, o_.owens);
+      const T tau = supg_time_scale(o_.supg, h, s.v, Gamma);
       T R[NC];
-      if (o_.log_conformation) {
-        const Sym2<T> rate = log_conformation_rate(Sym2<T>{m[0], m[1], m[2]}, L, f, inv_lambda);
-        R[0] = v[0] * dm[0][0] + v[1] * dm[0][1] + rate.xx;
-        R[1] = v[0] * dm[1][0] + v[1] * dm[1][1] + rate.xy;
-        R[2] = v[0] * dm[2][0] + v[1] * dm[2][1] + rate.yy;
-        if constexpr (NC == 4) {
-          using std::exp;
-          R[3] = v[0] * dm[3][0] + v[1] * dm[3][1] - inv_lambda * (exp(-m[3]) - f);
-        }
-      } else {
-        const Conformation<T> rate = conformation_rate(M, L, f, inv_lambda);
-        R[0] = v[0] * dm[0][0] + v[1] * dm[0][1] + rate.xx;
-        R[1] = v[0] * dm[1][0] + v[1] * dm[1][1] + rate.xy;
-        R[2] = v[0] * dm[2][0] + v[1] * dm[2][1] + rate.yy;
-        if constexpr (NC == 4) R[3] = v[0] * dm[3][0] + v[1] * dm[3][1] + rate.zz;
-      }
-      if (o_.source && o_.source->constitutive) {
-        double s[4] = {0.0, 0.0, 0.0, 0.0};
-        o_.source->constitutive(x, s);
-        for (int c = 0; c < NC; ++c) R[c] -= s[c];
-      }
-      for (int k = 0; k < 4; ++k) {
-        const T weight = w * (tb.N1[q][k] + tau * (v[0] * g.dN1dx[k][0] + v[1] * g.dN1dx[k][1]));
-        for (int c = 0; c < NC; ++c) r[kConf + 4 * c + k] += weight * R[c];
-      }
+      conformation_transport(mq, M, s.v, L, f, inv_lambda, o_.log_conformation, o_.source.get(), g.x, R);
+      add_conformation_rows<NC>(q, g, tau, s.v, R, r + kConf);
     }
     return {};
   }
@@ -345,7 +202,7 @@ class ViscoelasticFlowKernel {
   std::vector<int> elements_;
   std::vector<int> dofs_;
   std::vector<double> size_;  // sqrt(element area)
-  ViscoelasticParameterIndices p_;
+  FlowParameterIndices p_;
   ViscoelasticKernelOptions o_;
 };
 
