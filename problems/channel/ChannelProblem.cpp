@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "core/KernelTerm.hpp"
+#include "problems/components/Composition.hpp"
 
 namespace keller {
 
@@ -41,13 +42,12 @@ void ChannelProblem::setup() {
   bc.channel_lo = 0.0;
   bc.channel_hi = 1.0;
   flow_ = std::make_unique<FlowEquations>(mesh_, "fluid", options_.fluid, bc, params_, iGamma_);
-  dofs_ = std::make_unique<DofMap>(mesh_, flow_->fields());
-  dirichlet_ = std::make_shared<DirichletTerm>("dirichlet", params_);
-  flow_->build(*dofs_, *dirichlet_);
-  std::vector<std::shared_ptr<const Term>> terms = flow_->terms();
-  terms.push_back(dirichlet_);
-  assembler_ = std::make_unique<Assembler>(dofs_->size(), terms);
+  ComposedSystem system = Composition().add(*flow_).build(mesh_, params_);
+  dofs_ = std::move(system.dofs);
+  dirichlet_ = system.dirichlet;
+  assembler_ = std::make_unique<Assembler>(dofs_->size(), system.terms());
   locator_ = std::make_unique<PointLocator>(mesh_, mesh_.group_index("fluid"));
+  declare_quantities();
 }
 
 Status ChannelProblem::residual(const Vector& u, Vector& F) { return assembler_->residual(u, F); }
@@ -135,48 +135,37 @@ std::vector<double> ChannelProblem::column_flow_rates(const Vector& u) const {
   return out;
 }
 
-std::vector<std::string> ChannelProblem::observable_names() const {
-  std::vector<std::string> names = {"dP", "Q_in", "Q_out", "vx_max"};
-  if (options_.fluid.viscoelastic()) names.insert(names.end(), {"min_m1", "max_m3"});
-  return names;
+void ChannelProblem::declare_quantities() {
+  Quantities& o = observables_;
+  o.add("dP", [this](const Vector& u) {
+    const double Lu = options_.geometry.upstream_length, L = options_.geometry.deformable_length;
+    return section_pressure(u, Lu) - section_pressure(u, Lu + L);
+  });
+  o.add("Q_in", [this](const Vector& u) { return column_flow_rates(u).front(); });
+  o.add("Q_out", [this](const Vector& u) { return column_flow_rates(u).back(); });
+  o.add("vx_max", [this](const Vector& u) {
+    const int fv = dofs_->field_index("velocity");
+    double vmax = -INFINITY;
+    for (int n = 0; n < mesh_.num_nodes(); ++n) {
+      const int d = dofs_->node_dof(fv, n, 0);
+      if (d >= 0) vmax = std::max(vmax, u[d]);
+    }
+    return vmax;
+  });
+  if (!options_.fluid.viscoelastic()) return;
+  const auto min_m1 = [this](const Vector& u) { return flow_->conformation_extremes(u).min_m1; };
+  o.add("min_m1", min_m1);
+  o.add("max_m3", [this](const Vector& u) { return flow_->conformation_extremes(u).max_m3; });
+  monitors_.add("min_m1", min_m1);
 }
 
-std::vector<std::string> ChannelProblem::monitor_names() const {
-  if (options_.fluid.viscoelastic()) return {"min_m1"};  // zero where M loses positive definiteness
+Status ChannelProblem::observables(const Vector& u, std::vector<double>& values) {
+  observables_.evaluate(u, values);
   return {};
 }
 
 Status ChannelProblem::monitors(const Vector& u, std::vector<double>& values) {
-  values.clear();
-  if (!options_.fluid.viscoelastic()) return {};
-  std::vector<double> obs;
-  Status st = observables(u, obs);
-  if (st.is_ok()) values = {obs[4]};
-  return st;
-}
-
-Status ChannelProblem::observables(const Vector& u, std::vector<double>& values) {
-  const int fv = dofs_->field_index("velocity");
-  double vmax = -INFINITY;
-  for (int n = 0; n < mesh_.num_nodes(); ++n) {
-    const int d = dofs_->node_dof(fv, n, 0);
-    if (d >= 0) vmax = std::max(vmax, u[d]);
-  }
-  const double Lu = options_.geometry.upstream_length, L = options_.geometry.deformable_length;
-  const std::vector<double> q = column_flow_rates(u);
-  values = {section_pressure(u, Lu) - section_pressure(u, Lu + L), q.front(), q.back(), vmax};
-  if (options_.fluid.viscoelastic()) {
-    std::vector<int> nodes;
-    std::vector<std::array<double, 3>> eig;
-    flow_->conformation_eigenvalues(u, nodes, eig);
-    double m1 = INFINITY, m3 = -INFINITY;
-    for (const auto& e : eig) {
-      m1 = std::min(m1, e[0]);
-      m3 = std::max(m3, e[2]);
-    }
-    values.push_back(m1);
-    values.push_back(m3);
-  }
+  monitors_.evaluate(u, values);
   return {};
 }
 

@@ -14,6 +14,7 @@
 #include "core/DofMap.hpp"
 #include "core/PointLocator.hpp"
 #include "core/Problem.hpp"
+#include "core/Quantities.hpp"
 #include "core/Scene.hpp"
 #include "problems/channel/ChannelMesh.hpp"
 #include "problems/components/FlowEquations.hpp"
@@ -50,9 +51,10 @@ class ChannelProblem final : public Problem {
   Status mass_matrix(const Vector& u, SparseMatrix& B) override { return assembler_->mass_matrix(u, B); }
   Vector initial_guess() override;
   double residual_scale() const override;
-  std::vector<std::string> observable_names() const override;
+  std::vector<std::string> observable_names() const override { return observables_.names(); }
   Status observables(const Vector& u, std::vector<double>& values) override;
-  std::vector<std::string> monitor_names() const override;
+  // min_m1 for a viscoelastic fluid: zero where M loses positive definiteness.
+  std::vector<std::string> monitor_names() const override { return monitors_.names(); }
   Status monitors(const Vector& u, std::vector<double>& values) override;
   SolutionFields fields(const Vector& u) const override;
   std::string summary() const override;
@@ -62,6 +64,8 @@ class ChannelProblem final : public Problem {
   const Assembler& assembler() const { return *assembler_; }
   const ChannelOptions& options() const { return options_; }
   const FlowEquations& flow() const { return *flow_; }
+  // One observable by name, computed alone; throws std::invalid_argument for an unknown name.
+  double observable(const std::string& name, const Vector& u) const { return observables_.value(name, u); }
   // Mean pressure over the cross-section x = x0 (0 <= y <= 1), sampled with a composite Gauss
   // rule; where the section runs along element edges the one-sided values are averaged.
   double section_pressure(const Vector& u, double x0) const;
@@ -71,6 +75,7 @@ class ChannelProblem final : public Problem {
 
  private:
   void setup();
+  void declare_quantities();
   double pressure_at(const Vector& u, const MeshPoint& p) const;
 
   ChannelOptions options_;
@@ -82,6 +87,7 @@ class ChannelProblem final : public Problem {
   std::shared_ptr<DirichletTerm> dirichlet_;
   std::unique_ptr<Assembler> assembler_;
   std::unique_ptr<PointLocator> locator_;
+  Quantities observables_, monitors_;
 };
 
 }  // namespace keller

@@ -5,9 +5,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <set>
 
 #include "core/ElementGeometry.hpp"
+#include "problems/components/Composition.hpp"
 #include "problems/kernels/ConformationTransport.hpp"
 #include "problems/kernels/FlowParameters.hpp"
 #include "problems/kernels/Momentum.hpp"
@@ -50,17 +50,16 @@ CollapsibleChannelProblem::CollapsibleChannelProblem(const CollapsibleOptions& o
       params_);
   motion_ = std::make_unique<FluidMeshMotion>(mesh_, "fluid", options_.motion);
 
-  std::vector<FieldSpec> fields = flow_->fields();
-  fields.push_back({"position", Basis::Q2, {"x", "y"}, {"fluid", "solid"}});
-  fields.push_back(SolidWall::pressure_field());
-  dofs_ = std::make_unique<DofMap>(mesh_, fields);
-  dirichlet_ = std::make_shared<DirichletTerm>("dirichlet", params_);
-  flow_->build(*dofs_, *dirichlet_, true);
-  wall_->build(*dofs_, *dirichlet_);
-  std::set<int> solid_nodes;
-  for (int e : wall_->elements())
-    for (int n : mesh_.element(e)) solid_nodes.insert(n);
-  motion_->build(*dofs_, *dirichlet_, std::vector<int>(solid_nodes.begin(), solid_nodes.end()), params_);
+  // the node positions are shared: the solid's equilibrium governs its nodes (the interface
+  // included), the mesh equations the other fluid nodes
+  ComposedSystem system = Composition()
+                              .add(*flow_)
+                              .share({"position", Basis::Q2, {"x", "y"}, {"fluid", "solid"}})
+                              .add(*wall_)
+                              .add(*motion_)
+                              .build(mesh_, params_);
+  dofs_ = std::move(system.dofs);
+  dirichlet_ = system.dirichlet;
 
   // the fluid's reaction at each interface node goes to the solid's row of that node
   interface_nodes_ = wall_->interface_nodes();
@@ -71,12 +70,9 @@ CollapsibleChannelProblem::CollapsibleChannelProblem(const CollapsibleOptions& o
       const int to = dofs_->node_dof(fx, n, c);
       if (!dirichlet_->constrains(to)) redirects.emplace_back(dofs_->node_dof(fv, n, c), to);
     }
-  std::vector<std::shared_ptr<const Term>> terms = flow_->terms();
-  for (const auto& t : wall_->terms()) terms.push_back(t);
-  for (const auto& t : motion_->terms()) terms.push_back(t);
-  terms.push_back(dirichlet_);
-  assembler_ = std::make_unique<Assembler>(dofs_->size(), terms, redirects);
+  assembler_ = std::make_unique<Assembler>(dofs_->size(), system.terms(), redirects);
   deformed_ = mesh_;
+  declare_quantities();
 }
 
 double CollapsibleChannelProblem::residual_scale() const { return params_.value(iGamma_); }
@@ -270,51 +266,41 @@ std::array<double, 2> CollapsibleChannelProblem::interface_traction_integral(con
   return force;
 }
 
-std::vector<std::string> CollapsibleChannelProblem::observable_names() const {
-  std::vector<std::string> names = {"dx_max", "dy_max", "gap_min", "dP", "Q_in", "Q_out", "area_change",
-                                    "mesh_quality", "min_detF"};
-  if (options_.fluid.viscoelastic()) names.insert(names.end(), {"min_m1", "max_m3", "x_min_m1", "y_min_m1", "max_trM"});
-  return names;
+void CollapsibleChannelProblem::declare_quantities() {
+  Quantities& o = observables_;
+  o.add("dx_max", [this](const Vector& u) { return wall_->max_deflection(u)[0]; });
+  o.add("dy_max", [this](const Vector& u) { return wall_->max_deflection(u)[1]; });
+  o.add("gap_min", [this](const Vector& u) {
+    double gap = INFINITY;
+    for (const auto& p : wall_->interface_shape(u)) gap = std::min(gap, p[1]);
+    return gap;
+  });
+  o.add("dP", [this](const Vector& u) { return section_pressure(u, 0) - section_pressure(u, 1); });
+  o.add("Q_in", [this](const Vector& u) { return column_flow_rates(u).front(); });
+  o.add("Q_out", [this](const Vector& u) { return column_flow_rates(u).back(); });
+  o.add("area_change", [this](const Vector& u) { return wall_->area(u) - wall_->reference_area(); });
+  o.add("mesh_quality", [this](const Vector& u) { return min_mesh_jacobian(u); });
+  o.add("min_detF", [this](const Vector& u) { return wall_->min_jacobian(u); });
+  if (!options_.fluid.viscoelastic()) return;
+  const auto min_m1 = [this](const Vector& u) { return flow_->conformation_extremes(u).min_m1; };
+  const auto at_min_m1 = [this](const Vector& u, int c) {
+    return u[dofs_->node_dof(dofs_->field_index("position"), flow_->conformation_extremes(u).min_m1_node, c)];
+  };
+  o.add("min_m1", min_m1);
+  o.add("max_m3", [this](const Vector& u) { return flow_->conformation_extremes(u).max_m3; });
+  o.add("x_min_m1", [at_min_m1](const Vector& u) { return at_min_m1(u, 0); });
+  o.add("y_min_m1", [at_min_m1](const Vector& u) { return at_min_m1(u, 1); });
+  o.add("max_trM", [this](const Vector& u) { return flow_->conformation_extremes(u).max_trace; });
+  monitors_.add("min_m1", min_m1);
 }
 
-std::vector<std::string> CollapsibleChannelProblem::monitor_names() const {
-  if (options_.fluid.viscoelastic()) return {"min_m1"};  // zero where M loses positive definiteness
+Status CollapsibleChannelProblem::observables(const Vector& u, std::vector<double>& values) {
+  observables_.evaluate(u, values);
   return {};
 }
 
 Status CollapsibleChannelProblem::monitors(const Vector& u, std::vector<double>& values) {
-  values.clear();
-  if (!options_.fluid.viscoelastic()) return {};
-  std::vector<double> obs;
-  Status st = observables(u, obs);
-  if (st.is_ok()) values = {obs[9]};  // min_m1, after the nine observables every fluid has
-  return st;
-}
-
-Status CollapsibleChannelProblem::observables(const Vector& u, std::vector<double>& values) {
-  const auto d = wall_->max_deflection(u);
-  double gap = INFINITY;
-  for (const auto& p : wall_->interface_shape(u)) gap = std::min(gap, p[1]);
-  const std::vector<double> q = column_flow_rates(u);
-  values = {d[0], d[1], gap, section_pressure(u, 0) - section_pressure(u, 1), q.front(), q.back(),
-            wall_->area(u) - wall_->reference_area(), min_mesh_jacobian(u), wall_->min_jacobian(u)};
-  if (options_.fluid.viscoelastic()) {
-    std::vector<int> nodes;
-    std::vector<std::array<double, 3>> eig;
-    flow_->conformation_eigenvalues(u, nodes, eig);
-    double m1 = INFINITY, m3 = -INFINITY, tr = -INFINITY;
-    int at = -1;
-    for (size_t k = 0; k < eig.size(); ++k) {
-      if (eig[k][0] < m1) {
-        m1 = eig[k][0];
-        at = nodes[k];
-      }
-      m3 = std::max(m3, eig[k][2]);
-      tr = std::max(tr, eig[k][0] + eig[k][1] + eig[k][2]);
-    }
-    const int fx = dofs_->field_index("position");
-    values.insert(values.end(), {m1, m3, u[dofs_->node_dof(fx, at, 0)], u[dofs_->node_dof(fx, at, 1)], tr});
-  }
+  monitors_.evaluate(u, values);
   return {};
 }
 

@@ -24,6 +24,7 @@
 #include "core/DirichletTerm.hpp"
 #include "core/DofMap.hpp"
 #include "core/Problem.hpp"
+#include "core/Quantities.hpp"
 #include "core/Scene.hpp"
 #include "problems/channel/ChannelMesh.hpp"
 #include "problems/components/FlowEquations.hpp"
@@ -66,9 +67,10 @@ class CollapsibleChannelProblem final : public Problem {
   // Pe from 0 (no external load: the initial guess is then nearly the solution), then, for a
   // viscoelastic fluid, Wi from 0.01 (the relaxation time near zero).
   std::vector<Homotopy> homotopies() const override;
-  std::vector<std::string> observable_names() const override;
+  std::vector<std::string> observable_names() const override { return observables_.names(); }
   Status observables(const Vector& u, std::vector<double>& values) override;
-  std::vector<std::string> monitor_names() const override;
+  // min_m1 for a viscoelastic fluid: zero where M loses positive definiteness.
+  std::vector<std::string> monitor_names() const override { return monitors_.names(); }
   Status monitors(const Vector& u, std::vector<double>& values) override;
   SolutionFields fields(const Vector& u) const override;
   std::string summary() const override;
@@ -79,6 +81,8 @@ class CollapsibleChannelProblem final : public Problem {
   const SolidWall& wall() const { return *wall_; }
   const FlowEquations& flow() const { return *flow_; }
   const CollapsibleOptions& options() const { return options_; }
+  // One observable by name, computed alone; throws std::invalid_argument for an unknown name.
+  double observable(const std::string& name, const Vector& u) const { return observables_.value(name, u); }
 
   // Flow rate int v . n ds (n towards +x) through every vertical mesh line of the deformed
   // fluid mesh, upstream to downstream.
@@ -111,6 +115,7 @@ class CollapsibleChannelProblem final : public Problem {
     double free_weight = 1;           // sum of the test functions of the unclamped nodes
   };
   std::vector<InterfaceSample> interface_samples(const Vector& u) const;
+  void declare_quantities();
   void element_positions(const Vector& u, int e, double (&xy)[9][2]) const;
   // The fluid pressure at position x of element e (node positions xy).
   double fluid_pressure(const Vector& u, int e, const double (&xy)[9][2], const double (&x)[2]) const;
@@ -127,6 +132,7 @@ class CollapsibleChannelProblem final : public Problem {
   std::unique_ptr<Assembler> assembler_;
   std::vector<int> interface_nodes_;
   mutable Mesh deformed_;
+  Quantities observables_, monitors_;
 };
 
 }  // namespace keller

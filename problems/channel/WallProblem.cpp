@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "core/KernelTerm.hpp"
+#include "problems/components/Composition.hpp"
 #include "problems/kernels/FollowerPressureKernel.hpp"
 
 namespace keller {
@@ -33,16 +34,21 @@ WallProblem::WallProblem(const WallOptions& options)
   wall_ = std::make_unique<SolidWall>(mesh_, WallGeometry{g.upstream_length, g.upstream_length + g.deformable_length, 1.0},
                                       g.thickness, options_.Pe, params_);
   iPin_ = params_.add("Pin", options_.Pin, "uniform pressure on the bottom of the wall (units of G)");
-  dofs_ = std::make_unique<DofMap>(
-      mesh_, std::vector<FieldSpec>{{"position", Basis::Q2, {"x", "y"}, {"solid"}}, SolidWall::pressure_field()});
-  dirichlet_ = std::make_shared<DirichletTerm>("clamps", params_);
-  wall_->build(*dofs_, *dirichlet_);
-  std::vector<std::shared_ptr<const Term>> terms = wall_->terms();
-  terms.push_back(std::make_shared<KernelTerm<FollowerPressureKernel>>(
-      FollowerPressureKernel(mesh_, *dofs_, mesh_.boundary("interface"), iPin_), params_));
-  terms.push_back(dirichlet_);
-  assembler_ = std::make_unique<Assembler>(dofs_->size(), terms);
+  ComposedSystem system = Composition()
+                              .share({"position", Basis::Q2, {"x", "y"}, {"solid"}})
+                              .add(*wall_)
+                              .build(mesh_, params_, "clamps");
+  dofs_ = std::move(system.dofs);
+  dirichlet_ = system.dirichlet;
+  // the uniform pressure Pin standing in for the fluid, on the bottom face
+  const auto pin = std::make_shared<KernelTerm<FollowerPressureKernel>>(
+      FollowerPressureKernel(mesh_, *dofs_, mesh_.boundary("interface"), iPin_), params_);
+  assembler_ = std::make_unique<Assembler>(dofs_->size(), system.terms({pin}));
   deformed_ = mesh_;
+  observables_.add("dx_max", [this](const Vector& u) { return wall_->max_deflection(u)[0]; });
+  observables_.add("dy_max", [this](const Vector& u) { return wall_->max_deflection(u)[1]; });
+  observables_.add("area_change", [this](const Vector& u) { return wall_->area(u) - wall_->reference_area(); });
+  observables_.add("min_detF", [this](const Vector& u) { return wall_->min_jacobian(u); });
 }
 
 Vector WallProblem::initial_guess() {
@@ -52,13 +58,8 @@ Vector WallProblem::initial_guess() {
   return u;
 }
 
-std::vector<std::string> WallProblem::observable_names() const {
-  return {"dx_max", "dy_max", "area_change", "min_detF"};
-}
-
 Status WallProblem::observables(const Vector& u, std::vector<double>& values) {
-  const auto d = wall_->max_deflection(u);
-  values = {d[0], d[1], wall_->area(u) - wall_->reference_area(), wall_->min_jacobian(u)};
+  observables_.evaluate(u, values);
   return {};
 }
 

@@ -13,6 +13,7 @@
 #include "core/DirichletTerm.hpp"
 #include "core/DofMap.hpp"
 #include "core/Problem.hpp"
+#include "core/Quantities.hpp"
 #include "core/Scene.hpp"
 #include "problems/channel/ChannelMesh.hpp"
 #include "problems/components/SolidWall.hpp"
@@ -46,7 +47,7 @@ class WallProblem final : public Problem {
     return assembler_->parameter_derivative(p, u, dF);
   }
   Vector initial_guess() override;
-  std::vector<std::string> observable_names() const override;
+  std::vector<std::string> observable_names() const override { return observables_.names(); }
   Status observables(const Vector& u, std::vector<double>& values) override;
   SolutionFields fields(const Vector& u) const override;
   std::string summary() const override;
@@ -55,6 +56,8 @@ class WallProblem final : public Problem {
   const DofMap& dofs() const { return *dofs_; }
   const Assembler& assembler() const { return *assembler_; }
   const SolidWall& wall() const { return *wall_; }
+  // One observable by name, computed alone; throws std::invalid_argument for an unknown name.
+  double observable(const std::string& name, const Vector& u) const { return observables_.value(name, u); }
 
  private:
   WallOptions options_;
@@ -66,6 +69,7 @@ class WallProblem final : public Problem {
   std::shared_ptr<DirichletTerm> dirichlet_;
   std::unique_ptr<Assembler> assembler_;
   mutable Mesh deformed_;  // the mesh at the last solution written out
+  Quantities observables_;
 };
 
 }  // namespace keller

@@ -178,9 +178,11 @@ void FlowEquations::add_kernels(const DofMap& dofs) {
   }
 }
 
-void FlowEquations::build(const DofMap& dofs, DirichletTerm& dirichlet, bool moving_mesh) {
+void FlowEquations::build(const ComponentBuild& b) {
+  const DofMap& dofs = b.dofs;
+  DirichletTerm& dirichlet = b.dirichlet;
   dofs_ = &dofs;
-  if (moving_mesh)
+  if (b.moving_mesh)
     add_kernels<true>(dofs);
   else
     add_kernels<false>(dofs);
@@ -275,6 +277,22 @@ void FlowEquations::conformation_eigenvalues(const Vector& u, std::vector<int>& 
     nodes.push_back(n);
     eig.push_back(e);
   }
+}
+
+FlowEquations::ConformationExtremes FlowEquations::conformation_extremes(const Vector& u) const {
+  std::vector<int> nodes;
+  std::vector<std::array<double, 3>> eig;
+  conformation_eigenvalues(u, nodes, eig);
+  ConformationExtremes x;
+  for (size_t k = 0; k < eig.size(); ++k) {
+    if (eig[k][0] < x.min_m1) {
+      x.min_m1 = eig[k][0];
+      x.min_m1_node = nodes[k];
+    }
+    x.max_m3 = std::max(x.max_m3, eig[k][2]);
+    x.max_trace = std::max(x.max_trace, eig[k][0] + eig[k][1] + eig[k][2]);
+  }
+  return x;
 }
 
 void FlowEquations::add_fields(const Vector& u, SolutionFields& out) const {

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <map>
 #include <memory>
 #include <string>
@@ -21,6 +22,7 @@
 #include "core/Scene.hpp"
 #include "core/SolutionFields.hpp"
 #include "core/Term.hpp"
+#include "problems/components/Component.hpp"
 #include "problems/laws/ConstitutiveLaw.hpp"
 #include "problems/laws/InflowProfile.hpp"
 #include "problems/kernels/FlowParameters.hpp"
@@ -60,7 +62,7 @@ struct FlowBoundaries {
   double channel_lo = 0.0, channel_hi = 1.0;  // the walls of the channel the inflow profile is in
 };
 
-class FlowEquations {
+class FlowEquations final : public Component {
  public:
   // Adds the fluid's parameters (Re; Wi, beta; b for FENE-P) to `params`. iGamma: the index of the
   // velocity scale (mean inflow velocity) in `params`, or -1 for a fixed scale of 1.
@@ -69,13 +71,14 @@ class FlowEquations {
   FlowEquations(const FlowEquations&) = delete;
   FlowEquations& operator=(const FlowEquations&) = delete;
 
-  const std::vector<FieldSpec>& fields() const { return fields_; }
-  // Creates the terms and adds the Dirichlet conditions, once the DofMap exists. moving_mesh:
-  // the node positions of the fluid elements are unknowns (a "position" field in dofs), and the
-  // element kernels take their geometry from them; the inflow and outflow nodes must stay where
-  // the mesh has them (the inflow values and the outflow traction use those positions).
-  void build(const DofMap& dofs, DirichletTerm& dirichlet, bool moving_mesh = false);
-  const std::vector<std::shared_ptr<const Term>>& terms() const { return terms_; }
+  std::string name() const override { return "fluid"; }
+  std::vector<FieldSpec> fields() const override { return fields_; }
+  // Creates the terms and adds the Dirichlet conditions. On a moving mesh (a "position" field)
+  // the element kernels take their geometry from the node positions of the fluid elements; the
+  // inflow and outflow nodes must stay where the mesh has them (the inflow values and the
+  // outflow traction use those positions).
+  void build(const ComponentBuild& build) override;
+  const std::vector<std::shared_ptr<const Term>>& terms() const override { return terms_; }
 
   const FluidOptions& options() const { return options_; }
   // Where the fluid's parameters are in the ParameterSet.
@@ -96,6 +99,13 @@ class FlowEquations {
   // Eigenvalues m1 <= m2 <= m3 of the 3x3 conformation tensor at every conformation node
   // (vertices of fluid elements), in node order of `nodes`.
   void conformation_eigenvalues(const Vector& u, std::vector<int>& nodes, std::vector<std::array<double, 3>>& m) const;
+  // The extremes over those nodes: the smallest m1 (zero where M loses positive definiteness)
+  // and the node where it is, the largest m3 and the largest tr M (FENE-P: < 3b).
+  struct ConformationExtremes {
+    double min_m1 = INFINITY, max_m3 = -INFINITY, max_trace = -INFINITY;
+    int min_m1_node = -1;
+  };
+  ConformationExtremes conformation_extremes(const Vector& u) const;
   // Extra output fields: the eigenvalues, and M itself in the log formulation.
   void add_fields(const Vector& u, SolutionFields& out) const;
 

@@ -29,8 +29,11 @@ FluidMeshMotion::FluidMeshMotion(const Mesh& mesh, const std::string& group, Mes
   elements_ = mesh.elements_in_group(mesh.group_index(group));
 }
 
-void FluidMeshMotion::build(const DofMap& dofs, DirichletTerm& dirichlet, const std::vector<int>& owned_nodes,
-                            const ParameterSet& params) {
+void FluidMeshMotion::build(const ComponentBuild& b) {
+  const DofMap& dofs = b.dofs;
+  DirichletTerm& dirichlet = b.dirichlet;
+  const ParameterSet& params = b.params;
+  const std::vector<int>& owned_nodes = b.owned_position_nodes;
   terms_.push_back(std::make_shared<KernelTerm<EllipticMeshKernel>>(
       EllipticMeshKernel(*mesh_, dofs, elements_, owned_nodes), params));
   const int fx = dofs.field_index("position");

@@ -19,6 +19,7 @@
 #include "core/Scene.hpp"
 #include "core/Term.hpp"
 #include "core/Types.hpp"
+#include "problems/components/Component.hpp"
 
 namespace keller {
 
@@ -34,16 +35,19 @@ struct MeshMotionBoundaries {
   std::vector<std::string> ends = {"inflow", "outflow"};          // vertical ends
 };
 
-class FluidMeshMotion {
+class FluidMeshMotion final : public Component {
  public:
   // mesh: the generated mesh (its positions define the spacing weights and the wall lines).
   FluidMeshMotion(const Mesh& mesh, const std::string& group, MeshMotionOptions options,
                   MeshMotionBoundaries boundaries = {});
 
-  // owned_nodes: sorted nodes whose position rows belong to other equations.
-  void build(const DofMap& dofs, DirichletTerm& dirichlet, const std::vector<int>& owned_nodes,
-             const ParameterSet& params);
-  const std::vector<std::shared_ptr<const Term>>& terms() const { return terms_; }
+  std::string name() const override { return "fluid mesh motion"; }
+  // None of its own: it governs the shared "position" field on the fluid elements.
+  std::vector<FieldSpec> fields() const override { return {}; }
+  // The elliptic mesh equations and the wall rows, on every fluid node whose position row the
+  // components built before do not own (build.owned_position_nodes: the interface, moved by the solid).
+  void build(const ComponentBuild& build) override;
+  const std::vector<std::shared_ptr<const Term>>& terms() const override { return terms_; }
   const std::vector<int>& elements() const { return elements_; }
   // Writes the generated positions into the position dofs of the fluid nodes.
   void generated_state(const DofMap& dofs, Vector& u) const;

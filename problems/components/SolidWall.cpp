@@ -37,9 +37,18 @@ SolidWall::SolidWall(const Mesh& mesh, WallGeometry geometry, double t0, double 
             [&](int a, int b) { return mesh.node(a)[0] < mesh.node(b)[0]; });
 }
 
-FieldSpec SolidWall::pressure_field() { return {"solid_pressure", Basis::P1Disc, {"pi"}, {"solid"}}; }
+std::vector<FieldSpec> SolidWall::fields() const { return {{"solid_pressure", Basis::P1Disc, {"pi"}, {"solid"}}}; }
 
-void SolidWall::build(const DofMap& dofs, DirichletTerm& dirichlet) {
+std::vector<int> SolidWall::position_nodes() const {
+  std::set<int> nodes;
+  for (int e : elements_)
+    for (int n : mesh_->element(e)) nodes.insert(n);
+  return {nodes.begin(), nodes.end()};
+}
+
+void SolidWall::build(const ComponentBuild& b) {
+  const DofMap& dofs = b.dofs;
+  DirichletTerm& dirichlet = b.dirichlet;
   dofs_ = &dofs;
   const ParameterSet& params = *params_;
   terms_.push_back(std::make_shared<KernelTerm<NeoHookeanSolidKernel>>(

@@ -17,6 +17,7 @@
 #include "core/ParameterSet.hpp"
 #include "core/Term.hpp"
 #include "core/Types.hpp"
+#include "problems/components/Component.hpp"
 
 namespace keller {
 
@@ -25,7 +26,7 @@ struct WallGeometry {
   double y_bottom = 1.0;                // the reference interface
 };
 
-class SolidWall {
+class SolidWall final : public Component {
  public:
   // Admissible wall thickness (units of W), the range of the parameter t and of its scene key.
   static constexpr double min_thickness = 1e-3, max_thickness = 10.0;
@@ -36,11 +37,14 @@ class SolidWall {
   SolidWall(const SolidWall&) = delete;
   SolidWall& operator=(const SolidWall&) = delete;
 
+  std::string name() const override { return "solid wall"; }
   // The solid's field besides the shared "position": the P1-discontinuous pressure pi.
-  static FieldSpec pressure_field();
+  std::vector<FieldSpec> fields() const override;
   // Solid element and follower-load terms, and the clamps (x = X(t) on wall_left, wall_right).
-  void build(const DofMap& dofs, DirichletTerm& dirichlet);
-  const std::vector<std::shared_ptr<const Term>>& terms() const { return terms_; }
+  void build(const ComponentBuild& build) override;
+  const std::vector<std::shared_ptr<const Term>>& terms() const override { return terms_; }
+  // The nodes of the solid elements: their position rows are the solid's equilibrium.
+  std::vector<int> position_nodes() const override;
 
   int thickness_index() const { return it_; }
   int external_pressure_index() const { return iPe_; }

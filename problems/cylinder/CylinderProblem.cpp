@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "core/BlockMeshBuilder.hpp"
+#include "problems/components/Composition.hpp"
 
 namespace keller {
 
@@ -113,12 +114,10 @@ CylinderProblem::CylinderProblem(const CylinderOptions& options)
   bc.channel_lo = -2.0;
   bc.channel_hi = 2.0;
   flow_ = std::make_unique<FlowEquations>(mesh_, "fluid", options_.fluid, bc, params_, -1);
-  dofs_ = std::make_unique<DofMap>(mesh_, flow_->fields());
-  dirichlet_ = std::make_shared<DirichletTerm>("dirichlet", params_);
-  flow_->build(*dofs_, *dirichlet_);
-  std::vector<std::shared_ptr<const Term>> terms = flow_->terms();
-  terms.push_back(dirichlet_);
-  assembler_ = std::make_unique<Assembler>(dofs_->size(), terms);
+  ComposedSystem system = Composition().add(*flow_).build(mesh_, params_);
+  dofs_ = std::move(system.dofs);
+  dirichlet_ = system.dirichlet;
+  assembler_ = std::make_unique<Assembler>(dofs_->size(), system.terms());
   const int fv = dofs_->field_index("velocity");
   for (int n : mesh_.boundary_nodes("cylinder")) cylinder_vx_.push_back(dofs_->node_dof(fv, n, 0));
 }

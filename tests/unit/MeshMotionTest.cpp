@@ -35,7 +35,7 @@ class PrescribedInterfaceMesh final : public Problem {
       dirichlet_->add(dofs_->node_dof(fx, n, 0), x);
       dirichlet_->add(dofs_->node_dof(fx, n, 1), [s, iA](const ParameterSet& p) { return 1.0 - p.value(iA) * s * s; });
     }
-    motion_.build(*dofs_, *dirichlet_, interface, params_);
+    motion_.build(ComponentBuild{*dofs_, *dirichlet_, params_, true, interface});
     std::vector<std::shared_ptr<const Term>> terms = motion_.terms();
     terms.push_back(dirichlet_);
     assembler_ = std::make_unique<Assembler>(dofs_->size(), terms);
