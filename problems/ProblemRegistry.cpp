@@ -2,14 +2,14 @@
 
 #include <stdexcept>
 
-#include "problems/Bratu1DProblem.hpp"
-#include "problems/Bratu2DProblem.hpp"
-#include "problems/Brusselator1DProblem.hpp"
-#include "problems/ChannelProblem.hpp"
-#include "problems/CollapsibleChannelProblem.hpp"
-#include "problems/CylinderProblem.hpp"
-#include "problems/Pitchfork1DProblem.hpp"
-#include "problems/WallProblem.hpp"
+#include "problems/analytic/Bratu1DProblem.hpp"
+#include "problems/analytic/Bratu2DProblem.hpp"
+#include "problems/analytic/Brusselator1DProblem.hpp"
+#include "problems/channel/ChannelProblem.hpp"
+#include "problems/channel/CollapsibleChannelProblem.hpp"
+#include "problems/cylinder/CylinderProblem.hpp"
+#include "problems/analytic/Pitchfork1DProblem.hpp"
+#include "problems/channel/WallProblem.hpp"
 
 namespace keller {
 

@@ -13,7 +13,7 @@
 
 #include "core/SparseLU.hpp"
 #include "runs/bench/NewtonStepTiming.hpp"
-#include "problems/ChannelProblem.hpp"
+#include "problems/channel/ChannelProblem.hpp"
 
 using namespace keller;
 

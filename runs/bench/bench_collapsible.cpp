@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "core/Newton.hpp"
-#include "problems/CollapsibleChannelProblem.hpp"
+#include "problems/channel/CollapsibleChannelProblem.hpp"
 #include "runs/bench/NewtonStepTiming.hpp"
 
 using namespace keller;

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "problems/CylinderProblem.hpp"
+#include "problems/cylinder/CylinderProblem.hpp"
 #include "runs/bench/NewtonStepTiming.hpp"
 
 using namespace keller;

@@ -6,8 +6,8 @@
 #include <benchmark/benchmark.h>
 
 #include "core/KernelTerm.hpp"
-#include "problems/ChannelProblem.hpp"
-#include "problems/NewtonianFlowKernel.hpp"
+#include "problems/channel/ChannelProblem.hpp"
+#include "problems/kernels/NewtonianFlowKernel.hpp"
 
 using namespace keller;
 

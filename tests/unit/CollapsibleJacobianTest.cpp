@@ -7,7 +7,7 @@
 #include <iostream>
 #include <random>
 
-#include "problems/CollapsibleChannelProblem.hpp"
+#include "problems/channel/CollapsibleChannelProblem.hpp"
 #include "support/TestSupport.hpp"
 
 using namespace keller;

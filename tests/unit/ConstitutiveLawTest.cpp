@@ -4,8 +4,8 @@
 
 #include <cmath>
 
-#include "problems/ConstitutiveLaw.hpp"
-#include "problems/LogConformation.hpp"
+#include "problems/laws/ConstitutiveLaw.hpp"
+#include "problems/laws/LogConformation.hpp"
 
 using namespace keller;
 

@@ -12,8 +12,8 @@
 #include "continuation/Continuation.hpp"
 #include "continuation/Hermite.hpp"
 #include "core/ConvergenceTest.hpp"
-#include "problems/Bratu1DProblem.hpp"
-#include "problems/Pitchfork1DProblem.hpp"
+#include "problems/analytic/Bratu1DProblem.hpp"
+#include "problems/analytic/Pitchfork1DProblem.hpp"
 #include "support/TestProblems.hpp"
 
 using namespace keller;

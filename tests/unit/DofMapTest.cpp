@@ -4,7 +4,7 @@
 #include <set>
 
 #include "core/DofMap.hpp"
-#include "problems/ChannelMesh.hpp"
+#include "problems/channel/ChannelMesh.hpp"
 
 using namespace keller;
 

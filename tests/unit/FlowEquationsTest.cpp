@@ -6,7 +6,7 @@
 #include <fstream>
 
 #include "core/Newton.hpp"
-#include "problems/ChannelProblem.hpp"
+#include "problems/channel/ChannelProblem.hpp"
 #include "runs/SceneLoader.hpp"
 
 using namespace keller;

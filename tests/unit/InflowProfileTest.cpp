@@ -4,8 +4,8 @@
 
 #include <cmath>
 
-#include "problems/ConstitutiveLaw.hpp"
-#include "problems/InflowProfile.hpp"
+#include "problems/laws/ConstitutiveLaw.hpp"
+#include "problems/laws/InflowProfile.hpp"
 
 using namespace keller;
 

@@ -6,8 +6,8 @@
 #include <iostream>
 #include <random>
 
-#include "problems/Bratu2DProblem.hpp"
-#include "problems/ChannelProblem.hpp"
+#include "problems/analytic/Bratu2DProblem.hpp"
+#include "problems/channel/ChannelProblem.hpp"
 #include "support/TestSupport.hpp"
 
 using namespace keller;

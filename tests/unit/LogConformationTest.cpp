@@ -8,7 +8,7 @@
 #include <random>
 
 #include "core/AutoDiff.hpp"
-#include "problems/LogConformation.hpp"
+#include "problems/laws/LogConformation.hpp"
 
 using namespace keller;
 

@@ -12,8 +12,8 @@
 #include "core/Assembler.hpp"
 #include "core/KernelTerm.hpp"
 #include "core/Newton.hpp"
-#include "problems/ChannelMesh.hpp"
-#include "problems/FluidMeshMotion.hpp"
+#include "problems/channel/ChannelMesh.hpp"
+#include "problems/components/FluidMeshMotion.hpp"
 #include "support/TestSupport.hpp"
 
 using namespace keller;
@@ -35,7 +35,7 @@ class PrescribedInterfaceMesh final : public Problem {
       dirichlet_->add(dofs_->node_dof(fx, n, 0), x);
       dirichlet_->add(dofs_->node_dof(fx, n, 1), [s, iA](const ParameterSet& p) { return 1.0 - p.value(iA) * s * s; });
     }
-    motion_.build(*dofs_, *dirichlet_, interface, params_);
+    motion_.build(ComponentBuild{*dofs_, *dirichlet_, params_, true, interface});
     std::vector<std::shared_ptr<const Term>> terms = motion_.terms();
     terms.push_back(dirichlet_);
     assembler_ = std::make_unique<Assembler>(dofs_->size(), terms);

@@ -5,7 +5,7 @@
 #include <set>
 
 #include "core/BlockMeshBuilder.hpp"
-#include "problems/ChannelMesh.hpp"
+#include "problems/channel/ChannelMesh.hpp"
 
 using namespace keller;
 

@@ -8,9 +8,9 @@
 
 #include "core/ConvergenceTest.hpp"
 #include "core/Newton.hpp"
-#include "problems/Bratu1DProblem.hpp"
-#include "problems/Bratu2DProblem.hpp"
-#include "problems/ChannelProblem.hpp"
+#include "problems/analytic/Bratu1DProblem.hpp"
+#include "problems/analytic/Bratu2DProblem.hpp"
+#include "problems/channel/ChannelProblem.hpp"
 #include "support/TestProblems.hpp"
 
 using namespace keller;

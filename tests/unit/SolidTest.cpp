@@ -8,7 +8,7 @@
 #include <random>
 
 #include "core/Newton.hpp"
-#include "problems/WallProblem.hpp"
+#include "problems/channel/WallProblem.hpp"
 #include "support/TestSupport.hpp"
 
 using namespace keller;

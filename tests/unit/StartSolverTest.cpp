@@ -9,7 +9,7 @@
 
 #include "continuation/ResidualHomotopy.hpp"
 #include "continuation/StartSolver.hpp"
-#include "problems/Bratu2DProblem.hpp"
+#include "problems/analytic/Bratu2DProblem.hpp"
 #include "support/TestProblems.hpp"
 
 using namespace keller;

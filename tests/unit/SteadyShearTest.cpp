@@ -26,9 +26,9 @@
 #include <vector>
 
 #include "core/AutoDiff.hpp"
-#include "problems/ConstitutiveLaw.hpp"
-#include "problems/LogConformation.hpp"
-#include "problems/ViscoelasticFlowKernel.hpp"
+#include "problems/laws/ConstitutiveLaw.hpp"
+#include "problems/laws/LogConformation.hpp"
+#include "problems/kernels/ViscoelasticFlowKernel.hpp"
 
 using namespace keller;
 

@@ -13,8 +13,8 @@
 
 #include "continuation/Continuation.hpp"
 #include "core/Scene.hpp"
-#include "problems/Brusselator1DProblem.hpp"
-#include "problems/Pitchfork1DProblem.hpp"
+#include "problems/analytic/Brusselator1DProblem.hpp"
+#include "problems/analytic/Pitchfork1DProblem.hpp"
 #include "support/TestProblems.hpp"
 #include "support/TestSupport.hpp"
 

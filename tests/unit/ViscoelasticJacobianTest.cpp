@@ -7,7 +7,7 @@
 #include <iostream>
 #include <random>
 
-#include "problems/ChannelProblem.hpp"
+#include "problems/channel/ChannelProblem.hpp"
 #include "support/TestSupport.hpp"
 
 using namespace keller;
@@ -39,7 +39,7 @@ void check(const Case& c) {
   o.fluid.model = c.model;
   o.fluid.log_conformation = c.log_form;
   o.fluid.dynamic_zz = c.dynamic_zz;
-  o.fluid.kernel.supg_local = c.supg_local;
+  o.fluid.kernel.supg.local = c.supg_local;
   o.fluid.Wi = 0.7;
   o.fluid.beta = 0.3;
   o.fluid.b = 20.0;

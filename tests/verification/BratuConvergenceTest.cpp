@@ -12,8 +12,8 @@
 #include <iostream>
 
 #include "core/Newton.hpp"
-#include "problems/Bratu1DProblem.hpp"
-#include "problems/Bratu2DProblem.hpp"
+#include "problems/analytic/Bratu1DProblem.hpp"
+#include "problems/analytic/Bratu2DProblem.hpp"
 
 using namespace keller;
 

@@ -7,8 +7,8 @@
 #include <iostream>
 
 #include "continuation/Continuation.hpp"
-#include "problems/Bratu1DProblem.hpp"
-#include "problems/Bratu2DProblem.hpp"
+#include "problems/analytic/Bratu1DProblem.hpp"
+#include "problems/analytic/Bratu2DProblem.hpp"
 #include "support/TestProblems.hpp"
 
 using namespace keller;

@@ -8,7 +8,7 @@
 #include <cstdio>
 
 #include "core/Newton.hpp"
-#include "problems/CollapsibleChannelProblem.hpp"
+#include "problems/channel/CollapsibleChannelProblem.hpp"
 
 using namespace keller;
 

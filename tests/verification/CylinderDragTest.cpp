@@ -9,7 +9,7 @@
 #include <iostream>
 
 #include "core/Newton.hpp"
-#include "problems/CylinderProblem.hpp"
+#include "problems/cylinder/CylinderProblem.hpp"
 
 using namespace keller;
 

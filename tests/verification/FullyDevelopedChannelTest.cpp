@@ -14,8 +14,8 @@
 #include <iostream>
 
 #include "core/Newton.hpp"
-#include "problems/ChannelProblem.hpp"
-#include "problems/LogConformation.hpp"
+#include "problems/channel/ChannelProblem.hpp"
+#include "problems/laws/LogConformation.hpp"
 
 using namespace keller;
 

@@ -16,7 +16,7 @@
 #include <cstdio>
 
 #include "core/Newton.hpp"
-#include "problems/ChannelProblem.hpp"
+#include "problems/channel/ChannelProblem.hpp"
 
 using namespace keller;
 

@@ -33,7 +33,7 @@
 
 #include "core/Newton.hpp"
 #include "mms/ManufacturedProblem.hpp"
-#include "problems/ConstitutiveLaw.hpp"
+#include "problems/laws/ConstitutiveLaw.hpp"
 
 using namespace keller;
 using namespace keller::mms;

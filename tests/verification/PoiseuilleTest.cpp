@@ -8,7 +8,7 @@
 #include <iostream>
 
 #include "core/Newton.hpp"
-#include "problems/ChannelProblem.hpp"
+#include "problems/channel/ChannelProblem.hpp"
 #include "support/TestSupport.hpp"
 
 using namespace keller;

@@ -11,10 +11,10 @@
 
 #include "continuation/Continuation.hpp"
 #include "core/Newton.hpp"
-#include "problems/Bratu1DProblem.hpp"
-#include "problems/Brusselator1DProblem.hpp"
-#include "problems/CollapsibleChannelProblem.hpp"
-#include "problems/Pitchfork1DProblem.hpp"
+#include "problems/analytic/Bratu1DProblem.hpp"
+#include "problems/analytic/Brusselator1DProblem.hpp"
+#include "problems/channel/CollapsibleChannelProblem.hpp"
+#include "problems/analytic/Pitchfork1DProblem.hpp"
 #include "stability/StabilityAnalysis.hpp"
 #include "support/TestProblems.hpp"
 

@@ -5,7 +5,7 @@
 
 #include "core/BlockMeshBuilder.hpp"
 #include "core/KernelTerm.hpp"
-#include "problems/NewtonianFlowKernel.hpp"
+#include "problems/kernels/NewtonianFlowKernel.hpp"
 
 namespace keller::mms {
 
@@ -44,7 +44,7 @@ constexpr double kGaussWeight[5] = {0.2369268850561891, 0.4786286704993665, 0.56
 template <int NC, bool Moving>
 std::shared_ptr<const Term> viscoelastic_term(const Mesh& mesh, const DofMap& dofs, const std::vector<int>& elements,
                                               const std::vector<std::array<QpGeometry<double>, ref::kQp>>& geometry,
-                                              ViscoelasticParameterIndices p, const ViscoelasticKernelOptions& o,
+                                              FlowParameterIndices p, const ViscoelasticKernelOptions& o,
                                               const ParameterSet& params) {
   return std::make_shared<KernelTerm<ViscoelasticFlowKernel<NC, Moving>>>(
       ViscoelasticFlowKernel<NC, Moving>(mesh, dofs, elements, &geometry, p, o), params);
@@ -81,7 +81,7 @@ ManufacturedProblem::ManufacturedProblem(const ManufacturedOptions& options)
     for (const auto& g : geometry_[k]) area += g.wdetJ;
   }
 
-  ViscoelasticParameterIndices idx;
+  FlowParameterIndices idx;
   idx.Gamma = params_.add("Gamma", fl.Gamma, "velocity scale");
   if (fl.Re > 0) idx.Re = params_.add("Re", fl.Re, "Reynolds number");
   if (fl.viscoelastic()) {
@@ -98,20 +98,19 @@ ManufacturedProblem::ManufacturedProblem(const ManufacturedOptions& options)
 
   std::vector<std::shared_ptr<const Term>> terms;
   if (!fl.viscoelastic()) {
-    const NewtonianFlowParameters np{idx.Re, idx.Gamma, -1};
     if (options_.moving)
       terms.push_back(std::make_shared<KernelTerm<NewtonianFlowKernel<true>>>(
-          NewtonianFlowKernel<true>(mesh_, *dofs_, elements_, &geometry_, np, fl.Re > 0, source), params_));
+          NewtonianFlowKernel<true>(mesh_, *dofs_, elements_, &geometry_, idx, fl.Re > 0, source), params_));
     else
       terms.push_back(std::make_shared<KernelTerm<NewtonianFlowKernel<false>>>(
-          NewtonianFlowKernel<false>(mesh_, *dofs_, elements_, &geometry_, np, fl.Re > 0, source), params_));
+          NewtonianFlowKernel<false>(mesh_, *dofs_, elements_, &geometry_, idx, fl.Re > 0, source), params_));
   } else {
     ViscoelasticKernelOptions ko = options_.kernel;
     ko.model = fl.model;
     ko.log_conformation = fl.log_form;
     ko.inertia = fl.Re > 0;
     ko.owens = fl.owens;
-    ko.global_size = std::sqrt(area / static_cast<double>(elements_.size()));
+    ko.supg.global_size = std::sqrt(area / static_cast<double>(elements_.size()));
     ko.source = source;
     const Mesh& m = mesh_;
     const DofMap& d = *dofs_;

@@ -22,7 +22,7 @@
 #include "core/DofMap.hpp"
 #include "core/Mesh.hpp"
 #include "core/Problem.hpp"
-#include "problems/ViscoelasticFlowKernel.hpp"
+#include "problems/kernels/ViscoelasticFlowKernel.hpp"
 
 namespace keller::mms {
 

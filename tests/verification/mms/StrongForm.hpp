@@ -21,7 +21,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "problems/ConstitutiveLaw.hpp"
+#include "problems/laws/ConstitutiveLaw.hpp"
 
 namespace keller::mms {
 

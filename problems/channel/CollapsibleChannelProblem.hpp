@@ -1,0 +1,138 @@
+// The collapsible channel of model.md, fully coupled and steady: any of the four fluids in the
+// 19 x 1 channel whose top wall, over the deformable section, is the incompressible neo-Hookean
+// solid of thickness t under the external pressure Pe. Unknowns: the flow fields on the fluid
+// elements, the node positions of fluid and solid ("position": elliptic mesh equations in the
+// fluid, solid equilibrium in the solid, shared at the interface), and the solid pressure.
+// Coupling (method.md): no slip on the deformed interface (v = 0), and the fluid momentum
+// residual of each interface node (the consistent reaction) added to the solid's position row
+// of that node, so force balance holds without a boundary derivative of the velocity. The
+// fluid kernels take their geometry from the position unknowns: the Jacobian holds the shape
+// derivatives. Parameters: Gamma, Re, t, Pe, and Wi, beta (b) for the viscoelastic fluids.
+// Observables: dx_max, dy_max (the interface point of largest deflection from (Lu + L/2, 1)),
+// gap_min, dP (mean pressure across the mesh lines through the ends of the deformable section),
+// Q_in, Q_out, area_change (solid), mesh_quality (smallest det J of the fluid mesh relative to the
+// generated mesh; <= 0 is an inverted element), min_detF (solid), and for viscoelastic fluids
+// min_m1, max_m3, the position of min_m1 (x_min_m1, y_min_m1) and max_trM (FENE-P: < 3b).
+#pragma once
+
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/Assembler.hpp"
+#include "core/DirichletTerm.hpp"
+#include "core/DofMap.hpp"
+#include "core/Problem.hpp"
+#include "core/Quantities.hpp"
+#include "core/Scene.hpp"
+#include "problems/channel/ChannelMesh.hpp"
+#include "problems/components/FlowEquations.hpp"
+#include "problems/components/FluidMeshMotion.hpp"
+#include "problems/components/SolidWall.hpp"
+
+namespace keller {
+
+struct CollapsibleOptions {
+  ChannelGeometry geometry;  // thickness: the starting value of t
+  ChannelMeshSpec mesh;
+  FluidOptions fluid;
+  MeshMotionOptions motion;
+  double Gamma = 4.95e-4;
+  double Pe = 0.04;
+
+  static void declare(SceneSchema& schema);
+  static CollapsibleOptions from_scene(const Scene& scene);
+};
+
+class CollapsibleChannelProblem final : public Problem {
+ public:
+  explicit CollapsibleChannelProblem(const CollapsibleOptions& options);
+  CollapsibleChannelProblem(const CollapsibleChannelProblem&) = delete;
+  CollapsibleChannelProblem& operator=(const CollapsibleChannelProblem&) = delete;
+
+  std::string name() const override { return "collapsible-channel"; }
+  int size() const override { return dofs_->size(); }
+  ParameterSet& parameters() override { return params_; }
+  const ParameterSet& parameters() const override { return params_; }
+  const SparseMatrix& jacobian_pattern() const override { return assembler_->pattern(); }
+  Status residual(const Vector& u, Vector& F) override { return assembler_->residual(u, F); }
+  Status jacobian(const Vector& u, Vector& F, SparseMatrix& J) override { return assembler_->jacobian(u, F, J); }
+  Status parameter_derivative(int p, const Vector& u, Vector& dF) override {
+    return assembler_->parameter_derivative(p, u, dF);
+  }
+  Status mass_matrix(const Vector& u, SparseMatrix& B) override { return assembler_->mass_matrix(u, B); }
+  Vector initial_guess() override;
+  double residual_scale() const override;
+  // Pe from 0 (no external load: the initial guess is then nearly the solution), then, for a
+  // viscoelastic fluid, Wi from 0.01 (the relaxation time near zero).
+  std::vector<Homotopy> homotopies() const override;
+  std::vector<std::string> observable_names() const override { return observables_.names(); }
+  Status observables(const Vector& u, std::vector<double>& values) override;
+  // min_m1 for a viscoelastic fluid: zero where M loses positive definiteness.
+  std::vector<std::string> monitor_names() const override { return monitors_.names(); }
+  Status monitors(const Vector& u, std::vector<double>& values) override;
+  SolutionFields fields(const Vector& u) const override;
+  std::string summary() const override;
+
+  const Mesh& mesh() const { return mesh_; }
+  const DofMap& dofs() const { return *dofs_; }
+  const Assembler& assembler() const { return *assembler_; }
+  const SolidWall& wall() const { return *wall_; }
+  const FlowEquations& flow() const { return *flow_; }
+  const CollapsibleOptions& options() const { return options_; }
+  // One observable by name, computed alone; throws std::invalid_argument for an unknown name.
+  double observable(const std::string& name, const Vector& u) const { return observables_.value(name, u); }
+
+  // Flow rate int v . n ds (n towards +x) through every vertical mesh line of the deformed
+  // fluid mesh, upstream to downstream.
+  std::vector<double> column_flow_rates(const Vector& u) const;
+  // Mean fluid pressure along the mesh line through the upstream (end = 0) or downstream
+  // (end = 1) end of the deformable section (the one-sided values of the two element columns
+  // that meet there averaged).
+  double section_pressure(const Vector& u, int end) const;
+  // The force the solid receives from the fluid: the sum of the fluid's weak momentum
+  // residuals at the interface nodes that are not clamped, which the coupling adds to the
+  // solid's rows; it is -int (sum of their test functions) T n_f ds (n_f: the fluid's outward
+  // normal). The clamped corner nodes pass their share to the clamps.
+  std::array<double, 2> fluid_force_on_wall(const Vector& u) const;
+  // The same force integrated directly, -int w T n_f ds over the deformed interface with
+  // w = 1 - (the corner nodes' test functions) and the discrete stress
+  // T = -P I + beta (K + K^T) + tau_p(M) at edge Gauss points. It differs from the weak
+  // reaction by the discretisation error only.
+  std::array<double, 2> interface_traction_integral(const Vector& u) const;
+  // Smallest det(dx/ds) of the fluid elements relative to the generated mesh.
+  double min_mesh_jacobian(const Vector& u) const { return motion_->min_relative_jacobian(*dofs_, u); }
+
+ private:
+  // The fluid's stress at the edge Gauss points of the interface, left to right.
+  struct InterfaceSample {
+    std::array<double, 2> x, normal;  // position, the fluid's outward unit normal
+    double ds = 0;                    // Gauss weight times the line element
+    double pressure = 0;
+    double extra[2][2] = {{0, 0}, {0, 0}};  // beta (K + K^T) + tau_p
+    double Mxx = 0;                   // NaN for a Newtonian fluid
+    double free_weight = 1;           // sum of the test functions of the unclamped nodes
+  };
+  std::vector<InterfaceSample> interface_samples(const Vector& u) const;
+  void declare_quantities();
+  void element_positions(const Vector& u, int e, double (&xy)[9][2]) const;
+  // The fluid pressure at position x of element e (node positions xy).
+  double fluid_pressure(const Vector& u, int e, const double (&xy)[9][2], const double (&x)[2]) const;
+
+  CollapsibleOptions options_;
+  Mesh mesh_;
+  ParameterSet params_;
+  int iGamma_ = -1;
+  std::unique_ptr<FlowEquations> flow_;
+  std::unique_ptr<SolidWall> wall_;
+  std::unique_ptr<FluidMeshMotion> motion_;
+  std::unique_ptr<DofMap> dofs_;
+  std::shared_ptr<DirichletTerm> dirichlet_;
+  std::unique_ptr<Assembler> assembler_;
+  std::vector<int> interface_nodes_;
+  mutable Mesh deformed_;
+  Quantities observables_, monitors_;
+};
+
+}  // namespace keller

@@ -1,0 +1,340 @@
+#include "problems/components/FlowEquations.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <set>
+#include <stdexcept>
+
+#include "core/KernelTerm.hpp"
+#include "problems/laws/LogConformation.hpp"
+#include "problems/kernels/NewtonianFlowKernel.hpp"
+#include "problems/kernels/OutflowTractionKernel.hpp"
+
+namespace keller {
+
+void FluidOptions::declare(SceneSchema& s, double default_beta, double default_Wi) {
+  s.section("fluid", "the fluid and which physics is on");
+  s.string("fluid.model", "newtonian", "constitutive law", {"newtonian", "oldroyd-b", "fene-p", "owens"});
+  s.string("fluid.formulation", "conformation", "unknown of the constitutive equation: M or log M",
+           {"conformation", "log-conformation"});
+  s.boolean("fluid.fene_p_dynamic_zz", false,
+            "FENE-P: keep M_zz as an unknown (needed for time-dependent forms) instead of f M_zz = 1");
+  s.real("fluid.devss", -1.0, "DEVSS viscosity beta_a (negative: 1 - beta)");
+  s.string("fluid.supg", "local", "SUPG time scale: local h/|v| or global h_c/v_c", {"local", "global"});
+  s.real("fluid.supg_scale", 1.0, "factor on the SUPG time scale", Range::non_negative());
+  s.real("fluid.supg_velocity_floor", 1e-3, "local SUPG: |v| floored at this fraction of the velocity scale",
+         Range::positive());
+  s.section("inflow", "fully developed inflow at the inflow boundary");
+  s.string("inflow.profile", "parabolic", "inflow velocity profile of mean velocity Gamma (or 1)",
+           {"parabolic", "power-law", "fully-developed"});
+  s.real("inflow.power_law_index", 0.5, "power-law profile: index n (u_max / u_mean = (2n + 1)/(n + 1))",
+         Range::positive());
+  s.section("parameters", "initial values of the named continuation parameters");
+  s.real("parameters.Re", 0.0, "Reynolds number (0: Stokes, the convective term is not assembled)",
+         Range::non_negative());
+  s.real("parameters.Wi", default_Wi, "Weissenberg number", Range::positive());
+  s.real("parameters.beta", default_beta, "viscosity ratio eta_s / eta0", Range{0.0, 1.0, true, false});
+  s.real("parameters.b", 100.0, "FENE-P extensibility (tr M < 3b)", Range::above(1.0));
+}
+
+FluidOptions FluidOptions::from_scene(const Scene& sc) {
+  FluidOptions o;
+  o.model = fluid_model_from_string(sc.string("fluid.model"));
+  o.log_conformation = sc.string("fluid.formulation") == "log-conformation";
+  o.dynamic_zz = sc.boolean("fluid.fene_p_dynamic_zz");
+  o.Re = sc.real("parameters.Re");
+  o.inertia = o.Re > 0.0;
+  o.Wi = sc.real("parameters.Wi");
+  o.beta = sc.real("parameters.beta");
+  o.b = sc.real("parameters.b");
+  o.kernel.model = o.model;
+  o.kernel.log_conformation = o.log_conformation;
+  o.kernel.inertia = o.inertia;
+  o.kernel.devss = sc.real("fluid.devss");
+  o.kernel.supg.local = sc.string("fluid.supg") == "local";
+  o.kernel.supg.scale = sc.real("fluid.supg_scale");
+  o.kernel.supg.velocity_floor = sc.real("fluid.supg_velocity_floor");
+  o.profile = profile_kind_from_string(sc.string("inflow.profile"));
+  o.power_index = sc.real("inflow.power_law_index");
+  const std::string m = sc.string("fluid.model");
+  if (!o.viscoelastic()) {
+    for (const char* k : {"parameters.Wi", "parameters.beta", "fluid.formulation", "fluid.devss", "fluid.supg",
+                          "fluid.supg_scale", "fluid.supg_velocity_floor"})
+      if (sc.differs_from_default(k)) throw sc.error(k, "has no meaning for fluid.model = \"newtonian\"");
+  }
+  if (o.model != FluidModel::FeneP) {
+    for (const char* k : {"parameters.b", "fluid.fene_p_dynamic_zz"})
+      if (sc.differs_from_default(k)) throw sc.error(k, "applies to fluid.model = \"fene-p\" only (got \"" + m + "\")");
+  }
+  if (o.profile != ProfileKind::PowerLaw && sc.differs_from_default("inflow.power_law_index"))
+    throw sc.error("inflow.power_law_index", "applies to inflow.profile = \"power-law\" only");
+  return o;
+}
+
+FlowEquations::FlowEquations(const Mesh& mesh, const std::string& group, FluidOptions options,
+                             FlowBoundaries boundaries, ParameterSet& params, int iGamma)
+    : mesh_(&mesh), options_(std::move(options)), boundaries_(std::move(boundaries)), params_(&params) {
+  index_.Gamma = iGamma;
+  index_.Re = params.add("Re", options_.Re, "Reynolds number", 0.0);
+  if (options_.Re > 0 && !options_.inertia) throw std::invalid_argument("Re > 0 needs the convective term");
+  if (options_.viscoelastic()) {
+    index_.Wi = params.add("Wi", options_.Wi, "Weissenberg number", Range::positive());
+    index_.beta = params.add("beta", options_.beta, "viscosity ratio eta_s / eta0", Range{0.0, 1.0, true, false});
+    if (options_.model == FluidModel::FeneP)
+      index_.b = params.add("b", options_.b, "FENE-P extensibility", Range::above(1.0));
+  }
+  elements_ = mesh.elements_in_group(mesh.group_index(group));
+  geometry_.resize(elements_.size());
+  double area = 0;
+  for (size_t k = 0; k < elements_.size(); ++k) {
+    double xy[9][2];
+    mesh.element_nodes(elements_[k], xy);
+    if (!map_element(xy, geometry_[k]))
+      throw std::invalid_argument(fmt::format("element {} is inverted or degenerate", elements_[k]));
+    for (const auto& g : geometry_[k]) area += g.wdetJ;
+  }
+  options_.kernel.model = options_.model;
+  options_.kernel.log_conformation = options_.log_conformation;
+  options_.kernel.inertia = options_.inertia;
+  options_.kernel.supg.global_size = std::sqrt(area / static_cast<double>(elements_.size()));
+
+  fields_ = {{"velocity", Basis::Q2, {"vx", "vy"}, {group}}, {"pressure", Basis::P1Disc, {"p"}, {group}}};
+  if (options_.viscoelastic()) {
+    fields_.push_back({"gradient", Basis::Q1, {"Lxx", "Lxy", "Lyx", "Lyy"}, {group}});
+    std::vector<std::string> comps = options_.log_conformation
+                                         ? std::vector<std::string>{"Psi_xx", "Psi_xy", "Psi_yy"}
+                                         : std::vector<std::string>{"Mxx", "Mxy", "Myy"};
+    if (options_.conformation_components() == 4) comps.push_back(options_.log_conformation ? "Psi_zz" : "Mzz");
+    fields_.push_back({"conformation", Basis::Q1, comps, {group}});
+  }
+  profile_.kind = options_.profile;
+  profile_.y_lo = boundaries_.channel_lo;
+  profile_.y_hi = boundaries_.channel_hi;
+  profile_.power_index = options_.power_index;
+  inflow_nodes_ = mesh.boundary_nodes(boundaries_.inflow);
+  for (int n : inflow_nodes_) inflow_y_.push_back(mesh.node(n)[1]);
+}
+
+double FlowEquations::velocity_scale() const { return index_.Gamma >= 0 ? params_->value(index_.Gamma) : 1.0; }
+
+std::function<double(double)> FlowEquations::viscosity(const ParameterSet& p) const {
+  const FluidModel model = options_.model;
+  const double Gamma = index_.Gamma >= 0 ? p.value(index_.Gamma) : 1.0;
+  const double Wi = index_.Wi >= 0 ? p.value(index_.Wi) : 0.0, beta = index_.beta >= 0 ? p.value(index_.beta) : 1.0;
+  const double b = index_.b >= 0 ? p.value(index_.b) : 0.0;
+  const OwensParameters owens = options_.kernel.owens;
+  return [=](double gdot) { return shear_viscosity(model, gdot, Wi, Gamma, beta, b, owens); };
+}
+
+std::array<double, 4> FlowEquations::steady_state(double W, double b) const {
+  const FluidModel m = options_.model == FluidModel::FeneP ? FluidModel::FeneP : FluidModel::OldroydB;
+  const SteadyConformation s = steady_shear(m, W, b);
+  if (!options_.log_conformation) return {s.xx, s.xy, s.yy, s.zz};
+  const Sym2<double> l = sym_log({s.xx, s.xy, s.yy});
+  return {l.xx, l.xy, l.yy, std::log(s.zz)};
+}
+
+const FlowEquations::InflowValues& FlowEquations::inflow_values(const ParameterSet& p) const {
+  const std::vector<double> key(p.values(), p.values() + p.size());
+  for (const auto& [k, v] : inflow_cache_)
+    if (k == key) return v;
+  InflowValues iv;
+  const double U = index_.Gamma >= 0 ? p.value(index_.Gamma) : 1.0;
+  profile_.evaluate(inflow_y_, U, viscosity(p), iv.u, iv.dudy);
+  if (options_.viscoelastic()) {
+    const double lambda = p.value(index_.Wi) / U, b = index_.b >= 0 ? p.value(index_.b) : 0.0;
+    for (double g : iv.dudy) {
+      double lam = lambda;
+      if (options_.model == FluidModel::Owens) lam *= owens_factor(g * g, U, options_.kernel.owens);
+      iv.conformation.push_back(steady_state(lam * g, b));
+    }
+  }
+  if (inflow_cache_.size() >= 4) inflow_cache_.erase(inflow_cache_.begin());
+  inflow_cache_.emplace_back(key, std::move(iv));
+  return inflow_cache_.back().second;
+}
+
+template <bool Moving>
+void FlowEquations::add_kernels(const DofMap& dofs) {
+  const ParameterSet& params = *params_;
+  if (!options_.viscoelastic()) {
+    terms_.push_back(std::make_shared<KernelTerm<NewtonianFlowKernel<Moving>>>(
+        NewtonianFlowKernel<Moving>(*mesh_, dofs, elements_, &geometry_, index_, options_.inertia, options_.kernel.source),
+        params));
+  } else if (options_.conformation_components() == 3) {
+    terms_.push_back(std::make_shared<KernelTerm<ViscoelasticFlowKernel<3, Moving>>>(
+        ViscoelasticFlowKernel<3, Moving>(*mesh_, dofs, elements_, &geometry_, index_, options_.kernel), params));
+    terms_.push_back(std::make_shared<KernelTerm<OutflowTractionKernel<3>>>(
+        OutflowTractionKernel<3>(*mesh_, dofs, mesh_->boundary(boundaries_.outflow), index_, options_.kernel), params));
+  } else {
+    terms_.push_back(std::make_shared<KernelTerm<ViscoelasticFlowKernel<4, Moving>>>(
+        ViscoelasticFlowKernel<4, Moving>(*mesh_, dofs, elements_, &geometry_, index_, options_.kernel), params));
+    terms_.push_back(std::make_shared<KernelTerm<OutflowTractionKernel<4>>>(
+        OutflowTractionKernel<4>(*mesh_, dofs, mesh_->boundary(boundaries_.outflow), index_, options_.kernel), params));
+  }
+}
+
+void FlowEquations::build(const ComponentBuild& b) {
+  const DofMap& dofs = b.dofs;
+  DirichletTerm& dirichlet = b.dirichlet;
+  dofs_ = &dofs;
+  if (b.moving_mesh)
+    add_kernels<true>(dofs);
+  else
+    add_kernels<false>(dofs);
+
+  // Dirichlet conditions. Walls win at corners (no slip); the conformation keeps its inflow value
+  // at the inflow corners.
+  const int fv = dofs.field_index("velocity");
+  std::map<int, DirichletTerm::ValueFunction> values;
+  std::set<int> zeros;
+  for (size_t i = 0; i < inflow_nodes_.size(); ++i) {
+    const int n = inflow_nodes_[i];
+    values[dofs.node_dof(fv, n, 0)] = [this, i](const ParameterSet& p) { return inflow_values(p).u[i]; };
+    zeros.insert(dofs.node_dof(fv, n, 1));
+    if (options_.viscoelastic() && mesh_->is_vertex(n)) {
+      const int fm = dofs.field_index("conformation");
+      for (int c = 0; c < options_.conformation_components(); ++c)
+        values[dofs.node_dof(fm, n, c)] = [this, i, c](const ParameterSet& p) {
+          return inflow_values(p).conformation[i][static_cast<size_t>(c)];
+        };
+    }
+  }
+  for (int n : mesh_->boundary_nodes(boundaries_.outflow)) zeros.insert(dofs.node_dof(fv, n, 1));
+  for (const std::string& s : boundaries_.symmetry)
+    for (int n : mesh_->boundary_nodes(s)) zeros.insert(dofs.node_dof(fv, n, 1));
+  for (const std::string& w : boundaries_.walls)
+    for (int n : mesh_->boundary_nodes(w))
+      for (int c = 0; c < 2; ++c) {
+        values.erase(dofs.node_dof(fv, n, c));
+        zeros.insert(dofs.node_dof(fv, n, c));
+      }
+  for (auto& [dof, g] : values) dirichlet.add(dof, g);
+  for (int dof : zeros) dirichlet.add(dof, 0.0);
+}
+
+void FlowEquations::initial_guess(Vector& u) const {
+  const DofMap& dofs = *dofs_;
+  const int fv = dofs.field_index("velocity");
+  const Mesh& m = *mesh_;
+  std::vector<int> nodes;
+  std::vector<double> ys;
+  for (int n = 0; n < m.num_nodes(); ++n)
+    if (dofs.node_dof(fv, n, 0) >= 0) {
+      nodes.push_back(n);
+      ys.push_back(std::clamp(m.node(n)[1], boundaries_.channel_lo, boundaries_.channel_hi));
+    }
+  std::vector<double> vel, dudy;
+  profile_.evaluate(ys, velocity_scale(), viscosity(*params_), vel, dudy);
+  const bool ve = options_.viscoelastic();
+  const int fl = ve ? dofs.field_index("gradient") : -1, fm = ve ? dofs.field_index("conformation") : -1;
+  const double U = velocity_scale();
+  const double lambda = ve ? params_->value(index_.Wi) / U : 0.0, b = index_.b >= 0 ? params_->value(index_.b) : 0.0;
+  for (size_t k = 0; k < nodes.size(); ++k) {
+    const int n = nodes[k];
+    u[dofs.node_dof(fv, n, 0)] = vel[k];
+    u[dofs.node_dof(fv, n, 1)] = 0.0;
+    if (!ve || dofs.node_dof(fm, n, 0) < 0) continue;
+    double lam = lambda;
+    if (options_.model == FluidModel::Owens) lam *= owens_factor(dudy[k] * dudy[k], U, options_.kernel.owens);
+    const auto state = steady_state(lam * dudy[k], b);
+    for (int c = 0; c < options_.conformation_components(); ++c) u[dofs.node_dof(fm, n, c)] = state[static_cast<size_t>(c)];
+    for (int c = 0; c < 4; ++c) u[dofs.node_dof(fl, n, c)] = c == 1 ? dudy[k] : 0.0;
+  }
+}
+
+void FlowEquations::conformation_eigenvalues(const Vector& u, std::vector<int>& nodes,
+                                             std::vector<std::array<double, 3>>& eig) const {
+  nodes.clear();
+  eig.clear();
+  if (!options_.viscoelastic()) return;
+  const DofMap& dofs = *dofs_;
+  const int fm = dofs.field_index("conformation");
+  const int nc = options_.conformation_components();
+  const double b = index_.b >= 0 ? params_->value(index_.b) : 0.0;
+  for (int n = 0; n < mesh_->num_nodes(); ++n) {
+    if (dofs.node_dof(fm, n, 0) < 0) continue;
+    double c[4] = {0, 0, 0, 0};
+    for (int k = 0; k < nc; ++k) c[k] = u[dofs.node_dof(fm, n, k)];
+    double xx = c[0], xy = c[1], yy = c[2], zz = 1.0;
+    if (options_.log_conformation) {
+      const Sym2<double> M = sym_exp(Sym2<double>{c[0], c[1], c[2]});
+      xx = M.xx;
+      xy = M.xy;
+      yy = M.yy;
+      if (nc == 4) zz = std::exp(c[3]);
+    } else if (nc == 4) {
+      zz = c[3];
+    }
+    if (options_.model == FluidModel::FeneP && nc == 3) zz = 1.0 / peterlin_eliminated(xx, yy, b);
+    const double a = 0.5 * (xx + yy), r = std::hypot(0.5 * (xx - yy), xy);
+    std::array<double, 3> e = {a - r, a + r, zz};
+    std::sort(e.begin(), e.end());
+    nodes.push_back(n);
+    eig.push_back(e);
+  }
+}
+
+FlowEquations::ConformationExtremes FlowEquations::conformation_extremes(const Vector& u) const {
+  std::vector<int> nodes;
+  std::vector<std::array<double, 3>> eig;
+  conformation_eigenvalues(u, nodes, eig);
+  ConformationExtremes x;
+  for (size_t k = 0; k < eig.size(); ++k) {
+    if (eig[k][0] < x.min_m1) {
+      x.min_m1 = eig[k][0];
+      x.min_m1_node = nodes[k];
+    }
+    x.max_m3 = std::max(x.max_m3, eig[k][2]);
+    x.max_trace = std::max(x.max_trace, eig[k][0] + eig[k][1] + eig[k][2]);
+  }
+  return x;
+}
+
+void FlowEquations::add_fields(const Vector& u, SolutionFields& out) const {
+  if (!options_.viscoelastic()) return;
+  std::vector<int> nodes;
+  std::vector<std::array<double, 3>> eig;
+  conformation_eigenvalues(u, nodes, eig);
+  const int N = mesh_->num_nodes();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::vector<std::array<double, 6>> at(N, {nan, nan, nan, nan, nan, nan});  // m1 m2 m3 Mxx Mxy Myy
+  const DofMap& dofs = *dofs_;
+  const int fm = dofs.field_index("conformation");
+  for (size_t k = 0; k < nodes.size(); ++k) {
+    const int n = nodes[k];
+    double c[3] = {u[dofs.node_dof(fm, n, 0)], u[dofs.node_dof(fm, n, 1)], u[dofs.node_dof(fm, n, 2)]};
+    if (options_.log_conformation) {
+      const Sym2<double> M = sym_exp(Sym2<double>{c[0], c[1], c[2]});
+      c[0] = M.xx;
+      c[1] = M.xy;
+      c[2] = M.yy;
+    }
+    at[n] = {eig[k][0], eig[k][1], eig[k][2], c[0], c[1], c[2]};
+  }
+  // Q1 interpolation from the vertices to every node of each fluid element
+  auto q1_field = [&](const std::string& name, std::vector<std::string> comps, int first) {
+    NodalField f{name, "Q1", comps, fields_[0].groups, Eigen::MatrixXd::Constant(N, static_cast<long>(comps.size()), nan)};
+    for (int e : elements_) {
+      const auto& el = mesh_->element(e);
+      for (int a = 0; a < 9; ++a) {
+        double Nq[4], dN[4][2];
+        ref::q1_shape(ref::node_s(a), ref::node_t(a), Nq, dN);
+        for (size_t c = 0; c < comps.size(); ++c) {
+          double v = 0;
+          for (int k = 0; k < 4; ++k) v += Nq[k] * at[el[ref::q1_node[k]]][static_cast<size_t>(first) + c];
+          f.values(el[a], static_cast<long>(c)) = v;
+        }
+      }
+    }
+    out.nodal.push_back(std::move(f));
+  };
+  q1_field("conformation_eigenvalues", {"m1", "m2", "m3"}, 0);
+  if (options_.log_conformation) q1_field("conformation_M", {"Mxx", "Mxy", "Myy"}, 3);
+}
+
+}  // namespace keller

@@ -1,0 +1,135 @@
+// The fluid part of a flow problem on a fixed mesh, for any of the four fluids: its scene keys,
+// its named parameters, the fields it needs (a Newtonian fluid has velocity and pressure only;
+// a viscoelastic one adds the interpolated velocity gradient and the conformation, or its
+// logarithm), its element and boundary terms, and its boundary conditions (no-slip walls,
+// symmetry lines, a fully developed inflow with the local steady-shear conformation, a fully
+// developed outflow). Problems (the rigid channel, the confined cylinder) compose it with their
+// geometry and observables.
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/DirichletTerm.hpp"
+#include "core/DofMap.hpp"
+#include "core/ElementGeometry.hpp"
+#include "core/Mesh.hpp"
+#include "core/ParameterSet.hpp"
+#include "core/Scene.hpp"
+#include "core/SolutionFields.hpp"
+#include "core/Term.hpp"
+#include "problems/components/Component.hpp"
+#include "problems/laws/ConstitutiveLaw.hpp"
+#include "problems/laws/InflowProfile.hpp"
+#include "problems/kernels/FlowParameters.hpp"
+#include "problems/kernels/ViscoelasticFlowKernel.hpp"
+
+namespace keller {
+
+struct FluidOptions {
+  FluidModel model = FluidModel::Newtonian;
+  bool log_conformation = false;
+  bool dynamic_zz = false;  // FENE-P: M_zz as an unknown (needed for time-dependent forms)
+  double Re = 0.0;
+  double Wi = 0.1;
+  double beta = 0.001 / 0.198;
+  double b = 100.0;
+  bool inertia = false;
+  ViscoelasticKernelOptions kernel;
+  ProfileKind profile = ProfileKind::Parabolic;
+  double power_index = 0.5;
+
+  bool viscoelastic() const { return model != FluidModel::Newtonian; }
+  int conformation_components() const { return model == FluidModel::FeneP && dynamic_zz ? 4 : 3; }
+
+  // Keys of [fluid], [inflow] and the fluid's entries of [parameters], with problem-specific
+  // defaults for beta and Wi.
+  static void declare(SceneSchema& schema, double default_beta, double default_Wi);
+  // Throws SceneError for keys that the chosen fluid does not use (b for a model other than
+  // FENE-P, Wi or a formulation for a Newtonian fluid).
+  static FluidOptions from_scene(const Scene& scene);
+};
+
+struct FlowBoundaries {
+  std::string inflow = "inflow";
+  std::string outflow = "outflow";
+  std::vector<std::string> walls;     // no slip
+  std::vector<std::string> symmetry;  // v_y = 0, tangential traction free
+  double channel_lo = 0.0, channel_hi = 1.0;  // the walls of the channel the inflow profile is in
+};
+
+class FlowEquations final : public Component {
+ public:
+  // Adds the fluid's parameters (Re; Wi, beta; b for FENE-P) to `params`. iGamma: the index of the
+  // velocity scale (mean inflow velocity) in `params`, or -1 for a fixed scale of 1.
+  FlowEquations(const Mesh& mesh, const std::string& group, FluidOptions options, FlowBoundaries boundaries,
+                ParameterSet& params, int iGamma);
+  FlowEquations(const FlowEquations&) = delete;
+  FlowEquations& operator=(const FlowEquations&) = delete;
+
+  std::string name() const override { return "fluid"; }
+  std::vector<FieldSpec> fields() const override { return fields_; }
+  // Creates the terms and adds the Dirichlet conditions. On a moving mesh (a "position" field)
+  // the element kernels take their geometry from the node positions of the fluid elements; the
+  // inflow and outflow nodes must stay where the mesh has them (the inflow values and the
+  // outflow traction use those positions).
+  void build(const ComponentBuild& build) override;
+  const std::vector<std::shared_ptr<const Term>>& terms() const override { return terms_; }
+
+  const FluidOptions& options() const { return options_; }
+  // Where the fluid's parameters are in the ParameterSet.
+  const FlowParameterIndices& parameter_indices() const { return index_; }
+  const std::vector<int>& elements() const { return elements_; }
+  const std::vector<std::array<QpGeometry<double>, ref::kQp>>& geometry() const { return geometry_; }
+  double velocity_scale() const;
+  // A starting state: the inflow profile continued along the channel, and for viscoelastic
+  // fluids the matching steady-shear conformation and velocity gradient.
+  void initial_guess(Vector& u) const;
+  // Inflow values at the current parameters: velocity and conformation at each inflow node.
+  struct InflowValues {
+    std::vector<double> u, dudy;
+    std::vector<std::array<double, 4>> conformation;  // unknown values (M or log M components)
+  };
+  const InflowValues& inflow_values(const ParameterSet& params) const;
+
+  // Eigenvalues m1 <= m2 <= m3 of the 3x3 conformation tensor at every conformation node
+  // (vertices of fluid elements), in node order of `nodes`.
+  void conformation_eigenvalues(const Vector& u, std::vector<int>& nodes, std::vector<std::array<double, 3>>& m) const;
+  // The extremes over those nodes: the smallest m1 (zero where M loses positive definiteness)
+  // and the node where it is, the largest m3 and the largest tr M (FENE-P: < 3b).
+  struct ConformationExtremes {
+    double min_m1 = INFINITY, max_m3 = -INFINITY, max_trace = -INFINITY;
+    int min_m1_node = -1;
+  };
+  ConformationExtremes conformation_extremes(const Vector& u) const;
+  // Extra output fields: the eigenvalues, and M itself in the log formulation.
+  void add_fields(const Vector& u, SolutionFields& out) const;
+
+ private:
+  template <bool Moving>
+  void add_kernels(const DofMap& dofs);
+  std::array<double, 4> steady_state(double W, double b) const;
+  std::function<double(double)> viscosity(const ParameterSet& p) const;
+
+  const Mesh* mesh_;
+  FluidOptions options_;
+  FlowBoundaries boundaries_;
+  const ParameterSet* params_;
+  FlowParameterIndices index_;
+  std::vector<int> elements_;
+  std::vector<std::array<QpGeometry<double>, ref::kQp>> geometry_;
+  std::vector<FieldSpec> fields_;
+  std::vector<std::shared_ptr<const Term>> terms_;
+  const DofMap* dofs_ = nullptr;
+  InflowProfile profile_;
+  std::vector<int> inflow_nodes_;
+  std::vector<double> inflow_y_;
+  // a few parameter sets' inflow values (finite-difference probes alternate between two)
+  mutable std::vector<std::pair<std::vector<double>, InflowValues>> inflow_cache_;
+};
+
+}  // namespace keller

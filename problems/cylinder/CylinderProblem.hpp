@@ -1,0 +1,93 @@
+// The confined-cylinder benchmark of viscoelastic flow: a cylinder of radius R = 1 centred in a
+// channel of half-width 2 (blockage 0.5), creeping flow, mean velocity U = 1, eta0 = 1, so
+// Wi = lambda U / R and the drag coefficient K = F_x / (eta0 U) per unit length. By symmetry
+// only the upper half is meshed (v_y = 0 on the axis). The mesh is mapped multi-block: three
+// blocks around the cylinder with isoparametric curved edges on it (transfinite blending of the
+// arc and the enclosing box), graded radially, and graded channel blocks upstream and
+// downstream. The drag is the consistent reaction: the weak momentum residual summed over the
+// cylinder's nodes (twice, for both halves).
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/Assembler.hpp"
+#include "core/DirichletTerm.hpp"
+#include "core/DofMap.hpp"
+#include "core/Problem.hpp"
+#include "core/Scene.hpp"
+#include "problems/components/FlowEquations.hpp"
+
+namespace keller {
+
+struct CylinderMeshSpec {
+  std::string name = "C1";
+  int n_quarter = 8;        // elements along a quarter of the cylinder (the N block has twice as many)
+  int n_radial = 8;         // elements from the cylinder to the enclosing box
+  int nx_upstream = 12;     // elements along the upstream channel
+  int nx_downstream = 24;   // elements along the downstream channel
+  double radial_ratio = 4.0;      // largest / smallest radial size (fine at the cylinder)
+  double upstream_ratio = 10.0;   // largest / smallest (fine next to the box)
+  double downstream_ratio = 20.0; // largest / smallest (fine next to the box: the wake)
+  static CylinderMeshSpec preset(const std::string& name);  // C1..C4 (refinement 1, 2, 3, 4)
+};
+
+struct CylinderOptions {
+  double upstream_length = 20.0;    // from the inflow to the cylinder's centre
+  double downstream_length = 30.0;  // from the cylinder's centre to the outflow
+  CylinderMeshSpec mesh;
+  FluidOptions fluid;
+
+  static void declare(SceneSchema& schema);
+  static CylinderOptions from_scene(const Scene& scene);
+};
+
+// Blocks upstream, west, north, east, downstream; boundaries inflow, outflow, wall (y = 2),
+// symmetry (y = 0), cylinder.
+Mesh build_cylinder_mesh(const CylinderOptions& options);
+
+class CylinderProblem final : public Problem {
+ public:
+  explicit CylinderProblem(const CylinderOptions& options);
+  CylinderProblem(const CylinderProblem&) = delete;
+  CylinderProblem& operator=(const CylinderProblem&) = delete;
+
+  std::string name() const override { return "cylinder"; }
+  int size() const override { return dofs_->size(); }
+  ParameterSet& parameters() override { return params_; }
+  const ParameterSet& parameters() const override { return params_; }
+  const SparseMatrix& jacobian_pattern() const override { return assembler_->pattern(); }
+  Status residual(const Vector& u, Vector& F) override { return assembler_->residual(u, F); }
+  Status jacobian(const Vector& u, Vector& F, SparseMatrix& J) override { return assembler_->jacobian(u, F, J); }
+  Status parameter_derivative(int p, const Vector& u, Vector& dF) override {
+    return assembler_->parameter_derivative(p, u, dF);
+  }
+  Status mass_matrix(const Vector& u, SparseMatrix& B) override { return assembler_->mass_matrix(u, B); }
+  Vector initial_guess() override;
+  std::vector<std::string> observable_names() const override;
+  Status observables(const Vector& u, std::vector<double>& values) override;
+  std::vector<std::string> monitor_names() const override;
+  Status monitors(const Vector& u, std::vector<double>& values) override;
+  SolutionFields fields(const Vector& u) const override;
+  std::string summary() const override;
+
+  // Drag coefficient K = F_x / (eta0 U) of the whole cylinder.
+  double drag(const Vector& u) const;
+  const Mesh& mesh() const { return mesh_; }
+  const DofMap& dofs() const { return *dofs_; }
+  const FlowEquations& flow() const { return *flow_; }
+  const Assembler::Timing& assembler_timing() const { return assembler_->timing(); }
+
+ private:
+  CylinderOptions options_;
+  Mesh mesh_;
+  ParameterSet params_;
+  std::unique_ptr<FlowEquations> flow_;
+  std::unique_ptr<DofMap> dofs_;
+  std::shared_ptr<DirichletTerm> dirichlet_;
+  std::unique_ptr<Assembler> assembler_;
+  std::vector<int> cylinder_vx_;  // x-velocity rows of the cylinder's nodes
+};
+
+}  // namespace keller

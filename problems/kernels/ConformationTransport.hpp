@@ -1,0 +1,133 @@
+// The constitutive equation of the viscoelastic fluids as a transport term at one Gauss point:
+// the Q1 conformation M (xx, xy, yy, and zz where it is an unknown, NC = 4) or its logarithm
+// Psi, convected by v and stretched by the interpolated velocity gradient L (Devss.hpp),
+//   conformation  R = v . grad M - L M - M L^T + (f M - I) / lambda_eff
+//   log form      R = v . grad Psi - T(L, Psi) - (exp(-Psi) - f I) / lambda_eff
+//   zz (FENE-P)   R = v . grad M_zz + (f M_zz - 1) / lambda_eff,  log: - (exp(-psi_zz) - f)
+// with lambda_eff = lambda eta_p(gdot(L)) / eta_p0 for Owens, lambda otherwise. The rows are
+// SUPG-weighted (Supg.hpp): int (chi + tau v . grad chi) [R - s] with an optional constitutive
+// source s (manufactured solutions). Local rows: component c at Q1 node k is row 4 c + k.
+#pragma once
+
+#include <cmath>
+
+#include "core/AutoDiff.hpp"
+#include "core/ElementGeometry.hpp"
+#include "core/ReferenceElement.hpp"
+#include "problems/kernels/FlowSource.hpp"
+#include "problems/kernels/Supg.hpp"
+#include "problems/laws/ConstitutiveLaw.hpp"
+#include "problems/laws/LogConformation.hpp"
+
+namespace keller {
+
+// The conformation tensor from its unknowns at a point: M itself, or exp(Psi) in the log form;
+// M_zz = 1 unless it is an unknown (NC = 4).
+template <int NC, class T>
+Conformation<T> conformation_of(const T* m, bool log_form) {
+  Conformation<T> M{m[0], m[1], m[2], T(1.0)};
+  if (log_form) {
+    const Sym2<T> E = sym_exp(Sym2<T>{m[0], m[1], m[2]});
+    M = {E.xx, E.xy, E.yy, T(1.0)};
+  }
+  if constexpr (NC == 4) {
+    using std::exp;
+    M.zz = log_form ? T(exp(m[3])) : m[3];
+  }
+  return M;
+}
+
+// The conformation unknowns at Gauss point q and their gradients, from the Q1 nodal values
+// mc (component c at node k: mc[4 c + k]).
+template <int NC, class T, class G>
+struct ConformationAt {
+  T m[NC];
+  T dm[NC][2];
+
+  ConformationAt(const T* mc, int q, const QpGeometry<G>& g) {
+    const ref::Tables& tb = ref::tables();
+    for (int c = 0; c < NC; ++c) {
+      m[c] = 0.0;
+      dm[c][0] = 0.0;
+      dm[c][1] = 0.0;
+    }
+    for (int k = 0; k < 4; ++k) {
+      const double N = tb.N1[q][k];
+      for (int c = 0; c < NC; ++c) {
+        m[c] += N * mc[4 * c + k];
+        dm[c][0] += g.dN1dx[k][0] * mc[4 * c + k];
+        dm[c][1] += g.dN1dx[k][1] * mc[4 * c + k];
+      }
+    }
+  }
+};
+
+// 1 / lambda_eff: Gamma / Wi, divided by the Owens factor of gdot^2 = 2 D:D with D the
+// symmetric part of L.
+template <class T, class P>
+T inverse_relaxation_time(FluidModel model, const P& lambda, const T (&L)[2][2], const P& Gamma,
+                          const OwensParameters& owens) {
+  T inv_lambda = 1.0 / lambda;
+  if (model == FluidModel::Owens) {
+    const T dxx = L[0][0], dyy = L[1][1], dxy = 0.5 * (L[0][1] + L[1][0]);
+    const T gdot2 = 2.0 * (dxx * dxx + dyy * dyy + 2.0 * dxy * dxy);
+    inv_lambda = inv_lambda / owens_factor(gdot2, Gamma, owens);
+  }
+  return inv_lambda;
+}
+
+// The transport residual R of each component at a point (M: the conformation there, f its
+// Peterlin factor); the constitutive source at position x is subtracted.
+template <int NC, class T, class G, class X>
+void conformation_transport(const ConformationAt<NC, T, G>& c, const Conformation<T>& M, const T (&v)[2],
+                            const T (&L)[2][2], const T& f, const T& inv_lambda, bool log_form,
+                            const FlowSource* source, const X (&x)[2], T (&R)[NC]) {
+  const T(&m)[NC] = c.m;
+  const T(&dm)[NC][2] = c.dm;
+  if (log_form) {
+    const Sym2<T> rate = log_conformation_rate(Sym2<T>{m[0], m[1], m[2]}, L, f, inv_lambda);
+    R[0] = v[0] * dm[0][0] + v[1] * dm[0][1] + rate.xx;
+    R[1] = v[0] * dm[1][0] + v[1] * dm[1][1] + rate.xy;
+    R[2] = v[0] * dm[2][0] + v[1] * dm[2][1] + rate.yy;
+    if constexpr (NC == 4) {
+      using std::exp;
+      R[3] = v[0] * dm[3][0] + v[1] * dm[3][1] - inv_lambda * (exp(-m[3]) - f);
+    }
+  } else {
+    const Conformation<T> rate = conformation_rate(M, L, f, inv_lambda);
+    R[0] = v[0] * dm[0][0] + v[1] * dm[0][1] + rate.xx;
+    R[1] = v[0] * dm[1][0] + v[1] * dm[1][1] + rate.xy;
+    R[2] = v[0] * dm[2][0] + v[1] * dm[2][1] + rate.yy;
+    if constexpr (NC == 4) R[3] = v[0] * dm[3][0] + v[1] * dm[3][1] + rate.zz;
+  }
+  if (source && source->constitutive) {
+    const double at[2] = {value_of(x[0]), value_of(x[1])};
+    double s[4] = {0.0, 0.0, 0.0, 0.0};
+    source->constitutive(at, s);
+    for (int k = 0; k < NC; ++k) R[k] -= s[k];
+  }
+}
+
+// Adds the SUPG-weighted rows of Gauss point q to r[0 .. 4 NC - 1].
+template <int NC, class T, class G>
+void add_conformation_rows(int q, const QpGeometry<G>& g, const T& tau, const T (&v)[2], const T (&R)[NC], T* r) {
+  for (int k = 0; k < 4; ++k) {
+    const T weight = supg_weight(q, k, g, tau, v);
+    for (int c = 0; c < NC; ++c) r[4 * c + k] += weight * R[c];
+  }
+}
+
+// The conformation rows' mass block int (chi_k + tau v . grad chi_k) chi_l of the time-dependent
+// form (B: row-major with the given stride, starting at the first conformation row and column).
+template <int NC>
+void add_conformation_mass(int q, const QpGeometry<double>& g, double tau, const double (&v)[2], int stride,
+                           double* B) {
+  const ref::Tables& tb = ref::tables();
+  for (int k = 0; k < 4; ++k) {
+    const double wk = supg_weight(q, k, g, tau, v);
+    for (int l = 0; l < 4; ++l)
+      for (int c = 0; c < NC; ++c) B[(4 * c + k) * stride + 4 * c + l] += wk * tb.N1[q][l];
+  }
+}
+
+}  // namespace keller

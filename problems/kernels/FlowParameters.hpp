@@ -1,0 +1,39 @@
+// Where the flow kernels find their parameters in the ParameterSet, and the scales those set
+// (model.md units: eta0 = 1, the solvent viscosity is beta, lambda = Wi / Gamma, the polymer
+// modulus is (1 - beta) Gamma / Wi). One struct for every fluid: a Newtonian fluid leaves the
+// viscoelastic indices at -1.
+#pragma once
+
+namespace keller {
+
+struct FlowParameterIndices {
+  int Re = -1;     // -1: no inertia
+  int Gamma = -1;  // velocity scale (mean inflow velocity); -1: 1
+  int Wi = -1;     // viscoelastic fluids only
+  int beta = -1;   // solvent viscosity ratio; -1: beta = 1 (Newtonian)
+  int b = -1;      // FENE-P only
+};
+
+template <class P>
+P velocity_scale(const FlowParameterIndices& p, const P* params) {
+  return p.Gamma >= 0 ? params[p.Gamma] : P(1.0);
+}
+
+// Re / Gamma, the factor of the convective term and of dv/dt; 0 without inertia.
+template <class P>
+P flow_density(const FlowParameterIndices& p, const P* params, bool inertia) {
+  return inertia ? P(params[p.Re] / velocity_scale(p, params)) : P(0.0);
+}
+
+template <class P>
+P solvent_viscosity(const FlowParameterIndices& p, const P* params) {
+  return p.beta >= 0 ? params[p.beta] : P(1.0);
+}
+
+// The polymer modulus (1 - beta) Gamma / Wi of tau_p = modulus (f M - I).
+template <class P>
+P polymer_modulus(const FlowParameterIndices& p, const P* params) {
+  return (1.0 - params[p.beta]) * velocity_scale(p, params) / params[p.Wi];
+}
+
+}  // namespace keller
