@@ -102,18 +102,23 @@ StoredPoint read_stored_start(const StoredStart& start, const LoadedScene& scene
                                    point.index, located.empty() ? "none" : located));
   }
   if (start.curve && stored.table.parameter == parameter)
-    throw std::invalid_argument(fmt::format("{}: the curve of a fold of a branch in '{}' needs another free parameter "
+    throw std::invalid_argument(fmt::format("{}: the curve of a point of a branch in '{}' needs another free parameter "
                                             "than '{}' (--free)",
                                             where, parameter, parameter));
-  if (start.curve && point.kind != PointKind::Fold) {
+  auto wanted = [&](int k) {
+    return start.event_curve ? k == static_cast<int>(PointKind::Event) || k == static_cast<int>(PointKind::End)
+                             : k == static_cast<int>(PointKind::Fold);
+  };
+  if (start.curve && !wanted(static_cast<int>(point.kind))) {
     std::string located;
     const BranchTable& table = stored.table;
     const int kind = table.column("kind");
     for (int r : table.saved_rows)
-      if (r < table.rows.rows() && static_cast<int>(table.rows(r, kind)) == static_cast<int>(PointKind::Fold))
+      if (r < table.rows.rows() && wanted(static_cast<int>(table.rows(r, kind))))
         located += (located.empty() ? "" : ", ") + std::to_string(r);
-    refusals.push_back(fmt::format("row {} is not a located fold (located folds with a stored solution: {})",
-                                   point.index, located.empty() ? "none" : located));
+    const char* what = start.event_curve ? "event" : "fold";
+    refusals.push_back(fmt::format("row {} is not a located {} (located {}s with a stored solution: {})", point.index,
+                                   what, what, located.empty() ? "none" : located));
   }
   refuse();
   return stored;

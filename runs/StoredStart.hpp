@@ -26,6 +26,7 @@ struct StoredStart {
   int row = -1;           // -1: the last stored point
   bool switching = false;
   bool curve = false;     // --from: a curve starts at the point, its branch's parameter an unknown of it
+  bool event_curve = false;  // the point must be a located fold (false) or event or end (true)
   bool force = false;
 };
 

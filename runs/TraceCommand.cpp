@@ -1,13 +1,16 @@
 #include "runs/TraceCommand.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <filesystem>
+#include <limits>
 #include <optional>
 
 #include "continuation/BranchFile.hpp"
 #include "continuation/Continuation.hpp"
 #include "continuation/ContinuedBranch.hpp"
+#include "continuation/EventCurveProblem.hpp"
 #include "continuation/FoldCurveProblem.hpp"
 #include "continuation/ProgressPrinter.hpp"
 #include "continuation/StartSolver.hpp"
@@ -140,20 +143,24 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
     if (args.force && args.restart.empty() && args.switch_at.empty() && args.from.empty())
       throw std::invalid_argument("--force applies to a start from --restart, --switch or --from");
     if (args.from.empty() != args.curve.empty())
-      throw std::invalid_argument("--from FILE.h5:ROW and --curve fold go together (a curve starts at a located point)");
+      throw std::invalid_argument(
+          "--from FILE.h5:ROW and --curve fold|event go together (a curve starts at a located point)");
     if (!args.free.empty() && args.from.empty()) throw std::invalid_argument("--free applies to a curve (--from, --curve)");
-    if (!args.curve.empty() && args.curve != "fold")
-      throw std::invalid_argument("--curve: '" + args.curve + "' is not a curve keller traces (fold)");
+    if (!args.curve.empty() && args.curve != "fold" && args.curve != "event")
+      throw std::invalid_argument("--curve: '" + args.curve + "' is not a curve keller traces (fold, event)");
     if (!args.from.empty() && (!args.restart.empty() || !args.switch_at.empty()))
       throw std::invalid_argument("--from excludes --restart and --switch");
     if (!args.from.empty() && sopt.enabled)
-      throw std::invalid_argument("[stability]: the points of a fold curve are not analysed; trace ordinary branches "
+      throw std::invalid_argument("[stability]: the points of a curve are not analysed; trace ordinary branches "
                                   "at the curve's parameter values for their stability");
     RunFiles files;
     files.input("scene file", args.scene);
     if (!args.restart.empty()) from = parse_stored_start("--restart", args.restart);
     if (!args.switch_at.empty()) from = parse_stored_start("--switch", args.switch_at);
-    if (!args.from.empty()) from = parse_stored_start("--from", args.from);
+    if (!args.from.empty()) {
+      from = parse_stored_start("--from", args.from);
+      from->event_curve = args.curve == "event";
+    }
     if (from) {
       from->force = args.force;
       files.input(from->flag + " file", from->file);
@@ -223,8 +230,51 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
 
   Vector u0;
   StartFactorisation start_factorisation;  // the first state's last factorisation of J, handed to the branch
-  std::unique_ptr<FoldCurveProblem> curve;  // --curve fold: the augmented problem traced instead
-  if (from && from->curve) {
+  std::unique_ptr<FoldCurveProblem> curve;         // --curve fold: the augmented problem traced instead
+  std::unique_ptr<EventCurveProblem> event_curve;  // --curve event
+  if (from && from->event_curve) {
+    for (const Parameter& q : problem->parameters().list())
+      if (const auto v = stored->value_of(q.name)) problem->parameters().set(q.name, *v);
+    const BranchPoint& event = stored->point;
+    // the monitor whose zero the row is: an event's label, or the stop observable's ("min_m1 < stop_below")
+    std::string monitor;
+    for (const std::string& m : problem->monitor_names())
+      if (event.label == m || event.label.rfind(m + " ", 0) == 0) monitor = m;
+    if (monitor.empty())
+      return fail(exit_code::usage, fmt::format("--from '{}': row {} ({}) is not the zero of a monitor of this problem "
+                                                "({})",
+                                                from->file, event.index, event.label, problem->monitor_names().empty()
+                                                    ? std::string("it has none")
+                                                    : "its monitors: " + fmt::format("{}", fmt::join(problem->monitor_names(), ", "))));
+    if (!copt.stop.observable.empty()) {
+      fmt::print("note: continuation.stop_observable ({}) is left aside: an event curve's pieces end where the "
+                 "minimum's place moves\n",
+                 copt.stop.observable);
+      copt.stop.observable.clear();
+    }
+    event_curve = std::make_unique<EventCurveProblem>(*problem, stored->table.parameter, monitor);
+    Vector U = event_curve->state(event.u, event.lambda);
+    if (unfinished) {
+      problem->parameters().set(copt.parameter, start->lambda);
+      U = start->u;
+    }
+    const Status st = event_curve->start(U, nopt, lopt);
+    if (!st.is_ok()) {
+      fmt::print(stderr, "keller: the event curve's first point failed: {}; no output written\n", st.describe());
+      summary.reason = "the event curve's first point failed: " + st.describe();
+      summary.exit_code = exit_code::numerical_failure;
+      return summary.exit_code;
+    }
+    fmt::print("event curve of {} = 0 in ({}, {}) from row {} of {} ({} = {:.10g}, {} = {:.10g}), the minimum at place "
+               "{}\n",
+               monitor, copt.parameter, stored->table.parameter, event.index, from->file, stored->table.parameter,
+               U[U.size() - 1], copt.parameter, problem->parameters().get(copt.parameter), event_curve->place());
+    if (unfinished)
+      fmt::print("continuing the unfinished curve in {} from its row {} ({} = {:.10g}; --fresh starts over)\n", work,
+                 unfinished->seed.row, copt.parameter, start->lambda);
+    u0 = U;
+    start.reset();
+  } else if (from && from->curve) {
     for (const Parameter& q : problem->parameters().list())
       if (const auto v = stored->value_of(q.name)) problem->parameters().set(q.name, *v);
     const BranchPoint& fold = stored->point;
@@ -298,8 +348,13 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
   }
 
   // 3. the branch, written to `work` point by point
-  Problem& traced = curve ? static_cast<Problem&>(*curve) : *problem;
+  Problem& traced = curve ? static_cast<Problem&>(*curve) : event_curve ? static_cast<Problem&>(*event_curve) : *problem;
   ContinuationOptions fixed = copt;
+  if (event_curve) {  // each piece of the curve ends where the minimum's place moves
+    fixed.stop.observable = EventCurveProblem::kMargin;
+    fixed.stop.below = 0.0;
+    fixed.stop.above = std::numeric_limits<double>::infinity();
+  }
   if (!(fixed.state_scale > 0)) {  // a new run's state scale is the RMS of its start
     const double rms = u0.norm() / std::sqrt(static_cast<double>(std::max<long>(u0.size(), 1)));
     fixed.state_scale = rms > 0 ? rms : 1.0;
@@ -346,7 +401,9 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
     std::optional<FoldCurveProblem::BorderUpdate> borders;
     if (curve) observer = &borders.emplace(*curve, *observer);
     InterruptGuard::forward_to(run.get());
-    result = unfinished          ? run->resume(*start, *observer)
+    result = event_curve ? event_curve->trace(fixed, nopt, lopt, u0, *observer,
+                                              [](Continuation* c) { InterruptGuard::forward_to(c); })
+             : unfinished          ? run->resume(*start, *observer)
              : from && from->switching ? run->switch_branch(*start, args.switch_direction, *observer)
              : start                   ? run->resume(*start, *observer)
                                        : run->run(u0, *observer, start_factorisation);
@@ -384,6 +441,7 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
   const FieldsAt fields_at = [&](const Vector& u, double lambda) {
     problem->parameters().set(p, lambda);
     if (curve) problem->parameters().set(curve->fold_parameter(), u[u.size() - 1]);
+    if (event_curve) problem->parameters().set(event_curve->event_parameter(), u[u.size() - 1]);
     return traced.fields(u);
   };
   PublishedBranch published;
