@@ -229,10 +229,19 @@ Status EventCurveProblem::observables(const Vector& U, std::vector<double>& valu
   return {};
 }
 
+std::vector<std::string> EventCurveProblem::monitor_names() const {
+  std::vector<std::string> names = inner_.monitor_names();
+  names.erase(names.begin() + monitor_);
+  return names;
+}
+
 Status EventCurveProblem::monitors(const Vector& U, std::vector<double>& values) {
   Status st = set_p1(U);
   if (!st.is_ok()) return st;
-  return inner_.monitors(U.head(n_), values);
+  st = inner_.monitors(U.head(n_), values);
+  if (!st.is_ok()) return st;
+  values.erase(values.begin() + monitor_);  // zero all along the curve: its sign is rounding
+  return {};
 }
 
 std::string EventCurveProblem::summary() const {
@@ -277,7 +286,13 @@ ContinuationResult EventCurveProblem::trace(ContinuationOptions o, const NewtonO
     total.tangent_iterations += r.tangent_iterations;
     total.probes += r.probes;
     total.renewal_cost = r.renewal_cost;
-    total.timings.total += r.timings.total;
+    ContinuationTimings& t = total.timings;
+    const ContinuationTimings& q = r.timings;
+    t.jacobian += q.jacobian, t.parameter_derivative += q.parameter_derivative, t.residual += q.residual;
+    t.factorisation += q.factorisation, t.solve += q.solve, t.observables += q.observables, t.output += q.output;
+    t.total += q.total, t.analysis += q.analysis;
+    t.jacobians += q.jacobians, t.parameter_derivatives += q.parameter_derivatives, t.residuals += q.residuals;
+    t.solves += q.solves, t.analyses += q.analyses;
     total.code = r.code;
     total.reason = r.reason;
     total.last = pieces.last();

@@ -19,7 +19,7 @@ namespace keller {
 
 // Observables: the inner problem's, then p1, "place" (the followed place's index) and
 // "switch margin" (the smallest value elsewhere minus the followed one: >= 0 while the
-// minimum sits at the followed place). Monitors: the inner problem's.
+// minimum sits at the followed place). Monitors: the inner problem's but the curve's own.
 class EventCurveProblem final : public Problem {
  public:
   // inner at the event's parameter values; event_parameter: p1 (the parameter of the branch the
@@ -38,7 +38,7 @@ class EventCurveProblem final : public Problem {
   double residual_scale() const override { return inner_.residual_scale(); }
   std::vector<std::string> observable_names() const override;
   Status observables(const Vector& U, std::vector<double>& values) override;
-  std::vector<std::string> monitor_names() const override { return inner_.monitor_names(); }
+  std::vector<std::string> monitor_names() const override;
   Status monitors(const Vector& U, std::vector<double>& values) override;
   SolutionFields fields(const Vector& U) const override { return inner_.fields(U.head(n_)); }
   std::string summary() const override;

@@ -91,6 +91,21 @@ std::optional<Unfinished> unfinished_run(const std::string& work, const std::str
   return u;
 }
 
+// The name of the monitor (or stop threshold, "min_m1 < stop_below") whose zero the located row
+// of a branch file is, from its /branch/events record; empty if none.
+std::string located_monitor(const std::string& file, int row, const BranchTable& t) {
+  H5File f(file, H5File::Mode::Read);
+  if (!f.exists("/branch/events")) return {};
+  long rows = 0, cols = 0;
+  const std::vector<double> ev = f.read_matrix("/branch/events", &rows, &cols);
+  for (long i = 0; i < rows && cols >= 4; ++i)
+    if (static_cast<int>(ev[static_cast<size_t>(i * cols)]) == row) {
+      const int m = static_cast<int>(ev[static_cast<size_t>(i * cols + 3)]);
+      if (m >= 0 && m < static_cast<int>(t.monitors.size())) return t.monitors[static_cast<size_t>(m)];
+    }
+  return {};
+}
+
 void print_summary(const ContinuationResult& result) {
   fmt::print("{} points, {} rejected steps, {} factorisations ({:.2f} per point; {} of them branch-point probes), {} "
              "tangent solves by iteration, renewal cost {:.1f} solves; {}\n",
@@ -238,12 +253,13 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
     const BranchPoint& event = stored->point;
     // the monitor whose zero the row is: an event's label, or the stop observable's ("min_m1 < stop_below")
     std::string monitor;
+    const std::string label = event.label.empty() ? located_monitor(from->file, event.index, stored->table) : event.label;
     for (const std::string& m : problem->monitor_names())
-      if (event.label == m || event.label.rfind(m + " ", 0) == 0) monitor = m;
+      if (label == m || label.rfind(m + " ", 0) == 0) monitor = m;
     if (monitor.empty())
       return fail(exit_code::usage, fmt::format("--from '{}': row {} ({}) is not the zero of a monitor of this problem "
                                                 "({})",
-                                                from->file, event.index, event.label, problem->monitor_names().empty()
+                                                from->file, event.index, label, problem->monitor_names().empty()
                                                     ? std::string("it has none")
                                                     : "its monitors: " + fmt::format("{}", fmt::join(problem->monitor_names(), ", "))));
     if (!copt.stop.observable.empty()) {

@@ -6,6 +6,8 @@
 
 #include <cmath>
 #include <filesystem>
+#include <iomanip>
+#include <iostream>
 #include <string>
 
 #include "continuation/BranchFile.hpp"
@@ -124,4 +126,54 @@ TEST(CurveCommand, BadCurveStartsAreRefused) {
     EXPECT_FALSE(fs::exists(dir + "/curve.h5"));
     EXPECT_FALSE(fs::exists(dir + "/curve.h5.part"));
   }
+}
+
+// The limiting-Wi curve of the collapsible channel (Oldroyd-B, t = 0.4) on the coarse mesh of the
+// regression scenes: the zero of min m1 from the end of the Wi branch at Gamma = 4.95e-4,
+// continued down in Gamma, agrees at Gamma = 4e-4, 3e-4, 2e-4, 1e-4 with the limiting Wi that
+// ordinary Wi branches locate there (to 1e-8 in Wi) to 1e-6; the minimum's node moves along
+// the curve, and every move is a located switch.
+TEST(CurveCommand, LimitingWiCurveOfTheCollapsibleChannelMatchesWiBranches) {
+  const std::string dir = test::scratch_dir("curve_limiting_wi");
+  const std::string scene = test::source_path("runs/scenes/collapsible_oldroyd_b_wi_high_gamma.toml") +
+                            " --set mesh.name=custom --set mesh.nx_upstream=5 --set mesh.nx_deformable=10 --set "
+                            "mesh.nx_downstream=5 --set mesh.ny_fluid=4 --set mesh.ny_solid=2";
+  auto limiting_wi = [&](const std::string& out, const std::string& extra) {
+    const auto r = test::run_keller("trace " + scene + extra + " -o " + out);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    const BranchTable t = read_branch_table(out);
+    const auto ends = rows_of_kind(t, PointKind::End);
+    EXPECT_EQ(ends.size(), 1u);
+    EXPECT_NEAR(t.rows(ends.back(), t.column("min_m1")), 0.0, 1e-9);
+    return std::make_pair(ends.empty() ? -1L : ends.back(), ends.empty() ? NAN : t.rows(ends.back(), t.column("Wi")));
+  };
+  const auto [row, wi0] = limiting_wi(dir + "/wi.h5", "");
+  ASSERT_GE(row, 0);
+  auto r = test::run_keller("trace " + scene + " -o " + dir + "/curve.h5 --from " + dir + "/wi.h5:" +
+                            std::to_string(row) +
+                            " --curve event --free Gamma --set continuation.direction=decrease --set "
+                            "continuation.stops=[1e-4,2e-4,3e-4,4e-4] --set continuation.lower=5e-5");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("left aside"), std::string::npos) << r.out;  // the scene's stop observable
+  const BranchTable curve = read_branch_table(dir + "/curve.h5");
+  const int gamma = curve.column("Gamma"), wi = curve.column("Wi"), place = curve.column("place");
+  EXPECT_NEAR(curve.rows(0, wi), wi0, 1e-9);
+  const auto at = rows_of_kind(curve, PointKind::Requested);
+  ASSERT_EQ(at.size(), 4u);
+  for (long i : at) {
+    const double g = curve.rows(i, gamma);
+    const auto [end, w] = limiting_wi(dir + "/g" + std::to_string(i) + ".h5", " --set parameters.Gamma=" + std::to_string(g));
+    std::cout << std::setprecision(12) << "Gamma = " << g << ": curve Wi = " << curve.rows(i, wi)
+              << ", limiting Wi of the Wi branch " << w << "\n";
+    EXPECT_NEAR(curve.rows(i, wi), w, 1e-6) << "Gamma = " << g;
+    EXPECT_NEAR(curve.rows(i, curve.column("min_m1")), 0.0, 1e-9);
+  }
+  // the place changes only after a located switch (an event row: the curve's only events)
+  const auto switches = rows_of_kind(curve, PointKind::Event);
+  EXPECT_GE(switches.size(), 1u);
+  for (long i = 1; i < curve.rows.rows(); ++i)
+    if (curve.rows(i, place) != curve.rows(i - 1, place))
+      EXPECT_EQ(static_cast<int>(curve.rows(i - 1, curve.column("kind"))), static_cast<int>(PointKind::Event))
+          << "row " << i;
+  EXPECT_EQ(curve.rows(curve.rows.rows() - 1, gamma), 5e-5);
 }
