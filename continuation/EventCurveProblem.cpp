@@ -32,6 +32,7 @@ class Pieces final : public BranchObserver {
     first_ = first;
     offset_ = first ? 0 : last_index_;
     s0_ = s0;
+    t0_ = first ? 0.0 : last_seconds_;
     switch_.reset();
   }
   void on_start(const std::vector<std::string>& o, const std::vector<std::string>& m) override {
@@ -42,6 +43,8 @@ class Pieces final : public BranchObserver {
     BranchPoint p = q;
     p.index += offset_;
     p.s += s0_;
+    p.seconds += t0_;
+    last_seconds_ = p.seconds;
     if (p.kind == PointKind::End && p.label.rfind(EventCurveProblem::kMargin, 0) == 0) {
       p.kind = PointKind::Event;
       p.label = "switch";
@@ -57,6 +60,7 @@ class Pieces final : public BranchObserver {
     last_ = last;
     last_.index += offset_;
     last_.s += s0_;
+    last_.seconds += t0_;
   }
   void finish() { next_.on_finish(reason_, last_); }
   const std::optional<BranchPoint>& switched() const { return switch_; }
@@ -66,7 +70,7 @@ class Pieces final : public BranchObserver {
   BranchObserver& next_;
   bool first_ = true;
   int offset_ = 0, last_index_ = 0;
-  double s0_ = 0.0;
+  double s0_ = 0.0, t0_ = 0.0, last_seconds_ = 0.0;  // arclength and wall time of the earlier pieces
   std::optional<BranchPoint> switch_;
   std::string reason_;
   BranchPoint last_;

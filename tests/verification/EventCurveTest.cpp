@@ -92,22 +92,32 @@ TEST(EventCurve, MinimumOverPlacesFollowsItsPlaceAndSwitches) {
   ASSERT_EQ(r.code, StopCode::UpperBound) << r.reason;
   const int a = static_cast<int>(curve.observable_names().size()) - 3, place = a + 1, margin = a + 2;
   int switches = 0;
+  double switch_seconds = -1;
   for (size_t i = 0; i < rec.points.size(); ++i) {
     const BranchPoint& q = rec.points[i];
     EXPECT_EQ(q.index, static_cast<int>(i));  // one branch, rows in order
     const double b = q.lambda;
     EXPECT_NEAR(q.observables[a], 1.0 - std::abs(b), 1e-10) << "b = " << b;
     EXPECT_GE(q.observables[margin], -1e-10) << "b = " << b;
-    EXPECT_NEAR(q.monitors[0], 0.0, 1e-10) << "b = " << b;
+    std::vector<double> m;
+    ASSERT_TRUE(p.monitors(q.u.head(2), m).is_ok());
+    EXPECT_NEAR(m[0], 0.0, 1e-10) << "b = " << b;  // the monitor whose zero the curve is
+    EXPECT_EQ(q.monitors.size(), 1u);  // only the switch margin's stop: the curve's own monitor is left out
+    if (switch_seconds >= 0) {
+      EXPECT_GT(q.seconds, switch_seconds);  // the wall time of the whole curve
+    }
     if (q.kind == PointKind::Event && q.label == "switch") {
       ++switches;
+      switch_seconds = q.seconds;
       EXPECT_NEAR(b, 0.0, 1e-10);
       EXPECT_NEAR(q.observables[a], 1.0, 1e-10);
       EXPECT_EQ(q.observables[place], 0.0);  // the row ends the piece on place 0
     } else {
       EXPECT_EQ(q.observables[place], b < 0 ? 0.0 : 1.0) << "b = " << b;
     }
-    if (i > 0) EXPECT_GT(q.s, rec.points[i - 1].s);
+    if (i > 0) {
+      EXPECT_GT(q.s, rec.points[i - 1].s);
+    }
   }
   EXPECT_EQ(switches, 1);
   EXPECT_NEAR(rec.points.back().lambda, 0.5, 1e-12);
