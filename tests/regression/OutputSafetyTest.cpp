@@ -209,7 +209,7 @@ TEST(OutputSafety, BadValuesAndUsageGetClearMessagesAndCode2) {
       {"trace", "trace needs a scene file"},
       {"frobnicate", "keller: error:"},
       {"export", "keller: error:"},
-      {"trace " + bratu1d + " -o " + dir + "/o.h5 --force", "--force applies to a start from --restart or --switch"},
+      {"trace " + bratu1d + " -o " + dir + "/o.h5 --force", "--force applies to a start from --restart, --switch or --from"},
   };
   for (const Refused& c : cases) {
     SCOPED_TRACE(c.args);
