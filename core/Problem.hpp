@@ -61,6 +61,13 @@ class Problem {
   // Monitors: named functions whose sign changes along a branch are events.
   virtual std::vector<std::string> monitor_names() const { return {}; }
   virtual Status monitors(const Vector& u, std::vector<double>& values);
+  // A monitor that is a minimum over places (nodes, Gauss points, elements), such as the smallest
+  // conformation eigenvalue: its value at every place (the monitor is their minimum), so that an
+  // event curve can follow the place where the minimum sits. The default: one place, the monitor.
+  virtual Status monitor_places(int monitor, const Vector& u, std::vector<double>& values);
+  // The gradient in u of the monitor's value at one place. The default: one-sided differences,
+  // unknown by unknown, of monitor_places (small problems only).
+  virtual Status monitor_place_gradient(int monitor, int place, const Vector& u, Vector& gradient);
 
   // Fields of a solution for output.
   virtual SolutionFields fields(const Vector& u) const = 0;

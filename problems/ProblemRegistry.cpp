@@ -9,6 +9,7 @@
 #include "problems/channel/CollapsibleChannelProblem.hpp"
 #include "problems/cylinder/CylinderProblem.hpp"
 #include "problems/analytic/Pitchfork1DProblem.hpp"
+#include "problems/analytic/ShiftedBratu1DProblem.hpp"
 #include "problems/channel/WallProblem.hpp"
 
 namespace keller {
@@ -39,6 +40,8 @@ const std::vector<ProblemType>& problem_types() {
        [](const Scene& s) -> std::unique_ptr<Problem> { return std::make_unique<WallProblem>(WallOptions::from_scene(s)); }},
       {"bratu1d", "1D Bratu problem by central differences (test problem)", Bratu1DProblem::declare,
        Bratu1DProblem::from_scene},
+      {"bratu1d-shifted", "1D Bratu problem with a linear term mu u (test problem: fold curves)",
+       ShiftedBratu1DProblem::declare, ShiftedBratu1DProblem::from_scene},
       {"bratu2d", "2D Bratu problem with Q2 elements (test problem)", Bratu1DProblem::declare,
        Bratu2DProblem::from_scene},
       {"pitchfork1d", "1D pitchfork u'' + lambda u - u^3 + eps = 0 by central differences (test problem)",

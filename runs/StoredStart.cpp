@@ -20,6 +20,7 @@ StoredStart parse_stored_start(const std::string& flag, const std::string& s) {
   r.flag = flag;
   r.file = s.substr(0, colon);
   r.switching = flag == "--switch";
+  r.curve = flag == "--from";
   const std::string row = s.substr(colon + 1);
   if (row != "last") {
     size_t used = 0;
@@ -73,6 +74,7 @@ StoredPoint read_stored_start(const StoredStart& start, const LoadedScene& scene
     refusals.push_back("its physics differs: " + record_difference(stored.header.physics, physics));
   for (const Parameter& p : problem.parameters().list()) {
     if (p.name == parameter) continue;  // the run's own parameter starts at the point's value
+    if (start.curve && p.name == stored.table.parameter) continue;  // an unknown of the curve
     const std::optional<double> v = stored.value_of(p.name);
     if (!v) continue;
     const double tol = 1e-12 * std::max({1.0, std::abs(*v), std::abs(p.value)});
@@ -98,6 +100,25 @@ StoredPoint read_stored_start(const StoredStart& start, const LoadedScene& scene
     refusals.push_back(fmt::format("row {} is not a located branch point (located branch points with a stored "
                                    "solution: {})",
                                    point.index, located.empty() ? "none" : located));
+  }
+  if (start.curve && stored.table.parameter == parameter)
+    throw std::invalid_argument(fmt::format("{}: the curve of a point of a branch in '{}' needs another free parameter "
+                                            "than '{}' (--free)",
+                                            where, parameter, parameter));
+  auto wanted = [&](int k) {
+    return start.event_curve ? k == static_cast<int>(PointKind::Event) || k == static_cast<int>(PointKind::End)
+                             : k == static_cast<int>(PointKind::Fold);
+  };
+  if (start.curve && !wanted(static_cast<int>(point.kind))) {
+    std::string located;
+    const BranchTable& table = stored.table;
+    const int kind = table.column("kind");
+    for (int r : table.saved_rows)
+      if (r < table.rows.rows() && wanted(static_cast<int>(table.rows(r, kind))))
+        located += (located.empty() ? "" : ", ") + std::to_string(r);
+    const char* what = start.event_curve ? "event" : "fold";
+    refusals.push_back(fmt::format("row {} is not a located {} (located {}s with a stored solution: {})", point.index,
+                                   what, what, located.empty() ? "none" : located));
   }
   refuse();
   return stored;

@@ -4,7 +4,8 @@
 // unknowns, and the point's parameter values must be the scene's for every parameter that this
 // run keeps fixed (the stored branch's own parameter included, when the run continues in
 // another one, as AUTO and pde2path allow); a switch must start at a located branch point of a
-// branch in the same parameter. `force` turns each refusal into a warning.
+// branch in the same parameter; a fold curve (--from) must start at a located fold, and its
+// branch's parameter is free. `force` turns each refusal into a warning.
 #pragma once
 
 #include <optional>
@@ -24,6 +25,8 @@ struct StoredStart {
   std::string file;
   int row = -1;           // -1: the last stored point
   bool switching = false;
+  bool curve = false;     // --from: a curve starts at the point, its branch's parameter an unknown of it
+  bool event_curve = false;  // the point must be a located fold (false) or event or end (true)
   bool force = false;
 };
 

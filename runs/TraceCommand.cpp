@@ -1,13 +1,17 @@
 #include "runs/TraceCommand.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <filesystem>
+#include <limits>
 #include <optional>
 
 #include "continuation/BranchFile.hpp"
 #include "continuation/Continuation.hpp"
 #include "continuation/ContinuedBranch.hpp"
+#include "continuation/EventCurveProblem.hpp"
+#include "continuation/FoldCurveProblem.hpp"
 #include "continuation/ProgressPrinter.hpp"
 #include "continuation/StartSolver.hpp"
 #include "core/PendingFile.hpp"
@@ -35,6 +39,7 @@ std::string trace_run_record(const LoadedScene& loaded, const TraceArguments& a)
   std::string start = "steady state";
   if (!a.restart.empty()) start = "restart " + a.restart;
   if (!a.switch_at.empty()) start = fmt::format("switch {} {}", a.switch_at, a.switch_direction);
+  if (!a.from.empty()) start = fmt::format("{} curve from {} in {}", a.curve, a.from, a.free);
   return loaded.scene.canonical_values() + fmt::format("start = {}\n", start);
 }
 
@@ -86,6 +91,21 @@ std::optional<Unfinished> unfinished_run(const std::string& work, const std::str
   return u;
 }
 
+// The name of the monitor (or stop threshold, "min_m1 < stop_below") whose zero the located row
+// of a branch file is, from its /branch/events record; empty if none.
+std::string located_monitor(const std::string& file, int row, const BranchTable& t) {
+  H5File f(file, H5File::Mode::Read);
+  if (!f.exists("/branch/events")) return {};
+  long rows = 0, cols = 0;
+  const std::vector<double> ev = f.read_matrix("/branch/events", &rows, &cols);
+  for (long i = 0; i < rows && cols >= 4; ++i)
+    if (static_cast<int>(ev[static_cast<size_t>(i * cols)]) == row) {
+      const int m = static_cast<int>(ev[static_cast<size_t>(i * cols + 3)]);
+      if (m >= 0 && m < static_cast<int>(t.monitors.size())) return t.monitors[static_cast<size_t>(m)];
+    }
+  return {};
+}
+
 void print_summary(const ContinuationResult& result) {
   fmt::print("{} points, {} rejected steps, {} factorisations ({:.2f} per point; {} of them branch-point probes), {} "
              "tangent solves by iteration, renewal cost {:.1f} solves; {}\n",
@@ -123,6 +143,7 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
     loaded = load_scene(args.scene, declare_trace_keys, args.overrides);
     copt = ContinuationOptions::from_scene(loaded.scene);
     sopt = StabilityOptions::from_scene(loaded.scene);
+    if (!args.free.empty()) copt.parameter = args.free;
   } catch (const SceneError& e) {
     return fail(exit_code::usage, e.what());
   } catch (const std::exception& e) {
@@ -134,12 +155,27 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
   try {
     if (!args.restart.empty() && !args.switch_at.empty())
       throw std::invalid_argument("--restart and --switch exclude each other");
-    if (args.force && args.restart.empty() && args.switch_at.empty())
-      throw std::invalid_argument("--force applies to a start from --restart or --switch");
+    if (args.force && args.restart.empty() && args.switch_at.empty() && args.from.empty())
+      throw std::invalid_argument("--force applies to a start from --restart, --switch or --from");
+    if (args.from.empty() != args.curve.empty())
+      throw std::invalid_argument(
+          "--from FILE.h5:ROW and --curve fold|event go together (a curve starts at a located point)");
+    if (!args.free.empty() && args.from.empty()) throw std::invalid_argument("--free applies to a curve (--from, --curve)");
+    if (!args.curve.empty() && args.curve != "fold" && args.curve != "event")
+      throw std::invalid_argument("--curve: '" + args.curve + "' is not a curve keller traces (fold, event)");
+    if (!args.from.empty() && (!args.restart.empty() || !args.switch_at.empty()))
+      throw std::invalid_argument("--from excludes --restart and --switch");
+    if (!args.from.empty() && sopt.enabled)
+      throw std::invalid_argument("[stability]: the points of a curve are not analysed; trace ordinary branches "
+                                  "at the curve's parameter values for their stability");
     RunFiles files;
     files.input("scene file", args.scene);
     if (!args.restart.empty()) from = parse_stored_start("--restart", args.restart);
     if (!args.switch_at.empty()) from = parse_stored_start("--switch", args.switch_at);
+    if (!args.from.empty()) {
+      from = parse_stored_start("--from", args.from);
+      from->event_curve = args.curve == "event";
+    }
     if (from) {
       from->force = args.force;
       files.input(from->flag + " file", from->file);
@@ -196,6 +232,11 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
   } catch (const std::exception& e) {
     return fail(exit_code::usage, e.what());
   }
+  try {
+    if (from && from->curve && !stored) stored = read_stored_start(*from, loaded, *problem, copt.parameter, warnings);
+  } catch (const std::exception& e) {
+    return fail(exit_code::usage, e.what());
+  }
   for (const std::string& w : warnings) fmt::print(stderr, "keller: warning: {}\n", w);
   const Scene& scene = loaded.scene;
   fmt::print("problem: {}\n", problem->summary());
@@ -204,7 +245,87 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
 
   Vector u0;
   StartFactorisation start_factorisation;  // the first state's last factorisation of J, handed to the branch
-  if (other_parameter) {
+  std::unique_ptr<FoldCurveProblem> curve;         // --curve fold: the augmented problem traced instead
+  std::unique_ptr<EventCurveProblem> event_curve;  // --curve event
+  if (from && from->event_curve) {
+    for (const Parameter& q : problem->parameters().list())
+      if (const auto v = stored->value_of(q.name)) problem->parameters().set(q.name, *v);
+    const BranchPoint& event = stored->point;
+    // the monitor whose zero the row is: an event's label, or the stop observable's ("min_m1 < stop_below")
+    std::string monitor;
+    const std::string label = event.label.empty() ? located_monitor(from->file, event.index, stored->table) : event.label;
+    for (const std::string& m : problem->monitor_names())
+      if (label == m || label.rfind(m + " ", 0) == 0) monitor = m;
+    if (monitor.empty())
+      return fail(exit_code::usage, fmt::format("--from '{}': row {} ({}) is not the zero of a monitor of this problem "
+                                                "({})",
+                                                from->file, event.index, label, problem->monitor_names().empty()
+                                                    ? std::string("it has none")
+                                                    : "its monitors: " + fmt::format("{}", fmt::join(problem->monitor_names(), ", "))));
+    if (!copt.stop.observable.empty()) {
+      fmt::print("note: continuation.stop_observable ({}) is left aside: an event curve's pieces end where the "
+                 "minimum's place moves\n",
+                 copt.stop.observable);
+      copt.stop.observable.clear();
+    }
+    event_curve = std::make_unique<EventCurveProblem>(*problem, stored->table.parameter, monitor);
+    Vector U = event_curve->state(event.u, event.lambda);
+    if (unfinished) {
+      problem->parameters().set(copt.parameter, start->lambda);
+      U = start->u;
+    }
+    const Status st = event_curve->start(U, nopt, lopt);
+    if (!st.is_ok()) {
+      fmt::print(stderr, "keller: the event curve's first point failed: {}; no output written\n", st.describe());
+      summary.reason = "the event curve's first point failed: " + st.describe();
+      summary.exit_code = exit_code::numerical_failure;
+      return summary.exit_code;
+    }
+    fmt::print("event curve of {} = 0 in ({}, {}) from row {} of {} ({} = {:.10g}, {} = {:.10g}), the minimum at place "
+               "{}\n",
+               monitor, copt.parameter, stored->table.parameter, event.index, from->file, stored->table.parameter,
+               U[U.size() - 1], copt.parameter, problem->parameters().get(copt.parameter), event_curve->place());
+    if (unfinished)
+      fmt::print("continuing the unfinished curve in {} from its row {} ({} = {:.10g}; --fresh starts over)\n", work,
+                 unfinished->seed.row, copt.parameter, start->lambda);
+    u0 = U;
+    start.reset();
+  } else if (from && from->curve) {
+    for (const Parameter& q : problem->parameters().list())
+      if (const auto v = stored->value_of(q.name)) problem->parameters().set(q.name, *v);
+    const BranchPoint& fold = stored->point;
+    curve = std::make_unique<FoldCurveProblem>(*problem, stored->table.parameter, lopt);
+    Vector U = curve->state(fold.u, fold.lambda);
+    const Status st = curve->start(U, fold.tu, nopt, lopt);
+    if (!st.is_ok()) {
+      fmt::print(stderr, "keller: the fold curve's first point failed: {}; no output written\n", st.describe());
+      summary.reason = "the fold curve's first point failed: " + st.describe();
+      summary.exit_code = exit_code::numerical_failure;
+      return summary.exit_code;
+    }
+    fmt::print("fold curve in ({}, {}) from the fold at row {} of {} ({} = {:.10g}, {} = {:.10g})\n",
+               copt.parameter, stored->table.parameter, fold.index, from->file, stored->table.parameter, U[U.size() - 1],
+               copt.parameter, problem->parameters().get(copt.parameter));
+    if (unfinished) {
+      // the borders from the fold's null vector, refined at the point the unfinished curve continues from
+      Vector v, w;
+      double g = 0.0;
+      Status b = curve->null_vectors(U, v, w, g);
+      problem->parameters().set(copt.parameter, start->lambda);
+      if (b.is_ok()) b = curve->set_borders(start->u, v);
+      if (!b.is_ok()) {
+        fmt::print(stderr, "keller: the unfinished fold curve cannot be continued: {}\n", b.describe());
+        summary.reason = "the unfinished fold curve cannot be continued: " + b.describe();
+        summary.exit_code = exit_code::numerical_failure;
+        return summary.exit_code;
+      }
+      fmt::print("continuing the unfinished curve in {} from its row {} ({} = {:.10g}; --fresh starts over)\n", work,
+                 unfinished->seed.row, copt.parameter, start->lambda);
+    } else {
+      u0 = U;
+      start.reset();
+    }
+  } else if (other_parameter) {
     for (const Parameter& q : problem->parameters().list())
       if (const auto v = stored->value_of(q.name)) problem->parameters().set(q.name, *v);
     u0 = start->u;
@@ -243,14 +364,20 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
   }
 
   // 3. the branch, written to `work` point by point
+  Problem& traced = curve ? static_cast<Problem&>(*curve) : event_curve ? static_cast<Problem&>(*event_curve) : *problem;
   ContinuationOptions fixed = copt;
+  if (event_curve) {  // each piece of the curve ends where the minimum's place moves
+    fixed.stop.observable = EventCurveProblem::kMargin;
+    fixed.stop.below = 0.0;
+    fixed.stop.above = std::numeric_limits<double>::infinity();
+  }
   if (!(fixed.state_scale > 0)) {  // a new run's state scale is the RMS of its start
     const double rms = u0.norm() / std::sqrt(static_cast<double>(std::max<long>(u0.size(), 1)));
     fixed.state_scale = rms > 0 ? rms : 1.0;
   }
   std::unique_ptr<Continuation> run;
   try {
-    run = std::make_unique<Continuation>(*problem, fixed, nopt, lopt);
+    run = std::make_unique<Continuation>(traced, fixed, nopt, lopt);
   } catch (const std::exception& e) {
     return fail(exit_code::usage, fmt::format("{}: [continuation]: {}", args.scene, e.what()));
   }
@@ -265,14 +392,18 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
     std::unique_ptr<BranchFile> file;
     try {
       file = std::make_unique<BranchFile>(
-          work, *problem, fixed, run->monitor_names(), fixed.state_scale,
+          work, traced, fixed, run->monitor_names(), fixed.state_scale,
           [&](H5File& f) {
-            write_run_header(f, loaded, *problem);
+            write_run_header(f, loaded, traced);
             f.write_string("/problem/run", record);
-            const SolutionFields sf = problem->fields(start ? start->u : u0);
+            const SolutionFields sf = traced.fields(start ? start->u : u0);
             if (sf.mesh) write_mesh(f, "/mesh", *sf.mesh);
-            if (from) f.set_attribute("/problem", from->switching ? "switched_at" : "restarted_from",
-                                      from->switching ? args.switch_at : args.restart);
+            if (from && from->curve) {
+              f.set_attribute("/problem", "curve_from", args.from);
+              f.set_attribute("/problem", "curve", args.curve);
+            } else if (from)
+              f.set_attribute("/problem", from->switching ? "switched_at" : "restarted_from",
+                              from->switching ? args.switch_at : args.restart);
           },
           run->analysis_columns(), unfinished ? &unfinished->seed : nullptr);
     } catch (const std::exception& e) {
@@ -283,8 +414,12 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
     std::optional<ContinuedBranch> continued;
     BranchObserver* observer = &observers;
     if (unfinished) observer = &continued.emplace(observers, unfinished->seed.row);
+    std::optional<FoldCurveProblem::BorderUpdate> borders;
+    if (curve) observer = &borders.emplace(*curve, *observer);
     InterruptGuard::forward_to(run.get());
-    result = unfinished          ? run->resume(*start, *observer)
+    result = event_curve ? event_curve->trace(fixed, nopt, lopt, u0, *observer,
+                                              [](Continuation* c) { InterruptGuard::forward_to(c); })
+             : unfinished          ? run->resume(*start, *observer)
              : from && from->switching ? run->switch_branch(*start, args.switch_direction, *observer)
              : start                   ? run->resume(*start, *observer)
                                        : run->run(u0, *observer, start_factorisation);
@@ -296,7 +431,7 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
                stability->factorisations(), stability->solves());
   print_summary(result);
   summary.reason = result.reason;
-  summary.unknowns = problem->size();
+  summary.unknowns = traced.size();
   summary.points = result.points;
   summary.rejected = result.rejected;
   summary.factorisations = result.factorisations;
@@ -321,7 +456,9 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
   const int p = problem->parameters().index(copt.parameter);
   const FieldsAt fields_at = [&](const Vector& u, double lambda) {
     problem->parameters().set(p, lambda);
-    return problem->fields(u);
+    if (curve) problem->parameters().set(curve->fold_parameter(), u[u.size() - 1]);
+    if (event_curve) problem->parameters().set(event_curve->event_parameter(), u[u.size() - 1]);
+    return traced.fields(u);
   };
   PublishedBranch published;
   try {

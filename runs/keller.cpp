@@ -39,6 +39,16 @@ int run(int argc, char** argv) {  // argc and argv go on to MPI_Init under mpiru
                         "start a new branch at the located branch point stored in FILE.h5:ROW, along the null vector of J");
   cmd_trace->add_option("--switch-direction", trace.switch_direction, "side of the old branch to switch to: 1 or -1")
       ->check(CLI::IsMember({-1, 1}));
+  cmd_trace->add_option("--from", trace.from,
+                        "start a curve at the located point stored in FILE.h5:ROW (a fold or event), its branch's parameter "
+                        "an unknown of the curve");
+  cmd_trace->add_option("--curve", trace.curve,
+                        "the curve --from continues in a second parameter: fold (of a located fold) or event (the "
+                        "zero of a monitor, min_m1 = 0: a located event or monitor end)")
+      ->check(CLI::IsMember({"fold", "event"}));
+  cmd_trace->add_option("--free", trace.free,
+                        "the curve's second parameter, with [continuation]'s range, stops and steps (default: "
+                        "continuation.parameter)");
   cmd_trace->add_flag("--force", trace.force,
                       "start from a stored point that another problem, physics or parameter value made, or a switch at "
                       "a row that is not a located branch point");

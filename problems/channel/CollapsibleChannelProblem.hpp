@@ -72,6 +72,10 @@ class CollapsibleChannelProblem final : public Problem {
   // min_m1 for a viscoelastic fluid: zero where M loses positive definiteness.
   std::vector<std::string> monitor_names() const override { return monitors_.names(); }
   Status monitors(const Vector& u, std::vector<double>& values) override;
+  // min_m1 over the conformation's vertex nodes: m1 at each of them (FlowEquations::conformation_eigenvalues'
+  // order), and its gradient by central differences in that node's conformation unknowns.
+  Status monitor_places(int monitor, const Vector& u, std::vector<double>& values) override;
+  Status monitor_place_gradient(int monitor, int place, const Vector& u, Vector& gradient) override;
   SolutionFields fields(const Vector& u) const override;
   std::string summary() const override;
 

@@ -1,0 +1,337 @@
+#include "continuation/EventCurveProblem.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <stdexcept>
+
+namespace keller {
+
+namespace {
+
+int index_of(const std::vector<std::string>& names, const std::string& name, const std::string& what) {
+  const auto it = std::find(names.begin(), names.end(), name);
+  if (it == names.end()) {
+    std::string known;
+    for (const auto& n : names) known += (known.empty() ? "" : ", ") + n;
+    throw std::invalid_argument("event curve: unknown " + what + " '" + name + "' (" +
+                                (known.empty() ? "none" : known) + ")");
+  }
+  return static_cast<int>(it - names.begin());
+}
+
+// Passes the pieces of an event curve on as one branch: the start of a later piece is the switch
+// already reported, rows and arclength run on, and the end of a piece at its switch is an event.
+class Pieces final : public BranchObserver {
+ public:
+  explicit Pieces(BranchObserver& next) : next_(next) {}
+  void begin_piece(bool first, double s0) {
+    first_ = first;
+    offset_ = first ? 0 : last_index_;
+    s0_ = s0;
+    t0_ = first ? 0.0 : last_seconds_;
+    switch_.reset();
+  }
+  void on_start(const std::vector<std::string>& o, const std::vector<std::string>& m) override {
+    if (first_) next_.on_start(o, m);
+  }
+  void on_point(const BranchPoint& q) override {
+    if (!first_ && q.index == 0) return;
+    BranchPoint p = q;
+    p.index += offset_;
+    p.s += s0_;
+    p.seconds += t0_;
+    last_seconds_ = p.seconds;
+    if (p.kind == PointKind::End && p.label.rfind(EventCurveProblem::kMargin, 0) == 0) {
+      p.kind = PointKind::Event;
+      p.label = "switch";
+      switch_ = p;
+    }
+    last_index_ = p.index;
+    next_.on_point(p);
+  }
+  void on_rejected(double l, double s, const Status& w) override { next_.on_rejected(l, s, w); }
+  void on_note(const std::string& m) override { next_.on_note(m); }
+  void on_finish(const std::string& r, const BranchPoint& last) override {
+    reason_ = r;
+    last_ = last;
+    last_.index += offset_;
+    last_.s += s0_;
+    last_.seconds += t0_;
+  }
+  void finish() { next_.on_finish(reason_, last_); }
+  const std::optional<BranchPoint>& switched() const { return switch_; }
+  const BranchPoint& last() const { return last_; }
+
+ private:
+  BranchObserver& next_;
+  bool first_ = true;
+  int offset_ = 0, last_index_ = 0;
+  double s0_ = 0.0, t0_ = 0.0, last_seconds_ = 0.0;  // arclength and wall time of the earlier pieces
+  std::optional<BranchPoint> switch_;
+  std::string reason_;
+  BranchPoint last_;
+};
+
+}  // namespace
+
+EventCurveProblem::EventCurveProblem(Problem& inner, const std::string& event_parameter, const std::string& monitor)
+    : inner_(inner),
+      n_(inner.size()),
+      p1_(inner.parameters().index(event_parameter)),
+      monitor_(index_of(inner.monitor_names(), monitor, "monitor")) {
+  if (inner_.parameters().size() < 2)
+    throw std::invalid_argument("event curve of '" + inner_.name() + "': the problem has only one parameter");
+  pattern_ = bordered(inner_.jacobian_pattern(), Vector::Zero(n_), Vector::Zero(n_), 0.0);
+}
+
+SparseMatrix EventCurveProblem::bordered(const SparseMatrix& A, const Vector& col, const Vector& row,
+                                         double corner) const {
+  std::vector<Eigen::Triplet<double, int>> t;
+  t.reserve(A.nonZeros() + 2 * n_ + 1);
+  for (int j = 0; j < A.outerSize(); ++j)
+    for (SparseMatrix::InnerIterator it(A, j); it; ++it) t.emplace_back(it.row(), j, it.value());
+  for (int i = 0; i < n_; ++i) {
+    t.emplace_back(i, n_, col[i]);
+    t.emplace_back(n_, i, row[i]);
+  }
+  t.emplace_back(n_, n_, corner);
+  SparseMatrix M(n_ + 1, n_ + 1);
+  M.setFromTriplets(t.begin(), t.end());
+  M.makeCompressed();
+  return M;
+}
+
+Vector EventCurveProblem::state(const Vector& u, double p1) const {
+  Vector U(n_ + 1);
+  U.head(n_) = u;
+  U[n_] = p1;
+  return U;
+}
+
+Vector EventCurveProblem::initial_guess() { return state(inner_.initial_guess(), inner_.parameters().value(p1_)); }
+
+Status EventCurveProblem::set_p1(const Vector& U) {
+  if (U.size() != n_ + 1) throw std::invalid_argument("event curve: state of the wrong size");
+  if (!std::isfinite(U[n_])) return {StatusCode::NotFinite, "event curve: " + event_parameter_name() + " is not finite"};
+  if (!inner_.parameters().admissible(p1_, U[n_]))
+    return {StatusCode::InvalidState,
+            fmt::format("event curve: {} = {} is outside its range", event_parameter_name(), U[n_])};
+  inner_.parameters().set(p1_, U[n_]);
+  return {};
+}
+
+Status EventCurveProblem::place_values(const Vector& U, std::vector<double>& values) {
+  Status st = set_p1(U);
+  if (!st.is_ok()) return st;
+  st = inner_.monitor_places(monitor_, U.head(n_), values);
+  if (!st.is_ok()) return st;
+  if (place_ >= static_cast<int>(values.size()))
+    throw std::logic_error("event curve: the monitor's places changed in number");
+  return {};
+}
+
+Status EventCurveProblem::argmin(const Vector& U, int& place) {
+  std::vector<double> v;
+  Status st = place_values(U, v);
+  if (!st.is_ok()) return st;
+  place = static_cast<int>(std::min_element(v.begin(), v.end()) - v.begin());
+  return {};
+}
+
+Status EventCurveProblem::residual(const Vector& U, Vector& F) {
+  std::vector<double> v;
+  Status st = place_values(U, v);
+  if (!st.is_ok()) return st;
+  Vector f;
+  st = inner_.residual(U.head(n_), f);
+  if (!st.is_ok()) return st;
+  F.resize(n_ + 1);
+  F.head(n_) = f;
+  F[n_] = v[static_cast<size_t>(place_)];
+  return {};
+}
+
+Status EventCurveProblem::parameter_derivative(int p, const Vector& U, Vector& dF) {
+  if (p == p1_)
+    throw std::invalid_argument("event curve: " + event_parameter_name() +
+                                " is an unknown of the curve, not the parameter it is continued in");
+  Status st = set_p1(U);
+  if (!st.is_ok()) return st;
+  const Vector u = U.head(n_);
+  Vector Fp;
+  st = inner_.parameter_derivative(p, u, Fp);
+  if (!st.is_ok()) return st;
+  // the followed value's derivative by central differences in the parameter
+  ParameterSet& ps = inner_.parameters();
+  const double v = ps.value(p), h = 1e-6 * std::max(1.0, std::abs(v));
+  const double hi = std::min(v + h, ps.info(p).upper), lo = std::max(v - h, ps.info(p).lower);
+  std::vector<double> vhi, vlo;
+  ps.set(p, hi);
+  st = inner_.monitor_places(monitor_, u, vhi);
+  ps.set(p, lo);
+  if (st.is_ok()) st = inner_.monitor_places(monitor_, u, vlo);
+  ps.set(p, v);
+  if (!st.is_ok()) return st;
+  dF.resize(n_ + 1);
+  dF.head(n_) = Fp;
+  dF[n_] = (vhi[static_cast<size_t>(place_)] - vlo[static_cast<size_t>(place_)]) / (hi - lo);
+  return {};
+}
+
+Status EventCurveProblem::jacobian(const Vector& U, Vector& F, SparseMatrix& J) {
+  Status st = residual(U, F);
+  if (!st.is_ok()) return st;
+  const Vector u = U.head(n_);
+  Vector f, Fp1, gu;
+  SparseMatrix Ju;
+  st = inner_.jacobian(u, f, Ju);
+  if (st.is_ok()) st = inner_.parameter_derivative(p1_, u, Fp1);
+  if (st.is_ok()) st = inner_.monitor_place_gradient(monitor_, place_, u, gu);
+  if (!st.is_ok()) return st;
+  // d m_k / d p1 by central differences in p1
+  ParameterSet& ps = inner_.parameters();
+  const double v = U[n_], h = 1e-6 * std::max(1.0, std::abs(v));
+  const double hi = std::min(v + h, ps.info(p1_).upper), lo = std::max(v - h, ps.info(p1_).lower);
+  std::vector<double> vhi, vlo;
+  ps.set(p1_, hi);
+  st = inner_.monitor_places(monitor_, u, vhi);
+  ps.set(p1_, lo);
+  if (st.is_ok()) st = inner_.monitor_places(monitor_, u, vlo);
+  ps.set(p1_, v);
+  if (!st.is_ok()) return st;
+  const double gp1 = (vhi[static_cast<size_t>(place_)] - vlo[static_cast<size_t>(place_)]) / (hi - lo);
+  J = bordered(Ju, Fp1, gu, gp1);
+  return {};
+}
+
+std::vector<std::string> EventCurveProblem::observable_names() const {
+  std::vector<std::string> names = inner_.observable_names();
+  names.push_back(event_parameter_name());
+  names.push_back("place");
+  names.push_back(kMargin);
+  return names;
+}
+
+Status EventCurveProblem::observables(const Vector& U, std::vector<double>& values) {
+  std::vector<double> v;
+  Status st = place_values(U, v);
+  if (!st.is_ok()) return st;
+  st = inner_.observables(U.head(n_), values);
+  if (!st.is_ok()) return st;
+  double other = std::numeric_limits<double>::infinity();
+  for (size_t j = 0; j < v.size(); ++j)
+    if (static_cast<int>(j) != place_) other = std::min(other, v[j]);
+  double margin = std::isfinite(other) ? other - v[static_cast<size_t>(place_)] : 1.0;
+  if (switched_at_.size() == U.size() && switched_at_ == U) margin = 0.0;  // the switch itself, not a new one
+  values.push_back(U[n_]);
+  values.push_back(place_);
+  values.push_back(margin);
+  return {};
+}
+
+std::vector<std::string> EventCurveProblem::monitor_names() const {
+  std::vector<std::string> names = inner_.monitor_names();
+  names.erase(names.begin() + monitor_);
+  return names;
+}
+
+Status EventCurveProblem::monitors(const Vector& U, std::vector<double>& values) {
+  Status st = set_p1(U);
+  if (!st.is_ok()) return st;
+  st = inner_.monitors(U.head(n_), values);
+  if (!st.is_ok()) return st;
+  values.erase(values.begin() + monitor_);  // zero all along the curve: its sign is rounding
+  return {};
+}
+
+std::string EventCurveProblem::summary() const {
+  return fmt::format("event curve of {} = 0 (unknowns the state and {}) of {}", inner_.monitor_names()[monitor_],
+                     event_parameter_name(), inner_.summary());
+}
+
+Status EventCurveProblem::start(Vector& U, const NewtonOptions& newton, SparseLUOptions lu) {
+  Status st = argmin(U, place_);
+  if (!st.is_ok()) return st;
+  NewtonSolver solver(*this, newton, lu);
+  const NewtonResult r = solver.solve(U);
+  if (!r.converged())
+    return {StatusCode::NotConverged, "event curve: Newton from the located event did not converge (" +
+                                          r.status.describe() + ")"};
+  return {};
+}
+
+ContinuationResult EventCurveProblem::trace(ContinuationOptions o, const NewtonOptions& newton,
+                                            const SparseLUOptions& lu, const Vector& U0, BranchObserver& observer,
+                                            const std::function<void(Continuation*)>& each_run) {
+  if (!o.stop.observable.empty() && o.stop.observable != kMargin)
+    throw std::invalid_argument("event curve: the stop observable is the switch margin (continuation.stop_observable "
+                                "must be unset)");
+  o.stop.observable = kMargin;
+  o.stop.below = 0.0;
+  o.stop.above = std::numeric_limits<double>::infinity();
+  switched_at_.resize(0);
+  Pieces pieces(observer);
+  pieces.begin_piece(true, 0.0);
+  Vector U = U0;
+  ContinuationResult total;
+  int steps_left = o.stop.max_steps;
+  for (bool first = true;; first = false) {
+    Continuation run(*this, o, newton, lu);
+    if (each_run) each_run(&run);
+    const ContinuationResult r = run.run(U, pieces);
+    if (each_run) each_run(nullptr);
+    total.points += first ? r.points : r.points - 1;
+    total.rejected += r.rejected;
+    total.factorisations += r.factorisations;
+    total.tangent_iterations += r.tangent_iterations;
+    total.probes += r.probes;
+    total.renewal_cost = r.renewal_cost;
+    ContinuationTimings& t = total.timings;
+    const ContinuationTimings& q = r.timings;
+    t.jacobian += q.jacobian, t.parameter_derivative += q.parameter_derivative, t.residual += q.residual;
+    t.factorisation += q.factorisation, t.solve += q.solve, t.observables += q.observables, t.output += q.output;
+    t.total += q.total, t.analysis += q.analysis;
+    t.jacobians += q.jacobians, t.parameter_derivatives += q.parameter_derivatives, t.residuals += q.residuals;
+    t.solves += q.solves, t.analyses += q.analyses;
+    total.code = r.code;
+    total.reason = r.reason;
+    total.last = pieces.last();
+    steps_left -= r.points;
+    if (r.code != StopCode::StopObservable || !pieces.switched() || steps_left <= 0) break;
+    // the next piece: from the switch, following the place the minimum moved to
+    const BranchPoint sw = *pieces.switched();
+    U = sw.u;
+    inner_.parameters().set(o.parameter, sw.lambda);
+    int next = place_;
+    {
+      std::vector<double> v;
+      const Status st = place_values(U, v);
+      if (!st.is_ok()) break;
+      double best = std::numeric_limits<double>::infinity();
+      for (size_t j = 0; j < v.size(); ++j)
+        if (static_cast<int>(j) != place_ && v[j] < best) best = v[j], next = static_cast<int>(j);
+    }
+    observer.on_note(fmt::format("after row {}: the minimum moves from place {} to place {} at {} = {:.10g}",
+                                 sw.index, place_, next, o.parameter, sw.lambda));
+    place_ = next;
+    NewtonSolver solver(*this, newton, lu);
+    if (!solver.solve(U).converged()) {
+      total.reason = "event curve: no solution on the new place's piece at the switch";
+      total.code = StopCode::StepFloor;
+      break;
+    }
+    switched_at_ = U;
+    o.state_scale = run.state_scale();
+    o.direction = sw.tlambda >= 0 ? +1 : -1;
+    o.stop.max_steps = steps_left;
+    pieces.begin_piece(false, sw.s);
+  }
+  pieces.finish();
+  return total;
+}
+
+}  // namespace keller

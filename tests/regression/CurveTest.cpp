@@ -1,0 +1,179 @@
+// Fold curves through the real driver: `keller trace SCENE --from BRANCH.h5:ROW --curve fold
+// --free PARAMETER` continues the fold stored in a branch file in a second parameter; the curve
+// agrees with the folds of ordinary branches traced at its stored parameter values, is a branch
+// file like any other (killed, the same command continues it), and bad starts are refused.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <string>
+
+#include "continuation/BranchFile.hpp"
+#include "continuation/BranchPoint.hpp"
+#include "core/H5File.hpp"
+#include "support/TestSupport.hpp"
+
+using namespace keller;
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kScene = "runs/scenes/bratu1d_shifted_fold_curve.toml";
+const std::string kSmall = " --set bratu.intervals=64";
+
+std::vector<long> rows_of_kind(const BranchTable& t, PointKind k) {
+  std::vector<long> out;
+  const int kind = t.column("kind");
+  for (long i = 0; i < t.rows.rows(); ++i)
+    if (static_cast<int>(t.rows(i, kind)) == static_cast<int>(k)) out.push_back(i);
+  return out;
+}
+
+// The fold's lambda on the ordinary lambda branch of the scene at mu.
+double fold_of_branch(const std::string& dir, double mu) {
+  const std::string out = dir + "/mu" + std::to_string(mu) + ".h5";
+  const auto r = test::run_keller("trace " + test::source_path(kScene) + kSmall +
+                                  " --set bratu.mu=" + std::to_string(mu) + " -o " + out);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  const BranchTable t = read_branch_table(out);
+  const auto folds = rows_of_kind(t, PointKind::Fold);
+  EXPECT_EQ(folds.size(), 1u) << "mu = " << mu;
+  return folds.empty() ? NAN : t.rows(folds[0], t.column("lambda"));
+}
+
+}  // namespace
+
+// The curve from the fold of the mu = 0 branch, stored at mu = 2, 4, 6, 8 (the scene's stops, now
+// in mu), against the folds located to 1e-10 on lambda branches traced at those values: 1e-8.
+// Killed after its sixth point, the same command continues it to the same curve.
+TEST(CurveCommand, AFoldCurveFromAStoredFoldMatchesFoldsOfOrdinaryBranches) {
+  const std::string dir = test::scratch_dir("curve_fold");
+  const std::string scene = test::source_path(kScene);
+  auto r = test::run_keller("trace " + scene + kSmall + " -o " + dir + "/branch.h5");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const BranchTable branch = read_branch_table(dir + "/branch.h5");
+  const auto folds = rows_of_kind(branch, PointKind::Fold);
+  ASSERT_EQ(folds.size(), 1u);
+  const std::string command = "trace " + scene + kSmall + " -o " + dir + "/curve.h5 --from " + dir +
+                              "/branch.h5:" + std::to_string(folds[0]) + " --curve fold --free mu";
+  r = test::run_keller(command);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const BranchTable curve = read_branch_table(dir + "/curve.h5");
+  EXPECT_EQ(curve.parameter, "mu");
+  const int mu = curve.column("mu"), lambda = curve.column("lambda");
+  EXPECT_EQ(curve.rows(0, mu), 0.0);
+  EXPECT_NEAR(curve.rows(0, lambda), branch.rows(folds[0], branch.column("lambda")), 1e-9);
+  const auto at = rows_of_kind(curve, PointKind::Requested);
+  ASSERT_EQ(at.size(), 4u);
+  for (long i : at) {
+    const double m = curve.rows(i, mu);
+    EXPECT_NEAR(curve.rows(i, lambda), fold_of_branch(dir, m), 1e-8) << "mu = " << m;
+  }
+  {
+    H5File f(dir + "/curve.h5", H5File::Mode::Read);
+    EXPECT_EQ(f.read_string_attribute("/problem", "curve"), "fold");
+  }
+
+  // killed mid-curve: every completed point readable, the same command finishes the same curve
+  const std::string killed = dir + "/killed.h5";
+  std::string again = command;
+  again.replace(again.find(dir + "/curve.h5"), (dir + "/curve.h5").size(), killed);
+  r = test::run_keller(again, "KELLER_SIGNAL_AT=point:6 KELLER_SIGNAL=KILL");
+  EXPECT_EQ(r.exit_code, -1) << r.out;
+  ASSERT_TRUE(fs::exists(killed + ".part"));
+  EXPECT_GE(read_branch_table(killed + ".part").rows.rows(), 6);
+  r = test::run_keller(again);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("continuing the unfinished curve"), std::string::npos) << r.out;
+  const BranchTable finished = read_branch_table(killed);
+  const auto at2 = rows_of_kind(finished, PointKind::Requested);
+  ASSERT_EQ(at2.size(), 4u);
+  for (size_t k = 0; k < at.size(); ++k) {
+    EXPECT_EQ(finished.rows(at2[k], mu), curve.rows(at[k], mu));
+    EXPECT_NEAR(finished.rows(at2[k], lambda), curve.rows(at[k], lambda), 1e-10);
+  }
+  EXPECT_FALSE(fs::exists(killed + ".part"));
+}
+
+// Starts a curve cannot take get exit code 2, a message naming what is wrong, and no output.
+TEST(CurveCommand, BadCurveStartsAreRefused) {
+  const std::string dir = test::scratch_dir("curve_refused");
+  const std::string scene = test::source_path(kScene) + kSmall;
+  auto r = test::run_keller("trace " + scene + " -o " + dir + "/branch.h5");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const BranchTable branch = read_branch_table(dir + "/branch.h5");
+  const auto folds = rows_of_kind(branch, PointKind::Fold);
+  ASSERT_EQ(folds.size(), 1u);
+  const std::string fold = dir + "/branch.h5:" + std::to_string(folds[0]);
+  struct Case {
+    std::string args, message;
+  };
+  const std::vector<Case> cases = {
+      {" --from " + dir + "/branch.h5:0 --curve fold --free mu", "is not a located fold"},
+      {" --from " + fold + " --curve fold --free lambda", "needs another free parameter"},
+      {" --from " + fold + " --free mu", "go together"},
+      {" --from " + fold + " --curve fold --free nu", "unknown parameter 'nu'"},
+      {" --from " + fold + " --curve fold --free mu --set stability.enabled=true", "are not analysed"},
+      {" --from " + fold + " --curve fold --free mu --restart " + fold, "excludes"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.args);
+    r = test::run_keller("trace " + scene + " -o " + dir + "/curve.h5" + c.args);
+    EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+    EXPECT_NE(r.err.find(c.message), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir + "/curve.h5"));
+    EXPECT_FALSE(fs::exists(dir + "/curve.h5.part"));
+  }
+}
+
+// The limiting-Wi curve of the collapsible channel (Oldroyd-B, t = 0.4) on the coarse mesh of the
+// regression scenes: the zero of min m1 from the end of the Wi branch at Gamma = 4.95e-4,
+// continued down in Gamma, agrees at Gamma = 4e-4, 3e-4, 2e-4, 1e-4 with the limiting Wi that
+// ordinary Wi branches locate there (to 1e-8 in Wi) to 1e-6; the minimum's node moves along
+// the curve, and every move is a located switch.
+TEST(CurveCommand, LimitingWiCurveOfTheCollapsibleChannelMatchesWiBranches) {
+  const std::string dir = test::scratch_dir("curve_limiting_wi");
+  const std::string scene = test::source_path("runs/scenes/collapsible_oldroyd_b_wi_high_gamma.toml") +
+                            " --set mesh.name=custom --set mesh.nx_upstream=5 --set mesh.nx_deformable=10 --set "
+                            "mesh.nx_downstream=5 --set mesh.ny_fluid=4 --set mesh.ny_solid=2";
+  auto limiting_wi = [&](const std::string& out, const std::string& extra) {
+    const auto r = test::run_keller("trace " + scene + extra + " -o " + out);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    const BranchTable t = read_branch_table(out);
+    const auto ends = rows_of_kind(t, PointKind::End);
+    EXPECT_EQ(ends.size(), 1u);
+    EXPECT_NEAR(t.rows(ends.back(), t.column("min_m1")), 0.0, 1e-9);
+    return std::make_pair(ends.empty() ? -1L : ends.back(), ends.empty() ? NAN : t.rows(ends.back(), t.column("Wi")));
+  };
+  const auto [row, wi0] = limiting_wi(dir + "/wi.h5", "");
+  ASSERT_GE(row, 0);
+  auto r = test::run_keller("trace " + scene + " -o " + dir + "/curve.h5 --from " + dir + "/wi.h5:" +
+                            std::to_string(row) +
+                            " --curve event --free Gamma --set continuation.direction=decrease --set "
+                            "continuation.stops=[1e-4,2e-4,3e-4,4e-4] --set continuation.lower=5e-5");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("left aside"), std::string::npos) << r.out;  // the scene's stop observable
+  const BranchTable curve = read_branch_table(dir + "/curve.h5");
+  const int gamma = curve.column("Gamma"), wi = curve.column("Wi"), place = curve.column("place");
+  EXPECT_NEAR(curve.rows(0, wi), wi0, 1e-9);
+  const auto at = rows_of_kind(curve, PointKind::Requested);
+  ASSERT_EQ(at.size(), 4u);
+  for (long i : at) {
+    const double g = curve.rows(i, gamma);
+    const auto [end, w] = limiting_wi(dir + "/g" + std::to_string(i) + ".h5", " --set parameters.Gamma=" + std::to_string(g));
+    std::cout << std::setprecision(12) << "Gamma = " << g << ": curve Wi = " << curve.rows(i, wi)
+              << ", limiting Wi of the Wi branch " << w << "\n";
+    EXPECT_NEAR(curve.rows(i, wi), w, 1e-6) << "Gamma = " << g;
+    EXPECT_NEAR(curve.rows(i, curve.column("min_m1")), 0.0, 1e-9);
+  }
+  // the place changes only after a located switch (an event row: the curve's only events)
+  const auto switches = rows_of_kind(curve, PointKind::Event);
+  EXPECT_GE(switches.size(), 1u);
+  for (long i = 1; i < curve.rows.rows(); ++i)
+    if (curve.rows(i, place) != curve.rows(i - 1, place))
+      EXPECT_EQ(static_cast<int>(curve.rows(i - 1, curve.column("kind"))), static_cast<int>(PointKind::Event))
+          << "row " << i;
+  EXPECT_EQ(curve.rows(curve.rows.rows() - 1, gamma), 5e-5);
+}
