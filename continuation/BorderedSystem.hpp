@@ -13,6 +13,7 @@
 // The patterns are fixed, so each UMFPACK symbolic analysis is done once per branch.
 #pragma once
 
+#include <memory>
 #include <vector>
 
 #include "core/SparseLU.hpp"
@@ -29,6 +30,11 @@ class BorderedSystem {
   // Values: J with the pattern given at construction, border column b, row c, corner d.
   void set(const SparseMatrix& J, const Vector& b, const Vector& c, double d);
   Status factorize();
+  // Block mode: takes J's factorisation made elsewhere (lu factorises J, a Jacobian with the
+  // pattern given at construction, e.g. the last one of the Newton solve that found the start) with
+  // border b, c, d; no numeric factorisation. A non-ok status where it cannot be used (full mode, a
+  // vanishing Schur complement).
+  Status adopt(std::shared_ptr<SparseLU> lu, const SparseMatrix& J, const Vector& b, const Vector& c, double d);
   // Replaces the border row and corner (c, d) of the factorised system without refactorising J:
   // block mode only (the Schur complement is one dot product away); returns a non-ok status when
   // the system must be refactorised instead (full mode, no factorisation, vanishing Schur
@@ -44,18 +50,28 @@ class BorderedSystem {
   int determinant_sign() const;
   const SparseMatrix& matrix() const { return A_; }
   // The factorisation in use: J's in block mode, the extended matrix's otherwise.
-  const SparseLU& lu() const { return mode_ == Mode::Block ? lu_j_ : lu_; }
+  const SparseLU& lu() const { return mode_ == Mode::Block ? *lu_j_ : lu_; }
   // J's own factorisation (block mode, J regular), for others to solve with; null otherwise.
-  SparseLU* j_factorisation() { return mode_ == Mode::Block && block_ok_ ? &lu_j_ : nullptr; }
+  SparseLU* j_factorisation() { return mode_ == Mode::Block && block_ok_ ? lu_j_.get() : nullptr; }
   // Factorisations that fell back from block elimination to the full matrix.
   long fallbacks() const { return fallbacks_; }
-  // Cumulative wall time of numeric factorisations and solves (both factorisations).
-  double factor_seconds() const { return lu_.statistics().factor_seconds + lu_j_.statistics().factor_seconds; }
-  double solve_seconds() const { return lu_.statistics().solve_seconds + lu_j_.statistics().solve_seconds; }
-  long solves() const { return lu_.statistics().solves + lu_j_.statistics().solves; }
+  // Cumulative wall time of numeric factorisations and solves made through this system (both
+  // factorisations, and solves with an adopted one; not what that one did before).
+  double factor_seconds() const { return totals().factor_seconds; }
+  double solve_seconds() const { return totals().solve_seconds; }
+  long solves() const { return totals().solves; }
+  // Numeric factorisations, factorisation and solve seconds and solves made or used here (for the
+  // mean times of the renewal cost).
+  struct Totals {
+    long factorisations = 0, solves = 0;
+    double factor_seconds = 0, solve_seconds = 0;
+  };
+  Totals totals() const;
 
  private:
   Status solve_block(const Vector& f, double g, Vector& x, double& y);
+  // Back to J's own factorisation object (its adopted statistics kept).
+  void release_adopted();
   int n_;
   long nnz_j_;
   Mode mode_;
@@ -65,7 +81,12 @@ class BorderedSystem {
   SparseMatrix J_;
   Vector b_, c_, x2_;
   double d_ = 0.0, schur_ = 0.0;
-  SparseLU lu_j_;
+  // J's factorisation in use: its own (own_j_), or one adopted, whose statistics count from the
+  // adoption on (adopted_base_; solves only: it is refactorised as our own)
+  std::shared_ptr<SparseLU> own_j_, lu_j_;
+  SparseLU::Statistics adopted_base_;
+  long adopted_solves_ = 0;  // solves with earlier adopted factorisations
+  double adopted_solve_seconds_ = 0;
   bool block_ok_ = false;  // the last factorize() took the block path
   long fallbacks_ = 0;
 };

@@ -7,6 +7,9 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "core/PendingFile.hpp"
+#include "core/RunFiles.hpp"
+#include "core/SignalPoint.hpp"
 #include "core/SolutionWriter.hpp"
 
 namespace keller {
@@ -38,11 +41,12 @@ constexpr const char* kKinds = "0 point, 1 start, 2 requested, 3 event, 4 fold, 
 
 BranchFile::BranchFile(const std::string& path, const Problem& problem, const ContinuationOptions& options,
                        const std::vector<std::string>& monitor_names, double state_scale,
-                       const std::function<void(H5File&)>& header, const std::vector<std::string>& analysis_columns)
+                       const std::function<void(H5File&)>& header, const std::vector<std::string>& analysis_columns,
+                       const BranchSeed* seed)
     : path_(path), n_(problem.size()), n_analysis_(analysis_columns.size()) {
   // Built under a temporary name and renamed once in SWMR mode: the final name never shows a
   // file that is not consistent on disk.
-  const std::string part = path + ".part";
+  const std::string part = PendingFile::temporary_for(path);
   file_ = std::make_unique<H5File>(part, H5File::Mode::Create);
   if (header) header(*file_);
   file_->create_group("/branch");
@@ -75,9 +79,37 @@ BranchFile::BranchFile(const std::string& path, const Problem& problem, const Co
   }
   file_->create_fixed_string("/branch/status", 2048);
   file_->write_fixed_string("/branch/status", "running");
+  if (seed) write_seed(*seed);
   file_->start_swmr();
   file_->flush();
   std::filesystem::rename(part, path);
+}
+
+namespace {
+void append_matrix(H5File& f, const std::string& dataset, const Eigen::MatrixXd& m) {
+  if (m.rows() == 0) return;
+  const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> r = m;
+  f.append_rows(dataset, r.data(), r.rows());
+}
+}  // namespace
+
+void BranchFile::write_seed(const BranchSeed& seed) {
+  if (seed.columns != columns_)
+    throw std::runtime_error("the unfinished branch has other columns than this run's (" + join(seed.columns) + ")");
+  if (seed.solutions.cols() != n_) throw std::runtime_error("the unfinished branch has another number of unknowns");
+  append_matrix(*file_, "/branch/table", seed.table);
+  append_matrix(*file_, "/branch/saved", seed.saved);
+  append_matrix(*file_, "/branch/solutions", seed.solutions);
+  append_matrix(*file_, "/branch/tangents", seed.tangents);
+  append_matrix(*file_, "/branch/events", seed.events);
+  if (n_analysis_) {
+    append_matrix(*file_, "/branch/eigenvectors", seed.eigenvectors);
+    append_matrix(*file_, "/branch/eigenvector_rows", seed.eigenvector_rows);
+    if (seed.eigenvector_rows.rows() > 0)
+      last_mode_row_ = static_cast<int>(seed.eigenvector_rows(seed.eigenvector_rows.rows() - 1, 0));
+  }
+  saved_ = static_cast<int>(seed.saved.rows());
+  last_saved_row_ = seed.row;
 }
 
 BranchFile::~BranchFile() { close(); }
@@ -111,8 +143,8 @@ void BranchFile::on_point(const BranchPoint& p) {
     throw std::logic_error(fmt::format("branch row has {} values for {} columns", row.size(), columns_.size()));
   file_->append_rows("/branch/table", row.data(), 1);
   if (p.kind != PointKind::Regular && p.kind != PointKind::Start) {
-    double monitor = -1;
-    if (p.kind == PointKind::Event) {
+    double monitor = -1;  // an event's monitor, and an end's when a monitor's threshold ended the branch
+    if (p.kind == PointKind::Event || p.kind == PointKind::End) {
       const auto names = split(file_->read_string_attribute("/branch", "monitors"));
       auto it = std::find(names.begin(), names.end(), p.label);
       if (it != names.end()) monitor = static_cast<double>(it - names.begin());
@@ -123,6 +155,7 @@ void BranchFile::on_point(const BranchPoint& p) {
     if (n_analysis_ && critical) save_mode(p);
   }
   file_->flush();
+  signal_point("point");
 }
 
 void BranchFile::save_mode(const BranchPoint& p) {
@@ -209,19 +242,65 @@ BranchPoint read_branch_point(const std::string& path, int row) {
   return p;
 }
 
-void write_branch_fields(const std::string& branch_path, const std::string& fields_path, const std::string& xdmf_path,
-                         const std::function<SolutionFields(const Vector& u, double lambda)>& fields) {
+namespace {
+using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+Eigen::MatrixXd read_rows(const H5File& f, const std::string& dataset) {
+  if (!f.exists(dataset)) return {};
+  long r = 0, c = 0;
+  const auto data = f.read_matrix(dataset, &r, &c);
+  return Eigen::Map<const RowMajor>(data.data(), r, c);
+}
+// The rows of m whose first column (a table row) is at most `row`; m is ordered by that column.
+Eigen::MatrixXd rows_up_to(const Eigen::MatrixXd& m, int row) {
+  long n = 0;
+  while (n < m.rows() && m(n, 0) <= row) ++n;
+  return m.topRows(n);
+}
+}  // namespace
+
+BranchSeed read_branch_seed(const std::string& path) {
+  H5File f(path, H5File::Mode::Read);
+  if (!f.exists("/branch/table")) throw std::runtime_error("'" + path + "' is not a branch file");
+  BranchSeed seed;
+  seed.columns = split(f.read_string_attribute("/branch", "columns"));
+  const Eigen::MatrixXd table = read_rows(f, "/branch/table"), saved = read_rows(f, "/branch/saved");
+  const Eigen::MatrixXd solutions = read_rows(f, "/branch/solutions"), tangents = read_rows(f, "/branch/tangents");
+  // a killed writer may have stored a solution whose table row never came, or half of a pair
+  const long usable = std::min({saved.rows(), solutions.rows(), tangents.rows()});
+  long slots = 0;
+  while (slots < usable && saved(slots, 0) < static_cast<double>(table.rows())) ++slots;
+  if (slots == 0) throw std::runtime_error("'" + path + "' holds no stored solution to continue from");
+  seed.row = static_cast<int>(saved(slots - 1, 0));
+  seed.table = table.topRows(seed.row + 1);
+  seed.saved = saved.topRows(slots);
+  seed.solutions = solutions.topRows(slots);
+  seed.tangents = tangents.topRows(slots);
+  seed.events = rows_up_to(read_rows(f, "/branch/events"), seed.row);
+  const Eigen::MatrixXd modes = read_rows(f, "/branch/eigenvector_rows"), vectors = read_rows(f, "/branch/eigenvectors");
+  long m = rows_up_to(modes, seed.row).rows();
+  m = std::min(m, vectors.rows() / 2);
+  seed.eigenvector_rows = modes.topRows(m);
+  seed.eigenvectors = vectors.topRows(2 * m);
+  return seed;
+}
+
+bool write_branch_fields(const std::string& branch_path, const std::string& fields_path, const std::string& xdmf_path,
+                         const std::string& h5_name,
+                         const std::function<SolutionFields(const Vector& u, double lambda)>& fields,
+                         const std::function<bool()>& stop) {
   H5File f(branch_path, H5File::Mode::Read);
   long r = 0, c = 0, n = 0, sol = 0;
   const auto saved = f.read_matrix("/branch/saved", &r, &c);
   const auto U = f.read_matrix("/branch/solutions", &sol, &n);
   const std::string parameter = f.read_string_attribute("/branch", "parameter");
   f.close();
-  const bool same_file = std::filesystem::absolute(fields_path) == std::filesystem::absolute(branch_path);
-  H5File out(fields_path, same_file ? H5File::Mode::ReadWrite : H5File::Mode::Create);
+  const bool in_place = same_file(fields_path, branch_path);
+  H5File out(fields_path, in_place ? H5File::Mode::ReadWrite : H5File::Mode::Create);
   std::vector<XdmfSolution> steps;
   SolutionFields layout;
   for (long i = 0; i < std::min(r, sol); ++i) {
+    if (stop && stop()) return false;
+    signal_point("fields");
     const double lambda = saved[static_cast<size_t>(i * c + 2)];
     const int row = static_cast<int>(saved[static_cast<size_t>(i * c)]);
     const Vector u = Eigen::Map<const Vector>(&U[static_cast<size_t>(i * n)], n);
@@ -241,8 +320,9 @@ void write_branch_fields(const std::string& branch_path, const std::string& fiel
     }
   }
   out.close();
-  if (!steps.empty() && layout.mesh)
-    write_xdmf(xdmf_path, std::filesystem::path(fields_path).filename().string(), "mesh", *layout.mesh, steps, layout);
+  if (stop && stop()) return false;
+  if (!steps.empty() && layout.mesh) write_xdmf(xdmf_path, h5_name, "mesh", *layout.mesh, steps, layout);
+  return true;
 }
 
 }  // namespace keller
@@ -265,10 +345,13 @@ SolutionFields field_difference(const SolutionFields& a, const SolutionFields& b
 }
 }  // namespace
 
-int write_branch_modes(const std::string& branch_path, const std::string& xdmf_prefix,
-                       const std::function<SolutionFields(const Vector& u, double lambda)>& fields) {
+std::vector<std::string> write_branch_modes(const std::string& branch_path, const std::string& h5_name,
+                                            const std::string& xdmf_prefix, const std::string& suffix,
+                                            const std::function<SolutionFields(const Vector& u, double lambda)>& fields,
+                                            const std::function<bool()>& stop) {
+  std::vector<std::string> written;
   H5File f(branch_path, H5File::Mode::Read);
-  if (!f.exists("/branch/eigenvectors")) return 0;
+  if (!f.exists("/branch/eigenvectors")) return written;
   long r = 0, c = 0, n = 0, sol = 0, er = 0, ec = 0, vr = 0, vn = 0;
   const auto saved = f.read_matrix("/branch/saved", &r, &c);
   const auto U = f.read_matrix("/branch/solutions", &sol, &n);
@@ -276,8 +359,8 @@ int write_branch_modes(const std::string& branch_path, const std::string& xdmf_p
   const auto V = f.read_matrix("/branch/eigenvectors", &vr, &vn);
   f.close();
   H5File out(branch_path, H5File::Mode::ReadWrite);
-  int written = 0;
   for (long k = 0; k < er && 2 * k + 1 < vr; ++k) {
+    if (stop && stop()) return {};
     const int row = static_cast<int>(rows[static_cast<size_t>(k * ec)]);
     long slot = -1;
     for (long i = 0; i < std::min(r, sol); ++i)
@@ -307,9 +390,8 @@ int write_branch_modes(const std::string& branch_path, const std::string& xdmf_p
     out.set_attribute(group, "sigma_re", rows[static_cast<size_t>(k * ec + 2)]);
     out.set_attribute(group, "sigma_im", rows[static_cast<size_t>(k * ec + 3)]);
     out.flush();
-    write_xdmf(fmt::format("{}_mode{}.xdmf", xdmf_prefix, k), std::filesystem::path(branch_path).filename().string(),
-               (group + "/mesh").substr(1), *base.mesh, steps, base);
-    ++written;
+    written.push_back(fmt::format("{}_mode{}.xdmf{}", xdmf_prefix, k, suffix));
+    write_xdmf(written.back(), h5_name, (group + "/mesh").substr(1), *base.mesh, steps, base);
   }
   out.close();
   return written;

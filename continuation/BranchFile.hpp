@@ -23,6 +23,20 @@
 
 namespace keller {
 
+// What a new branch file takes over from an unfinished one when a run continues it: every row
+// up to and including `row` (the last one with a stored solution), with the solutions, events
+// and eigenvectors that belong to those rows.
+struct BranchSeed {
+  int row = -1;  // the row the run continues from: it becomes the new run's start
+  std::vector<std::string> columns;
+  Eigen::MatrixXd table, saved, events, eigenvector_rows;  // rows of those datasets, row <= `row`
+  Eigen::MatrixXd solutions, tangents, eigenvectors;       // one stored vector per row
+};
+// Reads the seed of an unfinished branch file (also one whose writer was killed): its rows up to
+// the last one that has both its table row and its stored solution. Throws std::runtime_error
+// if there is none.
+BranchSeed read_branch_seed(const std::string& path);
+
 class BranchFile final : public BranchObserver {
  public:
   // Creates `path` (replacing it), lets `header` write what precedes the branch (scene, mesh),
@@ -32,9 +46,12 @@ class BranchFile final : public BranchObserver {
   // critical eigenvector of every stored solution and located fold, branch point and Hopf point goes to
   // /branch/eigenvectors (real and imaginary part, one row each; /branch/eigenvector_rows: row,
   // kind, Re sigma, Im sigma of the critical eigenvalue there).
+  // seed: the rows of an unfinished run that this one continues, written first (the run's
+  // points then come numbered from the seed's last row on: see ContinuedBranch).
   BranchFile(const std::string& path, const Problem& problem, const ContinuationOptions& options,
              const std::vector<std::string>& monitor_names, double state_scale,
-             const std::function<void(H5File&)>& header, const std::vector<std::string>& analysis_columns = {});
+             const std::function<void(H5File&)>& header, const std::vector<std::string>& analysis_columns = {},
+             const BranchSeed* seed = nullptr);
   ~BranchFile() override;
 
   void on_point(const BranchPoint& point) override;
@@ -46,6 +63,7 @@ class BranchFile final : public BranchObserver {
  private:
   void save_solution(const BranchPoint& p);
   void save_mode(const BranchPoint& p);
+  void write_seed(const BranchSeed& seed);
   int last_mode_row_ = -1;
   std::string path_;
   std::unique_ptr<H5File> file_;
@@ -72,17 +90,25 @@ BranchTable read_branch_table(const std::string& path);
 // stored rows if `row` has no stored solution; row = -1 means the last stored one.
 BranchPoint read_branch_point(const std::string& path, int row);
 
-// Writes the fields of every stored solution into /branch/fields/<slot> of `fields_path` and an
-// XDMF temporal collection (one step per stored solution, time = table row) at xdmf_path.
-// `fields` turns a stored solution (at the stored parameter value) into fields.
-void write_branch_fields(const std::string& branch_path, const std::string& fields_path, const std::string& xdmf_path,
-                         const std::function<SolutionFields(const Vector& u, double lambda)>& fields);
+// Writes the fields of every stored solution into /branch/fields/<slot> of `fields_path` (the
+// branch file itself, opened for writing, when the two paths are equal; otherwise a new file)
+// and an XDMF temporal collection (one step per stored solution, time = table row) at
+// xdmf_path, which names the HDF5 file `h5_name` (its final name beside the XDMF file).
+// `fields` turns a stored solution (at the stored parameter value) into fields. `stop` is asked
+// before each solution: when it answers true, nothing more is written and false is returned.
+bool write_branch_fields(const std::string& branch_path, const std::string& fields_path, const std::string& xdmf_path,
+                         const std::string& h5_name,
+                         const std::function<SolutionFields(const Vector& u, double lambda)>& fields,
+                         const std::function<bool()>& stop = {});
 
 // The critical eigenvectors stored with located folds, branch points and Hopf points, as fields
 // (real and imaginary part: the linear change of the fields along the eigenvector, on the
 // mesh of the state; a displacement mode for moving meshes) in /branch/modes/<k> of the branch
-// file, and one XDMF file per mode, <xdmf_prefix>_mode<k>.xdmf. Returns the number written.
-int write_branch_modes(const std::string& branch_path, const std::string& xdmf_prefix,
-                       const std::function<SolutionFields(const Vector& u, double lambda)>& fields);
+// file (opened for writing), and one XDMF file per mode at <xdmf_prefix>_mode<k>.xdmf<suffix>
+// naming the HDF5 file `h5_name`. Returns the XDMF paths written (none when `stop` stopped it).
+std::vector<std::string> write_branch_modes(const std::string& branch_path, const std::string& h5_name,
+                                            const std::string& xdmf_prefix, const std::string& suffix,
+                                            const std::function<SolutionFields(const Vector& u, double lambda)>& fields,
+                                            const std::function<bool()>& stop = {});
 
 }  // namespace keller

@@ -8,64 +8,76 @@
 namespace keller {
 
 void ContinuationOptions::declare(SceneSchema& s) {
-  s.section("continuation", "branch tracing (keller trace)");
+  s.section("continuation", "branch tracing (keller trace); every key is documented in docs/continuation.md");
+  // what is traced, and the norm
   s.string("continuation.parameter", "", "named parameter to continue in (one of the problem's parameters)");
   s.string("continuation.method", "arclength", "pseudo-arclength (passes folds) or natural parameter steps",
            {"arclength", "natural"});
   s.string("continuation.predictor", "tangent", "predictor direction", {"tangent", "secant"});
   s.string("continuation.direction", "increase", "initial direction of the parameter", {"increase", "decrease"});
-  s.real("continuation.lower", -INFINITY, "the branch ends where the parameter reaches this value (located exactly)");
-  s.real("continuation.upper", INFINITY, "the branch ends where the parameter reaches this value (located exactly)");
-  s.real_list("continuation.stops", {}, "parameter values where solutions are located and saved");
-  s.boolean("continuation.land_on_values", true,
-            "arclength: shorten a step whose predictor crosses a stop or a bound so that it lands on it (one "
-            "correction instead of two, no step beyond a bound); false: locate such points after the step");
-  s.real("continuation.initial_step", 0.05, "first step (arclength; natural: parameter units)", Range::positive());
-  s.real("continuation.min_step", 1e-8, "step-size floor: below it the branch ends", Range::positive());
-  s.real("continuation.max_step", 1.0, "largest step", Range::positive());
-  s.integer("continuation.max_steps", 1000, "steps before the branch ends", Range::at_least(1));
-  s.string("continuation.corrector", "newton",
-           "newton: factorise every corrector iteration; chord: reuse the first factorisation of a step while the "
-           "residual falls by chord_rate per iteration",
-           {"newton", "chord"});
-  s.string("continuation.bordered", "full",
-           "bordered solves: factorise the whole extended matrix, or block elimination on J's factorisation "
-           "(faster on large coupled problems; falls back to the whole matrix where J is singular)",
-           {"full", "block"});
-  s.real("continuation.chord_rate", 0.25, "chord corrector: refactorise when |F| falls by less than this factor",
-         Range{0.0, 1.0, true, true});
-  s.boolean("continuation.reuse_factorisation", false,
-            "chord + block only: keep J's factorisation across steps, renewed when the chord rate fails in a step and, "
-            "at a located point, only when the chord at its observed rate would need more than max_iterations; "
-            "tangents by iteration on it (fewer than one factorisation per point on smooth branches)");
-  s.real("continuation.renewal_cost", 0.0,
-         "reuse_factorisation: a step's chord slower than chord_rate goes on while it needs at most this many more "
-         "solves at its observed rate (a factorisation's cost in solves; 0: the rate rule alone)",
-         Range::non_negative());
-  s.integer("continuation.anderson_depth", 0,
-            "chord corrector: Anderson acceleration over this many past updates on one factorisation (0: plain chord)",
-            Range::between(0, 20));
-  s.integer("continuation.target_iterations", 4, "corrector iterations aimed at by the step control",
-            Range::at_least(1));
-  s.integer("continuation.max_iterations", 10, "corrector iterations before a step is rejected", Range::at_least(1));
-  s.real("continuation.growth", 1.5, "step growth factor after an easy step", Range::at_least(1));
-  s.real("continuation.shrink", 0.5, "step reduction factor after a failed or hard step", Range{0.0, 1.0, true, true});
-  s.real("continuation.max_angle_degrees", 20.0, "largest angle between successive tangents",
-         Range{0.0, 180.0, true, false});
   s.real("continuation.theta", 0.5, "weight of the state (vs the parameter) in the arclength norm",
          Range{0.0, 1.0, true, true});
   s.real("continuation.state_scale", 0.0, "state scale in the arclength norm (0: RMS of the start)",
          Range::non_negative());
+  s.integer("continuation.save_every", 10, "store the full solution of every N-th point", Range::at_least(1));
+  // where it ends
+  s.real("continuation.lower", -INFINITY, "the branch ends where the parameter reaches this value (located exactly)");
+  s.real("continuation.upper", INFINITY, "the branch ends where the parameter reaches this value (located exactly)");
+  s.integer("continuation.max_steps", 1000, "steps before the branch ends", Range::at_least(1));
+  s.string("continuation.stop_observable", "", "observable whose crossing of stop_above/stop_below ends the branch");
+  s.real("continuation.stop_above", INFINITY, "end the branch where stop_observable rises through this value");
+  s.real("continuation.stop_below", -INFINITY, "end the branch where stop_observable falls through this value");
+  // step control
+  s.real("continuation.initial_step", 0.05, "first step (arclength; natural: parameter units)", Range::positive());
+  s.real("continuation.min_step", 1e-8, "step-size floor: below it the branch ends", Range::positive());
+  s.real("continuation.max_step", 1.0, "largest step", Range::positive());
+  s.integer("continuation.target_iterations", 0,
+            "step control: grow the step below this many corrector iterations, shrink above (0: the corrector's own, "
+            "14 chord, 4 Newton)",
+            Range::at_least(0));
+  s.real("continuation.growth", 1.5, "step growth factor after a step below target_iterations", Range::at_least(1));
+  s.real("continuation.slow_shrink", 0.7, "step factor after a step above target_iterations",
+         Range{0.0, 1.0, true, false});
+  s.real("continuation.shrink", 0.5, "step factor after a failed step", Range{0.0, 1.0, true, true});
+  s.real("continuation.max_angle_degrees", 20.0, "largest angle between successive tangents",
+         Range{0.0, 180.0, true, false});
+  // the corrector
+  s.string("continuation.corrector", "chord",
+           "chord: J's factorisation kept while the residual falls fast enough (renewal_cost, chord_rate), "
+           "Anderson-accelerated; newton: a Jacobian and its factorisation every iteration",
+           {"newton", "chord"});
+  s.string("continuation.bordered", "block",
+           "bordered solves: block elimination on J's factorisation (falls back to the whole extended matrix where J "
+           "is singular, as at a fold), or the whole extended matrix factorised",
+           {"full", "block"});
+  s.boolean("continuation.reuse_factorisation", true,
+            "chord with block elimination: keep J's factorisation across steps, tangents by iteration on it (ignored "
+            "with corrector = newton or bordered = full)");
+  s.real("continuation.chord_rate", 0.25, "chord: a new factorisation when |F| falls by less than this factor",
+         Range{0.0, 1.0, true, true});
+  s.real("continuation.renewal_cost", 0.0,
+         "chord: a slower chord goes on while it needs at most this many more iterations (what a factorisation "
+         "costs in solves); 0: measured along the run (Jacobian and factorisation time over residual and solve time)",
+         Range::non_negative());
+  s.integer("continuation.anderson_depth", 5,
+            "chord: Anderson acceleration over this many past updates on one factorisation (0: plain chord)",
+            Range::between(0, 20));
+  s.integer("continuation.max_iterations", 0,
+            "corrector iterations before a step is rejected (0: the corrector's own, 30 chord, 10 Newton)",
+            Range::at_least(0));
+  // what is located
+  s.real_list("continuation.stops", {}, "parameter values where solutions are located and saved");
+  s.boolean("continuation.land_on_values", true,
+            "arclength: shorten a step whose predictor crosses a stop or a bound so that it lands on it (one "
+            "correction instead of two, no step beyond a bound); false: locate such points after the step");
   s.real("continuation.event_tolerance", 1e-8, "events and folds are located to this tolerance in the parameter",
          Range::positive());
   s.integer("continuation.max_location_iterations", 60, "corrector solves allowed to locate one event",
             Range::at_least(1));
   s.boolean("continuation.detect_folds", true, "locate folds (turning points in the parameter)");
-  s.boolean("continuation.detect_branch_points", true, "locate sign changes of det of the bordered Jacobian");
-  s.integer("continuation.save_every", 10, "store the full solution of every N-th point", Range::at_least(1));
-  s.string("continuation.stop_observable", "", "observable whose crossing of stop_above/stop_below ends the branch");
-  s.real("continuation.stop_above", INFINITY, "end the branch where stop_observable rises through this value");
-  s.real("continuation.stop_below", -INFINITY, "end the branch where stop_observable falls through this value");
+  s.boolean("continuation.detect_branch_points", true,
+            "locate sign changes of det of the bordered Jacobian (with a kept factorisation: from the factorisations "
+            "the corrector makes, bracketed by factorising at points in between)");
 }
 
 ContinuationOptions ContinuationOptions::from_scene(const Scene& sc) {
@@ -74,36 +86,42 @@ ContinuationOptions ContinuationOptions::from_scene(const Scene& sc) {
   if (o.parameter.empty()) throw sc.error("continuation.parameter", "a branch needs a parameter to continue in");
   o.method = sc.string("continuation.method") == "natural" ? Method::Natural : Method::Arclength;
   o.predictor = sc.string("continuation.predictor") == "secant" ? Predictor::Secant : Predictor::Tangent;
-  o.corrector = sc.string("continuation.corrector") == "chord" ? Corrector::Chord : Corrector::Newton;
-  o.chord_rate = sc.real("continuation.chord_rate");
-  o.block_elimination = sc.string("continuation.bordered") == "block";
-  o.reuse_factorisation = sc.boolean("continuation.reuse_factorisation");
-  o.renewal_cost = sc.real("continuation.renewal_cost");
-  o.anderson_depth = static_cast<int>(sc.integer("continuation.anderson_depth"));
   o.direction = sc.string("continuation.direction") == "decrease" ? -1 : +1;
-  o.lower = sc.real("continuation.lower");
-  o.upper = sc.real("continuation.upper");
-  o.stops = sc.real_list("continuation.stops");
-  o.land_on_values = sc.boolean("continuation.land_on_values");
-  o.initial_step = sc.real("continuation.initial_step");
-  o.min_step = sc.real("continuation.min_step");
-  o.max_step = sc.real("continuation.max_step");
-  o.max_steps = static_cast<int>(sc.integer("continuation.max_steps"));
-  o.target_iterations = static_cast<int>(sc.integer("continuation.target_iterations"));
-  o.max_iterations = static_cast<int>(sc.integer("continuation.max_iterations"));
-  o.growth = sc.real("continuation.growth");
-  o.shrink = sc.real("continuation.shrink");
-  o.max_angle_degrees = sc.real("continuation.max_angle_degrees");
   o.theta = sc.real("continuation.theta");
   o.state_scale = sc.real("continuation.state_scale");
-  o.event_tolerance = sc.real("continuation.event_tolerance");
-  o.max_location_iterations = static_cast<int>(sc.integer("continuation.max_location_iterations"));
-  o.detect_folds = sc.boolean("continuation.detect_folds");
-  o.detect_branch_points = sc.boolean("continuation.detect_branch_points");
   o.save_every = static_cast<int>(sc.integer("continuation.save_every"));
-  o.stop_observable = sc.string("continuation.stop_observable");
-  o.stop_above = sc.real("continuation.stop_above");
-  o.stop_below = sc.real("continuation.stop_below");
+
+  o.stop.lower = sc.real("continuation.lower");
+  o.stop.upper = sc.real("continuation.upper");
+  o.stop.max_steps = static_cast<int>(sc.integer("continuation.max_steps"));
+  o.stop.observable = sc.string("continuation.stop_observable");
+  o.stop.above = sc.real("continuation.stop_above");
+  o.stop.below = sc.real("continuation.stop_below");
+
+  o.step.initial = sc.real("continuation.initial_step");
+  o.step.min = sc.real("continuation.min_step");
+  o.step.max = sc.real("continuation.max_step");
+  o.step.target_iterations = static_cast<int>(sc.integer("continuation.target_iterations"));
+  o.step.growth = sc.real("continuation.growth");
+  o.step.slow_shrink = sc.real("continuation.slow_shrink");
+  o.step.shrink = sc.real("continuation.shrink");
+  o.step.max_angle_degrees = sc.real("continuation.max_angle_degrees");
+
+  o.corrector.method =
+      sc.string("continuation.corrector") == "newton" ? CorrectorOptions::Method::Newton : CorrectorOptions::Method::Chord;
+  o.corrector.block_elimination = sc.string("continuation.bordered") == "block";
+  o.corrector.keep = sc.boolean("continuation.reuse_factorisation");
+  o.corrector.chord_rate = sc.real("continuation.chord_rate");
+  if (const double cost = sc.real("continuation.renewal_cost"); cost > 0) o.corrector.renewal_cost = cost;
+  o.corrector.anderson_depth = static_cast<int>(sc.integer("continuation.anderson_depth"));
+  o.corrector.max_iterations = static_cast<int>(sc.integer("continuation.max_iterations"));
+
+  o.events.stops = sc.real_list("continuation.stops");
+  o.events.land_on_values = sc.boolean("continuation.land_on_values");
+  o.events.tolerance = sc.real("continuation.event_tolerance");
+  o.events.max_location_iterations = static_cast<int>(sc.integer("continuation.max_location_iterations"));
+  o.events.folds = sc.boolean("continuation.detect_folds");
+  o.events.branch_points = sc.boolean("continuation.detect_branch_points");
   try {
     o.validate();
   } catch (const std::invalid_argument& e) {
@@ -114,20 +132,21 @@ ContinuationOptions ContinuationOptions::from_scene(const Scene& sc) {
 
 void ContinuationOptions::validate() const {
   if (parameter.empty()) throw std::invalid_argument("no parameter to continue in");
-  if (!(lower < upper)) throw std::invalid_argument(fmt::format("lower = {} must be below upper = {}", lower, upper));
-  if (!(min_step <= initial_step && initial_step <= max_step))
-    throw std::invalid_argument(
-        fmt::format("need min_step <= initial_step <= max_step (got {}, {}, {})", min_step, initial_step, max_step));
-  if (reuse_factorisation && !(corrector == Corrector::Chord && block_elimination))
-    throw std::invalid_argument("reuse_factorisation needs corrector = \"chord\" and bordered = \"block\"");
-  if (anderson_depth > 0 && corrector != Corrector::Chord)
-    throw std::invalid_argument("anderson_depth needs corrector = \"chord\"");
-  if (max_iterations < target_iterations)
-    throw std::invalid_argument("max_iterations must be at least target_iterations");
-  if (stop_observable.empty() && (std::isfinite(stop_above) || std::isfinite(stop_below)))
+  if (!(stop.lower < stop.upper))
+    throw std::invalid_argument(fmt::format("lower = {} must be below upper = {}", stop.lower, stop.upper));
+  if (!(step.min <= step.initial && step.initial <= step.max))
+    throw std::invalid_argument(fmt::format("need min_step <= initial_step <= max_step (got {}, {}, {})", step.min,
+                                            step.initial, step.max));
+  if (max_iterations() < target_iterations())
+    throw std::invalid_argument(fmt::format("max_iterations ({}) must be at least target_iterations ({})",
+                                            max_iterations(), target_iterations()));
+  if (stop.observable.empty() && (std::isfinite(stop.above) || std::isfinite(stop.below)))
     throw std::invalid_argument("stop_above/stop_below need stop_observable");
-  if (!stop_observable.empty() && !std::isfinite(stop_above) && !std::isfinite(stop_below))
+  if (!stop.observable.empty() && !std::isfinite(stop.above) && !std::isfinite(stop.below))
     throw std::invalid_argument("stop_observable needs stop_above or stop_below");
+  if (!(step.shrink > 0 && step.shrink < 1)) throw std::invalid_argument("shrink must lie in (0, 1)");
+  if (corrector.renewal_cost && !(*corrector.renewal_cost >= 0))
+    throw std::invalid_argument("renewal_cost must be at least 0");
 }
 
 }  // namespace keller

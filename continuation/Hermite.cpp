@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace keller {
 
@@ -20,6 +21,13 @@ HermiteBasis basis_derivative(double x) {
   return {6 * x2 - 6 * x, 3 * x2 - 4 * x + 1, -6 * x2 + 6 * x, 3 * x2 - 2 * x};
 }
 
+// Newton's iteration for the fraction where the cubic takes the target: at most this many steps,
+// until a step is below kFractionStep (rounding of a fraction in [0, 1]); the cubic must then
+// take the target to kCubicMatch of the values' scale, or it has no such point on the segment.
+constexpr int kCubicNewtonSteps = 30;
+constexpr double kFractionStep = 1e-15;
+constexpr double kCubicMatch = 1e-12;
+
 }  // namespace
 
 bool hermite_point(const BranchPoint& a, const BranchPoint& b, const BranchFunctional& g, double target, Vector& u,
@@ -34,16 +42,16 @@ bool hermite_point(const BranchPoint& a, const BranchPoint& b, const BranchFunct
   auto g_at = [&](const HermiteBasis& w) { return w.h00 * ga + w.h10 * sa + w.h01 * gb + w.h11 * sb; };
   double t = (target - ga) / (gb - ga);  // the chord's answer starts Newton's iteration
   if (!std::isfinite(t)) return false;
-  for (int it = 0; it < 30; ++it) {
+  for (int it = 0; it < kCubicNewtonSteps; ++it) {
     const double d = g_at(basis_derivative(t));
     if (!(std::abs(d) > 0)) return false;
     const double dt = (g_at(basis(t)) - target) / d;
     t -= dt;
     if (!std::isfinite(t)) return false;
-    if (std::abs(dt) <= 1e-15) break;
+    if (std::abs(dt) <= kFractionStep) break;
   }
-  const double scale = std::max({std::abs(ga), std::abs(gb), std::abs(target), 1e-300});
-  if (!(t >= 0.0 && t <= 1.0) || std::abs(g_at(basis(t)) - target) > 1e-12 * scale) return false;
+  const double scale = std::max({std::abs(ga), std::abs(gb), std::abs(target), std::numeric_limits<double>::min()});
+  if (!(t >= 0.0 && t <= 1.0) || std::abs(g_at(basis(t)) - target) > kCubicMatch * scale) return false;
   const HermiteBasis w = basis(t);
   u = w.h00 * a.u + (w.h10 * h) * a.tu + w.h01 * b.u + (w.h11 * h) * b.tu;
   lambda = w.h00 * a.lambda + (w.h10 * h) * a.tlambda + w.h01 * b.lambda + (w.h11 * h) * b.tlambda;

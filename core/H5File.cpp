@@ -240,6 +240,21 @@ bool H5File::has_attribute(const std::string& object, const std::string& name) c
   return H5Aexists_by_name(file_, object.c_str(), name.c_str(), H5P_DEFAULT) > 0;
 }
 
+namespace {
+herr_t collect_attribute_name(hid_t, const char* name, const H5A_info_t*, void* out) {
+  static_cast<std::vector<std::string>*>(out)->emplace_back(name);
+  return 0;
+}
+}  // namespace
+
+std::vector<std::string> H5File::attribute_names(const std::string& object) const {
+  std::vector<std::string> out;
+  if (H5Aiterate_by_name(file_, object.c_str(), H5_INDEX_NAME, H5_ITER_INC, nullptr, collect_attribute_name, &out,
+                         H5P_DEFAULT) < 0)
+    fail(path_, "cannot list the attributes of " + object);
+  return out;
+}
+
 std::string H5File::read_string_attribute(const std::string& object, const std::string& name) const {
   Handle attr(H5Aopen_by_name(file_, object.c_str(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
   if (attr < 0) fail(path_, "no attribute " + object + "@" + name);

@@ -47,6 +47,7 @@ class H5File {
   std::string read_string_attribute(const std::string& object, const std::string& name) const;
   double read_double_attribute(const std::string& object, const std::string& name) const;
   bool has_attribute(const std::string& object, const std::string& name) const;
+  std::vector<std::string> attribute_names(const std::string& object) const;
   std::vector<std::string> list(const std::string& group) const;
 
   // Appendable datasets (chunked, unlimited rows): create with a fixed number of columns, then

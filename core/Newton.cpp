@@ -5,6 +5,9 @@
 #include <chrono>
 #include <cmath>
 
+#include "core/ConvergenceTest.hpp"
+#include "core/RenewalPolicy.hpp"
+
 namespace keller {
 
 namespace {
@@ -14,12 +17,17 @@ double inf_norm(const Vector& v) { return v.size() ? v.lpNorm<Eigen::Infinity>()
 }  // namespace
 
 NewtonSolver::NewtonSolver(Problem& problem, NewtonOptions options, SparseLUOptions lu_options)
-    : problem_(problem), options_(options), lu_(lu_options), J_(problem.jacobian_pattern()) {}
+    : problem_(problem), options_(options), lu_(std::make_shared<SparseLU>(lu_options)), J_(problem.jacobian_pattern()) {}
 
 NewtonResult NewtonSolver::solve(Vector& u, const Observer& observer) {
   NewtonResult res;
   const auto t_start = Clock::now();
-  const double tol_F = options_.residual_tolerance * problem_.residual_scale();
+  ConvergenceTest test;
+  test.tolerance = options_.residual_tolerance * problem_.residual_scale();
+  test.update_tolerance = options_.update_tolerance;
+  RenewalPolicy renewal;
+  renewal.chord_rate = options_.chord_rate;
+  renewal.max_iterations = options_.max_iterations;
   Vector F, du, F_try, u_try;
   Status st = problem_.residual(u, F);
   if (!st.is_ok()) {
@@ -29,14 +37,15 @@ NewtonResult NewtonSolver::solve(Vector& u, const Observer& observer) {
   const double F0 = inf_norm(F);
   double normF = F0;        // convergence is judged in the max norm
   double norm2 = F.norm();  // the line search in the 2-norm, for which du is a descent direction
-  // chord_rate: the last step was full and cut |F| by the rate (its matrix is then good enough
-  // for the next one)
-  bool reuse = false;
+  double previous = INFINITY;  // |F| one iteration before normF
+  double contraction = 0.0;    // the fall of the last iteration, the chord's rate on a kept factorisation
+  int on_this_matrix = 0;      // iterations made with the present factorisation
+  bool reuse = false;          // the next iteration solves with the last factorisation (RenewalPolicy)
   for (int k = 0;; ++k) {
-    if (normF <= tol_F) break;
+    if (normF <= test.tolerance) break;
     if (k >= options_.max_iterations) {
-      res.status = {StatusCode::NotConverged,
-                    fmt::format("no convergence in {} iterations (|F| = {:.3e}, tolerance {:.3e})", k, normF, tol_F)};
+      res.status = {StatusCode::NotConverged, fmt::format("no convergence in {} iterations (|F| = {:.3e}, tolerance {:.3e})",
+                                                          k, normF, test.tolerance)};
       break;
     }
     NewtonIteration it;
@@ -53,22 +62,26 @@ NewtonResult NewtonSolver::solve(Vector& u, const Observer& observer) {
         res.status = {st.code(), "Jacobian: " + st.message()};
         break;
       }
+      test.problem_floor = rounding_floor(J_, u);
       t0 = Clock::now();
-      st = lu_.factorize(J_);
+      st = lu_->factorize(J_);
       it.factor_seconds = since(t0);
       if (!st.is_ok()) {
         res.status = st;
         break;
       }
+      J_at_ = u;
       ++res.factorisations;
+      on_this_matrix = 0;
     }
     t0 = Clock::now();
-    st = lu_.solve(-F, du);
+    st = lu_->solve(-F, du);
     it.solve_seconds = since(t0);
     if (!st.is_ok()) {
       res.status = st;
       break;
     }
+    ++on_this_matrix;
     it.update_norm = inf_norm(du);
 
     t0 = Clock::now();
@@ -82,7 +95,7 @@ NewtonResult NewtonSolver::solve(Vector& u, const Observer& observer) {
       if (last.is_ok()) {
         norm_try = inf_norm(F_try);
         norm2_try = F_try.norm();
-        if (!options_.line_search || norm_try <= tol_F || norm2_try < (1.0 - 1e-4 * alpha) * norm2) {
+        if (!options_.line_search || norm_try <= test.tolerance || norm2_try < (1.0 - 1e-4 * alpha) * norm2) {
           accepted = true;
           break;
         }
@@ -110,10 +123,9 @@ NewtonResult NewtonSolver::solve(Vector& u, const Observer& observer) {
       reuse = false;
       continue;
     }
-    if (!accepted && last.is_ok() && normF <= 1e3 * tol_F) {
-      // no step reduces a residual already within 1e3 of the tolerance: the rounding floor of
-      // this problem (large coupled systems sit at 1e-13 while the tolerance asks 5e-15)
-      res.residual_norm = normF;
+    if (!accepted && last.is_ok() && normF <= test.floor_level()) {
+      // no step reduces a residual already at the rounding floor
+      res.at_rounding_floor = true;
       break;
     }
     if (!accepted) {
@@ -123,25 +135,38 @@ NewtonResult NewtonSolver::solve(Vector& u, const Observer& observer) {
                                 : Status{last.code(), "every damped step failed: " + last.message()};
       break;
     }
-    const bool fell = alpha == 1.0 && norm_try <= options_.chord_rate * normF;
-    // a chord that had been cutting |F| by the rate and now stalls (under 10%) within 1e3 of the
-    // tolerance has reached the rounding floor: converged (a new Jacobian would not lower |F|
-    // there). A chord that merely slows down gets a new Jacobian next.
-    // So has, with chord_rate, a step on a new Jacobian that cuts |F| by less than the rate
-    // there (or only damped): so close to the solution Newton cuts it by orders of magnitude.
-    const bool stalled = norm_try <= 1e3 * tol_F &&
-                         ((it.chord && norm_try > 0.9 * normF) || (!it.chord && options_.chord_rate > 0 && !fell));
-    reuse = options_.chord_rate > 0 && fell;
     u.swap(u_try);
     F.swap(F_try);
+    const double before_previous = previous;
+    previous = normF;
     normF = norm_try;
     norm2 = norm2_try;
-    if (stalled) break;
-    if (normF > options_.divergence_factor * std::max(F0, tol_F)) {
+    ConvergenceTest::Iterate now;
+    now.residual = normF;
+    now.previous = previous;
+    now.before_previous = before_previous;
+    now.update = alpha == 1.0 ? it.update_norm : INFINITY;
+    now.contraction = it.chord ? contraction : 0.0;
+    now.scale = std::max(inf_norm(u), 1.0);
+    const ConvergenceTest::Verdict verdict = test.judge(now);
+    contraction = normF / previous;
+    if (verdict != ConvergenceTest::Verdict::Continue) {
+      res.at_rounding_floor = verdict == ConvergenceTest::Verdict::RoundingFloor;
+      break;
+    }
+    if (normF > options_.divergence_factor * std::max(F0, test.tolerance)) {
       res.status = {StatusCode::Diverged, fmt::format("|F| grew to {:.3e} from {:.3e}", normF, F0)};
       break;
     }
-    if (alpha == 1.0 && it.update_norm <= options_.update_tolerance * std::max(inf_norm(u), 1.0)) break;
+    RenewalPolicy::History h;
+    h.iteration = k + 1;
+    h.on_this_matrix = on_this_matrix;
+    h.residual = normF;
+    h.previous = previous;
+    h.before_previous = before_previous;
+    h.goal = test.tolerance;
+    h.full_step = alpha == 1.0;
+    reuse = !renewal.renew(h);
   }
   res.residual_norm = normF;
   res.seconds = since(t_start);
@@ -158,9 +183,9 @@ void declare_newton_keys(SceneSchema& s) {
          Range::positive());
   s.boolean("newton.line_search", true, "halve the step until |F| decreases");
   s.real("newton.min_step_length", 1.0 / 128.0, "smallest step length of the line search", Range::between(1e-8, 1.0));
-  s.real("newton.chord_rate", 0.0,
-         "0: a new Jacobian every iteration; else, once a full step cuts max |F| by this factor, keep its "
-         "factorisation while each iteration does",
+  s.real("newton.chord_rate", 0.25,
+         "once a full step cuts max |F| by this factor, keep its factorisation while each iteration does (the "
+         "final phase contracts fast and a factorisation costs tens of solves); 0: a new Jacobian every iteration",
          Range{0.0, 1.0, false, true});
 }
 

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -16,19 +17,19 @@ namespace keller {
 
 struct NewtonOptions {
   int max_iterations = 20;  // iterations, chord ones (chord_rate) included
-  // Converged when ||F||_inf <= residual_tolerance * problem.residual_scale() ...
+  // Converged when ||F||_inf <= residual_tolerance * problem.residual_scale(), or at the rounding
+  // floor of the problem (ConvergenceTest: a full update below update_tolerance * max(||u||_inf, 1),
+  // or a residual that stops falling, or that no damped step reduces, below the floor level).
   double residual_tolerance = 1e-10;
-  // ... or when a full step has ||du||_inf <= update_tolerance * max(||u||_inf, 1) and did not
-  // increase the residual, or when no damped step reduces a residual that is already within
-  // 1e3 of the tolerance (both: convergence to rounding level).
   double update_tolerance = 1e-12;
   bool line_search = true;
   double min_step_length = 1.0 / 128.0;  // smallest damping factor before giving up
   double divergence_factor = 1e8;        // give up when ||F|| exceeds this times its first value
-  // Chord in the final phase (0: off, every iteration factorises): once a full step has cut ||F||
-  // by at least this factor, the next iterations solve with the same factorisation while each
-  // cuts ||F|| by this factor; a new Jacobian as soon as one does not.
-  double chord_rate = 0.0;
+  // Chord in the final phase (RenewalPolicy; 0: off, every iteration factorises): once a full step
+  // has cut ||F|| by at least this factor, the next iterations solve with the same factorisation
+  // while each cuts ||F|| by this factor; a new Jacobian as soon as one does not. A factorisation
+  // costs tens of solves on large coupled problems, and the final phase of Newton contracts fast.
+  double chord_rate = 0.25;
 };
 
 struct NewtonIteration {
@@ -46,6 +47,7 @@ struct NewtonResult {
   int iterations = 0;                  // iterations done
   int factorisations = 0;              // Jacobian factorisations done (fewer with chord_rate)
   double residual_norm = 0;            // final ||F||_inf
+  bool at_rounding_floor = false;      // converged at the problem's rounding floor, above the tolerance
   std::vector<NewtonIteration> history;
   double seconds = 0;
   double assembly_seconds = 0, factor_seconds = 0, solve_seconds = 0, line_search_seconds = 0;
@@ -59,15 +61,20 @@ class NewtonSolver {
   NewtonSolver(Problem& problem, NewtonOptions options = {}, SparseLUOptions lu_options = {});
   // Solves F(u) = 0 from the given u; on failure u holds the last accepted iterate.
   NewtonResult solve(Vector& u, const Observer& observer = {});
-  SparseLU& lu() { return lu_; }
+  SparseLU& lu() { return *lu_; }
+  // The last factorisation of J (shared: a continuation from the solution may keep it), the
+  // Jacobian it factorises and the iterate where that was assembled.
+  std::shared_ptr<SparseLU> factorisation() const { return lu_; }
   const SparseMatrix& jacobian() const { return J_; }
+  const Vector& factorised_at() const { return J_at_; }
   const NewtonOptions& options() const { return options_; }
 
  private:
   Problem& problem_;
   NewtonOptions options_;
-  SparseLU lu_;
+  std::shared_ptr<SparseLU> lu_;
   SparseMatrix J_;
+  Vector J_at_;
 };
 
 // Scene keys of [newton] and reading them back.

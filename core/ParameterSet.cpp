@@ -7,10 +7,14 @@
 namespace keller {
 
 int ParameterSet::add(std::string name, double value, std::string doc, double lower, double upper) {
+  return add(std::move(name), value, std::move(doc), Range::between(lower, upper));
+}
+
+int ParameterSet::add(std::string name, double value, std::string doc, const Range& range) {
   if (has(name)) throw std::invalid_argument("parameter '" + name + "' declared twice");
-  if (!(value >= lower && value <= upper))
-    throw std::out_of_range(fmt::format("parameter '{}' = {} outside its range [{}, {}]", name, value, lower, upper));
-  params_.push_back({std::move(name), value, lower, upper, std::move(doc)});
+  if (!range.contains(value))
+    throw std::out_of_range(fmt::format("parameter '{}' = {} outside its range: must be {}", name, value, range.describe()));
+  params_.push_back({std::move(name), value, range.lo, range.hi, std::move(doc), range.lo_open, range.hi_open});
   values_.push_back(value);
   ++version_;
   return size() - 1;
@@ -30,8 +34,8 @@ int ParameterSet::index(const std::string& name) const {
 
 void ParameterSet::set(int i, double v) {
   const Parameter& p = params_.at(static_cast<size_t>(i));
-  if (!(v >= p.lower && v <= p.upper))
-    throw std::out_of_range(fmt::format("parameter '{}' = {} outside its range [{}, {}]", p.name, v, p.lower, p.upper));
+  if (!p.range().contains(v))
+    throw std::out_of_range(fmt::format("parameter '{}' = {} outside its range: must be {}", p.name, v, p.range().describe()));
   values_[i] = v;
   params_[i].value = v;
   ++version_;

@@ -6,14 +6,18 @@
 #include <string>
 #include <vector>
 
+#include "core/Range.hpp"
+
 namespace keller {
 
 struct Parameter {
   std::string name;
   double value = 0.0;
-  double lower = -std::numeric_limits<double>::infinity();  // admissible range, inclusive
+  double lower = -std::numeric_limits<double>::infinity();  // admissible range (inclusive unless open)
   double upper = std::numeric_limits<double>::infinity();
   std::string doc;
+  bool lower_open = false, upper_open = false;
+  Range range() const { return {lower, upper, lower_open, upper_open}; }
 };
 
 class ParameterSet {
@@ -22,6 +26,8 @@ class ParameterSet {
   int add(std::string name, double value, std::string doc,
           double lower = -std::numeric_limits<double>::infinity(),
           double upper = std::numeric_limits<double>::infinity());
+  // The same with a range that may have open ends (Wi > 0).
+  int add(std::string name, double value, std::string doc, const Range& range);
   int size() const { return static_cast<int>(params_.size()); }
   bool has(const std::string& name) const;
   // Index of a named parameter; throws std::invalid_argument listing the known names.
@@ -31,7 +37,7 @@ class ParameterSet {
   // Sets a value; throws std::out_of_range naming the parameter and its range if outside it.
   void set(const std::string& name, double v) { set(index(name), v); }
   void set(int i, double v);
-  bool admissible(int i, double v) const { return v >= params_[i].lower && v <= params_[i].upper; }
+  bool admissible(int i, double v) const { return params_[i].range().contains(v); }
   const Parameter& info(int i) const { return params_[i]; }
   const std::vector<Parameter>& list() const { return params_; }
   const double* values() const { return values_.data(); }

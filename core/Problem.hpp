@@ -45,6 +45,16 @@ class Problem {
   // relative to it (velocities scale with Gamma in the channel problems).
   virtual double residual_scale() const { return 1.0; }
 
+  // Parameters in which a steady state that Newton cannot reach from initial_guess() is reached by
+  // continuation from an easier one: each with a value where the solve is easy (a load near rest,
+  // a relaxation time near zero), in the order to try them. Empty: only the generic residual
+  // homotopy (continuation/StartSolver).
+  struct Homotopy {
+    std::string parameter;
+    double easy_value = 0.0;
+  };
+  virtual std::vector<Homotopy> homotopies() const { return {}; }
+
   // Observables: named scalars computed from a solution (pressure drop, max u, ...).
   virtual std::vector<std::string> observable_names() const { return {}; }
   virtual Status observables(const Vector& u, std::vector<double>& values);

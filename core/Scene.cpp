@@ -11,23 +11,6 @@
 
 namespace keller {
 
-// ---------------------------------------------------------------- Range
-
-bool Range::contains(double v) const {
-  if (std::isnan(v)) return false;
-  if (lo_open ? !(v > lo) : !(v >= lo)) return false;
-  if (hi_open ? !(v < hi) : !(v <= hi)) return false;
-  return true;
-}
-
-std::string Range::describe() const {
-  const bool has_lo = std::isfinite(lo), has_hi = std::isfinite(hi);
-  if (!has_lo && !has_hi) return "any number";
-  if (has_lo && !has_hi) return fmt::format("{} {}", lo_open ? ">" : ">=", lo);
-  if (!has_lo && has_hi) return fmt::format("{} {}", hi_open ? "<" : "<=", hi);
-  return fmt::format("in {}{}, {}{}", lo_open ? "(" : "[", lo, hi, hi_open ? ")" : "]");
-}
-
 // ---------------------------------------------------------------- KeySpec
 
 std::string KeySpec::section() const {
@@ -38,6 +21,11 @@ std::string KeySpec::section() const {
 std::string KeySpec::key() const {
   const auto dot = path.rfind('.');
   return dot == std::string::npos ? path : path.substr(dot + 1);
+}
+
+bool KeySpec::allows_infinity() const {
+  const double* d = std::get_if<double>(&default_value);
+  return type == Type::Real && d && std::isinf(*d);
 }
 
 std::string KeySpec::type_name() const {
@@ -106,6 +94,11 @@ void SceneSchema::real(const std::string& path, double def, const std::string& d
   add({path, KeySpec::Type::Real, def, doc, range, {}});
 }
 void SceneSchema::integer(const std::string& path, long def, const std::string& doc, Range range) {
+  // every integer key is read as an int: its range stops at int's, so no value is ever narrowed
+  range.lo = std::max(range.lo, static_cast<double>(std::numeric_limits<int>::min()));
+  range.hi = std::min(range.hi, static_cast<double>(std::numeric_limits<int>::max()));
+  if (!range.contains(static_cast<double>(def)))
+    throw std::logic_error("scene key '" + path + "': default outside its range");
   add({path, KeySpec::Type::Integer, def, doc, range, {}});
 }
 void SceneSchema::boolean(const std::string& path, bool def, const std::string& doc) {
@@ -232,7 +225,12 @@ std::string read_file(const std::string& file) {
 }  // namespace
 
 std::string Scene::peek_string(const std::string& file, const std::string& path, const std::string& fallback) {
-  const toml::table t = parse_toml(read_file(file), file);
+  return peek_string_in(read_file(file), file, path, fallback);
+}
+
+std::string Scene::peek_string_in(const std::string& text, const std::string& file, const std::string& path,
+                                  const std::string& fallback) {
+  const toml::table t = parse_toml(text, file);
   const toml::node_view<const toml::node> v = t.at_path(path);
   if (!v) return fallback;
   if (const auto s = v.value<std::string>()) return *s;
@@ -257,6 +255,8 @@ Scene Scene::parse(const std::string& text, const std::string& source, const Sce
     if (eq == std::string::npos || eq == 0)
       throw SceneError(fmt::format("override '{}' is not of the form section.key=value", o));
     const std::string path = o.substr(0, eq), value = o.substr(eq + 1);
+    if (value.find_first_of("\n\r") != std::string::npos)
+      throw SceneError(fmt::format("override '{}': a value cannot contain a line break", path));
     const auto dot = path.rfind('.');
     if (dot == std::string::npos) throw SceneError(fmt::format("override '{}': the key needs its section", o));
     toml::table doc;
@@ -269,6 +269,8 @@ Scene Scene::parse(const std::string& text, const std::string& source, const Sce
         throw SceneError(fmt::format("override '{}': not a TOML value: {}", o, e.description()));
       }
     }
+    if (doc.size() != 1 || !doc.get("v"))
+      throw SceneError(fmt::format("override '{}': the value must be one TOML value", o));
     toml::table* sec = &t;
     const std::string section = path.substr(0, dot);
     size_t start = 0;
@@ -322,6 +324,11 @@ Scene Scene::parse(const std::string& text, const std::string& source, const Sce
       return SceneError(fmt::format("{}: key '{}' = {} is out of range: must be {}", location(source, leaf.line),
                                     leaf.path, v, spec->range.describe()));
     };
+    auto not_finite = [&](double v) {
+      return SceneError(fmt::format("{}: key '{}' = {} is not a finite number{}", location(source, leaf.line),
+                                    leaf.path, v,
+                                    spec->allows_infinity() ? "" : fmt::format(" (must be {})", spec->range.describe())));
+    };
     SceneValue value;
     switch (spec->type) {
       case KeySpec::Type::Real: {
@@ -329,6 +336,7 @@ Scene Scene::parse(const std::string& text, const std::string& source, const Sce
         if (n.is_floating_point()) v = *n.value<double>();
         else if (n.is_integer()) v = static_cast<double>(*n.value<int64_t>());
         else throw wrong_type();
+        if (!std::isfinite(v) && !(std::isinf(v) && spec->allows_infinity())) throw not_finite(v);
         if (!spec->range.contains(v)) throw out_of_range(v);
         value = v;
         break;
@@ -366,6 +374,7 @@ Scene Scene::parse(const std::string& text, const std::string& source, const Sce
           if (e.is_floating_point()) x = *e.value<double>();
           else if (e.is_integer()) x = static_cast<double>(*e.value<int64_t>());
           else throw wrong_type();
+          if (!std::isfinite(x)) throw not_finite(x);
           if (!spec->range.contains(x)) throw out_of_range(x);
           v.push_back(x);
         }
@@ -389,7 +398,9 @@ const SceneValue& Scene::get(const std::string& path, KeySpec::Type type) const 
 }
 
 double Scene::real(const std::string& path) const { return std::get<double>(get(path, KeySpec::Type::Real)); }
-long Scene::integer(const std::string& path) const { return std::get<long>(get(path, KeySpec::Type::Integer)); }
+int Scene::integer(const std::string& path) const {
+  return static_cast<int>(std::get<long>(get(path, KeySpec::Type::Integer)));  // the range fits int (SceneSchema)
+}
 bool Scene::boolean(const std::string& path) const { return std::get<bool>(get(path, KeySpec::Type::Boolean)); }
 const std::string& Scene::string(const std::string& path) const {
   return std::get<std::string>(get(path, KeySpec::Type::String));
@@ -410,6 +421,15 @@ SceneError Scene::error(const std::string& path, const std::string& what) const 
   auto it = lines_.find(path);
   if (it != lines_.end()) return SceneError(fmt::format("{}: key '{}': {}", location(source_, it->second), path, what));
   return SceneError(fmt::format("{}: key '{}' (default): {}", source_, path, what));
+}
+
+std::string Scene::canonical_values(const std::vector<std::string>& keys) const {
+  std::string out;
+  for (const auto& k : schema_.keys()) {
+    if (!keys.empty() && std::find(keys.begin(), keys.end(), k.path) == keys.end()) continue;
+    out += fmt::format("{} = {}\n", k.path, format_value(values_.at(k.path)));
+  }
+  return out;
 }
 
 std::string Scene::resolved_toml() const {

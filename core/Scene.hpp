@@ -12,27 +12,13 @@
 #include <variant>
 #include <vector>
 
+#include "core/Range.hpp"
+
 namespace keller {
 
 class SceneError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
-};
-
-// Admissible interval of a number: [lo, hi], either end open or infinite.
-struct Range {
-  double lo = -std::numeric_limits<double>::infinity();
-  double hi = std::numeric_limits<double>::infinity();
-  bool lo_open = false, hi_open = false;
-
-  static Range any() { return {}; }
-  static Range positive() { return {0.0, std::numeric_limits<double>::infinity(), true, false}; }
-  static Range non_negative() { return {0.0, std::numeric_limits<double>::infinity(), false, false}; }
-  static Range at_least(double v) { return {v, std::numeric_limits<double>::infinity(), false, false}; }
-  static Range above(double v) { return {v, std::numeric_limits<double>::infinity(), true, false}; }
-  static Range between(double a, double b) { return {a, b, false, false}; }
-  bool contains(double v) const;
-  std::string describe() const;  // "> 0", "in [0.1, 0.4]", ">= 1", "any number"
 };
 
 using SceneValue = std::variant<double, long, bool, std::string, std::vector<double>>;
@@ -48,6 +34,9 @@ struct KeySpec {
   std::string section() const;       // "mesh" for "mesh.nx"
   std::string key() const;           // "nx"
   std::string type_name() const;     // "a number", "an integer", ...
+  // Numbers must be finite, except in a Real key whose default is infinite (meaning "none",
+  // as for a bound): it also takes inf or -inf. NaN is never a value.
+  bool allows_infinity() const;
 };
 
 class SceneSchema {
@@ -55,6 +44,8 @@ class SceneSchema {
   // Declare a section (a TOML table) with a one-line doc; keys are added with full paths.
   void section(const std::string& name, const std::string& doc);
   void real(const std::string& path, double def, const std::string& doc, Range range = Range::any());
+  // Integer keys are read as int: their range is clipped to int's, so a value is range-checked
+  // before it is ever narrowed.
   void integer(const std::string& path, long def, const std::string& doc, Range range = Range::any());
   void boolean(const std::string& path, bool def, const std::string& doc);
   void string(const std::string& path, const std::string& def, const std::string& doc,
@@ -88,9 +79,11 @@ class Scene {
   // Reads one string key without validating the rest (to pick the schema, e.g. problem.type);
   // returns `fallback` when absent. Throws SceneError on a missing file or bad TOML.
   static std::string peek_string(const std::string& file, const std::string& path, const std::string& fallback);
+  static std::string peek_string_in(const std::string& text, const std::string& source, const std::string& path,
+                                    const std::string& fallback);
 
   double real(const std::string& path) const;
-  long integer(const std::string& path) const;
+  int integer(const std::string& path) const;
   bool boolean(const std::string& path) const;
   const std::string& string(const std::string& path) const;
   const std::vector<double>& real_list(const std::string& path) const;
@@ -105,6 +98,10 @@ class Scene {
   const std::string& source() const { return source_; }
   // Every declared key with its resolved value, as TOML, with the docs as comments.
   std::string resolved_toml() const;
+  // The canonical form of the resolved values of `keys` (all keys when empty): one
+  // "section.key = value" line each, in declaration order, no comments. Two scenes that resolve
+  // to the same values give the same text, however the files were written.
+  std::string canonical_values(const std::vector<std::string>& keys = {}) const;
   const SceneSchema& schema() const { return schema_; }
 
  private:

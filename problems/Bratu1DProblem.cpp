@@ -87,7 +87,8 @@ double Bratu1DProblem::exact(double x, double lambda, bool upper) {
 
 void Bratu1DProblem::declare(SceneSchema& s) {
   s.section("bratu", "Bratu problem u'' + lambda e^u = 0 with u = 0 on the boundary");
-  s.integer("bratu.intervals", 64, "grid intervals (1D) or elements per side (2D)", Range::at_least(2));
+  s.integer("bratu.intervals", 64, "grid intervals (1D) or elements per side (2D, at most 4000)",
+            Range::between(2, max_grid_intervals));
   s.real("bratu.lambda", 1.0, "initial value of the parameter lambda", Range::non_negative());
 }
 

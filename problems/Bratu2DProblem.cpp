@@ -109,6 +109,9 @@ std::string Bratu2DProblem::summary() const {
 }
 
 std::unique_ptr<Problem> Bratu2DProblem::from_scene(const Scene& scene) {
+  // (2n + 1)^2 unknowns and about 25 Jacobian entries each must stay far inside int
+  if (scene.integer("bratu.intervals") > max_elements_per_side)
+    throw scene.error("bratu.intervals", fmt::format("bratu2d takes at most {} elements per side", max_elements_per_side));
   return std::make_unique<Bratu2DProblem>(static_cast<int>(scene.integer("bratu.intervals")), scene.real("bratu.lambda"));
 }
 

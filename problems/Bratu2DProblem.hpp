@@ -16,6 +16,7 @@ namespace keller {
 
 class Bratu2DProblem final : public Problem {
  public:
+  static constexpr int max_elements_per_side = 4000;
   Bratu2DProblem(int elements_per_side, double lambda);
   Bratu2DProblem(const Bratu2DProblem&) = delete;
   Bratu2DProblem& operator=(const Bratu2DProblem&) = delete;

@@ -1,5 +1,7 @@
 #include "problems/Brusselator1DProblem.hpp"
 
+#include "problems/Grid1D.hpp"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -15,7 +17,7 @@ void Brusselator1DOptions::declare(SceneSchema& s) {
   const Brusselator1DOptions d;
   s.section("brusselator", "Brusselator reaction-diffusion system on (0, L) with no-flux boundaries");
   s.integer("brusselator.intervals", d.intervals, "grid intervals on (0, L) (n + 1 nodes, boundaries included)",
-            Range::at_least(2));
+            Range::between(2, max_grid_intervals));
   s.real("brusselator.length", d.length, "L, length of the interval", Range::positive());
   s.section("parameters", "initial values of the named continuation parameters");
   s.real("parameters.a", d.a, "feed rate a; the uniform state is (a, b / a)", Range::positive());
@@ -40,7 +42,7 @@ Brusselator1DProblem::Brusselator1DProblem(const Brusselator1DOptions& o) : n_(o
   if (o.intervals < 2) throw std::invalid_argument("brusselator1d: need at least 2 intervals");
   if (!(o.length > 0.0)) throw std::invalid_argument("brusselator1d: the length must be > 0");
   if (!(o.a > 0.0)) throw std::invalid_argument("brusselator1d: a must be > 0 (the uniform state is (a, b / a))");
-  params_.add("a", o.a, "feed rate; the uniform state is (a, b / a)", 0.0);
+  params_.add("a", o.a, "feed rate; the uniform state is (a, b / a)", Range::positive());
   params_.add("b", o.b, "conversion rate; Hopf of the uniform state at b = 1 + a^2", 0.0);
   params_.add("D_u", o.D_u, "diffusivity of u", 0.0);
   params_.add("D_v", o.D_v, "diffusivity of v", 0.0);

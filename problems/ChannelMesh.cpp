@@ -84,12 +84,13 @@ void declare_channel_mesh_keys(SceneSchema& s) {
   s.real("geometry.downstream_length", 7.0, "Ld, length of the rigid channel downstream", Range::positive());
   s.section("mesh", "named meshes M1..M5 (element counts of the reference study) or explicit sizes");
   s.string("mesh.name", "M1", "mesh preset; 'custom' takes the sizes below", {"M1", "M2", "M3", "M4", "M5", "custom"});
-  s.integer("mesh.nx_upstream", 0, "fluid columns upstream (custom meshes; 0 with a preset)", Range::at_least(0));
-  s.integer("mesh.nx_deformable", 0, "fluid and solid columns along the deformable section (custom)",
-            Range::at_least(0));
-  s.integer("mesh.nx_downstream", 0, "fluid columns downstream (custom)", Range::at_least(0));
-  s.integer("mesh.ny_fluid", 0, "fluid rows across the channel (custom)", Range::at_least(0));
-  s.integer("mesh.ny_solid", 0, "solid rows across the wall (custom)", Range::at_least(0));
+  // 10^4 elements a side: (2 nx + 1)(2 ny + 1) nodes stay far inside int
+  const Range count = Range::between(0, 10'000);
+  s.integer("mesh.nx_upstream", 0, "fluid columns upstream (custom meshes; 0 with a preset)", count);
+  s.integer("mesh.nx_deformable", 0, "fluid and solid columns along the deformable section (custom)", count);
+  s.integer("mesh.nx_downstream", 0, "fluid columns downstream (custom)", count);
+  s.integer("mesh.ny_fluid", 0, "fluid rows across the channel (custom)", count);
+  s.integer("mesh.ny_solid", 0, "solid rows across the wall (custom)", count);
   s.real("mesh.ratio_x", 3.0, "deformable section: widest / narrowest column (fine at both ends)", Range::at_least(1));
   s.real("mesh.ratio_y", 2.0, "fluid rows: widest / narrowest (fine at both walls)", Range::at_least(1));
 }

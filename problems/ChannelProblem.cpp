@@ -35,8 +35,7 @@ ChannelProblem::ChannelProblem(const ChannelOptions& options, Mesh mesh) : optio
 }
 
 void ChannelProblem::setup() {
-  iGamma_ = params_.add("Gamma", options_.Gamma, "mean inflow velocity (solid elasticity parameter)",
-                        std::numeric_limits<double>::min());
+  iGamma_ = params_.add("Gamma", options_.Gamma, "mean inflow velocity (solid elasticity parameter)", Range::positive());
   FlowBoundaries bc;
   bc.walls = {"bottom_wall", "top_wall", "interface"};
   bc.channel_lo = 0.0;

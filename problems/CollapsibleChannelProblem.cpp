@@ -17,7 +17,8 @@ void CollapsibleOptions::declare(SceneSchema& s) {
   MeshMotionOptions::declare(s);
   s.real("parameters.Gamma", 4.95e-4, "Gamma = eta0 U0 / (G W): wall elasticity, and the mean inflow velocity",
          Range::positive());
-  s.real("parameters.t", 0.4, "wall thickness t (units of W)", Range::positive());
+  s.real("parameters.t", 0.4, "wall thickness t (units of W)",
+         Range::between(SolidWall::min_thickness, SolidWall::max_thickness));
   s.real("parameters.Pe", 0.04, "external pressure on the top of the wall (units of G)");
 }
 
@@ -36,8 +37,7 @@ CollapsibleOptions CollapsibleOptions::from_scene(const Scene& scene) {
 CollapsibleChannelProblem::CollapsibleChannelProblem(const CollapsibleOptions& options)
     : options_(options), mesh_(build_channel_mesh(options.geometry, options.mesh, true)) {
   const ChannelGeometry& g = options_.geometry;
-  iGamma_ = params_.add("Gamma", options_.Gamma, "wall elasticity parameter (the mean inflow velocity)",
-                        std::numeric_limits<double>::min());
+  iGamma_ = params_.add("Gamma", options_.Gamma, "wall elasticity parameter (the mean inflow velocity)", Range::positive());
   FlowBoundaries bc;
   bc.walls = {"bottom_wall", "top_wall", "interface"};
   flow_ = std::make_unique<FlowEquations>(mesh_, "fluid", options_.fluid, bc, params_, iGamma_);
@@ -76,6 +76,12 @@ CollapsibleChannelProblem::CollapsibleChannelProblem(const CollapsibleOptions& o
 }
 
 double CollapsibleChannelProblem::residual_scale() const { return params_.value(iGamma_); }
+
+std::vector<Problem::Homotopy> CollapsibleChannelProblem::homotopies() const {
+  std::vector<Homotopy> h{{"Pe", 0.0}};
+  if (params_.has("Wi")) h.push_back({"Wi", 0.01});
+  return h;
+}
 
 Vector CollapsibleChannelProblem::initial_guess() {
   // fully developed flow in the undeformed channel; the wall at rest carries the external

@@ -63,6 +63,9 @@ class CollapsibleChannelProblem final : public Problem {
   Status mass_matrix(const Vector& u, SparseMatrix& B) override { return assembler_->mass_matrix(u, B); }
   Vector initial_guess() override;
   double residual_scale() const override;
+  // Pe from 0 (no external load: the initial guess is then nearly the solution), then, for a
+  // viscoelastic fluid, Wi from 0.01 (the relaxation time near zero).
+  std::vector<Homotopy> homotopies() const override;
   std::vector<std::string> observable_names() const override;
   Status observables(const Vector& u, std::vector<double>& values) override;
   std::vector<std::string> monitor_names() const override;

@@ -82,10 +82,10 @@ FlowEquations::FlowEquations(const Mesh& mesh, const std::string& group, FluidOp
   index_.Re = params.add("Re", options_.Re, "Reynolds number", 0.0);
   if (options_.Re > 0 && !options_.inertia) throw std::invalid_argument("Re > 0 needs the convective term");
   if (options_.viscoelastic()) {
-    index_.Wi = params.add("Wi", options_.Wi, "Weissenberg number", std::numeric_limits<double>::min());
-    index_.beta = params.add("beta", options_.beta, "viscosity ratio eta_s / eta0", std::numeric_limits<double>::min(), 1.0);
+    index_.Wi = params.add("Wi", options_.Wi, "Weissenberg number", Range::positive());
+    index_.beta = params.add("beta", options_.beta, "viscosity ratio eta_s / eta0", Range{0.0, 1.0, true, false});
     if (options_.model == FluidModel::FeneP)
-      index_.b = params.add("b", options_.b, "FENE-P extensibility", 1.0 + 1e-12);
+      index_.b = params.add("b", options_.b, "FENE-P extensibility", Range::above(1.0));
   }
   elements_ = mesh.elements_in_group(mesh.group_index(group));
   geometry_.resize(elements_.size());
@@ -164,7 +164,8 @@ void FlowEquations::add_kernels(const DofMap& dofs) {
   if (!options_.viscoelastic()) {
     NewtonianFlowParameters np{index_.Re, index_.Gamma, -1};
     terms_.push_back(std::make_shared<KernelTerm<NewtonianFlowKernel<Moving>>>(
-        NewtonianFlowKernel<Moving>(*mesh_, dofs, elements_, &geometry_, np, options_.inertia), params));
+        NewtonianFlowKernel<Moving>(*mesh_, dofs, elements_, &geometry_, np, options_.inertia, options_.kernel.source),
+        params));
   } else if (options_.conformation_components() == 3) {
     terms_.push_back(std::make_shared<KernelTerm<ViscoelasticFlowKernel<3, Moving>>>(
         ViscoelasticFlowKernel<3, Moving>(*mesh_, dofs, elements_, &geometry_, index_, options_.kernel), params));

@@ -7,6 +7,14 @@
 #include "core/SolutionFields.hpp"
 #include "core/Types.hpp"
 
+namespace keller {
+
+// Largest grid of the 1D test problems' scene keys: 10^7 intervals (a few hundred MB of
+// Jacobian); the sparse matrices index their entries with int, so much more would overflow.
+inline constexpr long max_grid_intervals = 10'000'000;
+
+}  // namespace keller
+
 namespace keller::grid1d {
 
 // Pattern of a tridiagonal m x m matrix (values zero).

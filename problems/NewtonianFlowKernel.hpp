@@ -15,16 +15,20 @@
 // mesh then x and y of nodes 0..8 (39), whose rows this kernel does not write (kRows = 21).
 // Time-dependent form: (Re/Gamma) dv/dt adds the mass block (Re/Gamma) int phi_a phi_b to the
 // velocity rows; continuity has no time derivative. With Re = 0 the mass matrix is zero.
+// An optional body force (FlowSource.hpp, manufactured solutions) subtracts int phi_a f_i dA.
 #pragma once
 
 #include <array>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "core/AutoDiff.hpp"
 #include "core/DofMap.hpp"
 #include "core/ElementGeometry.hpp"
 #include "core/Mesh.hpp"
 #include "core/Status.hpp"
+#include "problems/FlowSource.hpp"
 
 namespace keller {
 
@@ -40,11 +44,17 @@ class NewtonianFlowKernel {
   static constexpr int kRows = 21;
   static constexpr int kSize = Moving ? 39 : 21;
 
-  // elements: the fluid elements; geometry: their cached Gauss-point geometry (same order).
+  // elements: the fluid elements; geometry: their cached Gauss-point geometry (same order);
+  // source: a body force, or null.
   NewtonianFlowKernel(const Mesh& mesh, const DofMap& dofs, std::vector<int> elements,
                       const std::vector<std::array<QpGeometry<double>, ref::kQp>>* geometry,
-                      NewtonianFlowParameters params, bool inertia)
-      : mesh_(&mesh), geometry_(geometry), elements_(std::move(elements)), p_(params), inertia_(inertia) {
+                      NewtonianFlowParameters params, bool inertia, std::shared_ptr<const FlowSource> source = nullptr)
+      : mesh_(&mesh),
+        geometry_(geometry),
+        elements_(std::move(elements)),
+        p_(params),
+        inertia_(inertia),
+        force_(source && source->momentum ? source : nullptr) {
     const int fv = dofs.field_index("velocity"), fp = dofs.field_index("pressure");
     dofs_.resize(elements_.size() * kSize);
     for (size_t k = 0; k < elements_.size(); ++k) {
@@ -148,6 +158,13 @@ class NewtonianFlowKernel {
         conv[0] = rho * (v[0] * K[0][0] + v[1] * K[0][1]);
         conv[1] = rho * (v[0] * K[1][0] + v[1] * K[1][1]);
       }
+      if (force_) {
+        const double x[2] = {value_of(g.x[0]), value_of(g.x[1])};
+        double f[2];
+        force_->momentum(x, f);
+        conv[0] -= f[0];
+        conv[1] -= f[1];
+      }
       for (int a = 0; a < 9; ++a) {
         const double N = tb.N2[q][a];
         const G dx = g.dN2dx[a][0], dy = g.dN2dx[a][1];
@@ -166,6 +183,7 @@ class NewtonianFlowKernel {
   std::vector<int> dofs_;
   NewtonianFlowParameters p_;
   bool inertia_;
+  std::shared_ptr<const FlowSource> force_;  // null unless a body force is given
 };
 
 }  // namespace keller

@@ -84,7 +84,7 @@ double Pitchfork1DProblem::branch_point(int k, int intervals) {
 
 void Pitchfork1DProblem::declare(SceneSchema& s) {
   s.section("pitchfork", "pitchfork problem u'' + lambda u - u^3 + eps = 0 with u = 0 on the boundary");
-  s.integer("pitchfork.intervals", 64, "grid intervals on (0, 1)", Range::at_least(2));
+  s.integer("pitchfork.intervals", 64, "grid intervals on (0, 1)", Range::between(2, max_grid_intervals));
   s.section("parameters", "initial values of the named continuation parameters");
   s.real("parameters.lambda", 1.0, "coefficient of the linear term (branch points of u = 0 near (k pi)^2)");
   s.real("parameters.eps", 0.0, "imperfection: constant source that breaks the symmetry u -> -u (0: perfect)");

@@ -17,7 +17,7 @@ namespace keller {
 SolidWall::SolidWall(const Mesh& mesh, WallGeometry geometry, double t0, double Pe, ParameterSet& params)
     : mesh_(&mesh), geometry_(geometry), params_(&params) {
   if (!(t0 > 0.0)) throw std::invalid_argument(fmt::format("wall thickness t must be > 0 (got {})", t0));
-  it_ = params.add("t", t0, "wall thickness (units of the channel width)", 1e-3, 10.0);
+  it_ = params.add("t", t0, "wall thickness (units of the channel width)", min_thickness, max_thickness);
   iPe_ = params.add("Pe", Pe, "external pressure on the top of the wall (units of G)");
   elements_ = mesh.elements_in_group(mesh.group_index("solid"));
   // X = (X, 1) + t (0, eta): the mesh was built with thickness t0 and straight vertical lines

@@ -27,6 +27,9 @@ struct WallGeometry {
 
 class SolidWall {
  public:
+  // Admissible wall thickness (units of W), the range of the parameter t and of its scene key.
+  static constexpr double min_thickness = 1e-3, max_thickness = 10.0;
+
   // mesh: holds group "solid" and boundaries interface, wall_top, wall_left, wall_right, built
   // with thickness t0. Adds parameters "t" (wall thickness, 0 < t) and "Pe" to params.
   SolidWall(const Mesh& mesh, WallGeometry geometry, double t0, double Pe, ParameterSet& params);

@@ -14,7 +14,9 @@
 //   log form     int (chi + tau_supg v . grad chi) [v . grad Psi - T(L, Psi) - (exp(-Psi) - f I) / lambda_eff]
 //   zz (FENE-P, when an unknown)  [v . grad M_zz + (f M_zz - 1) / lambda_eff], log: - (exp(-psi_zz) - f)
 // with tau_p = (1 - beta) (Gamma / Wi) (f M - I), lambda = Wi / Gamma, lambda_eff = lambda
-// eta_p(gdot(L)) / eta_p0 for Owens (in the conformation equation only).
+// eta_p(gdot(L)) / eta_p0 for Owens (in the conformation equation only). Optional volume
+// sources (FlowSource.hpp, manufactured solutions) are subtracted: int phi . force from the
+// momentum rows, and the constitutive source inside the SUPG-weighted bracket.
 //
 // Local unknowns: v_x (9), v_y (9), P (3), L_xx L_xy L_yx L_yy (4 each), then the conformation
 // components (4 each): 37 + 4 NC rows; on a moving mesh then x and y of nodes 0..8, whose rows
@@ -24,6 +26,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -33,6 +36,7 @@
 #include "core/Mesh.hpp"
 #include "core/Status.hpp"
 #include "problems/ConstitutiveLaw.hpp"
+#include "problems/FlowSource.hpp"
 #include "problems/LogConformation.hpp"
 
 namespace keller {
@@ -56,6 +60,7 @@ struct ViscoelasticKernelOptions {
   double supg_velocity_floor = 1e-3;  // |v| is floored at this fraction of the velocity scale
   double global_size = 1.0;       // h_c for the global option
   OwensParameters owens;
+  std::shared_ptr<const FlowSource> source;  // volume sources; null in every physical problem
 };
 
 // The conformation tensor from its unknowns at a point: M itself, or exp(Psi) in the log form;
@@ -270,6 +275,13 @@ class ViscoelasticFlowKernel {
         conv[0] = rho * (v[0] * K[0][0] + v[1] * K[0][1]);
         conv[1] = rho * (v[0] * K[1][0] + v[1] * K[1][1]);
       }
+      const double x[2] = {value_of(g.x[0]), value_of(g.x[1])};
+      if (o_.source && o_.source->momentum) {
+        double force[2];
+        o_.source->momentum(x, force);
+        conv[0] -= force[0];
+        conv[1] -= force[1];
+      }
       for (int a = 0; a < 9; ++a) {
         const double N = tb.N2[q][a];
         const G dx = g.dN2dx[a][0], dy = g.dN2dx[a][1];
@@ -314,6 +326,11 @@ class ViscoelasticFlowKernel {
         R[1] = v[0] * dm[1][0] + v[1] * dm[1][1] + rate.xy;
         R[2] = v[0] * dm[2][0] + v[1] * dm[2][1] + rate.yy;
         if constexpr (NC == 4) R[3] = v[0] * dm[3][0] + v[1] * dm[3][1] + rate.zz;
+      }
+      if (o_.source && o_.source->constitutive) {
+        double s[4] = {0.0, 0.0, 0.0, 0.0};
+        o_.source->constitutive(x, s);
+        for (int c = 0; c < NC; ++c) R[c] -= s[c];
       }
       for (int k = 0; k < 4; ++k) {
         const T weight = w * (tb.N1[q][k] + tau * (v[0] * g.dN1dx[k][0] + v[1] * g.dN1dx[k][1]));

@@ -12,7 +12,7 @@ namespace keller {
 void WallOptions::declare(SceneSchema& s) {
   declare_channel_mesh_keys(s);
   s.section("parameters", "continuation parameters and their starting values");
-  s.real("parameters.t", 0.4, "wall thickness t (units of W)", Range::between(1e-3, 10.0));
+  s.real("parameters.t", 0.4, "wall thickness t (units of W)", Range::between(SolidWall::min_thickness, SolidWall::max_thickness));
   s.real("parameters.Pe", 0.04, "external pressure on the top of the wall (units of G)");
   s.real("parameters.Pin", 0.0, "uniform pressure on the bottom of the wall (units of G)");
 }

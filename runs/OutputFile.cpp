@@ -1,25 +1,14 @@
 #include "runs/OutputFile.hpp"
 
 #include <fmt/format.h>
-#include <unistd.h>
 
+#include <cstdint>
 #include <filesystem>
-#include <stdexcept>
+#include <sstream>
 
 #include "core/SolutionWriter.hpp"
 
 namespace keller {
-
-void check_output_path(const std::string& path) {
-  namespace fs = std::filesystem;
-  const fs::path p(path);
-  std::error_code ec;
-  if (fs::is_directory(p, ec)) throw std::runtime_error(fmt::format("output '{}' is a directory", path));
-  const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
-  if (!fs::is_directory(dir, ec)) throw std::runtime_error(fmt::format("output directory '{}' does not exist", dir.string()));
-  if (access(dir.c_str(), W_OK) != 0)
-    throw std::runtime_error(fmt::format("output directory '{}' is not writable", dir.string()));
-}
 
 std::string xdmf_path_for(const std::string& h5_path) {
   std::filesystem::path p(h5_path);
@@ -27,13 +16,68 @@ std::string xdmf_path_for(const std::string& h5_path) {
   return p.string();
 }
 
-void write_run_header(H5File& file, const Scene& scene, const Problem& problem) {
-  file.write_string("/scene", scene.resolved_toml());
-  file.set_attribute("/scene", "source", scene.source());
+std::string text_hash(const std::string& text) {
+  std::uint64_t h = 14695981039346656037ull;
+  for (unsigned char c : text) {
+    h ^= c;
+    h *= 1099511628211ull;
+  }
+  return fmt::format("{:016x}", h);
+}
+
+namespace {
+std::map<std::string, std::string> record_lines(const std::string& record) {
+  std::map<std::string, std::string> out;
+  std::istringstream in(record);
+  for (std::string line; std::getline(in, line);) {
+    const auto eq = line.find(" = ");
+    if (eq != std::string::npos) out[line.substr(0, eq)] = line.substr(eq + 3);
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string record_difference(const std::string& stored, const std::string& now) {
+  const auto a = record_lines(stored), b = record_lines(now);
+  std::string out;
+  auto add = [&](const std::string& s) { out += (out.empty() ? "" : "; ") + s; };
+  for (const auto& [key, value] : a) {
+    auto it = b.find(key);
+    if (it == b.end()) add(fmt::format("{} = {} in the file, not a key of this scene", key, value));
+    else if (it->second != value) add(fmt::format("{} = {} in the file, {} in this scene", key, value, it->second));
+  }
+  for (const auto& [key, value] : b)
+    if (!a.count(key)) add(fmt::format("{} = {} in this scene, not in the file", key, value));
+  return out;
+}
+
+void write_run_header(H5File& file, const LoadedScene& loaded, const Problem& problem) {
+  file.write_string("/scene", loaded.scene.resolved_toml());
+  file.set_attribute("/scene", "source", loaded.scene.source());
   file.create_group("/problem");
   file.set_attribute("/problem", "name", problem.name());
   file.set_attribute("/problem", "summary", problem.summary());
   file.set_attribute("/problem", "unknowns", static_cast<long>(problem.size()));
+  const std::string physics = loaded.physics();
+  file.write_string("/problem/physics", physics);
+  file.set_attribute("/problem", "physics_hash", text_hash(physics));
+  file.create_group("/problem/parameters");
+  for (const Parameter& p : problem.parameters().list()) file.set_attribute("/problem/parameters", p.name, p.value);
+}
+
+RunHeader read_run_header(const H5File& f) {
+  RunHeader h;
+  if (f.exists("/scene")) h.scene = f.read_string("/scene");
+  if (!f.exists("/problem")) return h;
+  if (f.has_attribute("/problem", "name")) h.problem = f.read_string_attribute("/problem", "name");
+  if (f.has_attribute("/problem", "unknowns")) h.unknowns = static_cast<long>(f.read_double_attribute("/problem", "unknowns"));
+  if (f.exists("/problem/physics")) h.physics = f.read_string("/problem/physics");
+  if (f.has_attribute("/problem", "physics_hash")) h.physics_hash = f.read_string_attribute("/problem", "physics_hash");
+  if (f.exists("/problem/parameters"))
+    for (const std::string& name : f.attribute_names("/problem/parameters"))
+      h.parameters[name] = f.read_double_attribute("/problem/parameters", name);
+  return h;
 }
 
 void write_solution(H5File& file, const std::string& group, Problem& problem, const Vector& u) {

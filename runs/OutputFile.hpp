@@ -1,25 +1,43 @@
-// Writing a run's HDF5 file so that a failure never leaves a partial file under the final name:
-// everything goes to OUT.h5.part, renamed to OUT.h5 when complete.
+// What every run's HDF5 file holds before its results: the resolved scene, the problem (name,
+// summary, unknowns), the record of its physics (the keys that define the problem, and their
+// hash) and the parameter values it started from. Restarts, branch switches and studies read
+// them back to check that a stored state belongs to the scene at hand.
 #pragma once
 
+#include <map>
 #include <string>
 #include <vector>
 
 #include "core/H5File.hpp"
 #include "core/Problem.hpp"
-#include "core/Scene.hpp"
+#include "runs/SceneLoader.hpp"
 
 namespace keller {
-
-// Checks that the output can be written (directory exists and is writable; not a directory
-// itself); throws SceneError-like std::runtime_error with a clear message otherwise.
-void check_output_path(const std::string& path);
 
 // The XDMF path beside an HDF5 path: OUT.h5 -> OUT.xdmf.
 std::string xdmf_path_for(const std::string& h5_path);
 
-// Writes /scene, /problem (name, summary, unknowns) and /parameters attributes.
-void write_run_header(H5File& file, const Scene& scene, const Problem& problem);
+// A 64-bit FNV-1a hash of a text, as 16 hexadecimal digits.
+std::string text_hash(const std::string& text);
+
+// What differs between two records of "key = value" lines (Scene::canonical_values), e.g.
+// 'fluid.model = "fene-p" in the file, "oldroyd-b" in this scene'; empty when they agree.
+std::string record_difference(const std::string& stored, const std::string& now);
+
+// Writes /scene (resolved TOML), /problem (attributes name, summary, unknowns, physics_hash),
+// /problem/physics (LoadedScene::physics()) and /problem/parameters (an attribute per parameter).
+void write_run_header(H5File& file, const LoadedScene& scene, const Problem& problem);
+
+// The header of a stored run, as write_run_header left it (physics empty for files written
+// before the record existed).
+struct RunHeader {
+  std::string problem;
+  long unknowns = 0;
+  std::string physics, physics_hash;
+  std::map<std::string, double> parameters;
+  std::string scene;  // the resolved scene's TOML
+};
+RunHeader read_run_header(const H5File& file);
 
 // Writes a solution's fields, parameter values and observables under `group`.
 void write_solution(H5File& file, const std::string& group, Problem& problem, const Vector& u);

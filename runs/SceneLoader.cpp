@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include "continuation/StartSolver.hpp"
 #include "core/Newton.hpp"
 #include "core/SparseLU.hpp"
 
@@ -11,10 +12,37 @@ void declare_common_keys(SceneSchema& s) {
   s.section("problem", "which problem the scene describes");
   s.string("problem.type", "channel", "problem type", problem_type_names());
   declare_newton_keys(s);
+  StartOptions::declare(s);
   declare_linear_solver_keys(s);
   s.section("output", "what is written besides the HDF5 file");
   s.boolean("output.xdmf", true, "write an XDMF file next to the HDF5 file for ParaView");
 }
+
+namespace {
+
+const ProblemType& type_named(const std::string& name, const std::string& source) {
+  try {
+    return problem_type(name);
+  } catch (const std::invalid_argument& e) {
+    throw SceneError(fmt::format("{}: key 'problem.type': {}", source, e.what()));
+  }
+}
+
+LoadedScene loaded(const ProblemType& type, const std::function<void(SceneSchema&)>& extra,
+                   const std::function<Scene(const SceneSchema&)>& load) {
+  SceneSchema schema;
+  declare_common_keys(schema);
+  type.declare(schema);
+  if (extra) extra(schema);
+  SceneSchema own;
+  type.declare(own);
+  std::vector<std::string> physics;
+  for (const KeySpec& k : own.keys())
+    if (k.section() != "parameters") physics.push_back(k.path);
+  return {load(schema), &type, std::move(physics)};
+}
+
+}  // namespace
 
 LoadedScene load_scene(const std::string& file, const std::function<void(SceneSchema&)>& extra,
                        const std::vector<std::string>& overrides) {
@@ -25,17 +53,15 @@ LoadedScene load_scene(const std::string& file, const std::function<void(SceneSc
       if (type_name.size() >= 2 && type_name.front() == '"' && type_name.back() == '"')
         type_name = type_name.substr(1, type_name.size() - 2);
     }
-  const ProblemType* type = nullptr;
-  try {
-    type = &problem_type(type_name);
-  } catch (const std::invalid_argument& e) {
-    throw SceneError(fmt::format("{}: key 'problem.type': {}", file, e.what()));
-  }
-  SceneSchema schema;
-  declare_common_keys(schema);
-  type->declare(schema);
-  if (extra) extra(schema);
-  return {Scene::load(file, schema, overrides), type};
+  return loaded(type_named(type_name, file), extra,
+                [&](const SceneSchema& schema) { return Scene::load(file, schema, overrides); });
+}
+
+LoadedScene load_scene_text(const std::string& text, const std::string& source,
+                            const std::function<void(SceneSchema&)>& extra) {
+  const std::string type_name = Scene::peek_string_in(text, source, "problem.type", "channel");
+  return loaded(type_named(type_name, source), extra,
+                [&](const SceneSchema& schema) { return Scene::parse(text, source, schema); });
 }
 
 std::string scene_help(const std::function<void(SceneSchema&)>& extra) {

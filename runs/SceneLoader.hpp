@@ -11,12 +11,18 @@
 
 namespace keller {
 
-// Declares the keys every run has: [problem], [newton], [linear_solver], [output].
+// Declares the keys every run has: [problem], [newton], [start], [linear_solver], [output].
 void declare_common_keys(SceneSchema& schema);
 
 struct LoadedScene {
   Scene scene;
   const ProblemType* type = nullptr;
+  // The keys that define the problem's physics and discretisation (the problem type's keys,
+  // parameter values excepted): a stored solution is a solution of this scene's problem only
+  // if they are equal.
+  std::vector<std::string> physics_keys;
+  // physics_keys with their values (Scene::canonical_values), as stored in every output file.
+  std::string physics() const { return scene.canonical_values(physics_keys); }
 };
 
 // Reads problem.type, builds the schema (common keys, the type's keys, and `extra` for the
@@ -24,6 +30,11 @@ struct LoadedScene {
 // applied. Throws SceneError.
 LoadedScene load_scene(const std::string& file, const std::function<void(SceneSchema&)>& extra = {},
                        const std::vector<std::string>& overrides = {});
+
+// The same for a scene held in memory (the scene stored in an output file); `source` names it
+// in messages.
+LoadedScene load_scene_text(const std::string& text, const std::string& source,
+                            const std::function<void(SceneSchema&)>& extra = {});
 
 // The full listing of every key of every problem type, for --help-scene.
 std::string scene_help(const std::function<void(SceneSchema&)>& extra = {});

@@ -1,34 +1,75 @@
 #include "runs/SolveCommand.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <filesystem>
 
+#include "continuation/StartSolver.hpp"
 #include "core/Newton.hpp"
 #include "core/SolutionWriter.hpp"
 #include "core/SparseLU.hpp"
+#include "core/PendingFile.hpp"
+#include "core/RunFiles.hpp"
+#include "runs/ExitCode.hpp"
 #include "runs/OutputFile.hpp"
 #include "runs/SceneLoader.hpp"
+#include "runs/TraceCommand.hpp"
 
 namespace keller {
 
-int run_solve(const SolveArguments& args) {
+std::string solve_run_record(const LoadedScene& loaded) { return loaded.scene.canonical_values() + "start = solve\n"; }
+
+int run_solve(const SolveArguments& args, RunSummary* out_summary) {
+  RunSummary local;
+  RunSummary& summary = out_summary ? *out_summary : local;
+  summary = {};
+  auto fail = [&](int code, const std::string& message) {
+    fmt::print(stderr, "keller: error: {}\n", message);
+    summary.exit_code = code;
+    summary.reason = message;
+    return code;
+  };
   namespace fs = std::filesystem;
   LoadedScene loaded;
   std::unique_ptr<Problem> problem;
   std::string out = args.output;
   try {
-    loaded = load_scene(args.scene, {}, args.overrides);
-    if (out.empty()) out = fs::path(args.scene).stem().string() + ".h5";
-    check_output_path(out);
-    fmt::print("{}\n", loaded.scene.resolved_toml());
+    // a branch scene solves its first state: the trace sections are read and left aside
+    loaded = load_scene(args.scene, declare_trace_keys, args.overrides);
+  } catch (const SceneError& e) {
+    return fail(exit_code::usage, e.what());
+  }
+  if (out.empty()) out = fs::path(args.scene).stem().string() + ".h5";
+  const bool with_xdmf = loaded.scene.boolean("output.xdmf");
+  try {
+    RunFiles files;
+    files.input("scene file", args.scene);
+    files.output("output file", out);
+    files.output("output file's temporary", PendingFile::temporary_for(out));
+    if (with_xdmf) files.output("XDMF file", xdmf_path_for(out));
+    files.check();
+  } catch (const std::exception& e) {
+    return fail(exit_code::usage, e.what());
+  }
+  std::vector<std::string> ignored;
+  for (const auto& [section, doc] : loaded.scene.schema().sections())
+    if (section == "continuation" || section == "stability")
+      for (const std::string& key : loaded.scene.schema().keys_in(section))
+        if (loaded.scene.given(section + "." + key)) {
+          ignored.push_back("[" + section + "]");
+          break;
+        }
+  fmt::print("{}\n", loaded.scene.resolved_toml());
+  if (!ignored.empty())
+    fmt::print("note: keller solve solves the scene's first steady state; {} {} for keller trace and left aside\n",
+               fmt::join(ignored, " and "), ignored.size() > 1 ? "are" : "is");
+  try {
     problem = loaded.type->build(loaded.scene);
   } catch (const SceneError& e) {
-    fmt::print(stderr, "keller: error: {}\n", e.what());
-    return 2;
+    return fail(exit_code::usage, e.what());
   } catch (const std::exception& e) {
-    fmt::print(stderr, "keller: error: {}: {}\n", args.scene, e.what());
-    return 2;
+    return fail(exit_code::usage, fmt::format("{}: {}", args.scene, e.what()));
   }
   const Scene& scene = loaded.scene;
   fmt::print("problem: {}\n", problem->summary());
@@ -36,7 +77,23 @@ int run_solve(const SolveArguments& args) {
   NewtonSolver newton(*problem, newton_options_from(scene), sparse_lu_options_from(scene));
   Vector u = problem->initial_guess();
   print_newton_header();
-  const NewtonResult res = newton.solve(u, print_newton_row);
+  NewtonResult res = newton.solve(u, print_newton_row);
+  const StartOptions start_options = StartOptions::from_scene(scene);
+  if (!res.converged() && start_options.path != StartOptions::Path::Off) {
+    // from an easier state by continuation (StartSolver), then Newton's table from there
+    fmt::print("Newton from the initial guess failed ({}); continuing from an easier state\n", res.status.describe());
+    StartSolver start(*problem, newton_options_from(scene), sparse_lu_options_from(scene), start_options,
+                      [](const std::string& line) { fmt::print("{}\n", line); });
+    Vector v = problem->initial_guess();
+    const StartResult reached = start.reach(v);
+    if (reached.status.is_ok()) {
+      fmt::print("reached by {} ({} points, {} factorisations)\n", reached.path, reached.steps, reached.factorisations);
+      u = std::move(v);
+      res = newton.solve(u, print_newton_row);
+    } else {
+      fmt::print("no continuation path: {}\n", reached.status.describe());
+    }
+  }
   const auto& lu = newton.lu().statistics();
   fmt::print("  final |F| = {:.4e} after {} iterations ({} factorisations), {:.3f} s (assembly {:.3f}, factorisation "
              "{:.3f}, solve {:.3f}, line search {:.3f})\n",
@@ -47,7 +104,11 @@ int run_solve(const SolveArguments& args) {
                lu.nnz_lu, lu.nnz_lu / static_cast<double>(lu.nnz_matrix), lu.ordering_used);
   if (!res.converged()) {
     fmt::print(stderr, "keller: Newton failed: {}; no output written\n", res.status.describe());
-    return 1;
+    summary.exit_code = exit_code::numerical_failure;
+    summary.reason = "Newton failed: " + res.status.describe();
+    summary.unknowns = problem->size();
+    summary.seconds = res.seconds;
+    return summary.exit_code;
   }
 
   std::vector<double> obs;
@@ -56,11 +117,13 @@ int run_solve(const SolveArguments& args) {
     for (size_t i = 0; i < names.size(); ++i) fmt::print("  {} = {:.10g}\n", names[i], obs[i]);
   }
 
-  const std::string part = out + ".part";
   try {
+    PendingFile pending(out);
+    SolutionFields f;
     {
-      H5File file(part, H5File::Mode::Create);
-      write_run_header(file, scene, *problem);
+      H5File file(pending.path(), H5File::Mode::Create);
+      write_run_header(file, loaded, *problem);
+      file.write_string("/problem/run", solve_run_record(loaded));
       write_solution(file, "/solution", *problem, u);
       std::vector<double> hist;
       for (const auto& it : res.history)
@@ -71,22 +134,25 @@ int run_solve(const SolveArguments& args) {
                          std::string("iteration,residual_norm,update_norm,step_length,seconds,assembly_seconds,"
                                      "factor_seconds,solve_seconds"));
       file.set_attribute("/solution/newton", "final_residual_norm", res.residual_norm);
-      const SolutionFields f = problem->fields(u);
+      f = problem->fields(u);
       if (f.mesh) write_mesh(file, "/mesh", *f.mesh);
       file.close();
-      if (f.mesh && scene.boolean("output.xdmf"))
-        write_xdmf(xdmf_path_for(out), fs::path(out).filename().string(), "mesh", *f.mesh,
-                   {{"solution/fields", "solution", 0.0}}, f);
     }
-    fs::rename(part, out);
+    pending.commit();
+    if (f.mesh && with_xdmf)
+      write_xdmf(xdmf_path_for(out), fs::path(out).filename().string(), "mesh", *f.mesh,
+                 {{"solution/fields", "solution", 0.0}}, f);
   } catch (const std::exception& e) {
-    std::error_code ec;
-    fs::remove(part, ec);
-    fmt::print(stderr, "keller: error writing output: {}\n", e.what());
-    return 2;
+    return fail(exit_code::usage, fmt::format("writing output: {}", e.what()));
   }
   fmt::print("wrote {}\n", out);
-  return 0;
+  summary.exit_code = exit_code::ok;
+  summary.reason = fmt::format("converged in {} iterations", res.iterations);
+  summary.output = out;
+  summary.unknowns = problem->size();
+  summary.factorisations = res.factorisations;
+  summary.seconds = res.seconds;
+  return summary.exit_code;
 }
 
 }  // namespace keller

@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "runs/RunSummary.hpp"
+
 namespace keller {
 
 struct SolveArguments {
@@ -15,6 +17,10 @@ struct SolveArguments {
 
 // Returns the process exit code: 0 converged, 1 Newton failed (no output written),
 // 2 bad input (no output written).
-int run_solve(const SolveArguments& args);
+int run_solve(const SolveArguments& args, RunSummary* summary = nullptr);
+
+struct LoadedScene;
+// What defines a solve (its resolved scene's values), as stored in its file (/problem/run).
+std::string solve_run_record(const LoadedScene& loaded);
 
 }  // namespace keller

@@ -2,183 +2,96 @@
 
 #include <fmt/format.h>
 
-#include <csignal>
 #include <filesystem>
-#include <fstream>
+#include <optional>
 
 #include "continuation/BranchFile.hpp"
 #include "continuation/Continuation.hpp"
+#include "continuation/ContinuedBranch.hpp"
 #include "continuation/ProgressPrinter.hpp"
+#include "continuation/StartSolver.hpp"
+#include "core/PendingFile.hpp"
+#include "core/RunFiles.hpp"
+#include "core/SignalPoint.hpp"
 #include "core/SolutionWriter.hpp"
+#include "runs/BranchOutput.hpp"
+#include "runs/ExitCode.hpp"
+#include "runs/Interrupts.hpp"
 #include "runs/OutputFile.hpp"
 #include "runs/SceneLoader.hpp"
+#include "runs/StoredStart.hpp"
 #include "stability/StabilityAnalysis.hpp"
 
 namespace keller {
 
-namespace {
-
-Continuation* g_running = nullptr;
-
-extern "C" void on_signal(int) {
-  if (g_running) g_running->request_stop();
-}
-
-struct RestartSpec {
-  std::string file;
-  int row = -1;  // -1: last stored
-};
-
-RestartSpec parse_restart(const std::string& s) {
-  const auto colon = s.rfind(':');
-  if (colon == std::string::npos) throw std::invalid_argument("--restart needs FILE.h5:ROW (ROW a number or 'last')");
-  RestartSpec r{s.substr(0, colon), -1};
-  const std::string row = s.substr(colon + 1);
-  if (row != "last") {
-    try {
-      size_t used = 0;
-      r.row = std::stoi(row, &used);
-      if (used != row.size() || r.row < 0) throw std::invalid_argument("");
-    } catch (const std::exception&) {
-      throw std::invalid_argument("--restart: '" + row + "' is not a row number or 'last'");
-    }
-  }
-  return r;
-}
-
-}  // namespace
+namespace fs = std::filesystem;
 
 void declare_trace_keys(SceneSchema& schema) {
   ContinuationOptions::declare(schema);
   StabilityOptions::declare(schema);
 }
 
-int run_trace(const TraceArguments& args) {
-  namespace fs = std::filesystem;
-  LoadedScene loaded;
-  std::unique_ptr<Problem> problem;
-  ContinuationOptions copt;
-  std::string out = args.output;
-  std::optional<RestartSpec> restart;
-  std::optional<BranchPoint> restart_point;
-  StabilityOptions sopt;
-  const bool switching = !args.switch_at.empty();
+std::string trace_run_record(const LoadedScene& loaded, const TraceArguments& a) {
+  std::string start = "steady state";
+  if (!a.restart.empty()) start = "restart " + a.restart;
+  if (!a.switch_at.empty()) start = fmt::format("switch {} {}", a.switch_at, a.switch_direction);
+  return loaded.scene.canonical_values() + fmt::format("start = {}\n", start);
+}
+
+namespace {
+
+// A branch whose run did not end by itself: killed (its status still "running") or stopped by
+// SIGINT or SIGTERM (the engine's reason then begins with "interrupted").
+bool unfinished_status(const std::string& status) { return status == "running" || status.rfind("interrupted", 0) == 0; }
+
+struct Unfinished {
+  BranchSeed seed;
+  BranchPoint point;
+  double state_scale = 0, theta = 0;
+};
+
+// The unfinished run of this very command at `work`, to be continued. Nothing when there is no
+// file, a finished one or an unreadable one (the new run replaces it, saying so) or when `fresh`.
+// Throws std::invalid_argument if `work` holds the unfinished run of another command.
+std::optional<Unfinished> unfinished_run(const std::string& work, const std::string& record, bool fresh) {
+  if (!fs::exists(work)) return {};
+  BranchTable t;
+  std::string stored;
   try {
-    loaded = load_scene(args.scene, declare_trace_keys, args.overrides);
-    copt = ContinuationOptions::from_scene(loaded.scene);
-    sopt = StabilityOptions::from_scene(loaded.scene);
-    if (!args.restart.empty() && !args.switch_at.empty())
-      throw std::invalid_argument("--restart and --switch exclude each other");
-    if (out.empty()) out = fs::path(args.scene).stem().string() + ".h5";
-    check_output_path(out);
-    if (!args.restart.empty() || switching) {
-      const std::string flag = switching ? "--switch" : "--restart";
-      restart = parse_restart(switching ? args.switch_at : args.restart);
-      if (fs::absolute(restart->file) == fs::absolute(out))
-        throw std::invalid_argument(flag + " reads '" + restart->file + "': write the new branch to another file");
-      const BranchTable t = read_branch_table(restart->file);
-      if (t.parameter != copt.parameter)
-        throw std::invalid_argument(fmt::format("{}: '{}' continues in '{}', the scene in '{}'", flag, restart->file,
-                                                t.parameter, copt.parameter));
-      restart_point = read_branch_point(restart->file, restart->row);
-      copt.state_scale = t.state_scale;
-      copt.theta = t.theta;
-    }
-    fmt::print("{}\n", loaded.scene.resolved_toml());
-    problem = loaded.type->build(loaded.scene);
-    if (!problem->parameters().has(copt.parameter))
-      throw loaded.scene.error("continuation.parameter", "unknown parameter '" + copt.parameter +
-                                                             "'; this problem has: " + problem->parameters().names());
-  } catch (const SceneError& e) {
-    fmt::print(stderr, "keller: error: {}\n", e.what());
-    return 2;
-  } catch (const std::exception& e) {
-    fmt::print(stderr, "keller: error: {}: {}\n", args.scene, e.what());
-    return 2;
+    t = read_branch_table(work);
+    H5File f(work, H5File::Mode::Read);
+    if (f.exists("/problem/run")) stored = f.read_string("/problem/run");
+  } catch (const std::exception&) {
+    fmt::print("note: '{}' is not a readable branch file; this run replaces it\n", work);
+    return {};
   }
-  const Scene& scene = loaded.scene;
-  fmt::print("problem: {}\n", problem->summary());
-  const NewtonOptions nopt = newton_options_from(scene);
-  const SparseLUOptions lopt = sparse_lu_options_from(scene);
+  if (!unfinished_status(t.status)) {
+    fmt::print("note: '{}' holds a branch that ended ({}); this run replaces it\n", work, t.status);
+    return {};
+  }
+  if (fresh) {
+    fmt::print("note: --fresh: the unfinished branch in '{}' ({} rows) is discarded\n", work, t.rows.rows());
+    return {};
+  }
+  if (stored != record)
+    throw std::invalid_argument(fmt::format(
+        "'{}' holds the unfinished branch ({} rows) of another run ({}); move it away to keep it, or pass --fresh to "
+        "discard it",
+        work, t.rows.rows(), stored.empty() ? "no record of its run" : "it differs in: " + record_difference(stored, record)));
+  Unfinished u;
+  u.seed = read_branch_seed(work);
+  u.point = read_branch_point(work, u.seed.row);
+  u.state_scale = t.state_scale;
+  u.theta = t.theta;
+  return u;
+}
 
-  Vector u0;
-  if (restart_point) {
-    if (restart_point->u.size() != problem->size()) {
-      fmt::print(stderr, "keller: error: --restart: stored point has {} unknowns, this scene's problem {}\n",
-                 restart_point->u.size(), problem->size());
-      return 2;
-    }
-    problem->parameters().set(copt.parameter, restart_point->lambda);
-    fmt::print("{} row {} of {} ({} = {:.10g})\n", switching ? "switching branches at" : "restarting from",
-               restart_point->index, restart->file, copt.parameter, restart_point->lambda);
-  } else {
-    NewtonSolver newton(*problem, nopt, lopt);
-    u0 = problem->initial_guess();
-    fmt::print("first steady state at {} = {}\n", copt.parameter, problem->parameters().get(copt.parameter));
-    print_newton_header();
-    const NewtonResult r = newton.solve(u0, print_newton_row);
-    if (!r.converged()) {
-      fmt::print(stderr, "keller: the first steady state failed: {}; no output written\n", r.status.describe());
-      return 1;
-    }
-  }
-
-  ContinuationResult result;
-  {
-    // the state scale is fixed when the run starts; for a new run it is the start's RMS
-    double scale = copt.state_scale;
-    if (!(scale > 0)) {
-      const double rms = u0.norm() / std::sqrt(static_cast<double>(std::max<long>(u0.size(), 1)));
-      scale = rms > 0 ? rms : 1.0;
-    }
-    ContinuationOptions fixed = copt;
-    fixed.state_scale = scale;
-    std::unique_ptr<Continuation> run_ptr;
-    try {
-      run_ptr = std::make_unique<Continuation>(*problem, fixed, nopt, lopt);
-    } catch (const std::exception& e) {
-      fmt::print(stderr, "keller: error: {}: [continuation]: {}\n", args.scene, e.what());
-      return 2;
-    }
-    Continuation& run = *run_ptr;
-    std::unique_ptr<StabilityAnalysis> stability;
-    if (sopt.enabled) {
-      stability = std::make_unique<StabilityAnalysis>(sopt, lopt);
-      run.set_analysis(stability.get());
-    }
-    std::unique_ptr<BranchFile> file;
-    try {
-      file = std::make_unique<BranchFile>(out, *problem, fixed, run.monitor_names(), scale, [&](H5File& f) {
-        write_run_header(f, scene, *problem);
-        const SolutionFields sf = problem->fields(restart_point ? restart_point->u : u0);
-        if (sf.mesh) write_mesh(f, "/mesh", *sf.mesh);
-        if (restart_point) f.set_attribute("/problem", switching ? "switched_at" : "restarted_from",
-                                           switching ? args.switch_at : args.restart);
-      }, run.analysis_columns());
-    } catch (const std::exception& e) {
-      fmt::print(stderr, "keller: error: {}\n", e.what());
-      return 2;
-    }
-    ProgressPrinter printer(copt.parameter);
-    ObserverList observers({file.get(), &printer});
-    g_running = &run;
-    auto old_int = std::signal(SIGINT, on_signal);
-    auto old_term = std::signal(SIGTERM, on_signal);
-    result = switching       ? run.switch_branch(*restart_point, args.switch_direction, observers)
-             : restart_point ? run.resume(*restart_point, observers)
-                             : run.run(u0, observers);
-    std::signal(SIGINT, old_int);
-    std::signal(SIGTERM, old_term);
-    g_running = nullptr;
-    file->close();
-    if (stability)
-      fmt::print("stability: {} s in {} factorisations and {} solves of (J - sB)\n", stability->seconds(),
-                 stability->factorisations(), stability->solves());
-  }
-  fmt::print("{} points, {} rejected steps, {} factorisations ({:.2f} per point), {} tangent solves by iteration; {}\n",
+void print_summary(const ContinuationResult& result) {
+  fmt::print("{} points, {} rejected steps, {} factorisations ({:.2f} per point; {} of them branch-point probes), {} "
+             "tangent solves by iteration, renewal cost {:.1f} solves; {}\n",
              result.points, result.rejected, result.factorisations,
-             result.points > 0 ? static_cast<double>(result.factorisations) / result.points : 0.0,
-             result.tangent_iterations, result.reason);
+             result.points > 0 ? static_cast<double>(result.factorisations) / result.points : 0.0, result.probes,
+             result.tangent_iterations, result.renewal_cost, result.reason);
   const ContinuationTimings& tm = result.timings;
   fmt::print("time {:.2f} s: factorisations {:.2f}, solves {:.2f} ({}), Jacobians {:.2f} ({}), dF/dp {:.2f}, residuals {:.2f} ({}), "
              "observables {:.2f}, stability {:.2f} ({} spectra), output {:.2f}, other {:.2f}\n",
@@ -186,86 +99,250 @@ int run_trace(const TraceArguments& args) {
              tm.residuals, tm.observables, tm.analysis, tm.analyses, tm.output,
              tm.total - tm.factorisation - tm.solve - tm.jacobian - tm.parameter_derivative - tm.residual -
                  tm.observables - tm.analysis - tm.output);
-
-  if (scene.boolean("output.xdmf")) {
-    try {
-      const int p = problem->parameters().index(copt.parameter);
-      auto fields_at = [&](const Vector& u, double lambda) {
-        problem->parameters().set(p, lambda);
-        return problem->fields(u);
-      };
-      const std::string xdmf = xdmf_path_for(out);
-      write_branch_fields(out, out, xdmf, fields_at);
-      const std::string stem = xdmf.substr(0, xdmf.size() - std::string(".xdmf").size());
-      const int modes = write_branch_modes(out, stem, fields_at);
-      if (modes > 0) fmt::print("wrote {} critical eigenmode(s): {}_mode<k>.xdmf\n", modes, stem);
-    } catch (const std::exception& e) {
-      fmt::print(stderr, "keller: warning: fields/XDMF not written: {}\n", e.what());
-    }
-  }
-  fmt::print("wrote {}\n", out);
-  switch (result.code) {
-    case StopCode::StepFloor: return 1;
-    case StopCode::Interrupted: return 130;
-    default: return 0;
-  }
 }
 
-int run_export(const ExportArguments& args) {
-  namespace fs = std::filesystem;
-  if (args.csv.empty() && !args.xdmf) {
-    fmt::print(stderr, "keller: error: export needs --csv FILE and/or --xdmf\n");
-    return 2;
-  }
+}  // namespace
+
+int run_trace(const TraceArguments& args, RunSummary* out_summary) {
+  RunSummary local;
+  RunSummary& summary = out_summary ? *out_summary : local;
+  summary = {};
+  auto fail = [&](int code, const std::string& message) {
+    fmt::print(stderr, "keller: error: {}\n", message);
+    summary.exit_code = code;
+    summary.reason = message;
+    return code;
+  };
+  LoadedScene loaded;
+  std::unique_ptr<Problem> problem;
+  ContinuationOptions copt;
+  StabilityOptions sopt;
+  std::optional<StoredStart> from;
+  // 1. the scene, its options and the files of the run: nothing is written before all are right
   try {
-    const BranchTable t = read_branch_table(args.input);
-    if (!args.csv.empty()) {
-      check_output_path(args.csv);
-      const std::string part = args.csv + ".part";
-      {
-        std::ofstream o(part);
-        for (size_t j = 0; j < t.columns.size(); ++j) o << (j ? "," : "") << t.columns[j];
-        o << "\n";
-        for (long i = 0; i < t.rows.rows(); ++i) {
-          for (long j = 0; j < t.rows.cols(); ++j) o << (j ? "," : "") << fmt::format("{:.17g}", t.rows(i, j));
-          o << "\n";
-        }
-        if (!o) throw std::runtime_error("cannot write '" + part + "'");
-      }
-      fs::rename(part, args.csv);
-      fmt::print("wrote {} ({} rows; status: {})\n", args.csv, t.rows.rows(), t.status);
+    loaded = load_scene(args.scene, declare_trace_keys, args.overrides);
+    copt = ContinuationOptions::from_scene(loaded.scene);
+    sopt = StabilityOptions::from_scene(loaded.scene);
+  } catch (const SceneError& e) {
+    return fail(exit_code::usage, e.what());
+  } catch (const std::exception& e) {
+    return fail(exit_code::usage, fmt::format("{}: {}", args.scene, e.what()));
+  }
+  const std::string out = args.output.empty() ? fs::path(args.scene).stem().string() + ".h5" : args.output;
+  const std::string work = PendingFile::temporary_for(out);
+  const bool with_fields = loaded.scene.boolean("output.xdmf");
+  try {
+    if (!args.restart.empty() && !args.switch_at.empty())
+      throw std::invalid_argument("--restart and --switch exclude each other");
+    if (args.force && args.restart.empty() && args.switch_at.empty())
+      throw std::invalid_argument("--force applies to a start from --restart or --switch");
+    RunFiles files;
+    files.input("scene file", args.scene);
+    if (!args.restart.empty()) from = parse_stored_start("--restart", args.restart);
+    if (!args.switch_at.empty()) from = parse_stored_start("--switch", args.switch_at);
+    if (from) {
+      from->force = args.force;
+      files.input(from->flag + " file", from->file);
     }
-    if (args.xdmf) {
-      // rebuild the problem from the scene stored in the file
-      std::string scene_text;
-      {
-        H5File f(args.input, H5File::Mode::Read);
-        scene_text = f.read_string("/scene");
+    files.output("branch file", out);
+    files.output("unfinished branch file", work);
+    files.output("branch file's copy with fields", out + ".fields.part");
+    if (with_fields) files.output("XDMF file", xdmf_path_for(out));
+    files.check();
+  } catch (const std::exception& e) {
+    return fail(exit_code::usage, e.what());
+  }
+  fmt::print("{}\n", loaded.scene.resolved_toml());
+  try {
+    problem = loaded.type->build(loaded.scene);
+    if (!problem->parameters().has(copt.parameter))
+      throw loaded.scene.error("continuation.parameter", "unknown parameter '" + copt.parameter +
+                                                             "'; this problem has: " + problem->parameters().names());
+  } catch (const SceneError& e) {
+    return fail(exit_code::usage, e.what());
+  } catch (const std::exception& e) {
+    return fail(exit_code::usage, fmt::format("{}: {}", args.scene, e.what()));
+  }
+  // 2. where the branch starts: an unfinished run of this command, a stored point, or a solve
+  const std::string record = trace_run_record(loaded, args);
+  std::optional<Unfinished> unfinished;
+  std::optional<StoredPoint> stored;
+  std::optional<BranchPoint> start;
+  bool other_parameter = false;  // a restart from a branch traced in another parameter
+  std::vector<std::string> warnings;
+  try {
+    unfinished = unfinished_run(work, record, args.fresh);
+    if (unfinished) {
+      start = unfinished->point;
+      copt.state_scale = unfinished->state_scale;
+      copt.theta = unfinished->theta;
+    } else if (from) {
+      stored = read_stored_start(*from, loaded, *problem, copt.parameter, warnings);
+      start = stored->point;
+      other_parameter = stored->table.parameter != copt.parameter;
+      if (other_parameter) {
+        // a new branch in another parameter from a state of the stored one: its start value is the
+        // point's, and its tangent and state scale are its own
+        const std::optional<double> v = stored->value_of(copt.parameter);
+        if (!v)
+          throw std::invalid_argument(fmt::format("{}: '{}' does not record the value of '{}'", from->flag, from->file,
+                                                  copt.parameter));
+        start->lambda = *v;
+      } else {
+        copt.state_scale = stored->table.state_scale;
+        copt.theta = stored->table.theta;
       }
-      const std::string tmp = (fs::temp_directory_path() / fmt::format("keller_scene_{}.toml", ::getpid())).string();
-      std::ofstream(tmp) << scene_text;
-      LoadedScene loaded = load_scene(tmp, declare_trace_keys);
-      fs::remove(tmp);
-      auto problem = loaded.type->build(loaded.scene);
-      const int p = problem->parameters().index(t.parameter);
-      // a file left open by a killed writer cannot take more datasets: use a companion file
-      std::string fields_path = args.input;
-      try {
-        H5File probe(args.input, H5File::Mode::ReadWrite);
-      } catch (const std::exception&) {
-        fields_path = (fs::path(args.input).parent_path() / (fs::path(args.input).stem().string() + "-fields.h5")).string();
-      }
-      write_branch_fields(args.input, fields_path, xdmf_path_for(args.input), [&](const Vector& u, double lambda) {
-        problem->parameters().set(p, lambda);
-        return problem->fields(u);
-      });
-      fmt::print("wrote fields to {} and {}\n", fields_path, xdmf_path_for(args.input));
     }
   } catch (const std::exception& e) {
-    fmt::print(stderr, "keller: error: {}\n", e.what());
-    return 2;
+    return fail(exit_code::usage, e.what());
   }
-  return 0;
+  for (const std::string& w : warnings) fmt::print(stderr, "keller: warning: {}\n", w);
+  const Scene& scene = loaded.scene;
+  fmt::print("problem: {}\n", problem->summary());
+  const NewtonOptions nopt = newton_options_from(scene);
+  const SparseLUOptions lopt = sparse_lu_options_from(scene);
+
+  Vector u0;
+  StartFactorisation start_factorisation;  // the first state's last factorisation of J, handed to the branch
+  if (other_parameter) {
+    for (const Parameter& q : problem->parameters().list())
+      if (const auto v = stored->value_of(q.name)) problem->parameters().set(q.name, *v);
+    u0 = start->u;
+    fmt::print("starting a branch in {} at row {} of {}, a branch in {} ({} = {:.10g}, {} = {:.10g})\n", copt.parameter,
+               start->index, from->file, stored->table.parameter, stored->table.parameter, stored->point.lambda,
+               copt.parameter, start->lambda);
+    const std::string key = "parameters." + copt.parameter;
+    if (loaded.scene.schema().find(key) && loaded.scene.real(key) != start->lambda)
+      fmt::print("note: {} starts at the stored point's value {:.10g}, not at the scene's {}\n", copt.parameter,
+                 start->lambda, loaded.scene.real(key));
+    start.reset();
+  } else if (start) {
+    problem->parameters().set(copt.parameter, start->lambda);
+    if (unfinished)
+      fmt::print("continuing the unfinished branch in {} from its row {} ({} = {:.10g}; --fresh starts over)\n", work,
+                 unfinished->seed.row, copt.parameter, start->lambda);
+    else
+      fmt::print("{} row {} of {} ({} = {:.10g})\n", from->switching ? "switching branches at" : "restarting from",
+                 start->index, from->file, copt.parameter, start->lambda);
+  } else {
+    StartSolver start_solver(*problem, nopt, lopt, StartOptions::from_scene(loaded.scene),
+                             [](const std::string& line) { fmt::print("{}\n", line); });
+    u0 = problem->initial_guess();
+    fmt::print("first steady state at {} = {}\n", copt.parameter, problem->parameters().get(copt.parameter));
+    print_newton_header();
+    const StartResult r = start_solver.solve(u0, print_newton_row);
+    if (!r.status.is_ok()) {
+      fmt::print(stderr, "keller: the first steady state failed: {}; no output written\n", r.status.describe());
+      summary.reason = "the first steady state failed: " + r.status.describe();
+      summary.exit_code = exit_code::numerical_failure;
+      return summary.exit_code;
+    }
+    fmt::print("first steady state: {}, {} Newton iterations, {} factorisations, {:.2f} s\n", r.path,
+               r.newton_iterations, r.factorisations, r.seconds);
+    start_factorisation = {r.factorisation, r.jacobian, r.factorised_at};
+  }
+
+  // 3. the branch, written to `work` point by point
+  ContinuationOptions fixed = copt;
+  if (!(fixed.state_scale > 0)) {  // a new run's state scale is the RMS of its start
+    const double rms = u0.norm() / std::sqrt(static_cast<double>(std::max<long>(u0.size(), 1)));
+    fixed.state_scale = rms > 0 ? rms : 1.0;
+  }
+  std::unique_ptr<Continuation> run;
+  try {
+    run = std::make_unique<Continuation>(*problem, fixed, nopt, lopt);
+  } catch (const std::exception& e) {
+    return fail(exit_code::usage, fmt::format("{}: [continuation]: {}", args.scene, e.what()));
+  }
+  std::unique_ptr<StabilityAnalysis> stability;
+  if (sopt.enabled) {
+    stability = std::make_unique<StabilityAnalysis>(sopt, lopt);
+    run->set_analysis(stability.get());
+  }
+  InterruptGuard interrupts;
+  ContinuationResult result;
+  {
+    std::unique_ptr<BranchFile> file;
+    try {
+      file = std::make_unique<BranchFile>(
+          work, *problem, fixed, run->monitor_names(), fixed.state_scale,
+          [&](H5File& f) {
+            write_run_header(f, loaded, *problem);
+            f.write_string("/problem/run", record);
+            const SolutionFields sf = problem->fields(start ? start->u : u0);
+            if (sf.mesh) write_mesh(f, "/mesh", *sf.mesh);
+            if (from) f.set_attribute("/problem", from->switching ? "switched_at" : "restarted_from",
+                                      from->switching ? args.switch_at : args.restart);
+          },
+          run->analysis_columns(), unfinished ? &unfinished->seed : nullptr);
+    } catch (const std::exception& e) {
+      return fail(exit_code::usage, e.what());
+    }
+    ProgressPrinter printer(copt.parameter);
+    ObserverList observers({file.get(), &printer});
+    std::optional<ContinuedBranch> continued;
+    BranchObserver* observer = &observers;
+    if (unfinished) observer = &continued.emplace(observers, unfinished->seed.row);
+    InterruptGuard::forward_to(run.get());
+    result = unfinished          ? run->resume(*start, *observer)
+             : from && from->switching ? run->switch_branch(*start, args.switch_direction, *observer)
+             : start                   ? run->resume(*start, *observer)
+                                       : run->run(u0, *observer, start_factorisation);
+    InterruptGuard::forward_to(nullptr);
+    file->close();
+  }
+  if (stability)
+    fmt::print("stability: {} s in {} factorisations and {} solves of (J - sB)\n", stability->seconds(),
+               stability->factorisations(), stability->solves());
+  print_summary(result);
+  summary.reason = result.reason;
+  summary.unknowns = problem->size();
+  summary.points = result.points;
+  summary.rejected = result.rejected;
+  summary.factorisations = result.factorisations;
+  summary.seconds = result.timings.total;
+  signal_point("traced");
+
+  // 4. the branch takes its name: an interrupted one stays where it is, to be continued; a
+  // failed one never replaces an existing file
+  if (result.code == StopCode::Interrupted) {
+    fmt::print("interrupted: the branch so far is in {}; run the same command again to continue it\n", work);
+    summary.output = work;
+    summary.exit_code = exit_code::interrupted;
+    return summary.exit_code;
+  }
+  const int code = result.code == StopCode::StepFloor ? exit_code::numerical_failure : exit_code::ok;
+  if (code != exit_code::ok && fs::exists(out)) {
+    fmt::print("the branch ended before its range; {} is kept as it was, this run's branch is in {}\n", out, work);
+    summary.output = work;
+    summary.exit_code = code;
+    return code;
+  }
+  const int p = problem->parameters().index(copt.parameter);
+  const FieldsAt fields_at = [&](const Vector& u, double lambda) {
+    problem->parameters().set(p, lambda);
+    return problem->fields(u);
+  };
+  PublishedBranch published;
+  try {
+    published = publish_branch(work, out, xdmf_path_for(out), with_fields, fields_at, &InterruptGuard::requested);
+  } catch (const std::exception& e) {
+    return fail(exit_code::usage, fmt::format("the branch stays in {}: {}", work, e.what()));
+  }
+  if (published.modes > 0)
+    fmt::print("wrote {} critical eigenmode(s): {}_mode<k>.xdmf\n", published.modes,
+               fs::path(xdmf_path_for(out)).replace_extension().string());
+  fmt::print("wrote {}\n", out);
+  summary.output = out;
+  summary.exit_code = code;
+  if (with_fields && !published.fields) {
+    fmt::print("interrupted while writing the fields: the branch is complete in {} without them; `keller export {} "
+               "--xdmf` writes them\n",
+               out, out);
+    summary.exit_code = exit_code::interrupted;
+    return summary.exit_code;
+  }
+  return code;
 }
 
 }  // namespace keller

@@ -1,9 +1,16 @@
-// `keller trace SCENE.toml -o OUT.h5 [--restart FILE.h5:ROW | --switch FILE.h5:ROW]`: traces a solution branch with
-// the continuation engine and writes the branch file point by point (continuation/BranchFile).
+// `keller trace SCENE.toml -o OUT.h5 [--restart FILE.h5:ROW | --switch FILE.h5:ROW]`: traces a
+// solution branch with the continuation engine. The branch is written point by point to
+// OUT.h5.part (readable at every moment, whatever ends the run) and takes the name OUT.h5 once
+// the branch has ended, with the fields of its stored solutions and an XDMF file beside it. A
+// run that was interrupted or killed leaves OUT.h5.part, and the same command continues it from
+// its last stored solution; a branch that ended at the step-size floor does not replace an
+// existing OUT.h5.
 #pragma once
 
 #include <string>
 #include <vector>
+
+#include "runs/RunSummary.hpp"
 
 namespace keller {
 
@@ -13,22 +20,24 @@ struct TraceArguments {
   std::string restart;                 // "FILE.h5:ROW" (ROW may be "last"), or empty
   std::string switch_at;               // "FILE.h5:ROW": a new branch from the branch point stored there
   int switch_direction = +1;           // which side of the old branch (+1 or -1)
+  bool force = false;                  // start from a stored point that fails the compatibility checks
+  bool fresh = false;                  // discard an unfinished OUT.h5.part instead of continuing it
   std::vector<std::string> overrides;  // "section.key=value"
 };
 
-// Exit code: 0 the branch ended at a bound, stop observable or max_steps; 1 it ended at the
-// step-size floor (numerical failure; the file holds every point before it) or the first
-// steady state failed (no file); 2 bad input (no file); 130 interrupted (file complete).
-int run_trace(const TraceArguments& args);
+// Exit codes of runs/ExitCode.hpp: 0 the branch ended at a bound, the stop observable or
+// max_steps; 1 the first steady state failed (nothing written) or the branch ended at the step
+// floor; 2 bad input (nothing written); 130 interrupted (OUT.h5.part holds every completed point).
+// `summary`, when given, receives what a study collects about the run.
+int run_trace(const TraceArguments& args, RunSummary* summary = nullptr);
 class SceneSchema;
 // The keys `keller trace` reads beyond the problem's: [continuation] and [stability].
 void declare_trace_keys(SceneSchema& schema);
 
-struct ExportArguments {
-  std::string input;
-  std::string csv;    // write the branch table as CSV here
-  bool xdmf = false;  // write fields of the stored solutions and an XDMF file
-};
-int run_export(const ExportArguments& args);
+struct LoadedScene;
+// What defines a run (its resolved scene's values and how it starts), as stored in its branch
+// file (/problem/run): a rerun of the same command recognises its unfinished file by it, and a
+// study its completed tasks.
+std::string trace_run_record(const LoadedScene& loaded, const TraceArguments& args);
 
 }  // namespace keller

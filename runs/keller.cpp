@@ -2,14 +2,22 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <new>
+
 #include "continuation/ContinuationOptions.hpp"
+#include "runs/ExitCode.hpp"
+#include "runs/ExportCommand.hpp"
 #include "runs/SceneLoader.hpp"
 #include "runs/SolveCommand.hpp"
 #include "runs/TraceCommand.hpp"
+#include "runs/study/StudyCommand.hpp"
 
-int main(int argc, char** argv) {
+namespace {
+
+int run(int argc, char** argv) {  // argc and argv go on to MPI_Init under mpirun
   CLI::App app{"keller: continuation and bifurcation toolkit for steady flows"};
   app.require_subcommand(1);
+  app.footer(keller::exit_code::help);
 
   keller::SolveArguments solve;
   bool solve_help_scene = false;
@@ -18,50 +26,106 @@ int main(int argc, char** argv) {
   cmd_solve->add_option("-o,--output", solve.output, "output HDF5 file (default: <scene name>.h5 here)");
   cmd_solve->add_option("--set", solve.overrides, "override a scene key: section.key=value (repeatable)");
   cmd_solve->add_flag("--help-scene", solve_help_scene, "list every scene key with its default, range and doc");
+  cmd_solve->footer(keller::exit_code::help);
 
   keller::TraceArguments trace;
   bool trace_help_scene = false;
   CLI::App* cmd_trace = app.add_subcommand("trace", "trace a solution branch by pseudo-arclength continuation");
   cmd_trace->add_option("scene", trace.scene, "scene file (TOML) with a [continuation] section");
-  cmd_trace->add_option("-o,--output", trace.output, "branch file (HDF5; default: <scene name>.h5 here)");
+  cmd_trace->add_option("-o,--output", trace.output,
+                        "branch file (HDF5; default: <scene name>.h5 here); written as OUT.h5.part until the branch ends");
   cmd_trace->add_option("--restart", trace.restart, "continue from a stored point: FILE.h5:ROW (ROW a number or 'last')");
   cmd_trace->add_option("--switch", trace.switch_at,
-                        "start a new branch at the branch point stored in FILE.h5:ROW, along the null vector of J");
+                        "start a new branch at the located branch point stored in FILE.h5:ROW, along the null vector of J");
   cmd_trace->add_option("--switch-direction", trace.switch_direction, "side of the old branch to switch to: 1 or -1")
       ->check(CLI::IsMember({-1, 1}));
+  cmd_trace->add_flag("--force", trace.force,
+                      "start from a stored point that another problem, physics or parameter value made, or a switch at "
+                      "a row that is not a located branch point");
+  cmd_trace->add_flag("--fresh", trace.fresh, "discard an unfinished OUT.h5.part instead of continuing it");
   cmd_trace->add_option("--set", trace.overrides, "override a scene key: section.key=value (repeatable)");
   cmd_trace->add_flag("--help-scene", trace_help_scene, "list every scene key with its default, range and doc");
+  cmd_trace->footer(keller::exit_code::help);
 
   keller::ExportArguments exp;
   CLI::App* cmd_export = app.add_subcommand("export", "export a branch file: table as CSV, fields as XDMF");
   cmd_export->add_option("branch", exp.input, "branch file written by keller trace")->required();
-  cmd_export->add_option("--csv", exp.csv, "write the branch table as CSV");
+  cmd_export->add_option("--csv", exp.csv, "write the branch table as CSV to this file ('-': the standard output)");
   cmd_export->add_flag("--xdmf", exp.xdmf, "write the fields of the stored solutions and an XDMF file for ParaView");
+  cmd_export->footer(keller::exit_code::help);
 
-  CLI11_PARSE(app, argc, argv);
+  keller::StudyArguments study;
+  CLI::App* cmd_study = app.add_subcommand(
+      "study", "run a study: a family of traces or solves over overrides of a base scene (here, or under mpirun)");
+  cmd_study->add_option("study", study.study, "study file (TOML)");
+  cmd_study->add_option("--jobs,-j", study.jobs, "worker processes on this machine (default: one per core)")
+      ->check(CLI::Range(1, 4096));
+  cmd_study->add_option("-o,--output", study.folder, "folder of the study's files (default: <study name> here)");
+  cmd_study->footer(keller::exit_code::help);
+  cmd_study->require_subcommand(0, 1);
+  CLI::App* study_list = cmd_study->add_subcommand("list", "list the tasks, one a line: index, status, name, overrides");
+  CLI::App* study_run = cmd_study->add_subcommand("run", "run one task here (for batch schedulers: --task K)");
+  CLI::App* study_collect = cmd_study->add_subcommand("collect", "collect the tasks' results into STUDY.csv and .h5");
+  for (CLI::App* sub : {study_list, study_run, study_collect}) {
+    sub->add_option("study", study.study, "study file (TOML)")->required();
+    sub->add_option("-o,--output", study.folder, "folder of the study's files (default: <study name> here)");
+  }
+  study_run->add_option("--task", study.task, "index of the task (keller study list)")->required();
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    // every usage error has the same code (CLI11's own are 105-109)
+    fmt::print(stderr, "keller: error: {}\nRun 'keller --help' (or 'keller COMMAND --help') for the usage.\n", e.what());
+    return keller::exit_code::usage;
+  }
 
   if (cmd_solve->parsed()) {
     if (solve_help_scene) {
       fmt::print("{}", keller::scene_help());
-      return 0;
+      return keller::exit_code::ok;
     }
     if (solve.scene.empty()) {
       fmt::print(stderr, "keller: error: solve needs a scene file (keller solve SCENE.toml -o OUT.h5)\n");
-      return 2;
+      return keller::exit_code::usage;
     }
     return keller::run_solve(solve);
   }
   if (cmd_trace->parsed()) {
     if (trace_help_scene) {
       fmt::print("{}", keller::scene_help(keller::declare_trace_keys));
-      return 0;
+      return keller::exit_code::ok;
     }
     if (trace.scene.empty()) {
       fmt::print(stderr, "keller: error: trace needs a scene file (keller trace SCENE.toml -o OUT.h5)\n");
-      return 2;
+      return keller::exit_code::usage;
     }
     return keller::run_trace(trace);
   }
   if (cmd_export->parsed()) return keller::run_export(exp);
-  return 0;
+  if (cmd_study->parsed()) {
+    study.action = study_list->parsed() ? "list" : study_run->parsed() ? "run" : study_collect->parsed() ? "collect" : "";
+    if (study.study.empty()) {
+      fmt::print(stderr, "keller: error: study needs a study file (keller study STUDY.toml)\n");
+      return keller::exit_code::usage;
+    }
+    return keller::run_study_command(study, argc, argv);
+  }
+  return keller::exit_code::ok;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::bad_alloc&) {
+    fmt::print(stderr, "keller: error: not enough memory for this problem (a mesh or grid size in the scene is too "
+                       "large for this machine); nothing written\n");
+    return keller::exit_code::usage;
+  }
 }

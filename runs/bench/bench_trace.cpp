@@ -1,19 +1,28 @@
-// Benchmark (not a test): what a continuation run costs per point, and what eigenvalue monitoring
-// adds to it. Goals: a continuation point of the collapsible channel on M2 in under 1 s (issue 5);
-// 6 eigenvalues at every point add at most 25% to the run (issue 6).
+// Benchmark (not a test): what a continuation run costs per point, what eigenvalue monitoring adds
+// to it, and how the engine's defaults compare with hand tuning. Goals: a continuation point of the
+// collapsible channel on M2 in under 1 s (issue 5); the defaults within 10% of the tuned run's
+// factorisations and time (issue 17).
 //
-// The same scene is traced twice from the same first steady state: once without spectra, once with
-// [stability] enabled (every = N). The second run's extra time is the monitoring's cost; the
-// eigen-solver's solves per spectrum and the time of one solve say where it goes and what the
-// cheapest possible spectrum (one Arnoldi basis of ncv vectors, no restart) would cost.
+// The same scene is traced several times from the same first steady state. Spectra: once without,
+// once with [stability] enabled (every = N); the second run's extra time is the monitoring's cost.
+// --against-tuned: once as the scene says (the engine's defaults where it sets no solver key), once
+// with the nine keys every collapsible scene used to copy, alternating --repeat times so that both
+// see the same machine load; prints the ratios. The machine (CPU, cores, BLAS threads, load) is
+// printed first.
 //
-// Usage: bench_trace [SCENE.toml] [--steps N] [--every N] [--no-spectra] [--set section.key=value]...
+// Usage: bench_trace [SCENE.toml] [--steps N] [--every N] [--no-spectra] [--against-tuned]
+//                    [--repeat N] [--set section.key=value]...
 //   SCENE defaults to runs/scenes/collapsible_oldroyd_b_gamma.toml (M2, Oldroyd-B, Gamma branch).
+//   The cylinder benchmark of issue 17:
+//   bench_trace runs/scenes/cylinder_oldroyd_b_log.toml --against-tuned --steps 1000
+//               --set mesh.name=C2 --set continuation.upper=0.9
 #include <fmt/format.h>
 
 #include <chrono>
 #include <cstdlib>
+#include <fstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "continuation/Continuation.hpp"
@@ -65,6 +74,30 @@ RunFigures trace(Problem& problem, const Vector& u0, const ContinuationOptions& 
   return f;
 }
 
+// The nine solver keys every collapsible scene copied before the engine chose them itself.
+const std::vector<std::string> kTunedKeys = {
+    "continuation.bordered=\"block\"",     "continuation.corrector=\"chord\"",
+    "continuation.reuse_factorisation=true", "continuation.target_iterations=14",
+    "continuation.max_iterations=30",        "continuation.renewal_cost=25",
+    "continuation.anderson_depth=5",         "continuation.detect_branch_points=false",
+    "newton.chord_rate=0.25"};
+
+std::string machine() {
+  std::string model = "?";
+  std::ifstream cpu("/proc/cpuinfo");
+  for (std::string line; std::getline(cpu, line);)
+    if (line.rfind("model name", 0) == 0) {
+      model = line.substr(line.find(':') + 2);
+      break;
+    }
+  double load[3] = {0, 0, 0};
+  if (getloadavg(load, 3) < 0) load[0] = load[1] = load[2] = -1;
+  const char* threads = std::getenv("OPENBLAS_NUM_THREADS");
+  return fmt::format("machine: {}, {} cores, BLAS threads {}, load average {:.2f} {:.2f} {:.2f}", model,
+                     std::thread::hardware_concurrency(), threads ? threads : "default (all cores)", load[0], load[1],
+                     load[2]);
+}
+
 void print_run(const std::string& label, const RunFigures& f) {
   const ContinuationTimings& t = f.result.timings;
   const int steps = std::max(f.rows - 1, 1);  // rows after the start (steps and located points)
@@ -78,8 +111,8 @@ void print_run(const std::string& label, const RunFigures& f) {
 
 int main(int argc, char** argv) {
   std::string scene = std::string(KELLER_SOURCE_DIR) + "/runs/scenes/collapsible_oldroyd_b_gamma.toml";
-  int steps = 6, every = 1;
-  bool spectra = true;
+  int steps = 6, every = 1, repeat = 1;
+  bool spectra = true, against_tuned = false;
   std::vector<std::string> overrides;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -90,6 +123,8 @@ int main(int argc, char** argv) {
     if (a == "--steps") steps = std::stoi(next());
     else if (a == "--every") every = std::stoi(next());
     else if (a == "--no-spectra") spectra = false;
+    else if (a == "--against-tuned") against_tuned = true;
+    else if (a == "--repeat") repeat = std::stoi(next());
     else if (a == "--set") overrides.push_back(next());
     else if (!a.empty() && a[0] != '-') scene = a;
     else {
@@ -98,9 +133,14 @@ int main(int argc, char** argv) {
     }
   }
   overrides.push_back(fmt::format("continuation.max_steps={}", steps));
-  LoadedScene loaded;
+  LoadedScene loaded, tuned_scene;
   try {
     loaded = load_scene(scene, declare_trace_keys, overrides);
+    if (against_tuned) {
+      std::vector<std::string> tuned = overrides;
+      tuned.insert(tuned.end(), kTunedKeys.begin(), kTunedKeys.end());
+      tuned_scene = load_scene(scene, declare_trace_keys, tuned);
+    }
   } catch (const std::exception& e) {
     fmt::print(stderr, "bench_trace: {}\n", e.what());
     return 2;
@@ -112,9 +152,7 @@ int main(int argc, char** argv) {
   sopt.every = every;
   const NewtonOptions nopt = newton_options_from(loaded.scene);
   const SparseLUOptions lopt = sparse_lu_options_from(loaded.scene);
-  const char* threads = std::getenv("OPENBLAS_NUM_THREADS");
-  fmt::print("{}\n{}\nparameter {}, {} steps, BLAS threads {}\n", scene, problem->summary(), copt.parameter, steps,
-             threads ? threads : "default (all cores)");
+  fmt::print("{}\n{}\n{}\nparameter {}, {} steps at most\n", machine(), scene, problem->summary(), copt.parameter, steps);
 
   Vector u0 = problem->initial_guess();
   NewtonSolver newton(*problem, nopt, lopt);
@@ -130,6 +168,34 @@ int main(int argc, char** argv) {
 
   fmt::print("{:<22} {:>5} {:>6} {:>7} {:>8} {:>8} {:>9} {:>8} {:>7} {:>8} {:>8}  {}\n", "run", "rows", "factor",
              "solves", "total s", "s/row", "factor s", "solve s", "jac s", "spectra", "other s", "end");
+  if (against_tuned) {
+    const ContinuationOptions topt = ContinuationOptions::from_scene(tuned_scene.scene);
+    const NewtonOptions tnopt = newton_options_from(tuned_scene.scene);
+    double t_default = 0, t_tuned = 0;
+    long f_default = 0, f_tuned = 0;
+    int rows_default = 0, rows_tuned = 0;
+    for (int k = 0; k < repeat; ++k) {
+      problem->parameters().set(copt.parameter, start_value);
+      const RunFigures d = trace(*problem, u0, copt, nopt, lopt, nullptr);
+      print_run("defaults", d);
+      problem->parameters().set(copt.parameter, start_value);
+      const RunFigures t = trace(*problem, u0, topt, tnopt, lopt, nullptr);
+      print_run("tuned (nine keys)", t);
+      t_default += d.seconds;
+      t_tuned += t.seconds;
+      f_default += d.result.factorisations;
+      f_tuned += t.result.factorisations;
+      rows_default += d.rows;
+      rows_tuned += t.rows;
+    }
+    const double fd = static_cast<double>(f_default) / std::max(rows_default - repeat, 1);
+    const double ft = static_cast<double>(f_tuned) / std::max(rows_tuned - repeat, 1);
+    fmt::print("\ndefaults / tuned: factorisations per row {:.3f} / {:.3f} = {:.3f}; time {:.2f} / {:.2f} s = {:.3f} "
+               "(issue 17's goal: both within 1.10)\n",
+               fd, ft, fd / ft, t_default, t_tuned, t_default / t_tuned);
+    fmt::print("{}\n", machine());
+    return 0;
+  }
   const RunFigures plain = trace(*problem, u0, copt, nopt, lopt, nullptr);
   print_run("continuation only", plain);
   if (!spectra) return 0;
@@ -149,5 +215,6 @@ int main(int argc, char** argv) {
   fmt::print("a spectrum costs at least one Arnoldi basis, ncv = {} solves = {:.2f} s = {:.0f}% of a point "
              "({:.2f} s); the 25% goal allows {:.0f} solves per point\n",
              ncv, ncv * solve_s, 100.0 * ncv * solve_s / point_s, point_s, solve_s > 0 ? 0.25 * point_s / solve_s : 0.0);
+  fmt::print("{}\n", machine());
   return 0;
 }

@@ -18,7 +18,7 @@ import sys
 
 import numpy as np
 
-from keller_h5 import read_branch
+from keller_h5 import OutputError, check_outputs, read_branch, save_figure
 
 
 def requested_rows(cols, parameter):
@@ -48,6 +48,10 @@ def main():
     labels = a.labels or [os.path.splitext(os.path.basename(f))[0] for f in a.files]
     if len(labels) != len(a.files):
         sys.exit("mesh_convergence.py: one label per file")
+    try:
+        check_outputs([o for o in (a.csv, a.figure) if o], a.files)
+    except OutputError as e:
+        sys.exit(f"mesh_convergence.py: {e}")
     runs = [read_branch(f) for f in a.files]
     parameter = runs[0][0]
     for (p, cols, _), f in zip(runs, a.files):
@@ -135,9 +139,7 @@ def main():
             ax.set_ylabel(o)
         axes[0][0].legend()
         fig.tight_layout()
-        tmp = a.figure + ".part.png"
-        fig.savefig(tmp, dpi=130)
-        os.replace(tmp, a.figure)
+        save_figure(fig, a.figure, a.files, dpi=130)
         print(f"wrote {a.figure}")
 
 

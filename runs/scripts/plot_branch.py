@@ -10,6 +10,7 @@ branch and the branches switched from it) go into one diagram.
 Reads only the HDF5 files (also one whose run was killed)."""
 
 import argparse
+import os
 import sys
 
 import numpy as np
@@ -19,7 +20,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from keller_h5 import read_branch  # noqa: E402
+from keller_h5 import OutputError, check_outputs, distinguishing_labels, quantity, read_branch, save_figure  # noqa: E402
 
 MARKERS = {  # kind: (label, marker, colour)
     1: ("start", "o", "tab:green"),
@@ -37,8 +38,12 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("branch", nargs="+", help="branch files (HDF5) written by keller trace")
     ap.add_argument("--y", help="observable on the vertical axis (default: the first one)")
+    ap.add_argument("--labels", nargs="+", help="a legend label per file (default: the scene keys that differ)")
+    ap.add_argument("--title", help="title (default: the observable against the parameter)")
     ap.add_argument("-o", "--output", help="figure file (default: BRANCH with .png)")
     args = ap.parse_args(argv)
+    if args.labels and len(args.labels) != len(args.branch):
+        sys.exit(f"plot_branch: {len(args.labels)} labels for {len(args.branch)} files")
 
     branches = [(path, *read_branch(path)) for path in args.branch]
     # rows in the order along the branch: a change located by bisection (stability every N points)
@@ -60,13 +65,19 @@ def main(argv=None):
         if y not in cols:
             sys.exit(f"plot_branch: no observable '{y}' in {path}; the first file has: {', '.join(observables)}")
     out = args.output or args.branch[0].rsplit(".", 1)[0] + ".png"
+    try:
+        check_outputs([out], args.branch)
+    except OutputError as e:
+        sys.exit(f"plot_branch: {e}")
 
-    fig, ax = plt.subplots(figsize=(6.4, 4.4))
+    labels = args.labels or distinguishing_labels(args.branch, ignore={f"parameters.{parameter}"})
+    fig, ax = plt.subplots(figsize=(6.4, 4.6))
     seen = set()
     styles_used = set()
     for i, (path, _, cols, status) in enumerate(branches):
         x, v, kind = cols[parameter], cols[y], cols["kind"]
-        colour = "0.35" if i == 0 else f"C{i % 10}"
+        colour = "0.35" if i == 0 and len(branches) == 1 else f"C{i % 10}"
+        curve = labels[i] if len(branches) > 1 else None
         if "unstable" in cols:
             # one segment per pair of consecutive rows: solid where both ends are stable
             n_unst = cols["unstable"]
@@ -81,8 +92,10 @@ def main(argv=None):
                 lab = name if name not in styles_used else None
                 styles_used.add(name)
                 ax.plot(x[j:j + 2], v[j:j + 2], style, color=colour, lw=1.4, zorder=1, label=lab)
+            if curve:
+                ax.plot([], [], "-", color=colour, lw=1.4, label=curve)
         else:
-            ax.plot(x, v, "-", color=colour, lw=1.2, zorder=1)
+            ax.plot(x, v, "-", color=colour, lw=1.2, zorder=1, label=curve)
         for k, (label, marker, mcolour) in MARKERS.items():
             sel = kind == k
             if sel.any():
@@ -93,17 +106,20 @@ def main(argv=None):
             for lam, val in zip(x[kind == k], v[kind == k]):
                 ax.annotate(f"{parameter} = {lam:.8g}", (lam, val), textcoords="offset points", xytext=(-10, 8),
                             ha="right", fontsize=8, color=c)
-    status = branches[0][3]
-    kind = branches[0][2]["kind"]
-    ax.set_xlabel(parameter)
-    ax.set_ylabel(y)
-    names = ", ".join(p.split("/")[-1] for p in args.branch)
-    ax.set_title(f"{names}: {sum(len(b[2]['kind']) for b in branches)} points", fontsize=9)
-    ax.legend(fontsize=8, loc="best")
+    ax.set_xlabel(quantity(parameter))
+    ax.set_ylabel(quantity(y))
+    points = sum(len(b[2]["kind"]) for b in branches)
+    title = args.title or (f"{y} against {parameter}: " + (os.path.basename(args.branch[0]) if len(branches) == 1
+                                                             else f"{len(branches)} branches") + f", {points} points")
+    ax.set_title(title, fontsize=9, wrap=True)
+    ax.legend(fontsize=7, loc="best")
     ax.grid(alpha=0.3)
-    fig.text(0.01, 0.01, f"ended: {status}", fontsize=7, color="0.4")
-    fig.tight_layout(rect=(0, 0.03, 1, 1))
-    fig.savefig(out, dpi=150)
+    # why each branch ended, one line each, under the axes
+    ends = [f"{labels[i] if len(branches) > 1 else 'ended'}: {b[3]}" for i, b in enumerate(branches)]
+    ends = [e if len(e) < 110 else e[:107] + "..." for e in ends]
+    fig.text(0.01, 0.005, "\n".join(ends), fontsize=6, color="0.4", va="bottom")
+    fig.tight_layout(rect=(0, 0.012 * (len(ends) + 1), 1, 1))
+    save_figure(fig, out, args.branch, dpi=150)
     print(f"wrote {out}")
 
 

@@ -13,6 +13,7 @@
 --overlay adds the interface shapes of another branch file (e.g. the Newtonian one) in grey."""
 
 import argparse
+import sys
 
 import matplotlib
 
@@ -21,7 +22,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import matplotlib.tri as mtri  # noqa: E402
 import numpy as np  # noqa: E402
 
-from keller_h5 import open_h5, read_branch  # noqa: E402
+from keller_h5 import OutputError, check_outputs, open_h5, read_branch, save_figure  # noqa: E402
 
 
 def saved_solutions(path):
@@ -67,6 +68,12 @@ def main():
     ap.add_argument("--solution", type=int, default=-1, help="index of the saved solution for the field plot")
     ap.add_argument("--overlay", help="another branch file whose interface shapes are drawn in grey")
     args = ap.parse_args()
+    inputs = [args.branch] + ([args.overlay] if args.overlay else [])
+    try:
+        check_outputs([args.output + s for s in ("_branch.png", "_interface.png", "_path.png", "_wall.png", "_fields.png")],
+                      inputs)
+    except OutputError as e:
+        sys.exit(f"plot_collapsible: {e}")
 
     parameter, cols, status = read_branch(args.branch)
     p, kind = cols[parameter], cols["kind"]
@@ -84,7 +91,7 @@ def main():
     np.atleast_1d(axes)[-1].set_xlabel(parameter)
     np.atleast_1d(axes)[0].set_title(f"{args.branch.rsplit('/', 1)[-1]}: {status}", fontsize=8)
     fig.tight_layout()
-    fig.savefig(args.output + "_branch.png", dpi=150)
+    save_figure(fig, args.output + "_branch.png", inputs, dpi=150)
 
     sols = saved_solutions(args.branch)
     cmap = plt.get_cmap("viridis")
@@ -102,7 +109,7 @@ def main():
     ax.set_ylabel("y of the interface")
     ax.legend(fontsize=6, ncol=2)
     fig.tight_layout()
-    fig.savefig(args.output + "_interface.png", dpi=150)
+    save_figure(fig, args.output + "_interface.png", inputs, dpi=150)
 
     fig, ax = plt.subplots(figsize=(4.8, 4.0))
     ax.plot(cols["dx_max"], cols["dy_max"], "-o", ms=2.5)
@@ -111,7 +118,7 @@ def main():
     ax.set_title(f"maximum deflection along the branch in {parameter}", fontsize=9)
     ax.grid(alpha=0.3)
     fig.tight_layout()
-    fig.savefig(args.output + "_path.png", dpi=150)
+    save_figure(fig, args.output + "_path.png", inputs, dpi=150)
 
     fig, ax = plt.subplots(figsize=(6.4, 3.2))
     for k, (v, _, g) in enumerate(sols):
@@ -126,7 +133,7 @@ def main():
     ax.legend(fontsize=6, ncol=2)
     ax.grid(alpha=0.3)
     fig.tight_layout()
-    fig.savefig(args.output + "_wall.png", dpi=150)
+    save_figure(fig, args.output + "_wall.png", inputs, dpi=150)
 
     if sols:
         _, row, g = sols[args.solution]
@@ -159,7 +166,7 @@ def main():
         np.atleast_1d(axes)[0].set_title(f"row {row}", fontsize=8)
         np.atleast_1d(axes)[-1].set_xlabel("x")
         fig.tight_layout()
-        fig.savefig(args.output + "_fields.png", dpi=150)
+        save_figure(fig, args.output + "_fields.png", inputs, dpi=150)
     print(f"wrote {args.output}_{{branch,interface,path,wall,fields}}.png")
 
 

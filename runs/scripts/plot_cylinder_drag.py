@@ -8,13 +8,14 @@ marked; a branch file still flagged as running (an interrupted run) gets no end 
     python3 runs/scripts/plot_cylinder_drag.py A.h5 [B.h5 ...] [--labels "C2 conf" "C2 log"] -o FIG.png"""
 
 import argparse
+import sys
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from keller_h5 import read_branch  # noqa: E402
+from keller_h5 import OutputError, check_outputs, read_branch, save_figure  # noqa: E402
 
 PUBLISHED = [(0.0, 132.36), (0.1, 130.36), (0.2, 126.62), (0.3, 123.19), (0.4, 120.59), (0.5, 118.83),
              (0.6, 117.78), (0.7, 117.32)]
@@ -27,6 +28,10 @@ def main():
     ap.add_argument("--xmax", type=float, help="upper limit of the Wi axis")
     ap.add_argument("-o", "--output", default="cylinder_drag.png")
     args = ap.parse_args()
+    try:
+        check_outputs([args.output], args.branches)
+    except OutputError as e:
+        sys.exit(f"plot_cylinder_drag: {e}")
     labels = args.labels or [b.rsplit("/", 1)[-1] for b in args.branches]
 
     fig, ax = plt.subplots(figsize=(6.4, 4.6))
@@ -54,7 +59,7 @@ def main():
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(args.output, dpi=150)
+    save_figure(fig, args.output, args.branches, dpi=150)
     print(f"wrote {args.output}")
 
 

@@ -8,6 +8,7 @@
 Also draws dP against Gamma for every file in a last panel."""
 
 import argparse
+import sys
 
 import matplotlib
 
@@ -15,7 +16,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from keller_h5 import read_branch  # noqa: E402
+from keller_h5 import OutputError, check_outputs, read_branch, save_figure  # noqa: E402
 from plot_collapsible import read_array, saved_solutions  # noqa: E402
 
 
@@ -26,6 +27,11 @@ def main():
     ap.add_argument("-o", "--output", default="interfaces.png")
     args = ap.parse_args()
     files = args.branches
+    inputs = files + ([args.newtonian] if args.newtonian else [])
+    try:
+        check_outputs([args.output], inputs)
+    except OutputError as e:
+        sys.exit(f"plot_interfaces: {e}")
     fig, axes = plt.subplots(len(files) + 1, 1, figsize=(7.0, 2.4 * (len(files) + 1)))
     cmap = plt.get_cmap("viridis")
     for ax, path in zip(axes, files):
@@ -50,7 +56,7 @@ def main():
     ax.grid(alpha=0.3)
     ax.legend(fontsize=6)
     fig.tight_layout()
-    fig.savefig(args.output, dpi=150)
+    save_figure(fig, args.output, inputs, dpi=150)
     print(f"wrote {args.output}")
 
 

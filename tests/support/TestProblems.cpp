@@ -55,22 +55,22 @@ Status FailingBand::jacobian(const Vector& u, Vector& F, SparseMatrix& J) {
 ContinuationOptions bratu_fold_options(const std::string& stop, double above) {
   ContinuationOptions o;
   o.parameter = "lambda";
-  o.lower = 0.0;
-  o.initial_step = 0.1;
-  o.max_step = 0.5;
-  o.event_tolerance = 1e-12;
-  o.stop_observable = stop;
-  o.stop_above = above;
+  o.stop.lower = 0.0;
+  o.step.initial = 0.1;
+  o.step.max = 0.5;
+  o.events.tolerance = 1e-12;
+  o.stop.observable = stop;
+  o.stop.above = above;
   return o;
 }
 
 ContinuationOptions pitchfork_trivial_options() {
   ContinuationOptions o;
   o.parameter = "lambda";
-  o.upper = 45.0;
-  o.initial_step = 0.5;
-  o.max_step = 2.0;
-  o.event_tolerance = 1e-10;
+  o.stop.upper = 45.0;
+  o.step.initial = 0.5;
+  o.step.max = 2.0;
+  o.events.tolerance = 1e-10;
   return o;
 }
 

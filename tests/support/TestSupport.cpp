@@ -125,9 +125,10 @@ void distort_bilinear(Mesh& mesh, double amplitude, unsigned seed) {
   }
 }
 
-CommandResult run_keller(const std::string& args) {
+CommandResult run_keller(const std::string& args, const std::string& env) {
   const std::string err_file = std::filesystem::temp_directory_path() / fmt::format("keller_err_{}.txt", ::getpid());
-  const std::string cmd = fmt::format("{} {} 2>{}", KELLER_BINARY, args, err_file);
+  // exec: the shell becomes keller, so a signal that ends keller is what pclose reports
+  const std::string cmd = fmt::format("{} exec {} {} 2>{}", env, KELLER_BINARY, args, err_file);
   CommandResult res;
   FILE* pipe = ::popen(cmd.c_str(), "r");
   if (!pipe) return res;

@@ -33,8 +33,9 @@ struct CommandResult {
   int exit_code = -1;
   std::string out, err;
 };
-// Runs the keller binary with the given arguments (a shell word list).
-CommandResult run_keller(const std::string& args);
+// Runs the keller binary with the given arguments (a shell word list), with `env` (shell
+// assignments, "A=1 B=2") in its environment. exit_code is -1 when a signal ended it.
+CommandResult run_keller(const std::string& args, const std::string& env = "");
 std::string source_path(const std::string& relative);
 // A fresh empty directory for a test's files.
 std::string scratch_dir(const std::string& name);

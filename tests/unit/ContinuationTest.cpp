@@ -11,6 +11,7 @@
 #include "continuation/BorderedSystem.hpp"
 #include "continuation/Continuation.hpp"
 #include "continuation/Hermite.hpp"
+#include "core/ConvergenceTest.hpp"
 #include "problems/Bratu1DProblem.hpp"
 #include "problems/Pitchfork1DProblem.hpp"
 #include "support/TestProblems.hpp"
@@ -37,14 +38,19 @@ SparseMatrix random_matrix(int n, unsigned seed, bool singular) {
   return A;
 }
 
+// The engine's exact-Newton path (a Jacobian per corrector iteration, the whole bordered matrix
+// factorised): the location tests below count its iterations. The fast defaults (a kept chord)
+// are the other tests'.
 ContinuationOptions cubic_options() {
   ContinuationOptions o;
+  o.corrector.method = CorrectorOptions::Method::Newton;
+  o.corrector.block_elimination = false;
   o.parameter = "lambda";
-  o.lower = -5.0;
-  o.upper = 5.0;
-  o.initial_step = 0.1;
-  o.max_step = 0.3;
-  o.event_tolerance = 1e-12;
+  o.stop.lower = -5.0;
+  o.stop.upper = 5.0;
+  o.step.initial = 0.1;
+  o.step.max = 0.3;
+  o.events.tolerance = 1e-12;
   return o;
 }
 
@@ -60,22 +66,25 @@ BranchPoint circle_point(double s) {
 }
 
 // Options of the ScaledLinear tests: natural steps of the given size (one step to just past
-// upper), chord corrector with the factorisation kept across steps.
+// upper), the plain chord (no Anderson mixing, so that its rate is known exactly) with the
+// factorisation kept across steps, renewed by the rate rule alone.
 ContinuationOptions kept_chord_options(double step, double upper, int max_iterations, std::vector<double> stops) {
   ContinuationOptions o;
   o.parameter = "lambda";
   o.method = ContinuationOptions::Method::Natural;
-  o.max_angle_degrees = 89;  // the tangent turns by up to about 45 degrees on one step
-  o.upper = upper;
-  o.initial_step = step;
-  o.max_step = step;
-  o.corrector = ContinuationOptions::Corrector::Chord;
-  o.block_elimination = true;
-  o.reuse_factorisation = true;
-  o.detect_branch_points = false;
-  o.target_iterations = 8;
-  o.max_iterations = max_iterations;
-  o.stops = std::move(stops);
+  o.step.max_angle_degrees = 89;  // the tangent turns by up to about 45 degrees on one step
+  o.stop.upper = upper;
+  o.step.initial = step;
+  o.step.max = step;
+  o.corrector.method = CorrectorOptions::Method::Chord;
+  o.corrector.block_elimination = true;
+  o.corrector.keep = true;
+  o.corrector.anderson_depth = 0;
+  o.corrector.renewal_cost = 0.0;
+  o.events.branch_points = false;
+  o.step.target_iterations = 8;
+  o.corrector.max_iterations = max_iterations;
+  o.events.stops = std::move(stops);
   return o;
 }
 
@@ -185,7 +194,7 @@ TEST(Continuation, CubicFoldsLocatedTo1e10AndEndHitExactly) {
 TEST(Continuation, EventOnAMonitorWithAKnownCrossing) {
   CubicProblem problem(-2.0);
   ContinuationOptions o = cubic_options();
-  o.event_tolerance = 1e-11;
+  o.events.tolerance = 1e-11;
   Continuation cont(problem, o);
   RecordingObserver rec;
   cont.run(problem.initial_guess(), rec);
@@ -193,7 +202,7 @@ TEST(Continuation, EventOnAMonitorWithAKnownCrossing) {
   ASSERT_EQ(events.size(), 1u);
   EXPECT_EQ(events[0]->label, "u - 1/2");
   std::cout << "event u = 1/2 located at lambda = " << events[0]->lambda << " (exact -1.375)\n";
-  EXPECT_NEAR(events[0]->lambda, -1.375, o.event_tolerance);
+  EXPECT_NEAR(events[0]->lambda, -1.375, o.events.tolerance);
   EXPECT_NEAR(events[0]->u[0], 0.5, 1e-9);
   // secant trials predicted on the cubic Hermite interpolant of the bracket: 9 corrector
   // iterations in all (11 from the straight chord between the bracket's points)
@@ -205,22 +214,22 @@ TEST(Continuation, EventOnAMonitorWithAKnownCrossing) {
 TEST(Continuation, AStopThatIsAlsoAnEventIsReportedOnce) {
   CubicProblem problem(-2.0);
   ContinuationOptions o = cubic_options();
-  o.event_tolerance = 1e-11;
-  o.stop_observable = "u";
-  o.stop_above = 0.5;
+  o.events.tolerance = 1e-11;
+  o.stop.observable = "u";
+  o.stop.above = 0.5;
   Continuation cont(problem, o);
   RecordingObserver rec;
   const ContinuationResult r = cont.run(problem.initial_guess(), rec);
   ASSERT_EQ(r.code, StopCode::StopObservable) << r.reason;
   EXPECT_TRUE(rec.of_kind(PointKind::Event).empty());
   ASSERT_EQ(rec.of_kind(PointKind::End).size(), 1u);
-  EXPECT_NEAR(rec.points.back().lambda, -1.375, o.event_tolerance);
+  EXPECT_NEAR(rec.points.back().lambda, -1.375, o.events.tolerance);
   EXPECT_EQ(rec.points.back().kind, PointKind::End);
   // found once, too: the end is the event's zero (the same function), not a second search. With a
   // threshold 1e-7 away (another function) the search is made twice and costs more solves.
   {
     ContinuationOptions apart = o;
-    apart.stop_above = 0.5 + 1e-7;
+    apart.stop.above = 0.5 + 1e-7;
     CubicProblem p2(-2.0);
     Continuation c2(p2, apart);
     RecordingObserver rec_apart;
@@ -233,7 +242,7 @@ TEST(Continuation, AStopThatIsAlsoAnEventIsReportedOnce) {
     EXPECT_LE(r.timings.solves + end.iterations, r2.timings.solves);
   }
   // a requested value at the same place is another kind of point: it stays
-  o.stops = {-1.375};
+  o.events.stops = {-1.375};
   Continuation again(problem, o);
   RecordingObserver rec2;
   problem.parameters().set("lambda", -2.0);
@@ -252,7 +261,7 @@ TEST(Continuation, AStopThatIsAlsoAnEventIsReportedOnce) {
 TEST(Continuation, RequestedValuesAtEveryCrossing) {
   CubicProblem problem(-2.0);
   ContinuationOptions o = cubic_options();
-  o.stops = {0.0, 1.0};
+  o.events.stops = {0.0, 1.0};
   Continuation cont(problem, o);
   RecordingObserver rec;
   cont.run(problem.initial_guess(), rec);
@@ -288,7 +297,7 @@ TEST(Continuation, NaturalContinuationStopsAtTheFoldWithAReason) {
   CubicProblem problem(-2.0);
   ContinuationOptions o = cubic_options();
   o.method = ContinuationOptions::Method::Natural;
-  o.min_step = 1e-6;
+  o.step.min = 1e-6;
   Continuation cont(problem, o);
   RecordingObserver rec;
   const auto r = cont.run(problem.initial_guess(), rec);
@@ -307,10 +316,10 @@ TEST(Continuation, FailureStatusHalvesTheStepAndStopsWithTheReason) {
   auto problem = std::make_unique<test::FailingBand>(std::make_unique<Bratu1DProblem>(32, 0.0), 1.5, 2.9);
   ContinuationOptions o;
   o.parameter = "lambda";
-  o.upper = 3.0;
-  o.initial_step = 0.2;
-  o.max_step = 0.5;
-  o.min_step = 1e-4;
+  o.stop.upper = 3.0;
+  o.step.initial = 0.2;
+  o.step.max = 0.5;
+  o.step.min = 1e-4;
   Continuation cont(*problem, o);
   RecordingObserver rec;
   const auto r = cont.run(problem->initial_guess(), rec);
@@ -325,11 +334,12 @@ TEST(Continuation, FailureStatusHalvesTheStepAndStopsWithTheReason) {
 TEST(Continuation, AnOversizedStepIsHalvedUntilItWorks) {
   Bratu1DProblem problem(32, 0.0);
   ContinuationOptions o;
+  o.corrector.method = CorrectorOptions::Method::Newton;  // a factorisation per corrector iteration
   o.parameter = "lambda";
-  o.upper = 2.0;
-  o.initial_step = 50.0;  // lands far off the branch: corrector diverges or overflows
-  o.max_step = 50.0;
-  o.land_on_values = false;  // else the step is shortened to land on the bound (next test)
+  o.stop.upper = 2.0;
+  o.step.initial = 50.0;  // lands far off the branch: corrector diverges or overflows
+  o.step.max = 50.0;
+  o.events.land_on_values = false;  // else the step is shortened to land on the bound (next test)
   Continuation cont(problem, o);
   RecordingObserver rec;
   const auto r = cont.run(problem.initial_guess(), rec);
@@ -348,9 +358,9 @@ TEST(Continuation, AStepThatWouldCrossTheBoundLandsOnIt) {
   Bratu1DProblem problem(32, 0.0);
   ContinuationOptions o;
   o.parameter = "lambda";
-  o.upper = 2.0;
-  o.initial_step = 50.0;
-  o.max_step = 50.0;
+  o.stop.upper = 2.0;
+  o.step.initial = 50.0;
+  o.step.max = 50.0;
   Continuation cont(problem, o);
   RecordingObserver rec;
   const auto r = cont.run(problem.initial_guess(), rec);
@@ -373,8 +383,8 @@ TEST(Continuation, StepsLandOnRequestedValues) {
   auto trace = [](bool land, RecordingObserver& rec) {
     CubicProblem problem(-2.0);
     ContinuationOptions o = cubic_options();
-    o.stops = {-1.0, 0.0, 0.5, 1.0, 1.5};
-    o.land_on_values = land;
+    o.events.stops = {-1.0, 0.0, 0.5, 1.0, 1.5};
+    o.events.land_on_values = land;
     return trace_from_guess(problem, o, rec);
   };
   RecordingObserver landed, located;
@@ -406,12 +416,12 @@ TEST(Continuation, LandedStopsAreNotBranchPoints) {
   for (const bool kept : {false, true}) {
     CubicProblem problem(-2.0);
     ContinuationOptions o = cubic_options();
-    o.stops = {-1.0, 0.0, 1.0};
-    o.detect_branch_points = true;
+    o.events.stops = {-1.0, 0.0, 1.0};
+    o.events.branch_points = true;
     if (kept) {
-      o.corrector = ContinuationOptions::Corrector::Chord;
-      o.block_elimination = true;
-      o.reuse_factorisation = true;
+      o.corrector.method = CorrectorOptions::Method::Chord;
+      o.corrector.block_elimination = true;
+      o.corrector.keep = true;
     }
     Continuation cont(problem, o);
     RecordingObserver rec;
@@ -710,20 +720,24 @@ TEST(Continuation, BadOptionsAreRejected) {
   o.parameter = "mu";
   EXPECT_THROW(Continuation(problem, o), std::invalid_argument);
   o = cubic_options();
-  o.lower = 1;
-  o.upper = 0;
+  o.stop.lower = 1;
+  o.stop.upper = 0;
   EXPECT_THROW(Continuation(problem, o), std::invalid_argument);
   o = cubic_options();
-  o.stop_observable = "v";
-  o.stop_above = 1;
+  o.stop.observable = "v";
+  o.stop.above = 1;
   EXPECT_THROW(Continuation(problem, o), std::invalid_argument);
   o = cubic_options();
-  o.reuse_factorisation = true;  // needs the chord corrector and block elimination
+  o.step.shrink = 1.0;  // a failed step must shrink
   EXPECT_THROW(Continuation(problem, o), std::invalid_argument);
-  o.corrector = ContinuationOptions::Corrector::Chord;
+  o = cubic_options();
+  o.step.target_iterations = 12;  // above Newton's limit of 10
   EXPECT_THROW(Continuation(problem, o), std::invalid_argument);
-  o.block_elimination = true;
+  o.corrector.max_iterations = 12;
   EXPECT_NO_THROW(Continuation(problem, o));
+  o = cubic_options();
+  o.corrector.renewal_cost = -1.0;
+  EXPECT_THROW(Continuation(problem, o), std::invalid_argument);
 }
 
 // A chord on a kept factorisation that needs more iterations than the target while it contracts
@@ -739,7 +753,7 @@ TEST(Continuation, AGoodChordSlowerThanTheTargetKeepsItsFactorisation) {
   const ContinuationResult r = cont.run(p.initial_guess(), rec);
   ASSERT_EQ(r.code, StopCode::UpperBound) << r.reason;
   int slow = 0;
-  for (const BranchPoint& q : rec.points) slow += q.iterations > o.target_iterations;
+  for (const BranchPoint& q : rec.points) slow += q.iterations > o.target_iterations();
   std::cout << rec.points.size() << " rows, " << slow << " over the target, " << r.factorisations
             << " factorisations\n";
   EXPECT_GT(slow, 2);  // the case this is about
@@ -753,7 +767,7 @@ TEST(Continuation, ACostedChordGoesOnInsteadOfRenewing) {
   auto trace = [](double renewal_cost, RecordingObserver& rec) {
     ScaledLinear p(3);
     ContinuationOptions o = kept_chord_options(0.25, 2.0, 30, {});
-    o.renewal_cost = renewal_cost;
+    o.corrector.renewal_cost = renewal_cost;
     return trace_from_guess(p, o, rec);
   };
   RecordingObserver by_rate, by_cost;
@@ -775,7 +789,7 @@ TEST(Continuation, ACostedChordGoesOnInsteadOfRenewing) {
 TEST(Continuation, ASlowCostedChordIsNotTakenForRounding) {
   ScaledLinear p(3);
   ContinuationOptions o = kept_chord_options(0.6, 2.3, 200, {});
-  o.renewal_cost = 1000;  // never renewed while the chord converges
+  o.corrector.renewal_cost = 1000;  // never renewed while the chord converges
   Continuation cont(p, o);
   RecordingObserver rec;
   const ContinuationResult r = cont.run(p.initial_guess(), rec);
@@ -797,8 +811,8 @@ TEST(Continuation, ABoundApproachedFromOutsideIsNotLandedOn) {
   auto trace = [](bool land, RecordingObserver& rec) {
     CubicProblem problem(-2.0);
     ContinuationOptions o = cubic_options();
-    o.lower = -1.0;  // the start, lambda = -2, lies below it
-    o.land_on_values = land;
+    o.stop.lower = -1.0;  // the start, lambda = -2, lies below it
+    o.events.land_on_values = land;
     Continuation cont(problem, o);
     return cont.run(problem.initial_guess(), rec);
   };
@@ -820,10 +834,10 @@ TEST(Continuation, AFailedLandingDoesNotEndTheBranch) {
     // u^3 - 3u = lambda with no residual for lambda in [2.9999, 3.0001]
     test::FailingBand problem(std::make_unique<CubicProblem>(-2.0), 2.9999, 3.0001);
     ContinuationOptions o = cubic_options();
-    o.initial_step = 0.5;
-    o.max_step = 0.5;
-    o.stops = {3.0};
-    o.land_on_values = land;
+    o.step.initial = 0.5;
+    o.step.max = 0.5;
+    o.events.stops = {3.0};
+    o.events.land_on_values = land;
     Continuation cont(problem, o);
     RecordingObserver rec;
     const ContinuationResult r = cont.run(problem.initial_guess(), rec);
@@ -853,8 +867,8 @@ class SpreadLinear final : public DiagonalProblem {
 // A kept factorisation never renewed while the chord converges, steps of 0.3 from 0 to 1.5.
 ContinuationOptions spread_options(int anderson_depth) {
   ContinuationOptions o = kept_chord_options(0.3, 1.5, 200, {});
-  o.renewal_cost = 1000;
-  o.anderson_depth = anderson_depth;
+  o.corrector.renewal_cost = 1000;
+  o.corrector.anderson_depth = anderson_depth;
   return o;
 }
 
@@ -900,9 +914,9 @@ TEST(Continuation, AndersonAccelerationKeepsTheArclengthRow) {
     SpreadLinear p;
     ContinuationOptions o = spread_options(depth);
     o.method = ContinuationOptions::Method::Arclength;
-    o.land_on_values = false;
-    o.growth = 1.0;             // the same steps in both runs
-    o.target_iterations = 200;  // (never shrunk)
+    o.events.land_on_values = false;
+    o.step.growth = 1.0;             // the same steps in both runs
+    o.step.target_iterations = 200;  // (never shrunk)
     return trace_from_guess(p, o, rec);
   };
   RecordingObserver plain, accelerated;
@@ -947,7 +961,7 @@ TEST(Continuation, AStepOutsideNewtonsRegionOfContractionIsRejectedAtOnce) {
   auto trace = [](double first_step, RecordingObserver& rec) {
     AtanCubic p;
     ContinuationOptions o = kept_chord_options(1.0, 3.0, 20, {});
-    o.initial_step = first_step;
+    o.step.initial = first_step;
     return trace_from_guess(p, o, rec);
   };
   // the first step of 1 predicts e = 4 and is halved; compared with a branch started with the
@@ -975,7 +989,7 @@ TEST(Continuation, TheStartIsFactorisedOnce) {
   ScaledLinear p(3);
   ContinuationOptions o = kept_chord_options(0.01, 2.0, 30, {});
   o.method = ContinuationOptions::Method::Arclength;
-  o.max_steps = 1;
+  o.stop.max_steps = 1;
   Continuation cont(p, o);
   RecordingObserver rec;
   const ContinuationResult r = cont.run(p.initial_guess(), rec);
@@ -997,11 +1011,11 @@ TEST(Continuation, TheStartIsFactorisedOnce) {
 TEST(Continuation, TheDeterminantSignIsReportedOnlyWhereJWasFactorised) {
   Pitchfork1DProblem p(20, 1.0, 0.0);
   ContinuationOptions o = test::pitchfork_trivial_options();
-  o.corrector = ContinuationOptions::Corrector::Chord;
-  o.block_elimination = true;
-  o.reuse_factorisation = true;
-  o.detect_branch_points = false;
-  o.anderson_depth = 5;
+  o.corrector.method = CorrectorOptions::Method::Chord;
+  o.corrector.block_elimination = true;
+  o.corrector.keep = true;
+  o.events.branch_points = false;
+  o.corrector.anderson_depth = 5;
   Continuation cont(p, o);
   RecordingObserver rec;
   const ContinuationResult r = cont.run(Vector::Zero(p.size()), rec);
@@ -1026,4 +1040,103 @@ TEST(Continuation, TheDeterminantSignIsReportedOnlyWhereJWasFactorised) {
   EXPECT_GT(reported, 0);
   EXPECT_GT(by_iteration, 0);
   EXPECT_GT(past_a_crossing, 0);
+}
+
+// A restart from a stored located fold starts on the fold itself, where the sign of the tangent's
+// parameter part is rounding: its first step must not locate the same fold again (it did, as the
+// restarted branch's first located point). The restarted branch ends where the original does.
+TEST(Continuation, ARestartFromALocatedFoldDoesNotLocateItAgain) {
+  for (const bool newton : {false, true}) {
+    SCOPED_TRACE(newton ? "newton" : "kept chord");
+    Bratu1DProblem p(128, 0.0);
+    ContinuationOptions o = test::bratu_fold_options("u_mid", 4.0);
+    if (newton) {
+      o.corrector.method = CorrectorOptions::Method::Newton;
+      o.corrector.block_elimination = false;
+    }
+    Continuation first(p, o);
+    RecordingObserver rec;
+    ASSERT_EQ(first.run(p.initial_guess(), rec).code, StopCode::StopObservable);
+    const auto folds = rec.of_kind(PointKind::Fold);
+    ASSERT_EQ(folds.size(), 1u);
+    ContinuationOptions again = o;
+    again.state_scale = first.state_scale();
+    Continuation second(p, again);
+    RecordingObserver rec2;
+    p.parameters().set("lambda", folds[0]->lambda);
+    ASSERT_EQ(second.resume(*folds[0], rec2).code, StopCode::StopObservable) << rec2.reason;
+    EXPECT_TRUE(rec2.of_kind(PointKind::Fold).empty()) << "fold at lambda = " << rec2.of_kind(PointKind::Fold)[0]->lambda;
+    EXPECT_NEAR(rec2.points.back().lambda, rec.points.back().lambda, 1e-8);
+  }
+}
+
+// 1D Bratu on 2000 intervals to 1e-12: its residual cannot fall below about 3e-9 (eps |J| |u|,
+// |J| = 4 / h^2), above 1e3 times the tolerance. The corrector stops at that floor, as core's
+// Newton does, and the branch passes the fold (it ended before it at the step floor, every
+// correction near the fold counted as not converged). The fold of this mesh lies within
+// 1e-6 of the continuum's 3.513830719 (h^2 = 2.5e-7).
+TEST(Continuation, TheCorrectorStopsAtTheProblemsRoundingFloor) {
+  for (const bool newton : {false, true}) {
+    SCOPED_TRACE(newton ? "newton" : "kept chord");
+    Bratu1DProblem p(2000, 0.0);
+    ContinuationOptions o = test::bratu_fold_options("u_mid", 1.5);
+    o.events.tolerance = 1e-9;
+    if (newton) {
+      o.corrector.method = CorrectorOptions::Method::Newton;
+      o.corrector.block_elimination = false;
+    }
+    NewtonOptions tight;
+    tight.residual_tolerance = 1e-12;
+    Continuation cont(p, o, tight);
+    RecordingObserver rec;
+    const ContinuationResult r = cont.run(p.initial_guess(), rec);
+    ASSERT_EQ(r.code, StopCode::StopObservable) << r.reason;
+    const auto folds = rec.of_kind(PointKind::Fold);
+    ASSERT_EQ(folds.size(), 1u);
+    EXPECT_NEAR(folds[0]->lambda, 3.513830719125, 1e-6);
+    Vector F;
+    SparseMatrix J;
+    p.parameters().set("lambda", folds[0]->lambda);
+    ASSERT_TRUE(p.jacobian(folds[0]->u, F, J).is_ok());
+    const double floor = std::max(kRoundingFloorBand * 1e-12, rounding_floor(J, folds[0]->u));
+    std::cout << rec.points.size() << " rows, " << r.factorisations << " factorisations, fold at "
+              << folds[0]->lambda << "; floor level " << floor << "\n";
+    EXPECT_GT(floor, 1e3 * 1e-12);  // the case this is about
+    for (const BranchPoint& q : rec.points) EXPECT_LE(q.residual, floor) << "lambda = " << q.lambda;
+  }
+}
+
+// Branch points with the fast defaults (a kept factorisation, tangents by iteration): on the
+// trivial pitchfork branch the chord never renews (F_p = 0, u = 0 solves every step at once), so
+// the determinant's sign comes from probes every kBranchPointProbeRows rows and at the end; a
+// change is bracketed by probing the rows between and located as with a factorisation at every
+// point: the same two branch points, with a fraction of the factorisations.
+TEST(Continuation, BranchPointsAreFoundOnAKeptFactorisation) {
+  const int n = 50;
+  auto trace = [&](bool exact, RecordingObserver& rec) {
+    Pitchfork1DProblem p(n, 1.0);
+    ContinuationOptions o = test::pitchfork_trivial_options();
+    if (exact) {
+      o.corrector.method = CorrectorOptions::Method::Newton;
+      o.corrector.block_elimination = false;
+    }
+    Continuation cont(p, o);
+    return cont.run(p.initial_guess(), rec);
+  };
+  RecordingObserver kept, exact;
+  const ContinuationResult rk = trace(false, kept), re = trace(true, exact);
+  ASSERT_EQ(rk.code, StopCode::UpperBound) << rk.reason;
+  ASSERT_EQ(re.code, StopCode::UpperBound) << re.reason;
+  const auto a = kept.of_kind(PointKind::BranchPoint), b = exact.of_kind(PointKind::BranchPoint);
+  ASSERT_EQ(a.size(), 2u);
+  ASSERT_EQ(b.size(), 2u);
+  for (int k = 0; k < 2; ++k) {
+    EXPECT_NEAR(a[k]->lambda, Pitchfork1DProblem::branch_point(k + 1, n), 1e-8);
+    EXPECT_NEAR(a[k]->lambda, b[k]->lambda, 1e-8);
+  }
+  std::cout << "kept: " << kept.points.size() << " rows, " << rk.factorisations << " factorisations, "
+            << rk.tangent_iterations << " tangent solves by iteration; exact: " << exact.points.size() << " rows, "
+            << re.factorisations << " factorisations\n";
+  EXPECT_GT(rk.tangent_iterations, 0);
+  EXPECT_LT(2 * rk.factorisations, re.factorisations);
 }

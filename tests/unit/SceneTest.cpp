@@ -2,7 +2,9 @@
 // the resolved scene parses back to the same values.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
+#include <limits>
 
 #include "continuation/ContinuationOptions.hpp"
 #include "core/Scene.hpp"
@@ -100,5 +102,81 @@ TEST(Scene, ResolvedScenesOfShippedScenesReload) {
       return r;
     };
     EXPECT_EQ(values(a.scene.resolved_toml()), values(b.scene.resolved_toml()));
+  }
+}
+
+namespace {
+std::string override_error(const std::string& o) {
+  SceneSchema s = schema();
+  s.real("mesh.bound", INFINITY, "a bound (inf: none)");
+  try {
+    Scene::parse("[mesh]\n", "s.toml", s, {o});
+  } catch (const SceneError& e) {
+    return e.what();
+  }
+  return "";
+}
+}  // namespace
+
+// Every number is finite unless its key says otherwise (a key whose default is infinite, such as
+// a bound, takes inf and -inf); NaN never.
+TEST(Scene, NumbersAreFiniteUnlessTheKeyTakesInfinity) {
+  EXPECT_EQ(override_error("mesh.length=inf"), "s.toml (--set): key 'mesh.length' = inf is not a finite number (must be > 0)");
+  EXPECT_EQ(override_error("mesh.length=nan"), "s.toml (--set): key 'mesh.length' = nan is not a finite number (must be > 0)");
+  EXPECT_EQ(override_error("mesh.stops=[1.0, inf]"), "s.toml (--set): key 'mesh.stops' = inf is not a finite number (must be >= 0)");
+  EXPECT_EQ(override_error("mesh.bound=inf"), "");
+  EXPECT_EQ(override_error("mesh.bound=-inf"), "");
+  EXPECT_EQ(override_error("mesh.bound=nan"), "s.toml (--set): key 'mesh.bound' = nan is not a finite number");
+  EXPECT_EQ(error_of("[mesh]\nlength = -inf\n"), "s.toml:2: key 'mesh.length' = -inf is not a finite number (must be > 0)");
+}
+
+// An integer key is read as an int: a value beyond int's range is an out-of-range error before
+// anything narrows it.
+TEST(Scene, IntegersAreRangeCheckedBeforeNarrowing) {
+  EXPECT_EQ(error_of("[mesh]\nn = 2147483658\n"),
+            "s.toml:2: key 'mesh.n' = 2147483658 is out of range: must be in [1, 2147483647]");
+  EXPECT_EQ(error_of("[mesh]\nn = 2147483647\n"), "");
+  EXPECT_EQ(Scene::parse("[mesh]\nn = 2147483647\n", "s.toml", schema()).integer("mesh.n"), 2147483647);
+  SceneSchema s;
+  EXPECT_THROW(s.integer("a.n", 3000000000L, "a default beyond int"), std::logic_error);
+}
+
+TEST(Scene, AnOverrideIsOneValueOnOneLine) {
+  EXPECT_EQ(override_error("mesh.kind=graded\nmesh.n = 3"), "override 'mesh.kind': a value cannot contain a line break");
+  EXPECT_EQ(override_error("mesh.n=3\r"), "override 'mesh.n': a value cannot contain a line break");
+  EXPECT_EQ(override_error("mesh.kind=graded"), "");  // a bare word is a string
+}
+
+// The properties hold for every key keller declares: integer ranges fit int, finite defaults
+// take no infinity, and the range of every `parameters.X` key lies inside the range of the
+// problem's parameter X (so a value the scene accepts is never refused later without a line).
+TEST(Scene, EveryDeclaredKeyObeysTheRules) {
+  for (const ProblemType& type : problem_types()) {
+    SCOPED_TRACE(type.name);
+    SceneSchema s;
+    declare_common_keys(s);
+    type.declare(s);
+    declare_trace_keys(s);
+    for (const KeySpec& k : s.keys()) {
+      if (k.type == KeySpec::Type::Integer) {
+        EXPECT_GE(k.range.lo, std::numeric_limits<int>::min()) << k.path;
+        EXPECT_LE(k.range.hi, std::numeric_limits<int>::max()) << k.path;
+      }
+      if (k.type == KeySpec::Type::Real) {
+        const double d = std::get<double>(k.default_value);
+        EXPECT_EQ(k.allows_infinity(), std::isinf(d)) << k.path;
+      }
+    }
+    const Scene defaults = Scene::parse("[problem]\ntype = \"" + type.name + "\"\n", type.name, s);
+    const auto problem = type.build(defaults);
+    for (const Parameter& p : problem->parameters().list()) {
+      const KeySpec* key = s.find("parameters." + p.name);
+      for (const KeySpec& k : s.keys())  // a problem may keep its parameter in its own section
+        if (!key && k.key() == p.name && k.type == KeySpec::Type::Real) key = &k;
+      ASSERT_NE(key, nullptr) << "parameter " << p.name << " has no scene key";
+      EXPECT_TRUE(key->range.within(p.range()))
+          << "parameters." << p.name << ": the scene takes " << key->range.describe() << ", the parameter "
+          << p.range().describe();
+    }
   }
 }

@@ -85,7 +85,7 @@ TEST(BratuFold, TwoDimensionalFoldConvergesToThePublishedValue) {
 // fallback at the fold itself) trace the same branch: the same located fold to the event
 // tolerance; the chord corrector with fewer factorisations than Newton's.
 TEST(BratuFold, ChordCorrectorAndBlockEliminationFindTheSameFold) {
-  using C = ContinuationOptions::Corrector;
+  using C = CorrectorOptions::Method;
   struct Variant {
     const char* name;
     C corrector;
@@ -99,14 +99,16 @@ TEST(BratuFold, ChordCorrectorAndBlockEliminationFindTheSameFold) {
   for (int k = 0; k < 5; ++k) {
     Bratu1DProblem p(64, 0.0);
     ContinuationOptions o = bratu_fold_options("u_mid", 4.0);
-    o.corrector = variants[k].corrector;
-    o.block_elimination = variants[k].block;
+    o.corrector.method = variants[k].corrector;
+    o.corrector.block_elimination = variants[k].block;
+    o.corrector.keep = false;
+    o.corrector.anderson_depth = 0;  // the plain chord
     if (k == 4) {
       // factorisations kept across steps; tangents by iteration (no determinant: no branch points)
-      o.reuse_factorisation = true;
-      o.detect_branch_points = false;
-      o.target_iterations = 8;  // chord iterations cost a solve, not a factorisation
-      o.max_iterations = 16;
+      o.corrector.keep = true;
+      o.events.branch_points = false;
+      o.step.target_iterations = 8;  // chord iterations cost a solve, not a factorisation
+      o.corrector.max_iterations = 16;
     }
     Continuation cont(p, o);
     test::RecordingObserver rec;

@@ -61,7 +61,7 @@ int column(const std::vector<std::string>& names, const std::string& n) {
 // branch points), found by the spectrum alone (no determinant).
 ContinuationOptions pitchfork_trivial_branch() {
   ContinuationOptions o = test::pitchfork_trivial_options();
-  o.detect_branch_points = false;
+  o.events.branch_points = false;
   o.state_scale = 1.0;
   return o;
 }
@@ -77,10 +77,10 @@ Brusselator1DOptions brusselator(double a) {
 ContinuationOptions brusselator_branch(double a) {
   ContinuationOptions o;
   o.parameter = "b";
-  o.upper = 1.0 + a * a + 1.5;
-  o.initial_step = 0.1;
-  o.max_step = 0.5;
-  o.event_tolerance = 1e-10;
+  o.stop.upper = 1.0 + a * a + 1.5;
+  o.step.initial = 0.1;
+  o.step.max = 0.5;
+  o.events.tolerance = 1e-10;
   return o;
 }
 
@@ -141,7 +141,7 @@ TEST(Stability, PitchforkBranchPointsConvergeAndTheSwitchedBranchBifurcates) {
     if (n != 64) continue;
     // switching at the first branch point: the new branch leaves u = 0, bends to lambda > lambda_1
     // (supercritical) and is stable
-    o.upper = 20.0;
+    o.stop.upper = 20.0;
     const Traced t2 = trace_with_stability(p, o, 4, bps[0]);
     const auto& rec2 = t2.rec;
     ASSERT_EQ(t2.result.code, StopCode::UpperBound) << t2.result.reason;
@@ -301,8 +301,8 @@ TEST(Stability, EveryNthPointStillLocatesByBisection) {
     const double a = 2.0;
     Brusselator1DProblem p(brusselator(a));
     ContinuationOptions o = brusselator_branch(a);
-    o.initial_step = 0.05;  // shorter steps: several points between two spectra before the Hopf
-    o.max_step = 0.1;
+    o.step.initial = 0.05;  // shorter steps: several points between two spectra before the Hopf
+    o.step.max = 0.1;
     const Traced t = trace_with_stability(p, o, 6, nullptr, {0.0}, 5);
     ASSERT_EQ(t.result.code, StopCode::UpperBound) << t.result.reason;
     const auto hopf = t.rec.of_kind(PointKind::Hopf);
@@ -321,7 +321,7 @@ TEST(Stability, SpectrumReusesTheContinuationsFactorisation) {
   for (bool block : {false, true}) {
     Pitchfork1DProblem p(32, 1.0);
     ContinuationOptions o = pitchfork_trivial_branch();
-    o.block_elimination = block;
+    o.corrector.block_elimination = block;
     runs.push_back(trace_with_stability(p, o, 4));
     ASSERT_EQ(runs.back().result.code, StopCode::UpperBound) << runs.back().result.reason;
   }

@@ -1,0 +1,72 @@
+#include "continuation/Evaluator.hpp"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "core/ConvergenceTest.hpp"
+
+namespace keller {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+}  // namespace
+
+Evaluator::Evaluator(Problem& problem, int parameter, std::string parameter_name)
+    : problem_(problem), p_(parameter), name_(std::move(parameter_name)), J_(problem.jacobian_pattern()) {}
+
+Status Evaluator::set_parameter(double lambda) {
+  ParameterSet& ps = problem_.parameters();
+  if (!std::isfinite(lambda)) return {StatusCode::NotFinite, "parameter is not finite"};
+  if (!ps.admissible(p_, lambda))
+    return {StatusCode::InvalidState,
+            fmt::format("{} = {} is outside its admissible range [{}, {}]", name_, lambda, ps.info(p_).lower, ps.info(p_).upper)};
+  ps.set(p_, lambda);
+  return {};
+}
+
+Status Evaluator::residual(const Vector& u, Vector& F) {
+  const auto t0 = Clock::now();
+  const Status st = problem_.residual(u, F);
+  timings_.residual += since(t0);
+  ++timings_.residuals;
+  return st;
+}
+
+Status Evaluator::jacobian(const Vector& u) {
+  const auto t0 = Clock::now();
+  const Status st = problem_.jacobian(u, F_, J_);
+  timings_.jacobian += since(t0);
+  ++timings_.jacobians;
+  if (st.is_ok()) floor_ = keller::rounding_floor(J_, u);
+  return st;
+}
+
+Status Evaluator::parameter_derivative(const Vector& u) {
+  const auto t0 = Clock::now();
+  const Status st = problem_.parameter_derivative(p_, u, Fp_);
+  timings_.parameter_derivative += since(t0);
+  ++timings_.parameter_derivatives;
+  return st;
+}
+
+Status Evaluator::jacobian_times(const Vector& u, const Vector& v, Vector& out) {
+  const double vmax = v.lpNorm<Eigen::Infinity>();
+  if (!(vmax > 0)) {
+    out = Vector::Zero(u.size());
+    return {};
+  }
+  // the step that balances truncation (h^2) and rounding (eps / h) of a central difference
+  const double ustep = std::cbrt(std::numeric_limits<double>::epsilon()) * std::max(1.0, u.lpNorm<Eigen::Infinity>());
+  const double eps = ustep / vmax;
+  Status st = residual(u + eps * v, plus_);
+  if (st.is_ok()) st = residual(u - eps * v, minus_);
+  if (!st.is_ok()) return st;
+  out = (plus_ - minus_) / (2.0 * eps);
+  return {};
+}
+
+}  // namespace keller

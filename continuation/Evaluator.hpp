@@ -1,0 +1,56 @@
+// The continuation engine's access to the problem: the continuation parameter set with its
+// admissible range checked, residuals, Jacobians, dF/dp and Jacobian-vector products, each timed
+// and counted (where a run's time goes), and the rounding floor of the last assembled Jacobian.
+#pragma once
+
+#include <string>
+
+#include "core/Problem.hpp"
+
+namespace keller {
+
+// Where a run's time went (seconds, wall clock): the speed floor is the factorisations.
+struct ContinuationTimings {
+  double jacobian = 0, parameter_derivative = 0, residual = 0, factorisation = 0, solve = 0, observables = 0,
+         output = 0, total = 0, analysis = 0;
+  long jacobians = 0, parameter_derivatives = 0, residuals = 0, solves = 0, analyses = 0;
+};
+
+class Evaluator {
+ public:
+  Evaluator(Problem& problem, int parameter, std::string parameter_name);
+  Problem& problem() { return problem_; }
+  int parameter() const { return p_; }
+  const std::string& parameter_name() const { return name_; }
+  int size() const { return problem_.size(); }
+
+  // Sets the continuation parameter; a status (not an exception) where it is not finite or
+  // outside the problem's admissible range.
+  Status set_parameter(double lambda);
+  Status residual(const Vector& u, Vector& F);
+  // J and F at u (into jacobian(), residual_vector()); the rounding floor of J at u.
+  Status jacobian(const Vector& u);
+  // dF/dp at u (into parameter_derivative_vector()).
+  Status parameter_derivative(const Vector& u);
+  // J(u) v by central differences of the residual (two residuals instead of a Jacobian; error
+  // about 1e-11 of |J| |v|, below what the tangent iteration asks for).
+  Status jacobian_times(const Vector& u, const Vector& v, Vector& out);
+
+  const SparseMatrix& jacobian_matrix() const { return J_; }
+  const Vector& residual_vector() const { return F_; }
+  const Vector& parameter_derivative_vector() const { return Fp_; }
+  // rounding_floor() (ConvergenceTest) of the last assembled Jacobian at its point.
+  double rounding_floor() const { return floor_; }
+  ContinuationTimings& timings() { return timings_; }
+
+ private:
+  Problem& problem_;
+  int p_;
+  std::string name_;
+  SparseMatrix J_;
+  Vector F_, Fp_, plus_, minus_;
+  double floor_ = 0.0;
+  ContinuationTimings timings_;
+};
+
+}  // namespace keller

@@ -1,0 +1,213 @@
+#include "continuation/EventLocator.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "continuation/Hermite.hpp"
+
+namespace keller {
+
+namespace {
+int sign_of(double x) { return x > 0 ? 1 : (x < 0 ? -1 : 0); }
+// Illinois: where the same end of the bracket is kept twice, the other end's value is scaled by
+// this (the secant then steps past the zero instead of creeping up on it).
+constexpr double kIllinoisFactor = 0.5;
+}  // namespace
+
+const char* to_string(EventTarget t) {
+  switch (t) {
+    case EventTarget::Value: return "value";
+    case EventTarget::Monitor: return "monitor";
+    case EventTarget::Fold: return "fold";
+    case EventTarget::BranchPoint: return "branch point";
+    case EventTarget::StabilityChange: return "stability change";
+  }
+  return "?";
+}
+
+double Target::of(const BranchPoint& p) const {
+  switch (kind) {
+    case EventTarget::Value: return p.lambda - value;
+    case EventTarget::Monitor: return p.monitors[static_cast<size_t>(monitor)];
+    case EventTarget::Fold: return p.tlambda;
+    case EventTarget::BranchPoint: return static_cast<double>(p.bordered_det_sign);
+    case EventTarget::StabilityChange: return p.locator;
+  }
+  return NAN;
+}
+
+EventLocator::EventLocator(Corrector& corrector, TangentSolver& tangents, KeptFactorisation& kept,
+                           const ArclengthNorm& norm, const ContinuationOptions& options, Evaluate evaluate,
+                           AnalysisNote analysis_note)
+    : corrector_(corrector),
+      tangents_(tangents),
+      kept_(kept),
+      norm_(norm),
+      options_(options),
+      evaluate_(std::move(evaluate)),
+      analysis_note_(std::move(analysis_note)) {}
+
+BranchPoint EventLocator::point_on_segment(const BranchPoint& a, const BranchPoint& b, double tau, Status& st,
+                                           const BranchPoint& p0, const BranchPoint& p1, bool exact_tangent,
+                                           bool analyse) {
+  // where the target lies along the segment, in the coordinate the constraint fixes
+  const bool arclength = options_.method == ContinuationOptions::Method::Arclength;
+  auto coord = [&](const BranchPoint& p) {
+    return arclength ? norm_.dot(p.u - a.u, p.lambda - a.lambda, a.tu, a.tlambda) : p.lambda;
+  };
+  const double target = arclength ? tau * coord(b) : a.lambda + tau * (b.lambda - a.lambda);
+  // predictor: interpolation between the closest points known on the branch (the bracket)
+  const double c0 = coord(p0), c1 = coord(p1);
+  const double w = c1 != c0 ? (target - c0) / (c1 - c0) : tau;
+  BranchPoint p;
+  // the cubic Hermite interpolant of the bracket where it has the target coordinate; the chord
+  // between them where it has none
+  const BranchFunctional coordinate = [&](const Vector& u, double l, bool point) {
+    if (!arclength) return l;
+    return point ? norm_.dot(u - a.u, l - a.lambda, a.tu, a.tlambda) : norm_.dot(u, l, a.tu, a.tlambda);
+  };
+  double x = w;
+  const bool cubic = hermite_point(p0, p1, coordinate, target, p.u, p.lambda, x);
+  if (!cubic) {
+    p.u = p0.u + w * (p1.u - p0.u);
+    p.lambda = p0.lambda + w * (p1.lambda - p0.lambda);
+  }
+  const Constraint c = arclength ? norm_.arclength(a, a.tu, a.tlambda, target) : Constraint::parameter(target);
+  const CorrectorResult r = corrector_.correct(p.u, p.lambda, c, Corrector::Kind::Located,
+                                               corrector_.residual_floor(p0.residual, p1.residual));
+  st = r.status;
+  p.iterations = r.iterations;
+  p.residual = r.residual;
+  // The corrector's last factorisation is at its second-last iterate. Locating a fold (a zero of
+  // the tangent's parameter part) or a sign change of the determinant needs them at the point
+  // itself: one more factorisation there.
+  Tangent t;
+  if (st.is_ok()) st = tangents_.at_point(p, c, a.tu, a.tlambda, exact_tangent, t);
+  if (st.is_ok()) {
+    p.tu = std::move(t.tu);
+    p.tlambda = t.tl;
+    p.det_sign = t.det_sign;
+  }
+  if (st.is_ok()) st = evaluate_(p, analyse);
+  p.bordered_det_sign = kept_.determinant_sign();
+  // where along the branch: on the cubic, the bracket's fraction x; else the coordinate's
+  p.s = cubic ? p0.s + x * (p1.s - p0.s) : a.s + tau * (b.s - a.s);
+  p.step = b.step;
+  return p;
+}
+
+std::optional<BranchPoint> EventLocator::locate_value(const BranchPoint& a, const BranchPoint& b, double value,
+                                                      std::string& note) {
+  double tau = (value - a.lambda) / (b.lambda - a.lambda);
+  BranchPoint p;
+  // predictor: the cubic Hermite interpolant of the two points and their tangents (error O(h^4)
+  // against O(h^2) for the chord between them), so that the corrector converges on the kept
+  // factorisation instead of renewing it; the chord where the cubic does not reach the value
+  double x = tau, lambda = value;
+  const BranchFunctional parameter = [](const Vector&, double l, bool) { return l; };
+  if (hermite_point(a, b, parameter, value, p.u, lambda, x)) tau = x;
+  else p.u = a.u + tau * (b.u - a.u);
+  p.lambda = value;
+  const Constraint c = Constraint::parameter(value);
+  const CorrectorResult r =
+      corrector_.correct(p.u, p.lambda, c, Corrector::Kind::Located, corrector_.residual_floor(a.residual, b.residual));
+  Status st = r.status;
+  p.iterations = r.iterations;
+  p.residual = r.residual;
+  Tangent t;
+  if (st.is_ok()) st = tangents_.at_point(p, c, a.tu, a.tlambda, false, t);
+  if (st.is_ok()) {
+    p.tu = std::move(t.tu);
+    p.tlambda = t.tl;
+    p.det_sign = t.det_sign;
+    st = evaluate_(p, false);
+  }
+  if (st.is_ok()) {
+    p.lambda = value;  // exactly
+    p.s = a.s + tau * (b.s - a.s);
+    p.step = b.step;
+    p.bordered_det_sign = 0;
+    return p;
+  }
+  // at a fold the parameter cannot be fixed: fall back to root finding along the arclength
+  note = "fixed-parameter corrector failed (" + st.describe() + "); ";
+  Target root{EventTarget::Value, -1, value};
+  return locate_root(a, b, root, a.lambda - value, b.lambda - value, note);
+}
+
+std::optional<BranchPoint> EventLocator::locate_root(const BranchPoint& a, const BranchPoint& b, const Target& target,
+                                                     double ga, double gb, std::string& note) {
+  const bool by_count = target.kind == EventTarget::StabilityChange;
+  const int count_a = a.count;
+  const bool sign_only = target.kind == EventTarget::BranchPoint;
+  // functions that vanish where the branch turns in some sense: their bracket is measured along
+  // the branch, not in the parameter alone
+  const bool turning = target.kind == EventTarget::Fold || sign_only || by_count;
+  double ta = 0.0, tb = 1.0;
+  BranchPoint pa = a, pb = b;
+  int side = 0, solves = 0;
+  double t_before = NAN;
+  double last_lambda = NAN;
+  for (int it = 0; it < options_.events.max_location_iterations; ++it) {
+    const bool secant = !sign_only && (!by_count || (std::isfinite(ga) && std::isfinite(gb) && ga * gb < 0));
+    double tc = secant ? tb - gb * (tb - ta) / (gb - ga) : 0.5 * (ta + tb);
+    // a trial on or outside the bracket (rounding) falls back to bisection
+    if (!(tc > ta && tc < tb)) tc = 0.5 * (ta + tb);
+    Status st;
+    const double lambda_before = it > 0 ? last_lambda : NAN;
+    BranchPoint pc = point_on_segment(a, b, tc, st, pa, pb, target.needs_exact_tangent(), by_count);
+    solves += pc.iterations;
+    last_lambda = pc.lambda;
+    if (!st.is_ok()) {
+      note += "corrector failed while locating: " + st.describe();
+      return std::nullopt;
+    }
+    const double gc = target.of(pc);
+    if (by_count && pc.count < 0) {
+      note += "analysis failed while locating: " + analysis_note_();
+      return std::nullopt;
+    }
+    if (gc == 0.0 && !sign_only && !by_count) {
+      pc.iterations = solves;
+      return pc;
+    }
+    const bool same_side = by_count ? pc.count == count_a : sign_of(gc) == sign_of(ga);
+    if (same_side) {
+      ta = tc;
+      ga = gc;
+      pa = pc;
+      if (side == -1 && !sign_only) gb *= kIllinoisFactor;
+      side = -1;
+    } else {
+      tb = tc;
+      gb = gc;
+      pb = pc;
+      if (side == +1 && !sign_only) ga *= kIllinoisFactor;
+      side = +1;
+    }
+    double width = std::abs(pa.lambda - pb.lambda);
+    if (turning) width = std::max(width, std::abs(pb.s - pa.s) * std::max(std::abs(pa.tlambda), std::abs(pb.tlambda)));
+    // a zero of a monitor is also found once successive secant trials agree to the tolerance
+    bool settled = !turning && std::abs(pc.lambda - lambda_before) <= options_.events.tolerance;
+    // a count change located by secant on its locator: successive trials agree along the branch
+    if (by_count && it > 0) settled = std::abs(tc - t_before) * std::abs(b.s - a.s) <= options_.events.tolerance;
+    t_before = tc;
+    if (settled) {
+      pc.iterations = solves;
+      return pc;
+    }
+    if (width <= options_.events.tolerance) {
+      BranchPoint& best = by_count  ? (std::abs(pa.locator) < std::abs(pb.locator) ? pa : pb)
+                          : turning ? (std::abs(pa.tlambda) < std::abs(pb.tlambda) ? pa : pb)
+                                    : (std::abs(target.of(pa)) < std::abs(target.of(pb)) ? pa : pb);
+      best.iterations = solves;
+      return best;
+    }
+  }
+  note += fmt::format("not located to {} in {} iterations", options_.events.tolerance,
+                      options_.events.max_location_iterations);
+  return std::nullopt;
+}
+
+}  // namespace keller

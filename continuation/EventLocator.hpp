@@ -1,0 +1,77 @@
+// Location of a point on the segment between two converged points a and b of a branch: a requested
+// parameter value (a fixed-parameter correction, with root finding along the arclength where that
+// fails at a fold), or a zero of a function along the branch: a monitor, the parameter part of the
+// tangent (a fold), the sign of det of the bordered Jacobian (a branch point), or the locator of a
+// change of the point analysis's count (stability). Illinois secant steps (bisection for signs)
+// on trial points predicted by the cubic Hermite interpolant of the bracket and corrected under
+// the arclength row through a (natural continuation: at the trial parameter value).
+#pragma once
+
+#include <functional>
+#include <optional>
+#include <string>
+
+#include "continuation/ArclengthNorm.hpp"
+#include "continuation/BranchPoint.hpp"
+#include "continuation/ContinuationOptions.hpp"
+#include "continuation/Corrector.hpp"
+#include "continuation/TangentSolver.hpp"
+
+namespace keller {
+
+// What a located point is the zero of.
+enum class EventTarget {
+  Value,            // lambda - value
+  Monitor,          // a monitor (the problem's, then the stop thresholds), by index
+  Fold,             // the parameter part of the unit tangent
+  BranchPoint,      // the sign of det of the bordered Jacobian
+  StabilityChange,  // the point analysis's locator, bracketed by its count
+};
+const char* to_string(EventTarget t);
+
+struct Target {
+  EventTarget kind = EventTarget::Value;
+  int monitor = -1;    // Monitor: its index in BranchPoint::monitors
+  double value = 0.0;  // Value: the parameter value
+  // g at a point of the branch (the function whose zero is located)
+  double of(const BranchPoint& p) const;
+  // Fold and branch point need J factorised at each trial point (the tangent's and the
+  // determinant's signs there); the stability change needs the point analysed.
+  bool needs_exact_tangent() const { return kind == EventTarget::Fold || kind == EventTarget::BranchPoint; }
+};
+
+class EventLocator {
+ public:
+  // The observables and monitors of a corrected point, and its analysis where asked; the note
+  // the analysis left when it failed.
+  using Evaluate = std::function<Status(BranchPoint& p, bool analyse)>;
+  using AnalysisNote = std::function<std::string()>;
+
+  EventLocator(Corrector& corrector, TangentSolver& tangents, KeptFactorisation& kept, const ArclengthNorm& norm,
+               const ContinuationOptions& options, Evaluate evaluate, AnalysisNote analysis_note);
+
+  // The point of the segment a -> b where the parameter equals value (exactly); or, where the
+  // fixed-parameter corrector fails, its root along the arclength. Nothing (and a note) where
+  // neither converges.
+  std::optional<BranchPoint> locate_value(const BranchPoint& a, const BranchPoint& b, double value, std::string& note);
+  // The zero of target on the segment a -> b (ga = g(a), gb = g(b) of opposite signs, or counts
+  // that differ for a stability change); iterations of the result: the corrector solves spent.
+  std::optional<BranchPoint> locate_root(const BranchPoint& a, const BranchPoint& b, const Target& target, double ga,
+                                         double gb, std::string& note);
+  // The point of the segment a -> b at fraction tau of its arclength (natural: of its parameter
+  // change), corrected, predicted from the known points lo and hi around it; exact_tangent: its
+  // tangent and the determinant from a factorisation at the point itself.
+  BranchPoint point_on_segment(const BranchPoint& a, const BranchPoint& b, double tau, Status& st,
+                               const BranchPoint& lo, const BranchPoint& hi, bool exact_tangent, bool analyse);
+
+ private:
+  Corrector& corrector_;
+  TangentSolver& tangents_;
+  KeptFactorisation& kept_;
+  const ArclengthNorm& norm_;
+  const ContinuationOptions& options_;
+  Evaluate evaluate_;
+  AnalysisNote analysis_note_;
+};
+
+}  // namespace keller

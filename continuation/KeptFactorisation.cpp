@@ -1,0 +1,62 @@
+#include "continuation/KeptFactorisation.hpp"
+
+namespace keller {
+
+KeptFactorisation::KeptFactorisation(const SparseMatrix& pattern, SparseLUOptions lu, bool block_elimination)
+    : system_(pattern, lu, block_elimination ? BorderedSystem::Mode::Block : BorderedSystem::Mode::Full) {}
+
+Status KeptFactorisation::factorise_at(Evaluator& ev, const Vector& u, double lambda, const Constraint& c) {
+  Status st = ev.set_parameter(lambda);
+  if (st.is_ok()) st = ev.jacobian(u);
+  if (st.is_ok()) st = ev.parameter_derivative(u);
+  if (!st.is_ok()) return st;
+  return factorise_assembled(ev, u, lambda, c);
+}
+
+Status KeptFactorisation::factorise_assembled(const Evaluator& ev, const Vector& u, double lambda, const Constraint& c) {
+  system_.set(ev.jacobian_matrix(), ev.parameter_derivative_vector(), c.cu, c.cl);
+  return factorise(u, lambda);
+}
+
+Status KeptFactorisation::factorise(const Vector& u, double lambda) {
+  known_ = false;
+  ++count_;
+  const Status st = system_.factorize();
+  if (st.is_ok()) {
+    u_ = u;
+    lambda_ = lambda;
+    known_ = true;
+  }
+  return st;
+}
+
+Status KeptFactorisation::adopt(std::shared_ptr<SparseLU> lu, const SparseMatrix& J, const Vector& u_j, double lambda,
+                                const Vector& Fp, const Constraint& c) {
+  known_ = false;
+  const Status st = system_.adopt(std::move(lu), J, Fp, c.cu, c.cl);
+  if (!st.is_ok()) return st;
+  u_ = u_j;
+  lambda_ = lambda;
+  known_ = true;
+  return {};
+}
+
+bool KeptFactorisation::made_at(const Vector& u, double lambda) const {
+  return known_ && lambda_ == lambda && u_.size() == u.size() && u_ == u;
+}
+
+SparseLU* KeptFactorisation::j_factorisation_at(const Vector& u, double lambda) {
+  return made_at(u, lambda) ? system_.j_factorisation() : nullptr;
+}
+
+double KeptFactorisation::measured_renewal_cost(const ContinuationTimings& t) const {
+  const BorderedSystem::Totals lu = system_.totals();
+  if (lu.factorisations == 0 || lu.solves == 0 || t.jacobians == 0 || t.residuals == 0) return 0.0;
+  const double renewal = t.jacobian / t.jacobians +
+                         (t.parameter_derivatives ? t.parameter_derivative / t.parameter_derivatives : 0.0) +
+                         lu.factor_seconds / lu.factorisations;
+  const double iteration = t.residual / t.residuals + lu.solve_seconds / lu.solves;
+  return iteration > 0 ? renewal / iteration : 0.0;
+}
+
+}  // namespace keller

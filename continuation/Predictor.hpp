@@ -1,0 +1,66 @@
+// The predictor of a continuation step: its direction (the unit tangent, or the secant through the
+// last two points), and where the step goes: along the direction by the step size, or, where it
+// would cross a stop or a bound, shortened to land on it (plan_landing, a pure planning function)
+// and then corrected at that parameter value.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "continuation/ArclengthNorm.hpp"
+#include "continuation/BranchPoint.hpp"
+#include "continuation/ContinuationOptions.hpp"
+#include "continuation/StopCode.hpp"
+
+namespace keller {
+
+// A stop or a bound the next step lands on.
+struct Landing {
+  double value = 0.0;     // the parameter value
+  double fraction = 0.0;  // of the planned step
+  PointKind kind = PointKind::Requested;
+  std::string label;
+  std::optional<StopCode> end;  // set where landing there ends the branch (a bound)
+};
+
+// What plan_landing needs to know of the branch so far.
+struct LandingQuery {
+  double lambda = 0.0, s = 0.0, tlambda = 0.0;  // the current point
+  bool has_previous = false;                    // with a tangent
+  double previous_s = 0.0, previous_tlambda = 0.0;
+  double step = 0.0;       // the planned step
+  double direction = 0.0;  // the parameter part of the step's direction
+};
+
+// The nearest stop or bound the planned step would cross, if it may land on it: not within half
+// the distance at which the parameter part of the tangent, extrapolated linearly from the last two
+// points, vanishes (near a fold the correction at a fixed parameter is ill-posed and the value may
+// lie beyond the fold), nor right after a fold. Bounds only when left from inside (the upper one
+// upwards, the lower one downwards). Stops are labelled "<parameter> = <value>".
+std::optional<Landing> plan_landing(const LandingQuery& q, const std::vector<double>& stops, double lower,
+                                    double upper, const std::string& parameter);
+
+struct Prediction {
+  Vector u;
+  double lambda = 0.0;
+  Constraint constraint;         // the row the corrector solves under
+  std::optional<Landing> land;   // the step lands on this value
+};
+
+class Predictor {
+ public:
+  Predictor(const ContinuationOptions& options, const ArclengthNorm& norm) : options_(options), norm_(norm) {}
+  // The unit direction of the step from cur (prev: the point before it, if any).
+  void direction(const BranchPoint& cur, const BranchPoint* prev, Vector& du, double& dl) const;
+  // The prediction of a step of size ds from cur along (du, dl); landing_allowed: false after a
+  // landing of this step failed (its retries are ordinary steps).
+  Prediction predict(const BranchPoint& cur, const BranchPoint* prev, const Vector& du, double dl, double ds,
+                     bool landing_allowed) const;
+
+ private:
+  const ContinuationOptions& options_;
+  const ArclengthNorm& norm_;
+};
+
+}  // namespace keller

@@ -1,0 +1,13 @@
+// A seam for the tests that interrupt a run in each of its phases. When the environment holds
+// KELLER_SIGNAL_AT=<phase> or <phase>:<n>, the process sends itself KELLER_SIGNAL (INT, TERM or
+// KILL; KILL when unset) the n-th time (default: the first) it reaches that phase. Without the
+// variable a call costs one getenv.
+#pragma once
+
+#include <string_view>
+
+namespace keller {
+
+void signal_point(std::string_view phase);
+
+}  // namespace keller

@@ -1,0 +1,86 @@
+#include "runs/BranchOutput.hpp"
+
+#include <fmt/format.h>
+#include <stdio.h>
+
+#include <filesystem>
+
+#include "continuation/BranchFile.hpp"
+#include "core/PendingFile.hpp"
+#include "core/RunFiles.hpp"
+#include "core/SignalPoint.hpp"
+
+namespace keller {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// XDMF files are written as NAME.pending and take their names once the HDF5 file they refer to
+// is in place.
+constexpr const char* pending_suffix = ".pending";
+
+void move_file(const std::string& from, const std::string& to) {
+  if (std::rename(from.c_str(), to.c_str()) != 0)
+    throw std::runtime_error(fmt::format("cannot rename '{}' to '{}'", from, to));
+}
+
+// Files removed when the scope ends unless released.
+struct Scratch {
+  std::vector<std::string> paths;
+  bool released = false;
+  Scratch() = default;
+  Scratch(const Scratch&) = delete;
+  Scratch& operator=(const Scratch&) = delete;
+  ~Scratch() {
+    std::error_code ec;
+    if (!released)
+      for (const std::string& p : paths) fs::remove(p, ec);
+  }
+};
+
+}  // namespace
+
+PublishedBranch publish_branch(const std::string& work, const std::string& target, const std::string& xdmf,
+                               bool with_fields, const FieldsAt& fields, const std::function<bool()>& stop) {
+  PublishedBranch out;
+  const bool in_place = same_file(work, target);
+  if (with_fields) {
+    const std::string h5_name = fs::path(target).filename().string();
+    const std::string stem = fs::path(xdmf).replace_extension().string();
+    const std::string staged = target + ".fields.part";
+    Scratch scratch;
+    scratch.paths = {staged, xdmf + pending_suffix};
+    std::error_code ec;
+    fs::remove(staged, ec);
+    fs::copy_file(work, staged);
+    bool complete = write_branch_fields(staged, staged, xdmf + pending_suffix, h5_name, fields, stop);
+    std::vector<std::string> modes;
+    if (complete) {
+      modes = write_branch_modes(staged, h5_name, stem, pending_suffix, fields, stop);
+      scratch.paths.insert(scratch.paths.end(), modes.begin(), modes.end());
+      complete = !(stop && stop());
+    }
+    signal_point("fields-written");
+    if (complete) {
+      sync_file(staged);
+      move_file(staged, target);
+      scratch.released = true;
+      signal_point("published");
+      for (const std::string& p : scratch.paths)
+        if (p != staged && fs::exists(p)) move_file(p, p.substr(0, p.size() - std::string(pending_suffix).size()));
+      out.fields = true;
+      out.modes = static_cast<int>(modes.size());
+      if (!in_place) fs::remove(work, ec);
+      return out;
+    }
+  }
+  if (!in_place) {
+    sync_file(work);
+    move_file(work, target);
+    signal_point("published");
+  }
+  return out;
+}
+
+}  // namespace keller

@@ -1,0 +1,16 @@
+// `keller export BRANCH.h5 [--csv FILE|-] [--xdmf]`: the branch table as CSV (to a file or the
+// standard output), and the fields of the stored solutions with an XDMF file for ParaView.
+#pragma once
+
+#include <string>
+
+namespace keller {
+
+struct ExportArguments {
+  std::string input;
+  std::string csv;    // write the branch table as CSV here ("-": the standard output)
+  bool xdmf = false;  // write fields of the stored solutions and an XDMF file
+};
+int run_export(const ExportArguments& args);
+
+}  // namespace keller

@@ -1,0 +1,106 @@
+#include "runs/StoredStart.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <map>
+#include <sstream>
+
+#include "continuation/BranchFile.hpp"
+#include "core/H5File.hpp"
+#include "runs/OutputFile.hpp"
+
+namespace keller {
+
+StoredStart parse_stored_start(const std::string& flag, const std::string& s) {
+  const auto colon = s.rfind(':');
+  if (colon == std::string::npos || colon == 0)
+    throw std::invalid_argument(flag + " needs FILE.h5:ROW (ROW a number or 'last'), got '" + s + "'");
+  StoredStart r;
+  r.flag = flag;
+  r.file = s.substr(0, colon);
+  r.switching = flag == "--switch";
+  const std::string row = s.substr(colon + 1);
+  if (row != "last") {
+    size_t used = 0;
+    long v = -1;
+    try {
+      v = std::stol(row, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used != row.size() || row.empty() || v < 0 || v > 1'000'000'000)
+      throw std::invalid_argument(flag + ": '" + row + "' is not a row number or 'last'");
+    r.row = static_cast<int>(v);
+  }
+  return r;
+}
+
+std::optional<double> StoredPoint::value_of(const std::string& parameter) const {
+  if (parameter == table.parameter) return point.lambda;
+  auto it = header.parameters.find(parameter);
+  if (it == header.parameters.end()) return std::nullopt;
+  return it->second;
+}
+
+StoredPoint read_stored_start(const StoredStart& start, const LoadedScene& scene, const Problem& problem,
+                              const std::string& parameter, std::vector<std::string>& warnings) {
+  const std::string where = fmt::format("{} '{}'", start.flag, start.file);
+  StoredPoint stored;
+  {
+    H5File f(start.file, H5File::Mode::Read);
+    stored.header = read_run_header(f);
+  }
+  stored.table = read_branch_table(start.file);
+  stored.point = read_branch_point(start.file, start.row);
+  const BranchPoint& point = stored.point;
+  std::vector<std::string> refusals;
+  auto refuse = [&]() {
+    for (const std::string& r : refusals) {
+      if (!start.force)
+        throw std::invalid_argument(fmt::format("{}: {}; pass --force to start from it anyway", where, r));
+      warnings.push_back(fmt::format("{}: {} (--force)", where, r));
+    }
+    refusals.clear();
+  };
+  if (stored.header.problem != problem.name())
+    refusals.push_back(
+        fmt::format("it was made by problem '{}', this scene is '{}'", stored.header.problem, problem.name()));
+  const std::string physics = scene.physics();
+  if (stored.header.physics.empty())
+    refusals.push_back("it holds no record of its physics (written by an older keller)");
+  else if (stored.header.physics != physics)
+    refusals.push_back("its physics differs: " + record_difference(stored.header.physics, physics));
+  for (const Parameter& p : problem.parameters().list()) {
+    if (p.name == parameter) continue;  // the run's own parameter starts at the point's value
+    const std::optional<double> v = stored.value_of(p.name);
+    if (!v) continue;
+    const double tol = 1e-12 * std::max({1.0, std::abs(*v), std::abs(p.value)});
+    if (std::abs(*v - p.value) > tol)
+      refusals.push_back(fmt::format("{} {} = {}, this scene sets {} = {}",
+                                     p.name == stored.table.parameter ? "the point is at" : "it was traced at", p.name,
+                                     *v, p.name, p.value));
+  }
+  refuse();
+  if (point.u.size() != problem.size())
+    throw std::invalid_argument(fmt::format("{}: the stored point has {} unknowns, this scene's problem {}", where,
+                                            point.u.size(), problem.size()));
+  if (start.switching && stored.table.parameter != parameter)
+    throw std::invalid_argument(fmt::format("{}: a branch in '{}' cannot be switched to a branch in '{}'", where,
+                                            stored.table.parameter, parameter));
+  if (start.switching && point.kind != PointKind::BranchPoint) {
+    std::string located;
+    const BranchTable& table = stored.table;
+    const int kind = table.column("kind");
+    for (int r : table.saved_rows)
+      if (r < table.rows.rows() && static_cast<int>(table.rows(r, kind)) == static_cast<int>(PointKind::BranchPoint))
+        located += (located.empty() ? "" : ", ") + std::to_string(r);
+    refusals.push_back(fmt::format("row {} is not a located branch point (located branch points with a stored "
+                                   "solution: {})",
+                                   point.index, located.empty() ? "none" : located));
+  }
+  refuse();
+  return stored;
+}
+
+}  // namespace keller

@@ -1,0 +1,48 @@
+// Starting a run from a point stored in another branch file (--restart, --switch): the point
+// must be a state of this scene's problem. The file must have been made by the same problem
+// with the same physics (the stored physics record, compared key by key), hold as many
+// unknowns, and the point's parameter values must be the scene's for every parameter that this
+// run keeps fixed (the stored branch's own parameter included, when the run continues in
+// another one, as AUTO and pde2path allow); a switch must start at a located branch point of a
+// branch in the same parameter. `force` turns each refusal into a warning.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "continuation/BranchFile.hpp"
+#include "continuation/BranchPoint.hpp"
+#include "core/Problem.hpp"
+#include "runs/OutputFile.hpp"
+#include "runs/SceneLoader.hpp"
+
+namespace keller {
+
+struct StoredStart {
+  std::string flag;       // "--restart" or "--switch": names the source in messages
+  std::string file;
+  int row = -1;           // -1: the last stored point
+  bool switching = false;
+  bool force = false;
+};
+
+// "FILE.h5:ROW" with ROW a number or "last". Throws std::invalid_argument.
+StoredStart parse_stored_start(const std::string& flag, const std::string& spec);
+
+struct StoredPoint {
+  BranchPoint point;
+  RunHeader header;   // of the file it came from
+  BranchTable table;  // its branch
+  // The value of `parameter` at the point: the point's own parameter value, or the value at
+  // which its branch held `parameter` fixed (nothing if the file does not say).
+  std::optional<double> value_of(const std::string& parameter) const;
+};
+
+// Reads the stored point and checks it against the scene and its problem for a run in
+// `parameter` (see above); throws std::invalid_argument naming the file, the row and what
+// differs. `warnings` receives what `force` let through.
+StoredPoint read_stored_start(const StoredStart& start, const LoadedScene& scene, const Problem& problem,
+                              const std::string& parameter, std::vector<std::string>& warnings);
+
+}  // namespace keller

@@ -1,0 +1,282 @@
+#include "runs/study/Study.hpp"
+
+#include <fmt/format.h>
+
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <toml++/toml.h>
+
+#include "continuation/ContinuationOptions.hpp"
+#include "core/Scene.hpp"
+#include "runs/OutputFile.hpp"
+#include "runs/SceneLoader.hpp"
+#include "runs/SolveCommand.hpp"
+#include "runs/TraceCommand.hpp"
+
+namespace keller {
+
+namespace fs = std::filesystem;
+
+std::string StudyTask::label() const {
+  std::string s;
+  for (const auto& [k, v] : varied) s += (s.empty() ? "" : ", ") + k + "=" + v;
+  return s.empty() ? "the base scene" : s;
+}
+
+namespace {
+
+struct Value {
+  std::string text;  // as TOML
+  int line = 0;
+};
+using Assignments = std::vector<std::pair<std::string, Value>>;
+
+std::string toml_text(const toml::node& n) {
+  if (const auto s = n.value_exact<std::string>()) {
+    std::string out = "\"";
+    for (char c : *s) {
+      if (c == '"' || c == '\\') out += '\\';
+      out += c;
+    }
+    return out + "\"";
+  }
+  if (const auto d = n.value_exact<double>()) {
+    std::string s = fmt::format("{}", *d);
+    if (s.find_first_of(".eEn") == std::string::npos) s += ".0";
+    return s;
+  }
+  if (const auto i = n.value_exact<int64_t>()) return fmt::format("{}", *i);
+  if (const auto b = n.value_exact<bool>()) return *b ? "true" : "false";
+  if (const toml::array* a = n.as_array()) {
+    std::string s = "[";
+    for (size_t i = 0; i < a->size(); ++i) s += (i ? ", " : "") + toml_text(*a->get(i));
+    return s + "]";
+  }
+  std::ostringstream os;
+  n.visit([&](auto&& x) { os << x; });
+  return os.str();
+}
+
+// The leaves of a table as dotted paths ("fluid.model" written quoted or as nested tables).
+void leaves(const toml::table& t, const std::string& prefix, Assignments& out) {
+  for (auto&& [k, v] : t) {
+    const std::string path = prefix.empty() ? std::string(k.str()) : prefix + "." + std::string(k.str());
+    if (const toml::table* sub = v.as_table()) leaves(*sub, path, out);
+    else out.push_back({path, {toml_text(v), static_cast<int>(v.source().begin.line)}});
+  }
+}
+
+// The leaves of [grid]: each an array of the values it takes.
+std::vector<std::pair<std::string, std::vector<Value>>> grid_leaves(const toml::table& t, const std::string& prefix,
+                                                                     const std::string& file) {
+  std::vector<std::pair<std::string, std::vector<Value>>> out;
+  for (auto&& [k, v] : t) {
+    const std::string path = prefix.empty() ? std::string(k.str()) : prefix + "." + std::string(k.str());
+    if (const toml::table* sub = v.as_table()) {
+      auto inner = grid_leaves(*sub, path, file);
+      out.insert(out.end(), inner.begin(), inner.end());
+      continue;
+    }
+    const toml::array* a = v.as_array();
+    const int line = static_cast<int>(v.source().begin.line);
+    if (!a || a->empty())
+      throw SceneError(fmt::format("{}:{}: [grid] key '{}' must be a non-empty list of the values it takes", file,
+                                   line, path));
+    std::vector<Value> values;
+    for (const toml::node& e : *a) values.push_back({toml_text(e), line});
+    out.push_back({path, std::move(values)});
+  }
+  return out;
+}
+
+std::string unquoted(const std::string& v) {
+  if (v.size() >= 2 && v.front() == '"' && v.back() == '"') return v.substr(1, v.size() - 2);
+  return v;
+}
+
+// A file-name-safe rendering of the varied values, with a hash that keeps names apart.
+std::string task_name(const std::vector<std::pair<std::string, std::string>>& varied) {
+  if (varied.empty()) return "task";
+  std::string name, all;
+  for (const auto& [k, v] : varied) {
+    std::string part;
+    for (char c : unquoted(v)) part += (std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '-' || c == '+') ? c : '_';
+    if (part.size() > 24) part.resize(24);
+    name += (name.empty() ? "" : "_") + part;
+    all += k + "=" + v + "\n";
+  }
+  return name + "-" + text_hash(all).substr(0, 8);
+}
+
+const std::set<std::string> special_keys = {"scene", "start"};
+
+}  // namespace
+
+std::vector<std::string> Study::varied_keys() const { return varied_keys_; }
+std::string Study::task_output(const StudyTask& t) const { return folder_ + "/tasks/" + t.name + ".h5"; }
+std::string Study::task_log(const StudyTask& t) const { return folder_ + "/tasks/" + t.name + ".log"; }
+std::string Study::task_record(const StudyTask& t) const { return folder_ + "/tasks/" + t.name + ".toml"; }
+std::string Study::table_h5() const { return folder_ + "/" + name_ + ".h5"; }
+std::string Study::table_csv() const { return folder_ + "/" + name_ + ".csv"; }
+
+Study Study::load(const std::string& path, const std::string& folder) {
+  std::ifstream in(path, std::ios::binary);
+  if (!fs::is_regular_file(path) || !in) throw SceneError(fmt::format("study file '{}' cannot be read", path));
+  std::stringstream ss;
+  ss << in.rdbuf();
+  toml::table doc;
+  try {
+    doc = toml::parse(ss.str(), path);
+  } catch (const toml::parse_error& e) {
+    throw SceneError(fmt::format("{}:{}:{}: not valid TOML: {}", path, e.source().begin.line, e.source().begin.column,
+                                 e.description()));
+  }
+  auto error = [&](const toml::node& n, const std::string& what) {
+    return SceneError(fmt::format("{}:{}: {}", path, n.source().begin.line, what));
+  };
+  for (auto&& [k, v] : doc) {
+    const std::string key(k.str());
+    if (key != "study" && key != "set" && key != "grid" && key != "cases" && key != "collect")
+      throw error(v, fmt::format("unknown section [{}]; a study has [study], [set], [grid], [[cases]], [collect]", key));
+  }
+  Study s;
+  s.path_ = path;
+  s.name_ = fs::path(path).stem().string();
+  s.folder_ = folder.empty() ? s.name_ : folder;
+  const fs::path here = fs::path(path).parent_path();
+  auto relative_to_study = [&](const std::string& p) {
+    return fs::path(p).is_absolute() ? p : (here / p).lexically_normal().string();
+  };
+
+  const toml::table* study = doc["study"].as_table();
+  if (!study) throw SceneError(fmt::format("{}: a study needs a [study] section with its base scene", path));
+  std::string base, start;
+  s.kind_ = "trace";
+  for (auto&& [k, v] : *study) {
+    const std::string key(k.str());
+    const auto text = v.value_exact<std::string>();
+    if (key != "scene" && key != "task" && key != "start")
+      throw error(v, fmt::format("unknown key 'study.{}'; keys allowed in [study]: scene, task, start", key));
+    if (!text) throw error(v, fmt::format("key 'study.{}' must be a string", key));
+    if (key == "scene") base = relative_to_study(*text);
+    if (key == "task") {
+      if (*text != "trace" && *text != "solve")
+        throw error(v, fmt::format("key 'study.task' = \"{}\" is not one of: trace, solve", *text));
+      s.kind_ = *text;
+    }
+    if (key == "start") start = *text;
+  }
+  if (base.empty()) throw SceneError(fmt::format("{}: key 'study.scene' (the base scene) is missing", path));
+
+  Assignments fixed;
+  if (const toml::node_view set = doc["set"]) {
+    if (!set.as_table()) throw error(*set.node(), "[set] must be a table of scene keys");
+    leaves(*set.as_table(), "", fixed);
+  }
+  for (const auto& [k, v] : fixed)
+    if (special_keys.count(k))
+      throw SceneError(fmt::format("{}:{}: '{}' is set in [study], not in [set]", path, v.line, k));
+
+  std::vector<Assignments> cases;
+  if (const toml::node_view c = doc["cases"]) {
+    const toml::array* a = c.as_array();
+    if (!a || !a->is_array_of_tables()) throw error(*c.node(), "[[cases]] must be tables of scene keys");
+    for (const toml::node& t : *a) {
+      Assignments one;
+      leaves(*t.as_table(), "", one);
+      cases.push_back(std::move(one));
+    }
+  }
+  std::vector<std::pair<std::string, std::vector<Value>>> grid;
+  if (const toml::node_view g = doc["grid"]) {
+    if (!g.as_table()) throw error(*g.node(), "[grid] must be a table of lists");
+    grid = grid_leaves(*g.as_table(), "", path);
+  }
+  if (const toml::node_view c = doc["collect"]) {
+    if (!c.as_table()) throw error(*c.node(), "[collect] must be a table");
+    for (auto&& [k, v] : *c.as_table()) {
+      const std::string key(k.str());
+      std::vector<std::string>* list = key == "events" ? &s.collect_.events
+                                       : key == "stops" ? &s.collect_.stops
+                                       : key == "end"   ? &s.collect_.end
+                                                        : nullptr;
+      if (!list) throw error(v, fmt::format("unknown key 'collect.{}'; keys allowed in [collect]: events, stops, end", key));
+      const toml::array* a = v.as_array();
+      if (!a) throw error(v, fmt::format("key 'collect.{}' must be a list of names", key));
+      for (const toml::node& e : *a) {
+        const auto name = e.value_exact<std::string>();
+        if (!name) throw error(e, fmt::format("key 'collect.{}' must be a list of names", key));
+        list->push_back(*name);
+      }
+    }
+  }
+
+  // the tasks: every case with every grid point (one empty case when there are none)
+  if (cases.empty()) cases.push_back({});
+  std::vector<Assignments> points(1);
+  for (const auto& [key, values] : grid) {
+    std::vector<Assignments> next;
+    for (const Assignments& p : points)
+      for (const Value& v : values) {
+        Assignments q = p;
+        q.push_back({key, v});
+        next.push_back(std::move(q));
+      }
+    points = std::move(next);
+  }
+  for (const Assignments& c : cases)
+    for (const auto& [k, v] : c)
+      if (std::find(s.varied_keys_.begin(), s.varied_keys_.end(), k) == s.varied_keys_.end()) s.varied_keys_.push_back(k);
+  for (const auto& [key, values] : grid)
+    if (std::find(s.varied_keys_.begin(), s.varied_keys_.end(), key) == s.varied_keys_.end()) s.varied_keys_.push_back(key);
+
+  std::set<std::string> names;
+  for (const Assignments& c : cases)
+    for (const Assignments& p : points) {
+      StudyTask t;
+      t.index = static_cast<int>(s.tasks_.size());
+      t.scene = base;
+      t.start = start;
+      Assignments all = fixed;
+      all.insert(all.end(), c.begin(), c.end());
+      all.insert(all.end(), p.begin(), p.end());
+      for (const auto& [k, v] : c) t.varied.push_back({k, v.text});
+      for (const auto& [k, v] : p) t.varied.push_back({k, v.text});
+      for (const auto& [k, v] : all) {
+        if (k == "scene") t.scene = relative_to_study(unquoted(v.text));
+        else if (k == "start") t.start = unquoted(v.text);
+        else t.overrides.push_back(k + "=" + v.text);
+      }
+      if (!t.start.empty() && s.kind_ != "trace")
+        throw SceneError(fmt::format("{}: task {} ({}): a start from a stored point needs task = \"trace\"", path,
+                                     t.index, t.label()));
+      if (!t.start.empty()) {
+        const auto colon = t.start.rfind(':');
+        if (colon != std::string::npos) t.start = relative_to_study(t.start.substr(0, colon)) + t.start.substr(colon);
+      }
+      t.name = task_name(t.varied);
+      if (!names.insert(t.name).second)
+        throw SceneError(fmt::format("{}: task {} ({}) is the same as an earlier one", path, t.index, t.label()));
+      // validated like --set, before any task runs
+      try {
+        const LoadedScene loaded = load_scene(t.scene, declare_trace_keys, t.overrides);
+        if (s.kind_ == "trace") {
+          ContinuationOptions::from_scene(loaded.scene);
+          TraceArguments a;
+          a.restart = t.start;
+          t.record = trace_run_record(loaded, a);
+        } else {
+          t.record = solve_run_record(loaded);
+        }
+      } catch (const SceneError& e) {
+        throw SceneError(fmt::format("{}: task {} ({}): {}", path, t.index, t.label(), e.what()));
+      }
+      t.hash = text_hash(t.record);
+      s.tasks_.push_back(std::move(t));
+    }
+  return s;
+}
+
+}  // namespace keller

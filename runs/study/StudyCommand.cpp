@@ -1,0 +1,55 @@
+#include "runs/study/StudyCommand.hpp"
+
+#include <fmt/format.h>
+
+#include <thread>
+
+#include "core/Scene.hpp"
+#include "runs/ExitCode.hpp"
+#include "runs/study/Study.hpp"
+#include "runs/study/StudyRunner.hpp"
+#include "runs/study/StudyTable.hpp"
+#include "runs/study/StudyTask.hpp"
+
+namespace keller {
+
+int run_study_command(const StudyArguments& args, int& argc, char**& argv) {
+  Study study;
+  try {
+    study = Study::load(args.study, args.folder);
+  } catch (const SceneError& e) {
+    fmt::print(stderr, "keller: error: {}\n", e.what());
+    return exit_code::usage;
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "keller: error: {}: {}\n", args.study, e.what());
+    return exit_code::usage;
+  }
+  if (args.action == "list") {
+    fmt::print("# {} tasks of {} (task, status, name, overrides); folder {}/\n", study.tasks().size(), study.path(),
+               study.folder());
+    for (const StudyTask& t : study.tasks()) {
+      const StudyRow row = StudyTable::row(study, t);
+      fmt::print("{} {} {} {}\n", t.index, row.text.at("status"), t.name, t.label());
+    }
+    return exit_code::ok;
+  }
+  if (args.action == "run") {
+    if (args.task < 0 || args.task >= static_cast<int>(study.tasks().size())) {
+      fmt::print(stderr, "keller: error: {}: --task {} does not exist (tasks 0 to {})\n", args.study, args.task,
+                 static_cast<int>(study.tasks().size()) - 1);
+      return exit_code::usage;
+    }
+    const TaskRecord r = run_study_task(study, study.tasks()[static_cast<size_t>(args.task)]);
+    return r.status == "done" ? exit_code::ok : r.status == "interrupted" ? exit_code::interrupted
+                                                                          : exit_code::numerical_failure;
+  }
+  if (args.action == "collect") {
+    write_study_table(study);
+    return exit_code::ok;
+  }
+  if (under_mpi()) return run_study_mpi(study, argc, argv);
+  const int jobs = args.jobs > 0 ? args.jobs : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  return run_study_local(study, jobs);
+}
+
+}  // namespace keller

@@ -1,0 +1,156 @@
+// The MPI executor (built when CMake finds MPI): rank 0 schedules the tasks dynamically, longest
+// expected first; every other rank asks for a task, runs it in its own process (so that a task
+// that crashes costs that task and not the rank), reports, and asks again.
+#include <mpi.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <deque>
+#include <map>
+#include <thread>
+
+#include "runs/ExitCode.hpp"
+#include "runs/Interrupts.hpp"
+#include "runs/study/StudyRunner.hpp"
+
+namespace keller {
+
+namespace {
+
+constexpr int tag_ready = 1, tag_task = 2;
+constexpr int no_task = -1;
+// rank 0 polls instead of blocking in MPI_Recv, which spins on a core
+constexpr auto poll_interval = std::chrono::milliseconds(1);
+
+// The workers that share this rank's machine: OpenMPI says how many ranks run here.
+int local_workers(int size) {
+  const char* local = std::getenv("OMPI_COMM_WORLD_LOCAL_SIZE");
+  const int ranks_here = local ? std::atoi(local) : size;
+  return std::max(1, ranks_here - 1);  // rank 0 schedules and mostly sleeps
+}
+
+int schedule(const Study& study, int size) {
+  const std::vector<int> order = tasks_to_run(study);
+  StudyProgress progress(study, static_cast<int>(order.size()), size - 1);
+  InterruptGuard interrupts;
+  std::deque<int> queue(order.begin(), order.end());
+  std::deque<int> idle;  // workers waiting for a task while others run (one of theirs may come back)
+  std::map<int, int> attempts;
+  int stopped = 0, running = 0, gaps = 0, finished = 0;
+  double gap_seconds = 0, process_seconds = 0;
+  bool failures = false;
+  auto give = [&](int worker) {  // the next task, or none (the worker stops) when none can come
+    int next = no_task;
+    if (!InterruptGuard::requested() && !queue.empty()) {
+      next = queue.front();
+      queue.pop_front();
+      ++attempts[next];
+      ++running;
+    } else if (!InterruptGuard::requested() && running > 0) {
+      idle.push_back(worker);
+      return;
+    }
+    if (next == no_task) ++stopped;
+    MPI_Send(&next, 1, MPI_INT, worker, tag_task, MPI_COMM_WORLD);
+  };
+  while (stopped < size - 1) {
+    int flag = 0;
+    MPI_Status st;
+    MPI_Iprobe(MPI_ANY_SOURCE, tag_ready, MPI_COMM_WORLD, &flag, &st);
+    if (!flag) {
+      std::this_thread::sleep_for(poll_interval);
+      continue;
+    }
+    // the task it finished (or no_task), waitpid's status, the task process's seconds, and the
+    // time it waited between its last task's end and the start of the task before
+    double msg[4];
+    MPI_Recv(msg, 4, MPI_DOUBLE, st.MPI_SOURCE, tag_ready, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    if (msg[3] > 0) {
+      gap_seconds += msg[3];
+      ++gaps;
+    }
+    const bool reported = static_cast<int>(msg[0]) != no_task;
+    if (reported) --running;
+    give(st.MPI_SOURCE);  // first the worker's next task; the finished one is read after
+    if (reported) {
+      const StudyTask& done = study.tasks()[static_cast<size_t>(msg[0])];
+      TaskRecord record = finished_task(study, done, static_cast<int>(msg[1]));
+      record.attempts = attempts[done.index];
+      record.process_seconds = msg[2];
+      process_seconds += msg[2];
+      ++finished;
+      if (record.status == "died" && record.attempts < 2 && !InterruptGuard::requested()) {
+        std::printf("task %d (%s): %s; running it again\n", done.index, done.label().c_str(),
+                    record.summary.reason.c_str());
+        queue.push_back(done.index);
+      } else {
+        if (record.status == "died") record.status = "failed";
+        if (record.status != "interrupted") write_task_record(study, done, record);
+        failures |= record.status == "failed";
+        progress.finished(done, record);
+      }
+    }
+    // the waiting workers: a task came back, or nothing more can come
+    while (!idle.empty() && (!queue.empty() || running == 0 || InterruptGuard::requested())) {
+      const int worker = idle.front();
+      idle.pop_front();
+      give(worker);
+    }
+  }
+  print_overhead(gaps, gap_seconds, finished, process_seconds);
+  write_study_table(study);
+  if (InterruptGuard::requested()) return exit_code::interrupted;
+  return failures ? exit_code::numerical_failure : exit_code::ok;
+}
+
+void work(const Study& study, int size) {
+  const int threads = blas_threads_for(local_workers(size));
+  double msg[4] = {no_task, 0, 0, 0};
+  auto ended = std::chrono::steady_clock::now();
+  double waited = 0;  // between the last task's end and this task's start, reported with the next message
+  while (true) {
+    msg[3] = waited;
+    MPI_Send(msg, 4, MPI_DOUBLE, 0, tag_ready, MPI_COMM_WORLD);
+    int task = no_task;
+    MPI_Recv(&task, 1, MPI_INT, 0, tag_task, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    if (task == no_task) return;
+    const auto t0 = std::chrono::steady_clock::now();
+    waited = msg[0] == no_task ? 0 : std::chrono::duration<double>(t0 - ended).count();
+    const pid_t pid = spawn_task(study, study.tasks()[static_cast<size_t>(task)], threads);
+    int status = 0;
+    while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
+    msg[0] = task;
+    msg[1] = status;
+    ended = std::chrono::steady_clock::now();
+    msg[2] = std::chrono::duration<double>(ended - t0).count();
+  }
+}
+
+}  // namespace
+
+bool under_mpi() { return std::getenv("OMPI_COMM_WORLD_SIZE") || std::getenv("PMI_SIZE"); }
+
+int run_study_mpi(const Study& study, int& argc, char**& argv) {
+  MPI_Init(&argc, &argv);
+  int rank = 0, size = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  int code = exit_code::ok;
+  if (size == 1) {
+    if (rank == 0) code = run_study_local(study, 1);
+  } else if (rank == 0) {
+    code = schedule(study, size);
+  } else {
+    work(study, size);
+  }
+  MPI_Bcast(&code, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  MPI_Finalize();
+  return code;
+}
+
+}  // namespace keller

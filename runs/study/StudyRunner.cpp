@@ -1,0 +1,228 @@
+#include "runs/study/StudyRunner.hpp"
+
+#include <fcntl.h>
+#include <fmt/format.h>
+#include <sys/prctl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <csignal>
+#include <cstring>
+#include <deque>
+#include <filesystem>
+#include <map>
+#include <thread>
+
+#include "runs/ExitCode.hpp"
+#include "runs/Interrupts.hpp"
+#include "runs/SceneLoader.hpp"
+#include "runs/TraceCommand.hpp"
+#include "runs/study/StudyTable.hpp"
+
+namespace keller {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+double now_seconds() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+std::string duration(double s) {
+  if (s < 90) return fmt::format("{:.0f} s", s);
+  if (s < 5400) return fmt::format("{:.0f} min", s / 60);
+  return fmt::format("{:.1f} h", s / 3600);
+}
+
+}  // namespace
+
+int blas_threads_for(int workers) {
+  const int cores = std::max(1u, std::thread::hardware_concurrency());
+  return std::max(1, cores / std::max(1, workers));
+}
+
+pid_t spawn_task(const Study& study, const StudyTask& task, int blas_threads) {
+  fs::create_directories(fs::path(study.task_log(task)).parent_path());
+  std::error_code ec;
+  fs::remove(study.task_record(task), ec);  // the record that comes back is this run's
+  const pid_t parent = ::getpid();
+  const std::string index = std::to_string(task.index), threads = std::to_string(blas_threads);
+  const std::string log = study.task_log(task);
+  const pid_t pid = ::fork();
+  if (pid != 0) return pid;
+  // the child: dies with its parent (SIGTERM: it stops after its current point), writes to its log
+  ::prctl(PR_SET_PDEATHSIG, SIGTERM);
+  if (::getppid() != parent) ::_exit(exit_code::interrupted);
+  const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
+  if (fd >= 0) {
+    ::dup2(fd, STDOUT_FILENO);
+    ::dup2(fd, STDERR_FILENO);
+    ::close(fd);
+  }
+  ::setenv("OPENBLAS_NUM_THREADS", threads.c_str(), 1);
+  ::setenv("OMP_NUM_THREADS", threads.c_str(), 1);
+  ::execl("/proc/self/exe", "keller", "study", "run", study.path().c_str(), "--task", index.c_str(), "-o",
+          study.folder().c_str(), static_cast<char*>(nullptr));
+  ::_exit(127);
+}
+
+TaskRecord finished_task(const Study& study, const StudyTask& task, int status) {
+  if (auto r = read_task_record(study, task); r && r->hash == task.hash) return *r;
+  TaskRecord died;
+  died.hash = task.hash;
+  died.status = "died";
+  died.summary.exit_code = -1;
+  died.summary.reason = WIFSIGNALED(status) ? fmt::format("its process died of signal {} ({})", WTERMSIG(status),
+                                                          ::strsignal(WTERMSIG(status)))
+                                            : fmt::format("its process ended with exit code {} and no record",
+                                                          WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+  return died;
+}
+
+std::vector<int> tasks_to_run(const Study& study) {
+  std::vector<int> todo;
+  std::map<int, double> before;  // the time a task took when it last ran
+  for (const StudyTask& t : study.tasks()) {
+    if (task_done(study, t)) continue;
+    todo.push_back(t.index);
+    if (const auto r = read_task_record(study, t); r && r->summary.seconds > 0) before[t.index] = r->summary.seconds;
+  }
+  std::map<int, double> cost;
+  if (before.size() == todo.size()) {
+    cost = before;
+  } else {
+    // the size of each task's problem, built once per physics: a factorisation costs about n^1.5
+    std::map<std::string, double> size_of;
+    for (int i : todo) {
+      const StudyTask& t = study.tasks()[static_cast<size_t>(i)];
+      double n = 1;
+      try {
+        const LoadedScene loaded = load_scene(t.scene, declare_trace_keys, t.overrides);
+        const std::string key = loaded.scene.source() + "\n" + loaded.physics();
+        if (!size_of.count(key)) size_of[key] = static_cast<double>(loaded.type->build(loaded.scene)->size());
+        n = size_of[key];
+      } catch (const std::exception&) {  // it fails when it runs, and says why there
+      }
+      cost[i] = std::pow(n, 1.5);
+    }
+  }
+  std::stable_sort(todo.begin(), todo.end(), [&](int a, int b) { return cost[a] > cost[b]; });
+  return todo;
+}
+
+StudyProgress::StudyProgress(const Study& study, int to_run, int workers)
+    : study_(study), total_(to_run), workers_(workers), start_(now_seconds()) {
+  const int all = static_cast<int>(study.tasks().size());
+  fmt::print("study {}: {} tasks, {} done before, {} to run on {} worker{} ({} BLAS thread{} each); output in {}/\n",
+             study.name(), all, all - to_run, to_run, workers, workers == 1 ? "" : "s", blas_threads_for(workers),
+             blas_threads_for(workers) == 1 ? "" : "s", study.folder());
+  std::fflush(stdout);
+}
+
+void StudyProgress::finished(const StudyTask& task, const TaskRecord& record) {
+  ++done_;
+  const StudyRow row = StudyTable::row(study_, task);
+  const double elapsed = now_seconds() - start_;
+  const int left = total_ - done_;
+  // the remaining tasks at the pace so far (the longest ran first, so this errs high)
+  const std::string eta = left == 0 ? "" : fmt::format("; about {} left", duration(elapsed / done_ * left));
+  const std::string what = record.status == "done" ? row.found : record.status + ": " + record.summary.reason;
+  fmt::print("[{}/{}] task {} ({}): {}{}\n", done_, total_, task.index, task.label(), what, eta);
+  std::fflush(stdout);
+}
+
+void print_overhead(int gaps, double gap_seconds, int tasks, double process_seconds) {
+  if (gaps == 0 || tasks == 0) return;
+  const double per_task = gap_seconds / gaps, task = process_seconds / tasks;
+  fmt::print("scheduling: {:.2f} ms between a task's end and the next task's start on its worker, {:.3f}% of a "
+             "task's mean {:.3f} s\n",
+             1e3 * per_task, task > 0 ? 100 * per_task / task : 0.0, task);
+}
+
+void write_study_table(const Study& study) {
+  const StudyTable table = StudyTable::collect(study);
+  table.write(study.table_csv(), study.table_h5());
+  int done = 0, failed = 0;
+  for (const StudyRow& r : table.rows()) {
+    const std::string& s = r.text.at("status");
+    done += s == "done";
+    failed += s == "failed" || s == "died";
+  }
+  fmt::print("collected {} tasks ({} done, {} failed, {} not run) in {} and {}\n", table.rows().size(), done, failed,
+             table.rows().size() - done - failed, study.table_csv(), study.table_h5());
+}
+
+int run_study_local(const Study& study, int jobs) {
+  const std::vector<int> order = tasks_to_run(study);
+  const int workers = std::max(1, std::min<int>(jobs, static_cast<int>(order.size())));
+  StudyProgress progress(study, static_cast<int>(order.size()), workers);
+  InterruptGuard interrupts;
+  std::deque<int> queue(order.begin(), order.end());
+  std::map<pid_t, int> running;
+  std::map<pid_t, double> started;
+  std::map<int, int> attempts;
+  bool failures = false;
+  // the scheduling overhead: from a task's end to the start of the next on its worker
+  double reaped = -1, gaps = 0, process = 0;
+  int spawned_after_reap = 0, finished = 0;
+  auto fill = [&]() {  // a free worker starts the next task before anything else is done
+    while (!InterruptGuard::requested() && !queue.empty() && static_cast<int>(running.size()) < workers) {
+      const int i = queue.front();
+      queue.pop_front();
+      ++attempts[i];
+      const pid_t pid = spawn_task(study, study.tasks()[static_cast<size_t>(i)], blas_threads_for(workers));
+      running[pid] = i;
+      started[pid] = now_seconds();
+      if (reaped >= 0) {
+        gaps += started[pid] - reaped;
+        ++spawned_after_reap;
+        reaped = -1;
+      }
+    }
+  };
+  while (!queue.empty() || !running.empty()) {
+    fill();
+    if (running.empty()) break;
+    int status = 0;
+    const pid_t pid = ::waitpid(-1, &status, 0);
+    if (pid < 0) {
+      if (errno == EINTR) continue;  // a signal: the children got it too and stop after their point
+      break;
+    }
+    const auto it = running.find(pid);
+    if (it == running.end()) continue;
+    reaped = now_seconds();
+    const StudyTask& task = study.tasks()[static_cast<size_t>(it->second)];
+    running.erase(it);
+    const double task_seconds = reaped - started[pid];
+    fill();
+    TaskRecord record = finished_task(study, task, status);
+    record.attempts = attempts[task.index];
+    record.process_seconds = task_seconds;
+    process += record.process_seconds;
+    ++finished;
+    if (record.status == "died" && record.attempts < 2 && !InterruptGuard::requested()) {
+      fmt::print("task {} ({}): {}; running it again\n", task.index, task.label(), record.summary.reason);
+      queue.push_back(task.index);
+      continue;
+    }
+    if (record.status == "died") record.status = "failed";
+    if (record.status != "interrupted") write_task_record(study, task, record);
+    failures |= record.status == "failed";
+    progress.finished(task, record);
+  }
+  print_overhead(spawned_after_reap, gaps, finished, process);
+  write_study_table(study);
+  if (InterruptGuard::requested()) {
+    fmt::print("interrupted: the tasks that were running stop after their current point; run the study again to "
+               "continue them\n");
+    return exit_code::interrupted;
+  }
+  return failures ? exit_code::numerical_failure : exit_code::ok;
+}
+
+}  // namespace keller

@@ -1,0 +1,234 @@
+#include "runs/study/StudyTable.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <tuple>
+
+#include "continuation/BranchFile.hpp"
+#include "core/H5File.hpp"
+#include "core/PendingFile.hpp"
+#include "runs/study/StudyTask.hpp"
+
+namespace keller {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr int kind_requested = 2, kind_event = 3, kind_fold = 4, kind_branch_point = 5, kind_end = 6, kind_hopf = 7;
+
+std::string unquoted(const std::string& v) {
+  if (v.size() >= 2 && v.front() == '"' && v.back() == '"') return v.substr(1, v.size() - 2);
+  return v;
+}
+
+// Reads what [collect] asks for from a branch file into the row.
+void collect_branch(const Study& study, const std::string& path, StudyRow& row) {
+  const BranchTable t = read_branch_table(path);
+  const StudyCollect& c = study.collect();
+  const int kind = t.column("kind"), param = t.column(t.parameter);
+  row.text["parameter"] = t.parameter;
+  if (t.rows.rows() == 0) return;
+  std::vector<std::string> found;
+  long ev_rows = 0, ev_cols = 0;
+  std::vector<double> events;
+  {
+    H5File f(path, H5File::Mode::Read);
+    if (f.exists("/branch/events")) events = f.read_matrix("/branch/events", &ev_rows, &ev_cols);
+  }
+  const std::string& monitor_names_joined = t.status;  // for files whose end rows name no monitor
+  for (const std::string& name : c.events) {
+    int want_kind = kind_event;
+    if (name == "fold") want_kind = kind_fold;
+    else if (name == "branch-point") want_kind = kind_branch_point;
+    else if (name == "hopf") want_kind = kind_hopf;
+    // a monitor's zero is an event, or the end of the branch where the stop observable of that
+    // name crossed its threshold (the engine reports such a point once, as the end)
+    std::vector<int> monitors, thresholds;
+    for (size_t m = 0; m < t.monitors.size(); ++m) {
+      if (t.monitors[m] == name) monitors.push_back(static_cast<int>(m));
+      if (t.monitors[m].rfind(name + " < ", 0) == 0 || t.monitors[m].rfind(name + " > ", 0) == 0)
+        thresholds.push_back(static_cast<int>(m));
+    }
+    auto in = [](const std::vector<int>& v, double x) { return std::find(v.begin(), v.end(), static_cast<int>(x)) != v.end(); };
+    double value = NAN;
+    for (long i = 0; i < ev_rows && std::isnan(value); ++i) {
+      const double* e = &events[static_cast<size_t>(i * ev_cols)];
+      const int k = static_cast<int>(e[1]);
+      if (want_kind != kind_event ? k == want_kind : (k == kind_event && in(monitors, e[3])) ||
+                                                         (k == kind_end && (in(thresholds, e[3]) ||
+                                                                            (e[3] < 0 && (monitor_names_joined.rfind(name + " < ", 0) == 0 ||
+                                                                                          monitor_names_joined.rfind(name + " > ", 0) == 0)))))
+        value = e[2];
+    }
+    row.number["event:" + name] = value;
+    if (std::isfinite(value)) found.push_back(fmt::format("{} at {} = {:.7g}", name, t.parameter, value));
+  }
+  // a stop crossed more than once (a branch that turns at a fold) gives o@v, then o@v#2, ...
+  std::map<double, int> crossings;
+  for (long i = 0; i < t.rows.rows(); ++i) {
+    if (static_cast<int>(t.rows(i, kind)) != kind_requested) continue;
+    const double v = t.rows(i, param);
+    const int k = ++crossings[v];
+    for (const std::string& o : c.stops)
+      row.number[k == 1 ? fmt::format("{}@{}", o, v) : fmt::format("{}@{}#{}", o, v, k)] = t.rows(i, t.column(o));
+  }
+  const long last = t.rows.rows() - 1;
+  row.number["end_parameter"] = t.rows(last, param);
+  for (const std::string& o : c.end) row.number["end:" + o] = t.rows(last, t.column(o));
+  found.push_back(fmt::format("ended at {} = {:.7g} ({})", t.parameter, t.rows(last, param), t.status));
+  row.found = fmt::format("{}", fmt::join(found, "; "));
+}
+
+void collect_solution(const Study& study, const std::string& path, StudyRow& row) {
+  H5File f(path, H5File::Mode::Read);
+  std::vector<std::string> shown;
+  for (const std::string& o : study.collect().end) {
+    const double v = f.has_attribute("/solution/observables", o) ? f.read_double_attribute("/solution/observables", o) : NAN;
+    row.number["end:" + o] = v;
+    shown.push_back(fmt::format("{} = {:.7g}", o, v));
+  }
+  row.found = shown.empty() ? "solved" : fmt::format("{}", fmt::join(shown, ", "));
+}
+
+std::string csv_field(const std::string& s) {
+  if (s.find_first_of(",\"\n") == std::string::npos) return s;
+  std::string out = "\"";
+  for (char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return out + "\"";
+}
+
+}  // namespace
+
+StudyRow StudyTable::row(const Study& study, const StudyTask& task) {
+  StudyRow row;
+  row.task = task.index;
+  row.text["name"] = task.name;
+  for (const auto& [k, v] : task.varied) row.text[k] = unquoted(v);
+  const auto record = read_task_record(study, task);
+  if (!record) {
+    row.text["status"] = "missing";
+    return row;
+  }
+  const bool current = record->hash == task.hash;
+  row.text["status"] = current ? record->status : "changed";
+  row.text["reason"] = record->summary.reason;
+  const RunSummary& s = record->summary;
+  row.number["exit_code"] = s.exit_code;
+  row.number["unknowns"] = static_cast<double>(s.unknowns);
+  row.number["points"] = s.points;
+  row.number["rejected"] = s.rejected;
+  row.number["factorisations"] = static_cast<double>(s.factorisations);
+  row.number["seconds"] = s.seconds;
+  row.number["attempts"] = record->attempts;
+  row.number["process_seconds"] = record->process_seconds;
+  row.number["peak_mb"] = record->peak_mb;
+  row.found = record->status == "done" ? "" : record->status + ": " + s.reason;
+  if (current && record->status == "done" && fs::exists(study.task_output(task))) {
+    try {
+      if (study.kind() == "trace") collect_branch(study, study.task_output(task), row);
+      else collect_solution(study, study.task_output(task), row);
+    } catch (const std::exception& e) {
+      row.text["status"] = "failed";
+      row.text["reason"] = std::string("its output cannot be read: ") + e.what();
+      row.found = row.text["reason"];
+    }
+  }
+  return row;
+}
+
+StudyTable StudyTable::collect(const Study& study) {
+  StudyTable t;
+  for (const StudyTask& task : study.tasks()) t.rows_.push_back(row(study, task));
+  t.text_columns_ = {"name"};
+  for (const std::string& k : study.varied_keys()) t.text_columns_.push_back(k);
+  for (const char* c : {"status", "reason", "parameter"}) t.text_columns_.push_back(c);
+  // the collected numbers in a fixed order: events, stops by observable and value, the end, the cost
+  std::vector<std::string> events, stops, end;
+  for (const std::string& e : study.collect().events) events.push_back("event:" + e);
+  std::set<std::tuple<std::string, double, int>> stop_columns;  // observable, stop, crossing
+  for (const StudyRow& r : t.rows_)
+    for (const auto& [name, v] : r.number) {
+      const auto at = name.find('@');
+      if (at == std::string::npos) continue;
+      const auto hash = name.find('#', at);
+      const double value = std::stod(name.substr(at + 1, hash == std::string::npos ? std::string::npos : hash - at - 1));
+      stop_columns.insert({name.substr(0, at), value, hash == std::string::npos ? 1 : std::stoi(name.substr(hash + 1))});
+    }
+  for (const std::string& o : study.collect().stops)
+    for (const auto& [obs, value, k] : stop_columns)
+      if (obs == o) stops.push_back(k == 1 ? fmt::format("{}@{}", o, value) : fmt::format("{}@{}#{}", o, value, k));
+  end.push_back("end_parameter");
+  for (const std::string& o : study.collect().end) end.push_back("end:" + o);
+  t.number_columns_ = {"exit_code"};
+  for (const auto* group : {&events, &stops, &end}) t.number_columns_.insert(t.number_columns_.end(), group->begin(), group->end());
+  for (const char* c : {"unknowns", "points", "rejected", "factorisations", "seconds", "process_seconds", "peak_mb", "attempts"})
+    t.number_columns_.push_back(c);
+  return t;
+}
+
+void StudyTable::write(const std::string& csv_path, const std::string& h5_path) const {
+  fs::create_directories(fs::path(csv_path).parent_path());
+  {
+    PendingFile csv(csv_path);
+    {
+      std::ofstream o(csv.path());
+      std::vector<std::string> header = {"task"};
+      header.insert(header.end(), text_columns_.begin(), text_columns_.end());
+      header.insert(header.end(), number_columns_.begin(), number_columns_.end());
+      for (size_t i = 0; i < header.size(); ++i) o << (i ? "," : "") << csv_field(header[i]);
+      o << "\n";
+      for (const StudyRow& r : rows_) {
+        o << r.task;
+        for (const std::string& c : text_columns_) {
+          const auto it = r.text.find(c);
+          o << "," << csv_field(it == r.text.end() ? "" : it->second);
+        }
+        for (const std::string& c : number_columns_) {
+          const auto it = r.number.find(c);
+          o << "," << (it == r.number.end() || std::isnan(it->second) ? std::string() : fmt::format("{:.17g}", it->second));
+        }
+        o << "\n";
+      }
+      if (!o) throw std::runtime_error("cannot write '" + csv.path() + "'");
+    }
+    csv.commit();
+  }
+  PendingFile h5(h5_path);
+  {
+    H5File f(h5.path(), H5File::Mode::Create);
+    f.create_group("/study");
+    std::vector<double> task;
+    for (const StudyRow& r : rows_) task.push_back(r.task);
+    f.write_vector("/study/task", task);
+    std::string order = "task";
+    for (const std::string& c : text_columns_) {
+      std::vector<std::string> v;
+      for (const StudyRow& r : rows_) {
+        const auto it = r.text.find(c);
+        v.push_back(it == r.text.end() ? "" : it->second);
+      }
+      f.write_strings("/study/" + c, v);
+      order += "," + c;
+    }
+    for (const std::string& c : number_columns_) {
+      std::vector<double> v;
+      for (const StudyRow& r : rows_) {
+        const auto it = r.number.find(c);
+        v.push_back(it == r.number.end() ? NAN : it->second);
+      }
+      f.write_vector("/study/" + c, v);
+      order += "," + c;
+    }
+    f.set_attribute("/study", "columns", order);
+    f.close();
+  }
+  h5.commit();
+}
+
+}  // namespace keller

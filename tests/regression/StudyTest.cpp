@@ -1,0 +1,339 @@
+// keller study end to end: the same collected table under every executor (one worker, two, the
+// ranks of mpirun); a study killed with SIGKILL and run again runs only what was unfinished and
+// ends with the same table, and a changed override reruns only the tasks it changes; a task
+// that fails is recorded with its reason while the others complete; a bad study file stops
+// before any task; and a branch started from a stored point of a branch in another parameter
+// is the branch started from a fresh solve there.
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <regex>
+#include <set>
+#include <sstream>
+#include <thread>
+
+#include "continuation/BranchFile.hpp"
+#include "support/TestSupport.hpp"
+
+using namespace keller;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string contents(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// 12 short Bratu branches: 4 grids x 3 ends, the fold and u(1/2) at the stops collected. The
+// renewal cost is pinned: by default the chord's renewals follow the run's measured times, so two
+// runs under different loads may differ in their factorisations and in the last digits (below the
+// corrector's tolerance); pinned, every run of a task is the same to the bit, which is what these
+// tests compare across executors and restarts.
+std::string bratu_study(const std::string& dir, const std::string& ends = "2.0, 3.0, 4.0") {
+  const std::string path = dir + "/bratu.toml";
+  std::ofstream(path) << "[study]\nscene = \"" << test::source_path("runs/scenes/bratu1d_fold.toml")
+                      << "\"\n\n[set]\n\"output.xdmf\" = false\n\"continuation.renewal_cost\" = 25.0\n\n[grid]\n\"bratu.intervals\" = [16, 24, 32, 48]\n"
+                      << "\"continuation.stop_above\" = [" << ends << "]\n\n[collect]\nevents = [\"fold\", \"u_mid\"]\n"
+                      << "stops = [\"u_mid\"]\nend = [\"u_mid\"]\n";
+  return path;
+}
+
+// The collected CSV without the columns that measure time and memory (the rest is deterministic).
+std::string table_without_time(const std::string& csv) {
+  std::ifstream in(csv);
+  std::string line, out;
+  std::set<size_t> timed;
+  bool header = true;
+  while (std::getline(in, line)) {
+    std::vector<std::string> cells;
+    std::stringstream ss(line);
+    for (std::string c; std::getline(ss, c, ',');) cells.push_back(c);
+    if (header)
+      for (size_t i = 0; i < cells.size(); ++i)
+        if (cells[i] == "seconds" || cells[i] == "process_seconds" || cells[i] == "peak_mb") timed.insert(i);
+    header = false;
+    for (size_t i = 0; i < cells.size(); ++i)
+      if (!timed.count(i)) out += cells[i] + ",";
+    out += "\n";
+  }
+  return out;
+}
+
+// A collected CSV as rows of named cells.
+std::vector<std::map<std::string, std::string>> read_table(const std::string& csv) {
+  std::ifstream in(csv);
+  std::string line;
+  std::vector<std::string> header;
+  std::vector<std::map<std::string, std::string>> rows;
+  while (std::getline(in, line)) {
+    std::vector<std::string> cells;
+    std::stringstream ss(line);
+    for (std::string c; std::getline(ss, c, ',');) cells.push_back(c);
+    if (header.empty()) {
+      header = cells;
+      continue;
+    }
+    std::map<std::string, std::string> row;
+    for (size_t i = 0; i < cells.size() && i < header.size(); ++i) row[header[i]] = cells[i];
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+int count(const std::string& text, const std::string& what) {
+  int n = 0;
+  for (size_t p = text.find(what); p != std::string::npos; p = text.find(what, p + 1)) ++n;
+  return n;
+}
+
+}  // namespace
+
+TEST(Study, TheSameTableUnderEveryExecutor) {
+  const std::string dir = test::scratch_dir("study_executors");
+  const std::string study = bratu_study(dir);
+  auto r = test::run_keller("study " + study + " --jobs 1 -o " + dir + "/one");
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_EQ(count(r.out, "] task "), 12) << r.out;  // a line per finished task
+  EXPECT_NE(r.out.find("collected 12 tasks (12 done, 0 failed, 0 not run)"), std::string::npos) << r.out;
+  const std::string one = table_without_time(dir + "/one/bratu.csv");
+  EXPECT_EQ(count(one, "\n"), 13);
+  // what was collected: every branch passes its fold, which converges to the continuum's
+  // 3.513830719125 at second order in the grid (the error is 1.83 h^2 for h = 1/16 ... 1/48),
+  // and ends where u(1/2) crosses its threshold, which is where the event u_mid is located
+  const auto rows = read_table(dir + "/one/bratu.csv");
+  ASSERT_EQ(rows.size(), 12u);
+  for (const auto& row : rows) {
+    EXPECT_EQ(row.at("status"), "done");
+    const double h = 1.0 / std::stod(row.at("bratu.intervals"));
+    EXPECT_NEAR(std::stod(row.at("event:fold")), 3.513830719125, 2 * h * h) << row.at("name");
+    EXPECT_EQ(row.at("event:u_mid"), row.at("end_parameter")) << row.at("name");
+    EXPECT_NEAR(std::stod(row.at("end:u_mid")), std::stod(row.at("continuation.stop_above")), 1e-8);
+  }
+  r = test::run_keller("study " + study + " --jobs 2 -o " + dir + "/two");
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_EQ(table_without_time(dir + "/two/bratu.csv"), one);
+  if (std::string(KELLER_MPIRUN).empty()) GTEST_SKIP() << "no mpirun: the MPI executor is not tested";
+  const std::string mpi = std::string(KELLER_MPIRUN) + " --allow-run-as-root --oversubscribe -n 3 " + KELLER_BINARY +
+                          " study " + study + " -o " + dir + "/mpi > " + dir + "/mpi.log 2>&1";
+  ASSERT_EQ(std::system(mpi.c_str()), 0) << contents(dir + "/mpi.log");
+  EXPECT_EQ(table_without_time(dir + "/mpi/bratu.csv"), one);
+  EXPECT_EQ(count(contents(dir + "/mpi.log"), "] task "), 12);
+}
+
+TEST(Study, AKilledStudyRunsOnlyWhatWasUnfinished) {
+  const std::string dir = test::scratch_dir("study_kill");
+  const std::string study = bratu_study(dir);
+  auto r = test::run_keller("study " + study + " --jobs 2 -o " + dir + "/reference");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string reference = table_without_time(dir + "/reference/bratu.csv");
+  // the study killed with SIGKILL once four tasks have their records
+  const pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    if (!freopen("/dev/null", "w", stdout)) _exit(3);
+    execl(KELLER_BINARY, "keller", "study", study.c_str(), "--jobs", "1", "-o", (dir + "/s").c_str(),
+          static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  auto records = [&]() {
+    int n = 0;
+    if (fs::exists(dir + "/s/tasks"))
+      for (const auto& e : fs::directory_iterator(dir + "/s/tasks")) n += e.path().extension() == ".toml";
+    return n;
+  };
+  const auto t0 = std::chrono::steady_clock::now();
+  while (records() < 4 && std::chrono::steady_clock::now() - t0 < std::chrono::seconds(60))
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  ASSERT_EQ(kill(pid, SIGKILL), 0);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFSIGNALED(status)) << "the study ended before it was killed";
+  const int finished = records();
+  ASSERT_GE(finished, 4);
+  ASSERT_LT(finished, 12);
+  std::map<std::string, fs::file_time_type> kept;
+  for (const auto& e : fs::directory_iterator(dir + "/s/tasks"))
+    if (e.path().extension() == ".toml") kept[e.path().string()] = fs::last_write_time(e.path());
+  r = test::run_keller("study " + study + " --jobs 2 -o " + dir + "/s");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find(fmt::format("{} done before, {} to run", finished, 12 - finished)), std::string::npos) << r.out;
+  EXPECT_EQ(count(r.out, "] task "), 12 - finished);
+  for (const auto& [path, time] : kept) EXPECT_EQ(fs::last_write_time(path), time) << path << " ran again";
+  EXPECT_EQ(table_without_time(dir + "/s/bratu.csv"), reference);
+  // a changed override reruns the four tasks it changes, and only those
+  bratu_study(dir, "2.0, 3.0, 3.5");
+  r = test::run_keller("study " + study + " --jobs 2 -o " + dir + "/s");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("8 done before, 4 to run"), std::string::npos) << r.out;
+  EXPECT_EQ(count(r.out, "continuation.stop_above=3.5"), 4) << r.out;
+}
+
+TEST(Study, AFailedTaskIsRecordedAndTheOthersComplete) {
+  const std::string dir = test::scratch_dir("study_fail");
+  const std::string study = dir + "/mixed.toml";
+  std::ofstream(study) << "[study]\nscene = \"" << test::source_path("runs/scenes/bratu1d_fold.toml") << "\"\n"
+                       << "[set]\n\"bratu.intervals\" = 16\n\"output.xdmf\" = false\n"
+                       // no steady state at lambda = 20 (beyond the fold): Newton fails at the first state
+                       << "[[cases]]\n\"bratu.lambda\" = 20.0\n\"newton.max_iterations\" = 5\n"
+                       << "[[cases]]\n\"bratu.lambda\" = 0.0\n"
+                       // valid for the schema, refused when the problem is built
+                       << "[[cases]]\nscene = \"" << test::source_path("runs/scenes/bratu2d_fold.toml")
+                       << "\"\n\"bratu.intervals\" = 5000\n"
+                       << "[[cases]]\n\"bratu.lambda\" = 0.5\n"
+                       << "[collect]\nevents = [\"fold\"]\n";
+  const auto r = test::run_keller("study " + study + " --jobs 2 -o " + dir + "/m");
+  EXPECT_EQ(r.exit_code, 1) << r.out << r.err;  // some task failed
+  EXPECT_NE(r.out.find("collected 4 tasks (2 done, 2 failed, 0 not run)"), std::string::npos) << r.out;
+  const std::string csv = contents(dir + "/m/mixed.csv");
+  EXPECT_NE(csv.find("failed,the first steady state failed"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("bratu2d takes at most 4000 elements per side"), std::string::npos) << csv;
+  EXPECT_EQ(count(csv, ",done,"), 2) << csv;
+  // the list says the same, and a rerun runs the failed tasks again
+  const auto list = test::run_keller("study list " + study + " -o " + dir + "/m");
+  EXPECT_EQ(count(list.out, " failed "), 2) << list.out;
+  const auto again = test::run_keller("study " + study + " --jobs 2 -o " + dir + "/m");
+  EXPECT_NE(again.out.find("2 done before, 2 to run"), std::string::npos) << again.out;
+}
+
+// A task whose process dies (here every task kills itself at its third point) is reported, run
+// once more, then recorded as failed with the signal; the study goes on to the end.
+TEST(Study, ATaskWhoseProcessDiesIsRunAgainThenRecordedAsFailed) {
+  const std::string dir = test::scratch_dir("study_died");
+  const std::string study = dir + "/died.toml";
+  std::ofstream(study) << "[study]\nscene = \"" << test::source_path("runs/scenes/bratu1d_fold.toml") << "\"\n"
+                       << "[set]\n\"output.xdmf\" = false\n[grid]\n\"bratu.intervals\" = [16, 24]\n";
+  std::vector<std::pair<std::string, std::string>> executors = {{"--jobs 2", "local"}};
+  if (!std::string(KELLER_MPIRUN).empty()) executors.push_back({"mpi", "mpi"});
+  for (const auto& [how, name] : executors) {
+    SCOPED_TRACE(name);
+    const std::string out = dir + "/" + name;
+    const std::string env = "KELLER_SIGNAL_AT=point:3 KELLER_SIGNAL=KILL";
+    test::CommandResult r;
+    if (how == "mpi") {
+      const std::string cmd = env + " " + std::string(KELLER_MPIRUN) + " --allow-run-as-root --oversubscribe -n 3 " +
+                              KELLER_BINARY + " study " + study + " -o " + out + " > " + dir + "/mpi.log 2>&1";
+      r.exit_code = WEXITSTATUS(std::system(cmd.c_str()));
+      r.out = contents(dir + "/mpi.log");
+    } else {
+      r = test::run_keller("study " + study + " " + how + " -o " + out, env);
+    }
+    EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+    EXPECT_EQ(count(r.out, "running it again"), 2) << r.out;
+    EXPECT_NE(r.out.find("collected 2 tasks (0 done, 2 failed, 0 not run)"), std::string::npos) << r.out;
+    for (const auto& row : read_table(out + "/died.csv")) {
+      EXPECT_EQ(row.at("status"), "failed");
+      EXPECT_EQ(row.at("reason"), "its process died of signal 9 (Killed)");
+      EXPECT_EQ(row.at("attempts"), "2");
+    }
+  }
+}
+
+TEST(Study, ABadStudyFileStopsBeforeAnyTask) {
+  const std::string dir = test::scratch_dir("study_bad");
+  const std::string scene = test::source_path("runs/scenes/bratu1d_fold.toml");
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"[study]\nscene = \"" + scene + "\"\nwhat = 1\n", "bad.toml:3: unknown key 'study.what'"},
+      {"[study]\nscene = \"" + scene + "\"\n[grid]\n\"bratu.intervals\" = [16, 1]\n",
+       "bad.toml: task 1 (bratu.intervals=1): " + scene + " (--set): key 'bratu.intervals' = 1 is out of range"},
+      {"[study]\nscene = \"" + scene + "\"\n[set]\n\"bratu.nope\" = 1\n", "unknown key 'bratu.nope'"},
+      {"[study]\nscene = \"" + scene + "\"\n[grid]\n\"bratu.intervals\" = 16\n",
+       "bad.toml:4: [grid] key 'bratu.intervals' must be a non-empty list"},
+      {"[study]\nscene = \"" + scene + "\"\n[solve]\n", "bad.toml:3: unknown section [solve]"},
+      {"[study]\ntask = \"trace\"\n", "key 'study.scene' (the base scene) is missing"},
+  };
+  for (const auto& [text, expected] : cases) {
+    SCOPED_TRACE(text);
+    std::ofstream(dir + "/bad.toml") << text;
+    const auto r = test::run_keller("study " + dir + "/bad.toml -o " + dir + "/out");
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find(expected), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir + "/out"));
+  }
+}
+
+// Issue 19, item 5: a Wi branch of the collapsible channel started from the stored state of a
+// Gamma branch at Gamma = 1.98e-4 is, to the corrector's tolerance, the Wi branch started from a
+// fresh solve at the same parameters (coarse mesh).
+TEST(Study, ABranchInAnotherParameterFromAStoredPointIsTheBranchFromAFreshSolve) {
+  const std::string dir = test::scratch_dir("study_other_parameter");
+  const std::string coarse =
+      " --set mesh.name=custom --set mesh.nx_upstream=5 --set mesh.nx_deformable=10 --set mesh.nx_downstream=5"
+      " --set mesh.ny_fluid=4 --set mesh.ny_solid=2 --set output.xdmf=false";
+  auto r = test::run_keller("trace " + test::source_path("runs/scenes/collapsible_oldroyd_b_gamma.toml") + coarse +
+                            " --set parameters.Wi=0.02 --set continuation.upper=2.5e-4 --set 'continuation.stops=[1.98e-4]'"
+                            " -o " + dir + "/gamma.h5");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const BranchTable g = read_branch_table(dir + "/gamma.h5");
+  int row = -1;
+  for (long i = 0; i < g.rows.rows(); ++i)
+    if (static_cast<int>(g.rows(i, g.column("kind"))) == 2) row = static_cast<int>(i);
+  ASSERT_GE(row, 0);
+  ASSERT_NEAR(g.rows(row, g.column("Gamma")), 1.98e-4, 1e-12);
+  const std::string wi = test::source_path("runs/scenes/collapsible_oldroyd_b_wi_low_gamma.toml") + coarse +
+                         " --set parameters.Gamma=1.98e-4 --set continuation.upper=0.06 --set 'continuation.stops=[0.03,0.05]'";
+  r = test::run_keller("trace " + wi + " -o " + dir + "/from_gamma.h5 --restart " + dir + "/gamma.h5:" + std::to_string(row));
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("starting a branch in Wi at row"), std::string::npos) << r.out;
+  r = test::run_keller("trace " + wi + " --set parameters.Wi=0.02 -o " + dir + "/fresh.h5");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const BranchTable a = read_branch_table(dir + "/from_gamma.h5"), b = read_branch_table(dir + "/fresh.h5");
+  EXPECT_NEAR(a.rows(0, a.column("Wi")), 0.02, 1e-15);
+  // the points every run of this scene lands on: the stops and the end
+  auto landed = [](const BranchTable& t) {
+    std::vector<long> rows;
+    for (long i = 0; i < t.rows.rows(); ++i)
+      if (const int k = static_cast<int>(t.rows(i, t.column("kind"))); k == 2 || k == 6 || i == 0) rows.push_back(i);
+    return rows;
+  };
+  const auto ra = landed(a), rb = landed(b);
+  ASSERT_EQ(ra.size(), rb.size());
+  ASSERT_GE(ra.size(), 3u);
+  for (size_t k = 0; k < ra.size(); ++k)
+    for (const std::string c : {"Wi", "dP", "dy_max", "gap_min", "min_m1", "max_m3"}) {
+      const double x = a.rows(ra[k], a.column(c)), y = b.rows(rb[k], b.column(c));
+      // both solutions meet the corrector's residual tolerance (1e-10 relative): the observables
+      // agree to about that times the conditioning
+      EXPECT_NEAR(x, y, 1e-7 * std::max(1.0, std::abs(y))) << c << " at landed point " << k;
+    }
+}
+
+// What accuracy costs (runs/scripts/convergence.py) on a family with a known limit: the fold of
+// the 1D Bratu problem on 16 to 128 intervals converges at second order, and the Richardson
+// extrapolation of the two finest grids lands on the continuum fold 3.513830719125 to within its
+// h^4 remainder (3e-8 here; 1e-7 relative asserted).
+TEST(Study, TheConvergenceTableFindsTheOrderAndTheLimit) {
+  const std::string dir = test::scratch_dir("study_convergence");
+  const std::string study = dir + "/conv.toml";
+  std::ofstream(study) << "[study]\nscene = \"" << test::source_path("runs/scenes/bratu1d_fold.toml") << "\"\n"
+                       << "[set]\n\"output.xdmf\" = false\n[grid]\n\"bratu.intervals\" = [16, 32, 64, 128]\n"
+                       << "[collect]\nevents = [\"fold\"]\n";
+  auto r = test::run_keller("study " + study + " --jobs 2 -o " + dir + "/conv");
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  const std::string script = std::string(KELLER_PYTHON) + " " + test::source_path("runs/scripts/convergence.py") + " " +
+                             dir + "/conv/conv.h5 --mesh bratu.intervals --resolution bratu.intervals --observables "
+                             "event:fold --published event:fold=3.513830719125 --csv " + dir + "/conv.csv --markdown " +
+                             dir + "/conv.md --figure " + dir + "/conv.png > /dev/null";
+  ASSERT_EQ(std::system(script.c_str()), 0);
+  const auto rows = read_table(dir + "/conv.csv");
+  ASSERT_EQ(rows.size(), 4u);
+  for (const auto& row : rows) {
+    EXPECT_EQ(row.at("observed"), "True");
+    EXPECT_NEAR(std::stod(row.at("order")), 2.0, 0.01);
+    EXPECT_NEAR(std::stod(row.at("extrapolated")), 3.513830719125, 1e-7 * 3.513830719125);
+  }
+  // the error of each grid against the extrapolation falls fourfold per halving of h
+  for (size_t k = 1; k < rows.size(); ++k)
+    EXPECT_NEAR(std::stod(rows[k - 1].at("error")) / std::stod(rows[k].at("error")), 4.0, 0.05);
+  EXPECT_TRUE(fs::exists(dir + "/conv.png"));
+  EXPECT_NE(contents(dir + "/conv.md").find("| event:fold | 128 |"), std::string::npos);
+}
