@@ -12,40 +12,59 @@
 namespace keller {
 
 CylinderMeshSpec CylinderMeshSpec::preset(const std::string& name) {
-  static const std::vector<std::pair<std::string, int>> levels = {{"C1", 1}, {"C2", 2}, {"C3", 3}, {"C4", 4}};
-  for (const auto& [n, f] : levels) {
-    if (n != name) continue;
+  // C<f>: refinement f of C1, uniform around the cylinder and across the channel. W<f>: the same
+  // sizes with the wake resolved: the rear eighth of the cylinder and the channel behind it carry
+  // twice as many elements (16 f), graded 4:1 towards the rear stagnation point around the arc and
+  // 20:1 towards the axis across the channel, where the polymer stress has its boundary layer.
+  static const char* names[] = {"C1", "C2", "C3", "C4", "W1", "W2", "W3", "W4"};
+  for (int i = 0; i < 8; ++i) {
+    if (name != names[i]) continue;
+    const int f = i % 4 + 1;
     CylinderMeshSpec s;
     s.name = name;
     s.n_quarter = 8 * f;
     s.n_radial = 8 * f;
     s.nx_upstream = 12 * f;
     s.nx_downstream = 24 * f;
+    if (i >= 4) {
+      s.n_rear = 16 * f;
+      s.rear_ratio = 4.0;
+      s.wake_ratio = 20.0;
+    }
     return s;
   }
-  throw std::invalid_argument("unknown cylinder mesh '" + name + "' (C1, C2, C3, C4)");
+  throw std::invalid_argument("unknown cylinder mesh '" + name + "' (C1..C4, W1..W4)");
 }
 
 void CylinderOptions::declare(SceneSchema& s) {
   s.section("geometry", "cylinder of radius 1 centred in a channel of half-width 2 (lengths in R)");
   s.real("geometry.upstream_length", 20.0, "distance from the inflow to the cylinder's centre", Range::above(2.0));
   s.real("geometry.downstream_length", 30.0, "distance from the cylinder's centre to the outflow", Range::above(2.0));
-  s.section("mesh", "named meshes C1..C4 (refinement 1..4 of C1) or explicit sizes");
-  s.string("mesh.name", "C1", "mesh preset; 'custom' takes the sizes below", {"C1", "C2", "C3", "C4", "custom"});
-  s.integer("mesh.n_quarter", 0, "custom: elements along a quarter of the cylinder", Range::at_least(0));
-  s.integer("mesh.n_radial", 0, "custom: elements from the cylinder to the box around it", Range::at_least(0));
-  s.integer("mesh.nx_upstream", 0, "custom: elements along the upstream channel", Range::at_least(0));
-  s.integer("mesh.nx_downstream", 0, "custom: elements along the downstream channel", Range::at_least(0));
+  s.section("mesh",
+            "named meshes C1..C4 (refinement 1..4 of C1), W1..W4 (the same with the wake resolved) or explicit sizes");
+  s.string("mesh.name", "C1", "mesh preset; 'custom' takes the sizes below",
+           {"C1", "C2", "C3", "C4", "W1", "W2", "W3", "W4", "custom"});
+  // at most 1000 elements along the cylinder and 2000 along a channel: under 10^8 unknowns, far
+  // inside int (W4 has 32 and 96); a larger count is a scene error, not a failed allocation
+  const Range count = Range::between(0, 1000), length_count = Range::between(0, 2000);
+  s.integer("mesh.n_quarter", 0, "custom: elements along a quarter of the cylinder", count);
+  s.integer("mesh.n_radial", 0, "custom: elements from the cylinder to the box around it", count);
+  s.integer("mesh.nx_upstream", 0, "custom: elements along the upstream channel", length_count);
+  s.integer("mesh.nx_downstream", 0, "custom: elements along the downstream channel", length_count);
+  s.integer("mesh.n_rear", 0,
+            "custom: elements around the rear eighth of the cylinder and across the channel behind it (0: n_quarter)",
+            count);
   s.real("mesh.radial_ratio", 4.0, "largest / smallest radial element (fine at the cylinder)", Range::at_least(1));
   s.real("mesh.upstream_ratio", 10.0, "largest / smallest upstream element (fine near the cylinder)",
          Range::at_least(1));
   s.real("mesh.downstream_ratio", 20.0, "largest / smallest downstream element (fine in the near wake)",
          Range::at_least(1));
   s.real("mesh.wake_ratio", 1.0,
-         "largest / smallest element across the channel behind the cylinder (fine on the axis: the wake)",
+         "largest / smallest element across the channel behind the cylinder, fine on the axis (W presets: 20)",
          Range::at_least(1));
-  s.integer("mesh.n_rear", 0, "elements around the rear eighth of the cylinder and across the downstream channel (0: n_quarter)", Range::at_least(0));
-  s.real("mesh.rear_ratio", 1.0, "largest / smallest element around the rear eighth (fine at the rear stagnation point)", Range::at_least(1));
+  s.real("mesh.rear_ratio", 1.0,
+         "largest / smallest element around the rear eighth, fine at the rear stagnation point (W presets: 4)",
+         Range::at_least(1));
   FluidOptions::declare(s, 0.59, 0.1);
 }
 
@@ -63,18 +82,22 @@ CylinderOptions CylinderOptions::from_scene(const Scene& sc) {
     o.mesh.n_radial = static_cast<int>(sc.integer("mesh.n_radial"));
     o.mesh.nx_upstream = static_cast<int>(sc.integer("mesh.nx_upstream"));
     o.mesh.nx_downstream = static_cast<int>(sc.integer("mesh.nx_downstream"));
+    o.mesh.n_rear = static_cast<int>(sc.integer("mesh.n_rear"));
   } else {
-    for (const char* k : sizes)
+    for (const char* k : {"mesh.n_quarter", "mesh.n_radial", "mesh.nx_upstream", "mesh.nx_downstream", "mesh.n_rear"})
       if (sc.differs_from_default(k))
         throw sc.error(k, "explicit sizes need mesh.name = \"custom\" (got \"" + name + "\")");
     o.mesh = CylinderMeshSpec::preset(name);
   }
-  o.mesh.radial_ratio = sc.real("mesh.radial_ratio");
-  o.mesh.upstream_ratio = sc.real("mesh.upstream_ratio");
-  o.mesh.downstream_ratio = sc.real("mesh.downstream_ratio");
-  o.mesh.wake_ratio = sc.real("mesh.wake_ratio");
-  o.mesh.n_rear = static_cast<int>(sc.integer("mesh.n_rear"));
-  o.mesh.rear_ratio = sc.real("mesh.rear_ratio");
+  // a ratio the scene sets replaces the preset's
+  auto ratio = [&](const char* key, double& value) {
+    if (name == "custom" || sc.differs_from_default(key)) value = sc.real(key);
+  };
+  ratio("mesh.radial_ratio", o.mesh.radial_ratio);
+  ratio("mesh.upstream_ratio", o.mesh.upstream_ratio);
+  ratio("mesh.downstream_ratio", o.mesh.downstream_ratio);
+  ratio("mesh.wake_ratio", o.mesh.wake_ratio);
+  ratio("mesh.rear_ratio", o.mesh.rear_ratio);
   o.fluid = FluidOptions::from_scene(sc);
   return o;
 }
