@@ -1,4 +1,4 @@
-// keller's exit codes, the same for every command and every kind of error (README, --help).
+// keller's exit codes, the same for every command and every kind of error (docs/output.md, --help).
 #pragma once
 
 namespace keller::exit_code {

@@ -2,7 +2,7 @@
 // meshes, through the real driver): each branch of tests/regression/hard_cases.txt ends with a
 // located event or a recorded reason, never a crash, a NaN in the branch table, or an inverted
 // element (fluid mesh or solid) passed off as a solution; its located points are those of its
-// checked-in reference (what the README's hard-case table reports); and what makes each case
+// checked-in reference (what the hard-case table of docs/collapsible.md reports); and what makes each case
 // hard holds (tr M < 3b, min m1 > 0 in the log form, ...). Also: a first steady state that
 // fails writes nothing and says why, and a restart from the last point of a branch that ended at
 // the step floor ends again with its reason instead of failing in another way.
@@ -124,14 +124,14 @@ double located_zero(const BranchTable& t, const std::string& name) {
 
 }  // namespace
 
-// README: min m1 = 0 at Wi = 0.05043 (coarse mesh; M1 still has min m1 = 0.12 at Wi = 0.1)
+// docs/collapsible.md: min m1 = 0 at Wi = 0.05043 (coarse mesh; M1 still has min m1 = 0.12 at Wi = 0.1)
 TEST(HardCases, OldroydBUpToItsLimitingWiAtTheSmallestGamma) {
   const BranchTable t = trace("oldroyd_b_low_gamma");
   EXPECT_NE(t.status.find("min_m1"), std::string::npos) << t.status;
   EXPECT_NEAR(located_zero(t, "min_m1"), 0.05043, 5e-6);
 }
 
-// README: min m1 = 0 at Wi = 0.36339 at Gamma = 4.95e-4
+// docs/collapsible.md: min m1 = 0 at Wi = 0.36339 at Gamma = 4.95e-4
 TEST(HardCases, OldroydBUpToItsLimitingWiAtALargeGamma) {
   const BranchTable t = trace("oldroyd_b_high_gamma");
   EXPECT_NEAR(located_zero(t, "min_m1"), 0.36339, 5e-6);
@@ -146,7 +146,7 @@ TEST(HardCases, LogConformationPastTheConformationFormsLimit) {
   for (long i = 0; i < t.rows.rows(); ++i) EXPECT_GT(t.rows(i, t.column("min_m1")), 0.0) << "row " << i;
 }
 
-// README: FENE-P, b = 5, Gamma = 4.95e-4, to Wi = 8: min m1 = 0 at Wi = 0.69118 (an event), and
+// docs/collapsible.md: FENE-P, b = 5, Gamma = 4.95e-4, to Wi = 8: min m1 = 0 at Wi = 0.69118 (an event), and
 // the branch ends at the step floor where tr M reaches 3b at a conformation node, with tr M < 15
 // at every point.
 TEST(HardCases, FenePNearItsExtensibilityLimit) {
@@ -161,7 +161,7 @@ TEST(HardCases, FenePNearItsExtensibilityLimit) {
   EXPECT_GT(last(t, "max_trM"), 14.0);  // at the spring's limit
 }
 
-// README: Owens, Gamma = 4.95e-4, to Wi = 5: min m1 = 0 at Wi = 1.7455 (an event), reaches Wi = 5
+// docs/collapsible.md: Owens, Gamma = 4.95e-4, to Wi = 5: min m1 = 0 at Wi = 1.7455 (an event), reaches Wi = 5
 TEST(HardCases, OwensAtWi5) {
   const BranchTable t = trace("owens_wi5");
   EXPECT_NEAR(located_zero(t, "min_m1"), 1.7455, 5e-5);
@@ -169,14 +169,14 @@ TEST(HardCases, OwensAtWi5) {
   EXPECT_DOUBLE_EQ(last(t, "Wi"), 5.0);
 }
 
-// README: the thinnest wall at the largest Gamma reaches t = 0.1 with a bulge dy_max = 1.41
+// docs/collapsible.md: the thinnest wall at the largest Gamma reaches t = 0.1 with a bulge dy_max = 1.41
 TEST(HardCases, ThinnestWallAtTheLargestGamma) {
   const BranchTable t = trace("thinnest_wall_largest_gamma");
   EXPECT_DOUBLE_EQ(last(t, "t"), 0.1);
   EXPECT_NEAR(last(t, "dy_max"), 1.41, 5e-3);  // the wall bulges out by more than the channel width
 }
 
-// README: the strongest collapse (t to 0.1 at Gamma = 4.95e-5) reaches t = 0.1, gap 0.267
+// docs/collapsible.md: the strongest collapse (t to 0.1 at Gamma = 4.95e-5) reaches t = 0.1, gap 0.267
 TEST(HardCases, StrongestCollapseAtTheSmallestGamma) {
   const BranchTable t = trace("strongest_collapse");
   EXPECT_DOUBLE_EQ(last(t, "t"), 0.1);
