@@ -38,6 +38,20 @@ def load():
         return " ".join(f.read().split()[:3])
 
 
+def machine():
+    """CPU model, cores and memory, from /proc."""
+    model = "unknown CPU"
+    with open("/proc/cpuinfo") as f:
+        for line in f:
+            if line.startswith("model name"):
+                model = line.split(":", 1)[1].strip()
+                break
+    with open("/proc/meminfo") as f:
+        mem = int(f.readline().split()[1]) / 2**20
+    return "%s, %d cores, %.0f GiB, OPENBLAS_NUM_THREADS=%s" % (
+        model, os.cpu_count(), mem, os.environ.get("OPENBLAS_NUM_THREADS", "unset"))
+
+
 def deviations(values):
     """{Wi: K} -> {Wi: percent deviation from the published table} for the Wi of the table."""
     out = {}
@@ -110,6 +124,7 @@ def main():
     args = ap.parse_args()
     work = args.work or tempfile.mkdtemp(prefix="cylinder_vs_fenics_")
     os.makedirs(work, exist_ok=True)
+    print("machine: %s" % machine())
     print("load average at start: %s (%d cores)" % (load(), os.cpu_count()), flush=True)
     rows = [run_keller(args, work)]
     print("keller done in %.1f s; load average %s" % (rows[0]["wall"], load()), flush=True)
