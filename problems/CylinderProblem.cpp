@@ -138,7 +138,9 @@ Mesh build_cylinder_mesh(const CylinderOptions& o) {
   // east runs radially in s and around in t (so that it is positively oriented and its outer
   // side x = 2 runs upwards like the downstream block's inflow side)
   const int east = b.add_block({"east", "fluid", s.n_radial, nw, radial, wake,
-                                [=](double r, double v) { return blend(arc(0.25 * M_PI * uniform_in(v)), {2.0, 2.0 * v}, r); },
+                                [=](double r, double v) {
+                                  return blend(arc(0.25 * M_PI * uniform_in(v)), {2.0, 2.0 * v}, r);
+                                },
                                 {"symmetry", "", "", "cylinder"}});
   const int down = b.add_block({"downstream", "fluid", s.nx_downstream, nw, Grading::start(s.downstream_ratio),
                                 wake, [=](double u, double v) { return Mesh::Point{2.0 + (Ld - 2.0) * u, 2.0 * v}; },

@@ -35,7 +35,8 @@ struct CylinderMeshSpec {
                                   // downstream block in y): largest / smallest, fine on the axis
   int n_rear = 0;                 // elements around the rear eighth and across the downstream channel (0: n_quarter)
   double rear_ratio = 1.0;        // around the rear eighth of the cylinder, fine at the rear stagnation point
-  static CylinderMeshSpec preset(const std::string& name);  // C1..C4 (refinement 1..4), W1..W4 (the same, wake resolved)
+  // C1..C4 (refinement 1..4 of C1), W1..W4 (the same sizes, the wake resolved)
+  static CylinderMeshSpec preset(const std::string& name);
 };
 
 struct CylinderOptions {

@@ -38,7 +38,8 @@ double solve_drag(FluidModel model, bool log_form, double Wi,
     if (w >= Wi || !r.converged()) break;
   }
   const double K = p.drag(u);
-  std::cout << std::setprecision(8) << mesh.name << " " << to_string(model) << (log_form ? " (log)" : "") << " Wi = " << Wi << ": K = " << K
+  std::cout << std::setprecision(8) << mesh.name << " " << to_string(model) << (log_form ? " (log)" : "")
+            << " Wi = " << Wi << ": K = " << K
             << " (" << p.size() << " unknowns, " << r.iterations << " Newton iterations)\n";
   return K;
 }
