@@ -90,6 +90,16 @@ void SceneSchema::add(KeySpec spec) {
   keys_.push_back(std::move(spec));
 }
 
+void SceneSchema::set_default(const std::string& path, const std::string& value, const std::string& why) {
+  auto it = std::find_if(keys_.begin(), keys_.end(), [&](const KeySpec& k) { return k.path == path; });
+  if (it == keys_.end() || it->type != KeySpec::Type::String)
+    throw std::logic_error("set_default: '" + path + "' is not a declared string key");
+  if (!it->choices.empty() && std::find(it->choices.begin(), it->choices.end(), value) == it->choices.end())
+    throw std::logic_error("set_default: '" + value + "' is not a choice of '" + path + "'");
+  it->default_value = value;
+  it->doc += " (this problem's default: " + why + ")";
+}
+
 void SceneSchema::real(const std::string& path, double def, const std::string& doc, Range range) {
   add({path, KeySpec::Type::Real, def, doc, range, {}});
 }

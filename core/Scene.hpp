@@ -53,6 +53,11 @@ class SceneSchema {
   void real_list(const std::string& path, std::vector<double> def, const std::string& doc,
                  Range range = Range::any());
 
+  // A different default for a declared string key (a problem type's own choice of a common key,
+  // such as its best fill-reducing ordering); the doc says so. Throws std::logic_error for a key
+  // that is not declared, not a string, or a value outside its choices.
+  void set_default(const std::string& path, const std::string& value, const std::string& why);
+
   const KeySpec* find(const std::string& path) const;
   bool has_section(const std::string& name) const;
   const std::vector<KeySpec>& keys() const { return keys_; }

@@ -17,6 +17,12 @@ struct ProblemType {
   std::string doc;
   std::function<void(SceneSchema&)> declare;
   std::function<std::unique_ptr<Problem>(const Scene&)> build;
+  // Solver keys whose best value depends on the problem: {key, value, why}, applied to the
+  // schema's defaults so that a scene of this problem gets them without setting them.
+  struct Default {
+    std::string key, value, why;
+  };
+  std::vector<Default> defaults = {};
 };
 
 const std::vector<ProblemType>& problem_types();

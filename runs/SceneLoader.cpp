@@ -33,6 +33,7 @@ LoadedScene loaded(const ProblemType& type, const std::function<void(SceneSchema
   SceneSchema schema;
   declare_common_keys(schema);
   type.declare(schema);
+  for (const ProblemType::Default& d : type.defaults) schema.set_default(d.key, d.value, d.why);
   if (extra) extra(schema);
   SceneSchema own;
   type.declare(own);
@@ -74,6 +75,8 @@ std::string scene_help(const std::function<void(SceneSchema&)>& extra) {
     SceneSchema s;
     t.declare(s);
     out += fmt::format("Keys of problem type '{}' ({}):\n\n{}", t.name, t.doc, s.help());
+    for (const ProblemType::Default& d : t.defaults)
+      out += fmt::format("  {} defaults to \"{}\" for this problem: {}\n\n", d.key, d.value, d.why);
   }
   return out;
 }

@@ -1,5 +1,7 @@
 #include "runs/study/StudyRunner.hpp"
 
+#include <cstdlib>
+
 #include <fcntl.h>
 #include <fmt/format.h>
 #include <sys/prctl.h>
@@ -40,9 +42,19 @@ std::string duration(double s) {
 
 }  // namespace
 
+int blas_threads_for(int workers, int cores, const char* user) {
+  int threads = std::max(1, std::max(1, cores) / std::max(1, workers));
+  if (user) {
+    char* end = nullptr;
+    const long limit = std::strtol(user, &end, 10);
+    if (end != user && *end == '\0' && limit > 0) threads = static_cast<int>(std::min<long>(threads, limit));
+  }
+  return threads;
+}
+
 int blas_threads_for(int workers) {
-  const int cores = std::max(1u, std::thread::hardware_concurrency());
-  return std::max(1, cores / std::max(1, workers));
+  return blas_threads_for(workers, static_cast<int>(std::max(1u, std::thread::hardware_concurrency())),
+                          std::getenv("OPENBLAS_NUM_THREADS"));
 }
 
 pid_t spawn_task(const Study& study, const StudyTask& task, int blas_threads) {

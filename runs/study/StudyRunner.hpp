@@ -42,6 +42,10 @@ class StudyProgress {
 
 // The BLAS threads a worker gets when `workers` share this machine's cores.
 int blas_threads_for(int workers);
+// The same from its inputs: cores / workers, at least 1, and at most a positive OPENBLAS_NUM_THREADS
+// the user set (`user`, null or not a positive integer: none), so that a user who limits BLAS on
+// a shared machine keeps that limit in every task.
+int blas_threads_for(int workers, int cores, const char* user);
 
 // Runs the study here with `jobs` worker processes. Exit codes: 0 every task done, 1 some task
 // failed, 130 interrupted (tasks in flight stop after their current point and are continued by

@@ -20,6 +20,7 @@
 #include <thread>
 
 #include "continuation/BranchFile.hpp"
+#include "runs/study/StudyRunner.hpp"
 #include "support/TestSupport.hpp"
 
 using namespace keller;
@@ -336,4 +337,18 @@ TEST(Study, TheConvergenceTableFindsTheOrderAndTheLimit) {
     EXPECT_NEAR(std::stod(rows[k - 1].at("error")) / std::stod(rows[k].at("error")), 4.0, 0.05);
   EXPECT_TRUE(fs::exists(dir + "/conv.png"));
   EXPECT_NE(contents(dir + "/conv.md").find("| event:fold | 128 |"), std::string::npos);
+}
+
+// The BLAS threads of a worker: the cores shared among the workers, never fewer than one, and
+// never more than a limit the user set in OPENBLAS_NUM_THREADS (a malformed or non-positive
+// setting is no limit).
+TEST(Study, BlasThreadsShareTheCoresAndKeepTheUsersLimit) {
+  EXPECT_EQ(blas_threads_for(1, 8, nullptr), 8);
+  EXPECT_EQ(blas_threads_for(3, 8, nullptr), 2);
+  EXPECT_EQ(blas_threads_for(16, 8, nullptr), 1);
+  EXPECT_EQ(blas_threads_for(0, 8, nullptr), 8);
+  EXPECT_EQ(blas_threads_for(1, 8, "1"), 1);
+  EXPECT_EQ(blas_threads_for(2, 8, "3"), 3);
+  EXPECT_EQ(blas_threads_for(2, 8, "16"), 4);
+  for (const char* bad : {"", "0", "-2", "two", "2x"}) EXPECT_EQ(blas_threads_for(2, 8, bad), 4) << bad;
 }

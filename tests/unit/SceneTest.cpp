@@ -106,6 +106,26 @@ TEST(Scene, ResolvedScenesOfShippedScenesReload) {
   }
 }
 
+// A problem type's own default for a common solver key: a scene of that problem gets it
+// without setting it, a scene that sets the key keeps its value, other problems keep the
+// common default, and a bad default is a programming error.
+TEST(Scene, AProblemTypesDefaultsApplyToItsScenesOnly) {
+  const auto ordering = [](const std::string& text) {
+    return load_scene_text(text, "s.toml", declare_trace_keys).scene.string("linear_solver.ordering");
+  };
+  EXPECT_EQ(ordering("[problem]\ntype = \"collapsible-channel\"\n"), "best");
+  EXPECT_EQ(ordering("[problem]\ntype = \"cylinder\"\n"), "best");
+  EXPECT_EQ(ordering("[problem]\ntype = \"collapsible-channel\"\n[linear_solver]\nordering = \"amd\"\n"), "amd");
+  EXPECT_EQ(ordering("[problem]\ntype = \"channel\"\n"), "amd");
+  SceneSchema s = schema();
+  s.set_default("mesh.kind", "graded", "a reason");
+  EXPECT_EQ(std::get<std::string>(s.find("mesh.kind")->default_value), "graded");
+  EXPECT_NE(s.find("mesh.kind")->doc.find("a reason"), std::string::npos);
+  EXPECT_THROW(s.set_default("mesh.kind", "curved", "not a choice"), std::logic_error);
+  EXPECT_THROW(s.set_default("mesh.n", "3", "not a string key"), std::logic_error);
+  EXPECT_THROW(s.set_default("mesh.nope", "x", "not declared"), std::logic_error);
+}
+
 namespace {
 std::string override_error(const std::string& o) {
   SceneSchema s = schema();
