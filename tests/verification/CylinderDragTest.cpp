@@ -39,8 +39,8 @@ double solve_drag(FluidModel model, bool log_form, double Wi,
   }
   const double K = p.drag(u);
   std::cout << std::setprecision(8) << mesh.name << " " << to_string(model) << (log_form ? " (log)" : "")
-            << " Wi = " << Wi << ": K = " << K
-            << " (" << p.size() << " unknowns, " << r.iterations << " Newton iterations)\n";
+            << " Wi = " << Wi << ": K = " << K << " (" << p.size() << " unknowns, " << r.iterations
+            << " Newton iterations)\n";
   return K;
 }
 
