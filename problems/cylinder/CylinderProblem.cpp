@@ -7,38 +7,64 @@
 
 #include "core/BlockMeshBuilder.hpp"
 #include "problems/components/Composition.hpp"
+#include "problems/laws/ConstitutiveLaw.hpp"
+#include "problems/laws/LogConformation.hpp"
 
 namespace keller {
 
 CylinderMeshSpec CylinderMeshSpec::preset(const std::string& name) {
-  static const std::vector<std::pair<std::string, int>> levels = {{"C1", 1}, {"C2", 2}, {"C3", 3}, {"C4", 4}};
-  for (const auto& [n, f] : levels) {
-    if (n != name) continue;
+  // C<f>: refinement f of C1, uniform around the cylinder and across the channel. W<f>: the same
+  // sizes with the wake resolved: the rear eighth of the cylinder and the channel behind it carry
+  // twice as many elements (16 f), graded 4:1 towards the rear stagnation point around the arc and
+  // 20:1 towards the axis across the channel, where the polymer stress has its boundary layer.
+  static const char* names[] = {"C1", "C2", "C3", "C4", "W1", "W2", "W3", "W4"};
+  for (int i = 0; i < 8; ++i) {
+    if (name != names[i]) continue;
+    const int f = i % 4 + 1;
     CylinderMeshSpec s;
     s.name = name;
     s.n_quarter = 8 * f;
     s.n_radial = 8 * f;
     s.nx_upstream = 12 * f;
     s.nx_downstream = 24 * f;
+    if (i >= 4) {
+      s.n_rear = 16 * f;
+      s.rear_ratio = 4.0;
+      s.wake_ratio = 20.0;
+    }
     return s;
   }
-  throw std::invalid_argument("unknown cylinder mesh '" + name + "' (C1, C2, C3, C4)");
+  throw std::invalid_argument("unknown cylinder mesh '" + name + "' (C1..C4, W1..W4)");
 }
 
 void CylinderOptions::declare(SceneSchema& s) {
   s.section("geometry", "cylinder of radius 1 centred in a channel of half-width 2 (lengths in R)");
   s.real("geometry.upstream_length", 20.0, "distance from the inflow to the cylinder's centre", Range::above(2.0));
   s.real("geometry.downstream_length", 30.0, "distance from the cylinder's centre to the outflow", Range::above(2.0));
-  s.section("mesh", "named meshes C1..C4 (refinement 1..4 of C1) or explicit sizes");
-  s.string("mesh.name", "C1", "mesh preset; 'custom' takes the sizes below", {"C1", "C2", "C3", "C4", "custom"});
-  s.integer("mesh.n_quarter", 0, "custom: elements along a quarter of the cylinder", Range::at_least(0));
-  s.integer("mesh.n_radial", 0, "custom: elements from the cylinder to the box around it", Range::at_least(0));
-  s.integer("mesh.nx_upstream", 0, "custom: elements along the upstream channel", Range::at_least(0));
-  s.integer("mesh.nx_downstream", 0, "custom: elements along the downstream channel", Range::at_least(0));
+  s.section("mesh",
+            "named meshes C1..C4 (refinement 1..4 of C1), W1..W4 (the same with the wake resolved) or explicit sizes");
+  s.string("mesh.name", "C1", "mesh preset; 'custom' takes the sizes below",
+           {"C1", "C2", "C3", "C4", "W1", "W2", "W3", "W4", "custom"});
+  // at most 1000 elements along the cylinder and 2000 along a channel: under 10^8 unknowns, far
+  // inside int (W4 has 32 and 96); a larger count is a scene error, not a failed allocation
+  const Range count = Range::between(0, 1000), length_count = Range::between(0, 2000);
+  s.integer("mesh.n_quarter", 0, "custom: elements along a quarter of the cylinder", count);
+  s.integer("mesh.n_radial", 0, "custom: elements from the cylinder to the box around it", count);
+  s.integer("mesh.nx_upstream", 0, "custom: elements along the upstream channel", length_count);
+  s.integer("mesh.nx_downstream", 0, "custom: elements along the downstream channel", length_count);
+  s.integer("mesh.n_rear", 0,
+            "custom: elements around the rear eighth of the cylinder and across the channel behind it (0: n_quarter)",
+            count);
   s.real("mesh.radial_ratio", 4.0, "largest / smallest radial element (fine at the cylinder)", Range::at_least(1));
   s.real("mesh.upstream_ratio", 10.0, "largest / smallest upstream element (fine near the cylinder)",
          Range::at_least(1));
   s.real("mesh.downstream_ratio", 20.0, "largest / smallest downstream element (fine in the near wake)",
+         Range::at_least(1));
+  s.real("mesh.wake_ratio", 1.0,
+         "largest / smallest element across the channel behind the cylinder, fine on the axis (W presets: 20)",
+         Range::at_least(1));
+  s.real("mesh.rear_ratio", 1.0,
+         "largest / smallest element around the rear eighth, fine at the rear stagnation point (W presets: 4)",
          Range::at_least(1));
   FluidOptions::declare(s, 0.59, 0.1);
 }
@@ -57,15 +83,22 @@ CylinderOptions CylinderOptions::from_scene(const Scene& sc) {
     o.mesh.n_radial = static_cast<int>(sc.integer("mesh.n_radial"));
     o.mesh.nx_upstream = static_cast<int>(sc.integer("mesh.nx_upstream"));
     o.mesh.nx_downstream = static_cast<int>(sc.integer("mesh.nx_downstream"));
+    o.mesh.n_rear = static_cast<int>(sc.integer("mesh.n_rear"));
   } else {
-    for (const char* k : sizes)
+    for (const char* k : {"mesh.n_quarter", "mesh.n_radial", "mesh.nx_upstream", "mesh.nx_downstream", "mesh.n_rear"})
       if (sc.differs_from_default(k))
         throw sc.error(k, "explicit sizes need mesh.name = \"custom\" (got \"" + name + "\")");
     o.mesh = CylinderMeshSpec::preset(name);
   }
-  o.mesh.radial_ratio = sc.real("mesh.radial_ratio");
-  o.mesh.upstream_ratio = sc.real("mesh.upstream_ratio");
-  o.mesh.downstream_ratio = sc.real("mesh.downstream_ratio");
+  // a ratio the scene sets replaces the preset's
+  auto ratio = [&](const char* key, double& value) {
+    if (name == "custom" || sc.differs_from_default(key)) value = sc.real(key);
+  };
+  ratio("mesh.radial_ratio", o.mesh.radial_ratio);
+  ratio("mesh.upstream_ratio", o.mesh.upstream_ratio);
+  ratio("mesh.downstream_ratio", o.mesh.downstream_ratio);
+  ratio("mesh.wake_ratio", o.mesh.wake_ratio);
+  ratio("mesh.rear_ratio", o.mesh.rear_ratio);
   o.fluid = FluidOptions::from_scene(sc);
   return o;
 }
@@ -79,6 +112,18 @@ Mesh build_cylinder_mesh(const CylinderOptions& o) {
     return Mesh::Point{(1 - t) * a[0] + t * b[0], (1 - t) * a[1] + t * b[1]};
   };
   const Grading radial = Grading::start(s.radial_ratio), around = Grading::uniform();
+  // Across the channel behind the cylinder the vertices are graded towards the axis (the wake),
+  // on x = 2 and downstream; on the cylinder the east block's vertices stay uniform in angle, the
+  // arc being parametrised by the inverse of the grading's continuous form
+  // s(xi) = (q^(n xi) - 1) / (q^n - 1), q = ratio^(1 / (n - 1)), which has s(i / n) at its vertices.
+  const Grading wake = Grading::start(s.wake_ratio);
+  const int nw = s.n_rear > 0 ? s.n_rear : s.n_quarter;
+  const double qn = nw > 1 ? std::pow(s.wake_ratio, static_cast<double>(nw) / (nw - 1)) : 1.0;
+  const double qr = nw > 1 ? std::pow(s.rear_ratio, static_cast<double>(nw) / (nw - 1)) : 1.0;
+  auto uniform_in = [=](double v) {
+    const double xi = qn > 1.0 ? std::log1p(v * (qn - 1.0)) / std::log(qn) : v;
+    return qr > 1.0 ? std::expm1(xi * std::log(qr)) / (qr - 1.0) : xi;
+  };
   BlockMeshBuilder b;
   const int up = b.add_block({"upstream", "fluid", s.nx_upstream, s.n_quarter, Grading::end(s.upstream_ratio), around,
                               [=](double u, double v) { return Mesh::Point{-Lu + (Lu - 2.0) * u, 2.0 * v}; },
@@ -93,11 +138,13 @@ Mesh build_cylinder_mesh(const CylinderOptions& o) {
                                  {"cylinder", "", "wall", ""}});
   // east runs radially in s and around in t (so that it is positively oriented and its outer
   // side x = 2 runs upwards like the downstream block's inflow side)
-  const int east = b.add_block({"east", "fluid", s.n_radial, s.n_quarter, radial, around,
-                                [=](double r, double v) { return blend(arc(0.25 * M_PI * v), {2.0, 2.0 * v}, r); },
+  const int east = b.add_block({"east", "fluid", s.n_radial, nw, radial, wake,
+                                [=](double r, double v) {
+                                  return blend(arc(0.25 * M_PI * uniform_in(v)), {2.0, 2.0 * v}, r);
+                                },
                                 {"symmetry", "", "", "cylinder"}});
-  const int down = b.add_block({"downstream", "fluid", s.nx_downstream, s.n_quarter, Grading::start(s.downstream_ratio),
-                                around, [=](double u, double v) { return Mesh::Point{2.0 + (Ld - 2.0) * u, 2.0 * v}; },
+  const int down = b.add_block({"downstream", "fluid", s.nx_downstream, nw, Grading::start(s.downstream_ratio),
+                                wake, [=](double u, double v) { return Mesh::Point{2.0 + (Ld - 2.0) * u, 2.0 * v}; },
                                 {"symmetry", "outflow", "wall", ""}});
   b.connect(up, Side::Right, west, Side::Top);
   b.connect(west, Side::Right, north, Side::Left);
@@ -119,7 +166,17 @@ CylinderProblem::CylinderProblem(const CylinderOptions& options)
   dirichlet_ = system.dirichlet;
   assembler_ = std::make_unique<Assembler>(dofs_->size(), system.terms());
   const int fv = dofs_->field_index("velocity");
-  for (int n : mesh_.boundary_nodes("cylinder")) cylinder_vx_.push_back(dofs_->node_dof(fv, n, 0));
+  on_cylinder_.assign(static_cast<size_t>(mesh_.num_nodes()), 0);
+  for (int n : mesh_.boundary_nodes("cylinder")) {
+    cylinder_vx_.push_back(dofs_->node_dof(fv, n, 0));
+    on_cylinder_[static_cast<size_t>(n)] = 1;
+  }
+  for (int e = 0; e < mesh_.num_elements(); ++e)
+    for (int n : mesh_.element(e))
+      if (on_cylinder_[static_cast<size_t>(n)]) {
+        cylinder_elements_.push_back(e);
+        break;
+      }
 }
 
 Vector CylinderProblem::initial_guess() {
@@ -140,25 +197,114 @@ double CylinderProblem::drag(const Vector& u) const {
   return 2.0 * f;
 }
 
+CylinderProblem::DragTerms CylinderProblem::drag_terms(const Vector& u) const {
+  DragTerms out;
+  out.reaction = drag(u);
+  const FluidOptions& fo = options_.fluid;
+  const bool ve = fo.viscoelastic();
+  const int nc = fo.conformation_components();
+  const int fv = dofs_->field_index("velocity"), fp = dofs_->field_index("pressure");
+  const int fl = ve ? dofs_->field_index("gradient") : -1, fm = ve ? dofs_->field_index("conformation") : -1;
+  const double beta = ve ? params_.get("beta") : 1.0;
+  const double modulus = ve ? (1.0 - beta) / params_.get("Wi") : 0.0;  // (1 - beta) Gamma / Wi, Gamma = 1
+  const double b = fo.model == FluidModel::FeneP ? params_.get("b") : 0.0;
+  const double beta_a = fo.kernel.devss >= 0 ? fo.kernel.devss : 1.0 - beta;
+  const ref::Tables& tb = ref::tables();
+  auto gather = [&](int f, int e, int n) {
+    std::vector<int> d(static_cast<size_t>(n));
+    dofs_->element_dofs(f, e, d.data());
+    std::vector<double> v(static_cast<size_t>(n));
+    for (int i = 0; i < n; ++i) v[static_cast<size_t>(i)] = u[d[static_cast<size_t>(i)]];
+    return v;
+  };
+  // polymer stress from the conformation unknowns at Q1 shape values N
+  auto polymer = [&](const std::vector<double>& mc, const double* N) {
+    double m[4] = {0, 0, 0, 0};
+    for (int c = 0; c < nc; ++c)
+      for (int k = 0; k < 4; ++k) m[c] += N[k] * mc[static_cast<size_t>(4 * c + k)];
+    Conformation<double> M{m[0], m[1], m[2], nc == 4 ? m[3] : 1.0};
+    if (fo.log_conformation) {
+      const Sym2<double> E = sym_exp(Sym2<double>{m[0], m[1], m[2]});
+      M = {E.xx, E.xy, E.yy, nc == 4 ? std::exp(m[3]) : 1.0};
+    }
+    const double f = fo.model == FluidModel::FeneP ? peterlin(fo.model, nc == 4, M, b) : 1.0;
+    return polymer_stress(M, f, modulus);
+  };
+  for (const BoundaryEdge& be : mesh_.boundary("cylinder")) {
+    double xy[9][2];
+    mesh_.element_nodes(be.element, xy);
+    std::array<EdgeQpGeometry<double>, ref::kEdgeQp> geo;
+    if (!map_edge(xy, be.edge, geo)) return {NAN, NAN, NAN};
+    const std::vector<double> v = gather(fv, be.element, 18), pc = gather(fp, be.element, 3);
+    const std::vector<double> mc = ve ? gather(fm, be.element, 4 * nc) : std::vector<double>{};
+    for (int q = 0; q < ref::kEdgeQp; ++q) {
+      const EdgeQpGeometry<double>& g = geo[static_cast<size_t>(q)];
+      double K[2][2] = {{0, 0}, {0, 0}};
+      for (int a = 0; a < 9; ++a)
+        for (int j = 0; j < 2; ++j) {
+          K[0][j] += g.dN2dx[a][j] * v[static_cast<size_t>(a)];
+          K[1][j] += g.dN2dx[a][j] * v[static_cast<size_t>(9 + a)];
+        }
+      const double P = pc[0] + (g.x[0] - xy[4][0]) * pc[1] + (g.x[1] - xy[4][1]) * pc[2];
+      double sxx = -P + 2.0 * beta * K[0][0], sxy = beta * (K[0][1] + K[1][0]);
+      if (ve) {
+        const Conformation<double> tp = polymer(mc, tb.edge_N1[be.edge][q]);
+        sxx += tp.xx;
+        sxy += tp.xy;
+      }
+      // the normal is the fluid's outward one (into the cylinder): the force on the cylinder
+      // is minus the integral of T n_out; both halves
+      out.surface -= 2.0 * g.wds * (sxx * g.normal[0] + sxy * g.normal[1]);
+    }
+  }
+  if (ve) {
+    for (int e : cylinder_elements_) {
+      double xy[9][2];
+      mesh_.element_nodes(e, xy);
+      std::array<QpGeometry<double>, ref::kQp> geo;
+      if (!map_element(xy, geo)) return {NAN, NAN, NAN};
+      const std::vector<double> v = gather(fv, e, 18), lc = gather(fl, e, 16);
+      const auto& nodes = mesh_.element(e);
+      for (int q = 0; q < ref::kQp; ++q) {
+        const QpGeometry<double>& g = geo[static_cast<size_t>(q)];
+        double K[2][2] = {{0, 0}, {0, 0}}, L[2][2] = {{0, 0}, {0, 0}}, gphi[2] = {0, 0};
+        for (int a = 0; a < 9; ++a) {
+          for (int j = 0; j < 2; ++j) {
+            K[0][j] += g.dN2dx[a][j] * v[static_cast<size_t>(a)];
+            K[1][j] += g.dN2dx[a][j] * v[static_cast<size_t>(9 + a)];
+          }
+          if (on_cylinder_[static_cast<size_t>(nodes[static_cast<size_t>(a)])]) {
+            gphi[0] += g.dN2dx[a][0];
+            gphi[1] += g.dN2dx[a][1];
+          }
+        }
+        for (int k = 0; k < 4; ++k)
+          for (int i = 0; i < 2; ++i)
+            for (int j = 0; j < 2; ++j) L[i][j] += tb.N1[q][k] * lc[static_cast<size_t>(4 * (2 * i + j) + k)];
+        const double dxx = 2.0 * beta_a * (K[0][0] - L[0][0]);
+        const double dxy = beta_a * ((K[0][1] + K[1][0]) - (L[0][1] + L[1][0]));
+        out.devss -= 2.0 * g.wdetJ * (gphi[0] * dxx + gphi[1] * dxy);
+      }
+    }
+  }
+  return out;
+}
+
 std::vector<std::string> CylinderProblem::observable_names() const {
-  std::vector<std::string> names = {"K"};
+  std::vector<std::string> names = {"K", "K_surface"};
+  if (options_.fluid.viscoelastic()) names.push_back("K_devss");
   if (options_.fluid.viscoelastic()) names.insert(names.end(), {"min_m1", "max_m3"});
   return names;
 }
 
 Status CylinderProblem::observables(const Vector& u, std::vector<double>& values) {
-  values = {drag(u)};
+  const DragTerms d = drag_terms(u);
+  values = {d.reaction, d.surface};
   if (options_.fluid.viscoelastic()) {
-    std::vector<int> nodes;
-    std::vector<std::array<double, 3>> eig;
-    flow_->conformation_eigenvalues(u, nodes, eig);
-    double m1 = INFINITY, m3 = -INFINITY;
-    for (const auto& e : eig) {
-      m1 = std::min(m1, e[0]);
-      m3 = std::max(m3, e[2]);
-    }
-    values.push_back(m1);
-    values.push_back(m3);
+    values.push_back(d.devss);
+    const FlowEquations::ConformationExtremes x = flow_->conformation_extremes(u);
+    values.push_back(x.min_m1);
+    values.push_back(x.max_m3);
   }
   return {};
 }
@@ -171,10 +317,8 @@ std::vector<std::string> CylinderProblem::monitor_names() const {
 Status CylinderProblem::monitors(const Vector& u, std::vector<double>& values) {
   values.clear();
   if (!options_.fluid.viscoelastic()) return {};
-  std::vector<double> obs;
-  Status st = observables(u, obs);
-  if (st.is_ok()) values = {obs[1]};
-  return st;
+  values = {flow_->conformation_extremes(u).min_m1};  // on its own: not the drag's surface integrals
+  return {};
 }
 
 SolutionFields CylinderProblem::fields(const Vector& u) const {

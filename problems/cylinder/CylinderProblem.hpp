@@ -5,7 +5,8 @@
 // blocks around the cylinder with isoparametric curved edges on it (transfinite blending of the
 // arc and the enclosing box), graded radially, and graded channel blocks upstream and
 // downstream. The drag is the consistent reaction: the weak momentum residual summed over the
-// cylinder's nodes (twice, for both halves).
+// cylinder's nodes (twice, for both halves); the surface integral of the traction and the DEVSS
+// term's share of the reaction are observables beside it, as checks.
 #pragma once
 
 #include <memory>
@@ -30,7 +31,12 @@ struct CylinderMeshSpec {
   double radial_ratio = 4.0;      // largest / smallest radial size (fine at the cylinder)
   double upstream_ratio = 10.0;   // largest / smallest (fine next to the box)
   double downstream_ratio = 20.0; // largest / smallest (fine next to the box: the wake)
-  static CylinderMeshSpec preset(const std::string& name);  // C1..C4 (refinement 1, 2, 3, 4)
+  double wake_ratio = 1.0;        // across the channel behind the cylinder (the east block around, the
+                                  // downstream block in y): largest / smallest, fine on the axis
+  int n_rear = 0;                 // elements around the rear eighth and across the downstream channel (0: n_quarter)
+  double rear_ratio = 1.0;        // around the rear eighth of the cylinder, fine at the rear stagnation point
+  // C1..C4 (refinement 1..4 of C1), W1..W4 (the same sizes, the wake resolved)
+  static CylinderMeshSpec preset(const std::string& name);
 };
 
 struct CylinderOptions {
@@ -72,8 +78,17 @@ class CylinderProblem final : public Problem {
   SolutionFields fields(const Vector& u) const override;
   std::string summary() const override;
 
-  // Drag coefficient K = F_x / (eta0 U) of the whole cylinder.
+  // Drag coefficient K = F_x / (eta0 U) of the whole cylinder: the weak reaction.
   double drag(const Vector& u) const;
+  // The same drag by other functionals of the discrete solution, which agree with the reaction
+  // only as the mesh converges: surface, the traction -P n + beta (K + K^T) n + tau_p n
+  // integrated over the cylinder (3-point Gauss per edge); devss, the DEVSS term's share of the
+  // reaction, beta_a int grad(phi) : ((K + K^T) - (L + L^T)) with phi = 1 on the cylinder (0 for
+  // a Newtonian fluid).
+  struct DragTerms {
+    double reaction = 0, surface = 0, devss = 0;
+  };
+  DragTerms drag_terms(const Vector& u) const;
   const Mesh& mesh() const { return mesh_; }
   const DofMap& dofs() const { return *dofs_; }
   const FlowEquations& flow() const { return *flow_; }
@@ -88,6 +103,8 @@ class CylinderProblem final : public Problem {
   std::shared_ptr<DirichletTerm> dirichlet_;
   std::unique_ptr<Assembler> assembler_;
   std::vector<int> cylinder_vx_;  // x-velocity rows of the cylinder's nodes
+  std::vector<int> cylinder_elements_;  // elements with a node on the cylinder
+  std::vector<char> on_cylinder_;       // per mesh node
 };
 
 }  // namespace keller

@@ -8,6 +8,7 @@
 
 #include "continuation/ContinuationOptions.hpp"
 #include "core/Scene.hpp"
+#include "problems/cylinder/CylinderProblem.hpp"
 #include "runs/SceneLoader.hpp"
 #include "runs/TraceCommand.hpp"
 #include "support/TestSupport.hpp"
@@ -199,4 +200,39 @@ TEST(Scene, EveryDeclaredKeyObeysTheRules) {
           << p.range().describe();
     }
   }
+}
+
+// The cylinder's element counts are capped (1000 around and across, 2000 along the channel, far
+// inside int for the unknowns): a huge count is an error naming the key and its range, not an
+// allocation failure; a size with a preset is refused, the W preset's grading can be changed.
+TEST(Scene, CylinderMeshCountsAreCapped) {
+  const std::string scene = test::source_path("runs/scenes/cylinder_oldroyd_b_log.toml");
+  auto error = [&](std::vector<std::string> overrides) {
+    try {
+      const LoadedScene l = load_scene(scene, declare_trace_keys, overrides);
+      (void)CylinderOptions::from_scene(l.scene);
+    } catch (const SceneError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  const std::string custom = "mesh.name=custom";
+  auto has = [](const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; };
+  EXPECT_TRUE(has(error({custom, "mesh.n_quarter=100000", "mesh.n_radial=8", "mesh.nx_upstream=12",
+                         "mesh.nx_downstream=24"}),
+                  "key 'mesh.n_quarter' = 100000 is out of range: must be in [0, 1000]"));
+  EXPECT_TRUE(has(error({custom, "mesh.n_quarter=8", "mesh.n_radial=8", "mesh.nx_upstream=12",
+                         "mesh.nx_downstream=2001"}),
+                  "key 'mesh.nx_downstream' = 2001 is out of range: must be in [0, 2000]"));
+  EXPECT_TRUE(has(error({"mesh.n_rear=1001"}), "key 'mesh.n_rear' = 1001 is out of range: must be in [0, 1000]"));
+  EXPECT_TRUE(has(error({"mesh.n_rear=32"}), "explicit sizes need mesh.name = \"custom\" (got \"W3\")"));
+  EXPECT_EQ(error({custom, "mesh.n_quarter=1000", "mesh.n_radial=1000", "mesh.nx_upstream=2000",
+                   "mesh.nx_downstream=2000", "mesh.n_rear=1000"}),
+            "");
+  const LoadedScene l = load_scene(scene, declare_trace_keys, {"mesh.wake_ratio=10"});
+  const CylinderOptions o = CylinderOptions::from_scene(l.scene);
+  EXPECT_EQ(o.mesh.name, "W3");
+  EXPECT_EQ(o.mesh.n_rear, 48);
+  EXPECT_EQ(o.mesh.wake_ratio, 10.0);
+  EXPECT_EQ(o.mesh.rear_ratio, 4.0);
 }
