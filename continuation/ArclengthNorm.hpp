@@ -12,7 +12,7 @@ namespace keller {
 
 // A linear constraint closing the extended system [F; N] = 0 (its row is the border row).
 struct Constraint {
-  Vector cu;                   // empty: zero
+  Vector cu;  // empty: zero
   double cl = 0.0;
   const Vector* u0 = nullptr;  // the point the row is measured from (with cu; null: the origin)
   double l0 = 0.0;
@@ -31,7 +31,9 @@ class ArclengthNorm {
   double state_scale() const { return scale_; }
   double wu() const { return wu_; }
   double wl() const { return wl_; }
-  double dot(const Vector& u1, double l1, const Vector& u2, double l2) const { return wu_ * u1.dot(u2) + wl_ * l1 * l2; }
+  double dot(const Vector& u1, double l1, const Vector& u2, double l2) const {
+    return wu_ * u1.dot(u2) + wl_ * l1 * l2;
+  }
   double norm(const Vector& u, double l) const;
   // The distance between two points of a branch.
   double distance(const BranchPoint& a, const BranchPoint& b) const;

@@ -23,7 +23,8 @@ BorderedSystem::BorderedSystem(const SparseMatrix& P, SparseLUOptions options, M
       lu_(options),
       own_j_(std::make_shared<SparseLU>(options)),
       lu_j_(own_j_) {
-  if (P.rows() != P.cols() || !P.isCompressed()) throw std::invalid_argument("BorderedSystem: square compressed pattern");
+  if (P.rows() != P.cols() || !P.isCompressed())
+    throw std::invalid_argument("BorderedSystem: square compressed pattern");
   // column j < n: J's entries then (n, j); column n: rows 0..n
   const int n = n_;
   A_.resize(n + 1, n + 1);
@@ -137,7 +138,8 @@ Status BorderedSystem::set_row(const Vector& c, double d) {
   const int* ao = A_.outerIndexPtr();
   for (int j = 0; j < n; ++j) v[ao[j + 1] - 1] = c.size() ? c[j] : 0.0;  // (n, j) closes column j
   v[A_.nonZeros() - 1] = d;
-  if (mode_ != Mode::Block) return {StatusCode::InvalidState, "full bordered mode: the row is part of the factorisation"};
+  if (mode_ != Mode::Block)
+    return {StatusCode::InvalidState, "full bordered mode: the row is part of the factorisation"};
   c_ = c.size() ? c : Vector::Zero(n);
   d_ = d;
   if (!block_ok_) return {StatusCode::InvalidState, "no block factorisation to reuse"};

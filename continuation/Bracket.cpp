@@ -4,7 +4,8 @@
 
 namespace keller {
 
-std::optional<std::pair<size_t, size_t>> bisect_change(size_t n, int first, const std::function<int(size_t)>& value_at) {
+std::optional<std::pair<size_t, size_t>> bisect_change(size_t n, int first,
+                                                       const std::function<int(size_t)>& value_at) {
   if (n < 2) throw std::invalid_argument("bisect_change: need at least two points");
   size_t lo = 0, hi = n - 1;
   while (hi - lo > 1) {

@@ -225,7 +225,8 @@ BranchPoint read_branch_point(const std::string& path, int row) {
   }
   if (slot < 0) {
     std::string rows;
-    for (long i = 0; i < usable; ++i) rows += (rows.empty() ? "" : ", ") + std::to_string(static_cast<int>(saved[i * c]));
+    for (long i = 0; i < usable; ++i)
+      rows += (rows.empty() ? "" : ", ") + std::to_string(static_cast<int>(saved[i * c]));
     throw std::invalid_argument(fmt::format("row {} of '{}' has no stored solution; stored rows: {}", row, path, rows));
   }
   const auto U = f.read_matrix("/branch/solutions", &solutions, &n);
@@ -276,7 +277,8 @@ BranchSeed read_branch_seed(const std::string& path) {
   seed.solutions = solutions.topRows(slots);
   seed.tangents = tangents.topRows(slots);
   seed.events = rows_up_to(read_rows(f, "/branch/events"), seed.row);
-  const Eigen::MatrixXd modes = read_rows(f, "/branch/eigenvector_rows"), vectors = read_rows(f, "/branch/eigenvectors");
+  const Eigen::MatrixXd modes = read_rows(f, "/branch/eigenvector_rows"),
+                        vectors = read_rows(f, "/branch/eigenvectors");
   long m = rows_up_to(modes, seed.row).rows();
   m = std::min(m, vectors.rows() / 2);
   seed.eigenvector_rows = modes.topRows(m);
@@ -314,8 +316,8 @@ bool write_branch_fields(const std::string& branch_path, const std::string& fiel
     if (sf.mesh) {
       if (!out.exists("/mesh")) write_mesh(out, "/mesh", *sf.mesh);
       // time = table row: the parameter need not be monotone along a branch with folds
-      steps.push_back({group.substr(1), fmt::format("row {} ({} = {:.6g})", row, parameter, lambda),
-                       static_cast<double>(row)});
+      steps.push_back(
+          {group.substr(1), fmt::format("row {} ({} = {:.6g})", row, parameter, lambda), static_cast<double>(row)});
       layout = sf;
     }
   }

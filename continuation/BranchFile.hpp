@@ -82,7 +82,7 @@ struct BranchTable {
   Eigen::MatrixXd rows;  // points x columns
   std::string status;
   double state_scale = 1.0, theta = 0.5;
-  std::vector<int> saved_rows;  // table rows with stored solutions, in storage order
+  std::vector<int> saved_rows;                // table rows with stored solutions, in storage order
   int column(const std::string& name) const;  // throws if absent
 };
 BranchTable read_branch_table(const std::string& path);

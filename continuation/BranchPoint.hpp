@@ -23,23 +23,23 @@ enum class PointKind {
 const char* to_string(PointKind k);
 
 struct BranchPoint {
-  int index = -1;           // row in the branch table
+  int index = -1;  // row in the branch table
   PointKind kind = PointKind::Regular;
-  std::string label;        // monitor name for events, "max"/"min" for folds, bound for ends
-  double s = 0.0;           // arclength from the start of the branch (weighted norm)
-  double lambda = 0.0;      // parameter value
-  Vector u;                 // solution
-  Vector tu;                // unit tangent: state part
-  double tlambda = 0.0;     //               parameter part
-  double step = 0.0;        // step size the controller chose for the next step
-  int iterations = 0;       // corrector iterations (location: corrector solves)
-  double residual = 0.0;    // |F|_inf where the corrector converged (the start: |F|_inf there)
-  double seconds = 0.0;     // wall time since the run started
-  int det_sign = 0;         // sign of det(dF/du) (0: not known)
+  std::string label;      // monitor name for events, "max"/"min" for folds, bound for ends
+  double s = 0.0;         // arclength from the start of the branch (weighted norm)
+  double lambda = 0.0;    // parameter value
+  Vector u;               // solution
+  Vector tu;              // unit tangent: state part
+  double tlambda = 0.0;   //               parameter part
+  double step = 0.0;      // step size the controller chose for the next step
+  int iterations = 0;     // corrector iterations (location: corrector solves)
+  double residual = 0.0;  // |F|_inf where the corrector converged (the start: |F|_inf there)
+  double seconds = 0.0;   // wall time since the run started
+  int det_sign = 0;       // sign of det(dF/du) (0: not known)
   int bordered_det_sign = 0;
   std::vector<double> observables;
-  std::vector<double> monitors;     // the problem's monitors, then the stop-observable thresholds
-  bool save = false;        // store the full solution
+  std::vector<double> monitors;  // the problem's monitors, then the stop-observable thresholds
+  bool save = false;             // store the full solution
   // PointAnalysis (the stability spectrum) when the point was analysed: its columns, the count
   // whose changes are events, the locator that crosses zero there, the critical eigenvector
   bool analysed = false;

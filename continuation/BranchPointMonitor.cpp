@@ -36,8 +36,8 @@ std::optional<std::pair<BranchPoint, BranchPoint>> BranchPointMonitor::accepted(
       const int v = probe(seq[i]);
       return v == before ? 1 : (v == -before ? 0 : -1);
     };
-    const auto pair = seq.size() == 2 ? std::make_optional(std::make_pair(size_t{0}, size_t{1}))
-                                      : bisect_change(seq.size(), 1, side);
+    const auto pair =
+        seq.size() == 2 ? std::make_optional(std::make_pair(size_t{0}, size_t{1})) : bisect_change(seq.size(), 1, side);
     if (pair) change = std::make_pair(seq[pair->first], seq[pair->second]);
   }
   sign_ = s;
@@ -49,7 +49,8 @@ std::optional<std::pair<BranchPoint, BranchPoint>> BranchPointMonitor::accepted(
 }
 
 void BranchPointMonitor::reported(const BranchPoint& p) {
-  if (!history_.empty() && history_.back().lambda == p.lambda && history_.back().s == p.s) history_.back().index = p.index;
+  if (!history_.empty() && history_.back().lambda == p.lambda && history_.back().s == p.s)
+    history_.back().index = p.index;
 }
 
 }  // namespace keller

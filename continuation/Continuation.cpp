@@ -59,9 +59,10 @@ Continuation::Continuation(Problem& problem, ContinuationOptions options, Newton
       tangents_(ev_, kept_, norm_, options_),
       predictor_(options_, norm_),
       steps_(options_.step, options_.target_iterations()),
-      locator_(corrector_, tangents_, kept_, norm_, options_,
-               [this](BranchPoint& p, bool analyse_point) { return evaluate(p, analyse_point); },
-               [this]() { return analysis_note_; }),
+      locator_(
+          corrector_, tangents_, kept_, norm_, options_,
+          [this](BranchPoint& p, bool analyse_point) { return evaluate(p, analyse_point); },
+          [this]() { return analysis_note_; }),
       spectra_(std::make_unique<SpectrumScheduler>(nullptr)) {
   if (!options_.stop.observable.empty()) {
     const auto names = problem_.observable_names();
@@ -141,7 +142,8 @@ ContinuationResult Continuation::resume(BranchPoint start, BranchObserver& obser
   adopted_ = false;
   if (!(options_.state_scale > 0)) throw std::invalid_argument("resume needs the state scale of the original run");
   if (start.u.size() != problem_.size() || start.tu.size() != problem_.size())
-    throw std::invalid_argument(fmt::format("stored point has {} unknowns, the problem {}", start.u.size(), problem_.size()));
+    throw std::invalid_argument(
+        fmt::format("stored point has {} unknowns, the problem {}", start.u.size(), problem_.size()));
   set_norm(start.u, options_.state_scale);
   // a stored point located as a fold, an event, a branch point or a Hopf point is that point:
   // the restarted branch starts on its zero, which its first step does not cross again
@@ -154,9 +156,11 @@ ContinuationResult Continuation::resume(BranchPoint start, BranchObserver& obser
 
 ContinuationResult Continuation::switch_branch(BranchPoint bp, int direction, BranchObserver& observer) {
   t_start_ = std::chrono::steady_clock::now();
-  if (!(options_.state_scale > 0)) throw std::invalid_argument("switch_branch needs the state scale of the original run");
+  if (!(options_.state_scale > 0))
+    throw std::invalid_argument("switch_branch needs the state scale of the original run");
   if (bp.u.size() != problem_.size() || bp.tu.size() != problem_.size())
-    throw std::invalid_argument(fmt::format("stored point has {} unknowns, the problem {}", bp.u.size(), problem_.size()));
+    throw std::invalid_argument(
+        fmt::format("stored point has {} unknowns, the problem {}", bp.u.size(), problem_.size()));
   set_norm(bp.u, options_.state_scale);
   start_on_.reset();
   adopted_ = false;
@@ -188,7 +192,8 @@ Status Continuation::begin(BranchPoint& start) {
       arclength && kept_.block() && (kept_.made_at(start.u, start.lambda) || (adopted_ && kept_.reusable()));
   Vector F;
   if (st.is_ok()) st = arclength && !factorised_here ? ev_.jacobian(start.u) : ev_.residual(start.u, F);
-  if (st.is_ok()) start.residual = (arclength && !factorised_here ? ev_.residual_vector() : F).lpNorm<Eigen::Infinity>();
+  if (st.is_ok())
+    start.residual = (arclength && !factorised_here ? ev_.residual_vector() : F).lpNorm<Eigen::Infinity>();
   const Constraint row = norm_.tangent_row(start.tu, start.tlambda);
   if (st.is_ok() && factorised_here && kept_.set_row(row).is_ok()) {
     kept_.set_reusable(true);
@@ -324,8 +329,9 @@ std::vector<LocatedPoint> Continuation::locate_on(BranchPoint& cur, BranchPoint&
                                                   BranchObserver& observer) {
   std::vector<LocatedPoint> located;
   locate_crossings(cur, nxt, step, located, observer);
-  const bool ends = (step.land && step.land->end) ||
-                    std::any_of(located.begin(), located.end(), [](const LocatedPoint& l) { return l.end.has_value(); });
+  const bool ends =
+      (step.land && step.land->end) ||
+      std::any_of(located.begin(), located.end(), [](const LocatedPoint& l) { return l.end.has_value(); });
   locate_branch_points(cur, nxt, ends || last_step, located, observer);
   // a branch that ends on this step: its last stretch is checked too (analysis every N points)
   if (analysis_ && !nxt.analysed && ends) analyse(nxt);
@@ -423,8 +429,8 @@ void Continuation::locate_stability_change(BranchPoint& cur, BranchPoint& nxt, s
   std::string label = complex ? fmt::format("omega = {:.8g}, {}", std::abs(p->critical_imag), change->description)
                               : fmt::format("eigenvalue crosses zero, {}", change->description);
   if (!change->this_step)
-    label += fmt::format(" (bracketed by bisection between {} = {:.8g} and {:.8g})", options_.parameter, a.lambda,
-                         b.lambda);
+    label +=
+        fmt::format(" (bracketed by bisection between {} = {:.8g} and {:.8g})", options_.parameter, a.lambda, b.lambda);
   auto same = change->this_step ? std::find_if(located.begin(), located.end(),
                                                [&](const LocatedPoint& l) { return l.point.kind == kind; })
                                 : located.end();
@@ -436,11 +442,11 @@ void Continuation::locate_stability_change(BranchPoint& cur, BranchPoint& nxt, s
 }
 
 void Continuation::add_located(std::optional<BranchPoint> p, PointKind kind, std::string label,
-                               std::optional<StopCode> end, const BranchPoint& after, std::vector<LocatedPoint>& located,
-                               BranchObserver& observer, std::string& note) {
+                               std::optional<StopCode> end, const BranchPoint& after,
+                               std::vector<LocatedPoint>& located, BranchObserver& observer, std::string& note) {
   if (!p) {
-    observer.on_note(fmt::format("{} '{}' detected after row {} but not located: {}", to_string(kind), label,
-                                 after.index, note));
+    observer.on_note(
+        fmt::format("{} '{}' detected after row {} but not located: {}", to_string(kind), label, after.index, note));
     return;
   }
   // located points get their spectrum with every point analysed (with every N > 1 they cost
@@ -452,8 +458,8 @@ void Continuation::add_located(std::optional<BranchPoint> p, PointKind kind, std
 }
 
 std::optional<Continuation::Finish> Continuation::report_segment(const BranchPoint& cur, BranchPoint& nxt,
-                                                                  const Step& step, std::vector<LocatedPoint>& located,
-                                                                  BranchObserver& observer) {
+                                                                 const Step& step, std::vector<LocatedPoint>& located,
+                                                                 BranchObserver& observer) {
   auto bound_reached = [&](const BranchPoint& p) {
     return fmt::format("reached the {} bound {} = {:.10g}", p.label, options_.parameter, p.lambda);
   };
@@ -479,10 +485,10 @@ std::optional<Continuation::Finish> Continuation::report_segment(const BranchPoi
     l.point.save = true;
     report(observer, l.point);
     if (l.end) {
-      const std::string why = *l.end == StopCode::StopObservable
-                                  ? fmt::format("{} crossed at {} = {:.10g}", l.point.label, options_.parameter,
-                                                l.point.lambda)
-                                  : bound_reached(l.point);
+      const std::string why =
+          *l.end == StopCode::StopObservable
+              ? fmt::format("{} crossed at {} = {:.10g}", l.point.label, options_.parameter, l.point.lambda)
+              : bound_reached(l.point);
       return Finish{*l.end, why, l.point};
     }
   }

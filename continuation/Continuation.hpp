@@ -22,9 +22,9 @@
 #include "continuation/BranchPointMonitor.hpp"
 #include "continuation/ContinuationOptions.hpp"
 #include "continuation/Corrector.hpp"
+#include "continuation/Evaluator.hpp"
 #include "continuation/EventDetector.hpp"
 #include "continuation/EventLocator.hpp"
-#include "continuation/Evaluator.hpp"
 #include "continuation/KeptFactorisation.hpp"
 #include "continuation/Predictor.hpp"
 #include "continuation/SpectrumScheduler.hpp"
@@ -174,7 +174,7 @@ class Continuation {
   std::string analysis_note_;
   // a resumed branch starts on a point located as this kind (its first step does not locate it again)
   std::optional<PointKind> start_on_;
-  bool adopted_ = false;  // the start's factorisation came from the solve of the start
+  bool adopted_ = false;               // the start's factorisation came from the solve of the start
   double shared_solve_seconds_ = 0.0;  // solves of the analysis with the continuation's factorisation
   long shared_solves_ = 0;
   ContinuationResult result_;

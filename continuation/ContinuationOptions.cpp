@@ -107,8 +107,8 @@ ContinuationOptions ContinuationOptions::from_scene(const Scene& sc) {
   o.step.shrink = sc.real("continuation.shrink");
   o.step.max_angle_degrees = sc.real("continuation.max_angle_degrees");
 
-  o.corrector.method =
-      sc.string("continuation.corrector") == "newton" ? CorrectorOptions::Method::Newton : CorrectorOptions::Method::Chord;
+  o.corrector.method = sc.string("continuation.corrector") == "newton" ? CorrectorOptions::Method::Newton
+                                                                       : CorrectorOptions::Method::Chord;
   o.corrector.block_elimination = sc.string("continuation.bordered") == "block";
   o.corrector.keep = sc.boolean("continuation.reuse_factorisation");
   o.corrector.chord_rate = sc.real("continuation.chord_rate");
@@ -135,8 +135,8 @@ void ContinuationOptions::validate() const {
   if (!(stop.lower < stop.upper))
     throw std::invalid_argument(fmt::format("lower = {} must be below upper = {}", stop.lower, stop.upper));
   if (!(step.min <= step.initial && step.initial <= step.max))
-    throw std::invalid_argument(fmt::format("need min_step <= initial_step <= max_step (got {}, {}, {})", step.min,
-                                            step.initial, step.max));
+    throw std::invalid_argument(
+        fmt::format("need min_step <= initial_step <= max_step (got {}, {}, {})", step.min, step.initial, step.max));
   if (max_iterations() < target_iterations())
     throw std::invalid_argument(fmt::format("max_iterations ({}) must be at least target_iterations ({})",
                                             max_iterations(), target_iterations()));

@@ -48,8 +48,8 @@ struct CorrectorOptions {
   // RenewalPolicy::renewal_cost, in chord iterations (0: the rate rule alone); unset: measured along
   // the run, the mean time of a Jacobian with its factorisation over that of a residual with a solve.
   std::optional<double> renewal_cost;
-  int anderson_depth = 5;   // chord: Anderson mixing over this many past updates (0: plain chord)
-  int max_iterations = 0;   // corrector iterations before a step fails (0: max_iterations_default())
+  int anderson_depth = 5;  // chord: Anderson mixing over this many past updates (0: plain chord)
+  int max_iterations = 0;  // corrector iterations before a step fails (0: max_iterations_default())
   // The corrector's defaults: a chord iteration costs a solve, a Newton one a factorisation.
   int target() const { return method == Method::Chord ? 14 : 4; }
   int max_iterations_default() const { return method == Method::Chord ? 30 : 10; }
@@ -89,7 +89,7 @@ struct ContinuationOptions {
   std::string parameter;              // named parameter of the problem
   Method method = Method::Arclength;  // Keller's pseudo-arclength, or natural (parameter) steps
   Predictor predictor = Predictor::Tangent;
-  int direction = +1;                 // initial sign of the parameter change
+  int direction = +1;  // initial sign of the parameter change
   // Arclength norm |(du, dp)|^2 = theta |du|^2 / (n s^2) + (1 - theta) dp^2, s the state scale
   // (root mean square of the starting solution, or 1 if that is zero) so that states of any
   // magnitude weigh alike.

@@ -10,7 +10,9 @@ namespace keller {
 class ContinuedBranch final : public BranchObserver {
  public:
   ContinuedBranch(BranchObserver& inner, int row) : inner_(inner), row_(row) {}
-  void on_start(const std::vector<std::string>& o, const std::vector<std::string>& m) override { inner_.on_start(o, m); }
+  void on_start(const std::vector<std::string>& o, const std::vector<std::string>& m) override {
+    inner_.on_start(o, m);
+  }
   void on_point(const BranchPoint& p) override {
     if (p.index <= 0) return;
     inner_.on_point(shifted(p));

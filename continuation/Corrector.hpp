@@ -17,9 +17,9 @@ namespace keller {
 
 struct CorrectorResult {
   Status status;
-  int iterations = 0;       // corrector iterations (solves of the extended system)
-  double residual = 0.0;    // |F|_inf where it stopped
-  bool refactored = false;  // a factorisation was made (its first iteration's, or a renewal)
+  int iterations = 0;              // corrector iterations (solves of the extended system)
+  double residual = 0.0;           // |F|_inf where it stopped
+  bool refactored = false;         // a factorisation was made (its first iteration's, or a renewal)
   bool at_rounding_floor = false;  // converged at the problem's rounding floor, above the tolerance
 };
 

@@ -22,8 +22,8 @@ Status Evaluator::set_parameter(double lambda) {
   ParameterSet& ps = problem_.parameters();
   if (!std::isfinite(lambda)) return {StatusCode::NotFinite, "parameter is not finite"};
   if (!ps.admissible(p_, lambda))
-    return {StatusCode::InvalidState,
-            fmt::format("{} = {} is outside its admissible range [{}, {}]", name_, lambda, ps.info(p_).lower, ps.info(p_).upper)};
+    return {StatusCode::InvalidState, fmt::format("{} = {} is outside its admissible range [{}, {}]", name_, lambda,
+                                                  ps.info(p_).lower, ps.info(p_).upper)};
   ps.set(p_, lambda);
   return {};
 }

@@ -116,7 +116,8 @@ Vector EventCurveProblem::initial_guess() { return state(inner_.initial_guess(),
 
 Status EventCurveProblem::set_p1(const Vector& U) {
   if (U.size() != n_ + 1) throw std::invalid_argument("event curve: state of the wrong size");
-  if (!std::isfinite(U[n_])) return {StatusCode::NotFinite, "event curve: " + event_parameter_name() + " is not finite"};
+  if (!std::isfinite(U[n_]))
+    return {StatusCode::NotFinite, "event curve: " + event_parameter_name() + " is not finite"};
   if (!inner_.parameters().admissible(p1_, U[n_]))
     return {StatusCode::InvalidState,
             fmt::format("event curve: {} = {} is outside its range", event_parameter_name(), U[n_])};
@@ -259,8 +260,8 @@ Status EventCurveProblem::start(Vector& U, const NewtonOptions& newton, SparseLU
   NewtonSolver solver(*this, newton, lu);
   const NewtonResult r = solver.solve(U);
   if (!r.converged())
-    return {StatusCode::NotConverged, "event curve: Newton from the located event did not converge (" +
-                                          r.status.describe() + ")"};
+    return {StatusCode::NotConverged,
+            "event curve: Newton from the located event did not converge (" + r.status.describe() + ")"};
   return {};
 }
 
@@ -268,8 +269,9 @@ ContinuationResult EventCurveProblem::trace(ContinuationOptions o, const NewtonO
                                             const SparseLUOptions& lu, const Vector& U0, BranchObserver& observer,
                                             const std::function<void(Continuation*)>& each_run) {
   if (!o.stop.observable.empty() && o.stop.observable != kMargin)
-    throw std::invalid_argument("event curve: the stop observable is the switch margin (continuation.stop_observable "
-                                "must be unset)");
+    throw std::invalid_argument(
+        "event curve: the stop observable is the switch margin (continuation.stop_observable "
+        "must be unset)");
   o.stop.observable = kMargin;
   o.stop.below = 0.0;
   o.stop.above = std::numeric_limits<double>::infinity();
@@ -315,8 +317,8 @@ ContinuationResult EventCurveProblem::trace(ContinuationOptions o, const NewtonO
       for (size_t j = 0; j < v.size(); ++j)
         if (static_cast<int>(j) != place_ && v[j] < best) best = v[j], next = static_cast<int>(j);
     }
-    observer.on_note(fmt::format("after row {}: the minimum moves from place {} to place {} at {} = {:.10g}",
-                                 sw.index, place_, next, o.parameter, sw.lambda));
+    observer.on_note(fmt::format("after row {}: the minimum moves from place {} to place {} at {} = {:.10g}", sw.index,
+                                 place_, next, o.parameter, sw.lambda));
     place_ = next;
     NewtonSolver solver(*this, newton, lu);
     if (!solver.solve(U).converged()) {

@@ -7,9 +7,9 @@
 
 namespace keller {
 
-std::vector<Crossing> detect_crossings(const BranchPoint& cur, const BranchPoint& nxt, const std::optional<Landing>& land,
-                                       const ContinuationOptions& o, const std::vector<std::string>& monitor_names,
-                                       size_t problem_monitors) {
+std::vector<Crossing> detect_crossings(const BranchPoint& cur, const BranchPoint& nxt,
+                                       const std::optional<Landing>& land, const ContinuationOptions& o,
+                                       const std::vector<std::string>& monitor_names, size_t problem_monitors) {
   std::vector<Crossing> out;
   auto value = [&](double v, PointKind kind, std::string label, std::optional<StopCode> end) {
     Crossing c;

@@ -31,9 +31,9 @@ struct Crossing {
 // value landed on), monitors (problem monitors are events, the stop thresholds ends), folds
 // (arclength only). monitor_names: the problem's monitors then the stop thresholds;
 // problem_monitors: how many of them are the problem's.
-std::vector<Crossing> detect_crossings(const BranchPoint& cur, const BranchPoint& nxt, const std::optional<Landing>& land,
-                                       const ContinuationOptions& options, const std::vector<std::string>& monitor_names,
-                                       size_t problem_monitors);
+std::vector<Crossing> detect_crossings(const BranchPoint& cur, const BranchPoint& nxt,
+                                       const std::optional<Landing>& land, const ContinuationOptions& options,
+                                       const std::vector<std::string>& monitor_names, size_t problem_monitors);
 
 struct LocatedPoint {
   BranchPoint point;

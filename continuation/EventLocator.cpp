@@ -106,8 +106,10 @@ std::optional<BranchPoint> EventLocator::locate_value(const BranchPoint& a, cons
   // factorisation instead of renewing it; the chord where the cubic does not reach the value
   double x = tau, lambda = value;
   const BranchFunctional parameter = [](const Vector&, double l, bool) { return l; };
-  if (hermite_point(a, b, parameter, value, p.u, lambda, x)) tau = x;
-  else p.u = a.u + tau * (b.u - a.u);
+  if (hermite_point(a, b, parameter, value, p.u, lambda, x))
+    tau = x;
+  else
+    p.u = a.u + tau * (b.u - a.u);
   p.lambda = value;
   const Constraint c = Constraint::parameter(value);
   const CorrectorResult r =

@@ -206,7 +206,8 @@ Status FoldCurveProblem::start(Vector& U, const Vector& null_guess, const Newton
   NewtonSolver solver(*this, newton, lu);
   const NewtonResult r = solver.solve(U);
   if (!r.converged())
-    return {StatusCode::NotConverged, "fold curve: Newton from the located fold did not converge (" + r.status.describe() + ")"};
+    return {StatusCode::NotConverged,
+            "fold curve: Newton from the located fold did not converge (" + r.status.describe() + ")"};
   return update_borders(U);
 }
 

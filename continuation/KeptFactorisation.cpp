@@ -13,7 +13,8 @@ Status KeptFactorisation::factorise_at(Evaluator& ev, const Vector& u, double la
   return factorise_assembled(ev, u, lambda, c);
 }
 
-Status KeptFactorisation::factorise_assembled(const Evaluator& ev, const Vector& u, double lambda, const Constraint& c) {
+Status KeptFactorisation::factorise_assembled(const Evaluator& ev, const Vector& u, double lambda,
+                                              const Constraint& c) {
   system_.set(ev.jacobian_matrix(), ev.parameter_derivative_vector(), c.cu, c.cl);
   return factorise(u, lambda);
 }

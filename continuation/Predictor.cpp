@@ -15,8 +15,8 @@ constexpr double kFoldDistanceFraction = 0.5;
 constexpr double kNaturalMinDirection = 1e-12;
 }  // namespace
 
-std::optional<Landing> plan_landing(const LandingQuery& q, const std::vector<double>& stops, double lower,
-                                    double upper, const std::string& parameter) {
+std::optional<Landing> plan_landing(const LandingQuery& q, const std::vector<double>& stops, double lower, double upper,
+                                    const std::string& parameter) {
   if (!(std::abs(q.direction) > 0)) return std::nullopt;
   double to_fold = std::numeric_limits<double>::infinity();
   if (q.has_previous && q.s > q.previous_s) {

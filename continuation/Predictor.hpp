@@ -38,14 +38,14 @@ struct LandingQuery {
 // points, vanishes (near a fold the correction at a fixed parameter is ill-posed and the value may
 // lie beyond the fold), nor right after a fold. Bounds only when left from inside (the upper one
 // upwards, the lower one downwards). Stops are labelled "<parameter> = <value>".
-std::optional<Landing> plan_landing(const LandingQuery& q, const std::vector<double>& stops, double lower,
-                                    double upper, const std::string& parameter);
+std::optional<Landing> plan_landing(const LandingQuery& q, const std::vector<double>& stops, double lower, double upper,
+                                    const std::string& parameter);
 
 struct Prediction {
   Vector u;
   double lambda = 0.0;
-  Constraint constraint;         // the row the corrector solves under
-  std::optional<Landing> land;   // the step lands on this value
+  Constraint constraint;        // the row the corrector solves under
+  std::optional<Landing> land;  // the step lands on this value
 };
 
 class Predictor {

@@ -23,7 +23,8 @@ void ProgressPrinter::on_point(const BranchPoint& p) {
   std::string kind = to_string(p.kind);
   if (!p.label.empty() && p.kind != PointKind::Requested) kind += " " + p.label;
   std::string line = fmt::format("  {:>5}  {:<12} {:>14.8g}", p.index, kind, p.lambda);
-  for (size_t i = 0; i < names_.size() && i < p.observables.size(); ++i) line += fmt::format(" {:>14.7g}", p.observables[i]);
+  for (size_t i = 0; i < names_.size() && i < p.observables.size(); ++i)
+    line += fmt::format(" {:>14.7g}", p.observables[i]);
   line += fmt::format(" {:>5} {:>9.2e} {:>10.3e} {:>9.2f}", p.iterations, p.residual, p.step, p.seconds);
   fmt::print("{}\n", line);
   std::fflush(stdout);

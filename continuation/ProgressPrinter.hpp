@@ -13,7 +13,8 @@ class ProgressPrinter final : public BranchObserver {
  public:
   // Shows the first `observables` observables (all if fewer).
   ProgressPrinter(std::string parameter, int observables = 3);
-  void on_start(const std::vector<std::string>& observable_names, const std::vector<std::string>& monitor_names) override;
+  void on_start(const std::vector<std::string>& observable_names,
+                const std::vector<std::string>& monitor_names) override;
   void on_point(const BranchPoint& p) override;
   void on_rejected(double lambda, double step, const Status& why) override;
   void on_note(const std::string& message) override;

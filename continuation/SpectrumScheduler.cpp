@@ -23,8 +23,8 @@ bool SpectrumScheduler::due(int step, int max_steps) const {
   return analysis_ && (step % every() == 0 || step >= max_steps);
 }
 
-std::optional<SpectrumScheduler::Change> SpectrumScheduler::change_at(BranchPoint& cur, BranchPoint& nxt,
-                                                                     const std::function<void(BranchPoint&)>& analyse) {
+std::optional<SpectrumScheduler::Change> SpectrumScheduler::change_at(
+    BranchPoint& cur, BranchPoint& nxt, const std::function<void(BranchPoint&)>& analyse) {
   if (!analysis_ || !nxt.analysed || last_count_ < 0 || nxt.count < 0 || last_count_ == nxt.count) return std::nullopt;
   Change c;
   c.a = &cur;

@@ -28,10 +28,10 @@ class SpectrumScheduler {
   struct Change {
     BranchPoint* a = nullptr;  // the analysed pair that brackets the change
     BranchPoint* b = nullptr;
-    bool bracketed = false;  // false: it could not be narrowed to one step (the note says why)
-    bool this_step = false;  // the pair is the step's own cur and nxt
-    std::string description; // "<count name> 0 -> 1"
-    int from_row = -1;       // the row of the last analysed point before the change
+    bool bracketed = false;   // false: it could not be narrowed to one step (the note says why)
+    bool this_step = false;   // the pair is the step's own cur and nxt
+    std::string description;  // "<count name> 0 -> 1"
+    int from_row = -1;        // the row of the last analysed point before the change
   };
   // Whether the count changed at nxt (analysed) since the last analysed point; analyse(point)
   // analyses a point in between for the bisection.

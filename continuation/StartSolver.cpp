@@ -38,7 +38,8 @@ const char* to_string(StartOptions::Path p) {
 }  // namespace
 
 void StartOptions::declare(SceneSchema& s) {
-  s.section("start", "the first steady state: Newton from the initial guess, else by continuation (docs/continuation.md)");
+  s.section("start",
+            "the first steady state: Newton from the initial guess, else by continuation (docs/continuation.md)");
   s.string("start.homotopy", "auto",
            "auto: where Newton fails from the initial guess, continue from an easy state (the problem's homotopy "
            "parameters from their easy values, then the residual homotopy F(u) - (1 - s) F(guess)); parameters / "
@@ -50,7 +51,10 @@ void StartOptions::declare(SceneSchema& s) {
 StartOptions StartOptions::from_scene(const Scene& sc) {
   StartOptions o;
   const std::string& p = sc.string("start.homotopy");
-  o.path = p == "parameters" ? Path::Parameters : p == "residual" ? Path::Residual : p == "off" ? Path::Off : Path::Auto;
+  o.path = p == "parameters" ? Path::Parameters
+           : p == "residual" ? Path::Residual
+           : p == "off"      ? Path::Off
+                             : Path::Auto;
   o.max_steps = static_cast<int>(sc.integer("start.max_steps"));
   return o;
 }
@@ -104,8 +108,9 @@ StartResult StartSolver::solve(Vector& u, const NewtonSolver::Observer& first_ne
   }
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (r.status.is_ok() && r.by_continuation)
-    say(fmt::format("first steady state by continuation: {} ({} points, {} factorisations, {} Newton iterations, {:.1f} s)",
-                    r.path, r.steps, r.factorisations, r.newton_iterations, r.seconds));
+    say(fmt::format(
+        "first steady state by continuation: {} ({} points, {} factorisations, {} Newton iterations, {:.1f} s)", r.path,
+        r.steps, r.factorisations, r.newton_iterations, r.seconds));
   return r;
 }
 
@@ -115,7 +120,8 @@ StartResult StartSolver::reach(Vector& u) {
   const bool parameters = options_.path != StartOptions::Path::Residual && options_.path != StartOptions::Path::Off;
   const bool residual = options_.path != StartOptions::Path::Parameters && options_.path != StartOptions::Path::Off;
   const bool ok = (parameters && by_parameters(guess, u, r)) || (residual && by_residual(guess, u, r));
-  if (ok) r.status = {};
+  if (ok)
+    r.status = {};
   else if (r.status.is_ok())
     r.status = {StatusCode::NotConverged, fmt::format("no path found (start.homotopy = {})", to_string(options_.path))};
   return r;
@@ -175,7 +181,8 @@ bool StartSolver::by_parameters(const Vector& guess, Vector& u, StartResult& r) 
   };
   if (!solved) {
     restore();
-    if (!used.empty()) say("first steady state: Newton fails at the easy values of the problem's homotopy parameters too");
+    if (!used.empty())
+      say("first steady state: Newton fails at the easy values of the problem's homotopy parameters too");
     return false;
   }
   // back to the set values, the last one set easy first

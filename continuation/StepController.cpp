@@ -15,8 +15,10 @@ double StepController::first(double requested) const { return std::clamp(request
 
 double StepController::after_accepted(double ds, const StepOutcome& o) const {
   double next = ds;
-  if (o.iterations < target_ && !o.landed) next = ds * options_.growth;
-  else if (o.iterations > target_ && !o.stale) next = ds * options_.slow_shrink;
+  if (o.iterations < target_ && !o.landed)
+    next = ds * options_.growth;
+  else if (o.iterations > target_ && !o.stale)
+    next = ds * options_.slow_shrink;
   return std::clamp(next, options_.min, options_.max);
 }
 

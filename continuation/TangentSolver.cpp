@@ -122,7 +122,8 @@ bool TangentSolver::by_iteration(const BranchPoint& p, const Constraint& c, cons
   const int limit = std::max(kMinTangentIterations, options_.max_iterations());
   // accelerated like the corrector's chord: on this linear system that is GMRES with the kept
   // factorisation as preconditioner
-  const int depth = options_.corrector.method == CorrectorOptions::Method::Chord ? options_.corrector.anderson_depth : 0;
+  const int depth =
+      options_.corrector.method == CorrectorOptions::Method::Chord ? options_.corrector.anderson_depth : 0;
   AndersonMixer mixer(depth);
   double best = INFINITY, first = INFINITY;
   int it_best = -1;

@@ -16,8 +16,8 @@ namespace keller {
 struct Tangent {
   Vector tu;
   double tl = 0.0;
-  int det_sign = 0;        // sign of det J where J was factorised at the point, else 0
-  bool factorised = false; // a factorisation was made for it
+  int det_sign = 0;         // sign of det J where J was factorised at the point, else 0
+  bool factorised = false;  // a factorisation was made for it
 };
 
 class TangentSolver {

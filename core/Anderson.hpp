@@ -16,7 +16,7 @@ namespace keller {
 // chord it accelerates; on a nonlinear one it cancels the few slowly contracting or oscillating
 // modes that an old matrix leaves. The history must be reset when M changes.
 class AndersonMixer {
-public:
+ public:
   explicit AndersonMixer(int depth) : depth_(depth) {}
   int depth() const { return depth_; }
   void reset();
@@ -28,7 +28,7 @@ public:
   void mix(const Vector& u, double l, Vector& du, double& dl);
   int history() const { return static_cast<int>(dF_.size()); }
 
-private:
+ private:
   int depth_;
   std::deque<Vector> dX_, dF_;
   Vector x_prev_, f_prev_;

@@ -39,13 +39,14 @@ Assembler::Assembler(int n, std::vector<std::shared_ptr<const Term>> terms, std:
       t.item_dofs(item, dofs.data());
       for (int d : dofs)
         if (d < 0 || d >= n)
-          throw std::invalid_argument(fmt::format("term '{}' item {}: unknown index {} out of range", t.name(), item, d));
+          throw std::invalid_argument(
+              fmt::format("term '{}' item {}: unknown index {} out of range", t.name(), item, d));
       if (!t.owns_rows()) continue;
       for (int i = 0; i < t.local_rows(); ++i) {
         const int r = dofs[i];
         if (owned_[r] >= 0)
-          throw std::invalid_argument(fmt::format("row {} is owned by both '{}' and '{}'", r,
-                                                  terms_[owned_[r]]->name(), t.name()));
+          throw std::invalid_argument(
+              fmt::format("row {} is owned by both '{}' and '{}'", r, terms_[owned_[r]]->name(), t.name()));
         owned_[r] = static_cast<int>(ti);
         target_[r] = -1;
       }
@@ -53,7 +54,8 @@ Assembler::Assembler(int n, std::vector<std::shared_ptr<const Term>> terms, std:
   }
   for (const auto& [from, to] : redirects) {
     if (from < 0 || from >= n || to < 0 || to >= n) throw std::invalid_argument("redirect: row out of range");
-    if (owned_[from] < 0) throw std::invalid_argument(fmt::format("redirect: row {} is not owned by a strong term", from));
+    if (owned_[from] < 0)
+      throw std::invalid_argument(fmt::format("redirect: row {} is not owned by a strong term", from));
     target_[from] = to;
   }
 
@@ -169,9 +171,8 @@ Status Assembler::weak_residual(const Vector& u, Vector& F) const {
 
 Status Assembler::residual(const Vector& u, Vector& F) const {
   const auto t0 = std::chrono::steady_clock::now();
-  Status st = assemble_vector(u, F, [](const Term& t, int item, const double* ul, double* rl) {
-    return t.residual(item, ul, rl);
-  });
+  Status st = assemble_vector(
+      u, F, [](const Term& t, int item, const double* ul, double* rl) { return t.residual(item, ul, rl); });
   timing_.residual_seconds += seconds_since(t0);
   ++timing_.residual_calls;
   if (st.code() == StatusCode::NotFinite) return {st.code(), "residual " + st.message()};

@@ -28,8 +28,7 @@ class Assembler {
   // n: number of global unknowns. redirects: (from, to) pairs; the weak contributions to row
   // `from` (which a strong term must own) are added to row `to`. Throws std::invalid_argument on
   // rows owned twice, redirects of unowned rows, or dofs out of range.
-  Assembler(int n, std::vector<std::shared_ptr<const Term>> terms,
-            std::vector<std::pair<int, int>> redirects = {});
+  Assembler(int n, std::vector<std::shared_ptr<const Term>> terms, std::vector<std::pair<int, int>> redirects = {});
 
   int size() const { return n_; }
   // The Jacobian's sparsity pattern (values zero).

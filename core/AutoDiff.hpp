@@ -9,8 +9,8 @@
 #pragma once
 
 #include <Eigen/Core>
-#include <unsupported/Eigen/AutoDiff>
 #include <cmath>
+#include <unsupported/Eigen/AutoDiff>
 
 namespace keller {
 

@@ -41,10 +41,18 @@ std::vector<std::pair<int, int>> side_nodes(int nx, int ny, Side side) {
   std::vector<std::pair<int, int>> out;
   const int ni = 2 * nx + 1, nj = 2 * ny + 1;
   switch (side) {
-    case Side::Bottom: for (int i = 0; i < ni; ++i) out.emplace_back(i, 0); break;
-    case Side::Top: for (int i = 0; i < ni; ++i) out.emplace_back(i, nj - 1); break;
-    case Side::Left: for (int j = 0; j < nj; ++j) out.emplace_back(0, j); break;
-    case Side::Right: for (int j = 0; j < nj; ++j) out.emplace_back(ni - 1, j); break;
+    case Side::Bottom:
+      for (int i = 0; i < ni; ++i) out.emplace_back(i, 0);
+      break;
+    case Side::Top:
+      for (int i = 0; i < ni; ++i) out.emplace_back(i, nj - 1);
+      break;
+    case Side::Left:
+      for (int j = 0; j < nj; ++j) out.emplace_back(0, j);
+      break;
+    case Side::Right:
+      for (int j = 0; j < nj; ++j) out.emplace_back(ni - 1, j);
+      break;
   }
   return out;
 }
@@ -136,10 +144,18 @@ Mesh BlockMeshBuilder::build() const {
       if (name.empty()) continue;
       auto& list = boundaries[name];
       switch (static_cast<Side>(s)) {
-        case Side::Bottom: for (int i = 0; i < b.nx; ++i) list.push_back({mb.element(i, 0), 0}); break;
-        case Side::Right: for (int j = 0; j < b.ny; ++j) list.push_back({mb.element(b.nx - 1, j), 1}); break;
-        case Side::Top: for (int i = 0; i < b.nx; ++i) list.push_back({mb.element(i, b.ny - 1), 2}); break;
-        case Side::Left: for (int j = 0; j < b.ny; ++j) list.push_back({mb.element(0, j), 3}); break;
+        case Side::Bottom:
+          for (int i = 0; i < b.nx; ++i) list.push_back({mb.element(i, 0), 0});
+          break;
+        case Side::Right:
+          for (int j = 0; j < b.ny; ++j) list.push_back({mb.element(b.nx - 1, j), 1});
+          break;
+        case Side::Top:
+          for (int i = 0; i < b.nx; ++i) list.push_back({mb.element(i, b.ny - 1), 2});
+          break;
+        case Side::Left:
+          for (int j = 0; j < b.ny; ++j) list.push_back({mb.element(0, j), 3});
+          break;
       }
     }
     mblocks.push_back(std::move(mb));

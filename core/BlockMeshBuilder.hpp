@@ -20,8 +20,8 @@ enum class Side { Bottom = 0, Right = 1, Top = 2, Left = 3 };
 
 struct BlockSpec {
   std::string name;
-  std::string group;                 // element group, e.g. "fluid" or "solid"
-  int nx = 1, ny = 1;                // elements along s and t
+  std::string group;   // element group, e.g. "fluid" or "solid"
+  int nx = 1, ny = 1;  // elements along s and t
   Grading grading_s, grading_t;
   std::function<Mesh::Point(double s, double t)> map;  // (s, t) in [0,1]^2 -> (x, y)
   std::array<std::string, 4> side_names;               // boundary name per Side, "" for none

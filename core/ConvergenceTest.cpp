@@ -24,8 +24,8 @@ ConvergenceTest::Verdict ConvergenceTest::judge(const Iterate& it) const {
   const bool still = std::isfinite(it.update) && it.contraction < 1.0 &&
                      it.update / (1.0 - it.contraction) <= update_tolerance * it.scale;
   // a residual that stopped falling
-  const bool stalled = it.residual > kStallRatio * it.previous &&
-                       (!slow || it.residual > kSlowStallRatio * it.before_previous);
+  const bool stalled =
+      it.residual > kStallRatio * it.previous && (!slow || it.residual > kSlowStallRatio * it.before_previous);
   return still || stalled ? Verdict::RoundingFloor : Verdict::Continue;
 }
 

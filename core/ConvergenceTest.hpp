@@ -34,7 +34,7 @@ struct ConvergenceTest {
   bool slow = false;
 
   struct Iterate {
-    double residual = 0.0;  // |F|_inf at this iterate
+    double residual = 0.0;                                             // |F|_inf at this iterate
     double previous = std::numeric_limits<double>::infinity();         // at the iterate before
     double before_previous = std::numeric_limits<double>::infinity();  // two before
     // |du|_inf of the full update that led here, unaccelerated and undamped (infinite: none, or damped)

@@ -73,9 +73,7 @@ int DofMap::field_index(const std::string& name) const {
   throw std::invalid_argument("no field named '" + name + "' in this problem");
 }
 
-int DofMap::element_dof(int f, int e, int k, int c) const {
-  return elem_dofs_[f][(e * 3 + k) * num_components(f) + c];
-}
+int DofMap::element_dof(int f, int e, int k, int c) const { return elem_dofs_[f][(e * 3 + k) * num_components(f) + c]; }
 
 void DofMap::element_dofs(int f, int e, int* out) const {
   const int nc = num_components(f);
@@ -109,8 +107,8 @@ std::string DofMap::describe(int dof) const {
     it = std::find(ed.begin(), ed.end(), dof);
     if (it != ed.end()) {
       const int k = static_cast<int>(it - ed.begin());
-      return fields_[f].name + "." + fields_[f].components[k % nc] + " coefficient " +
-             std::to_string((k / nc) % 3) + " of element " + std::to_string(k / nc / 3);
+      return fields_[f].name + "." + fields_[f].components[k % nc] + " coefficient " + std::to_string((k / nc) % 3) +
+             " of element " + std::to_string(k / nc / 3);
     }
   }
   return "dof " + std::to_string(dof);

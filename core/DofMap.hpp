@@ -18,10 +18,10 @@ const char* to_string(Basis b);
 int basis_size(Basis b);
 
 struct FieldSpec {
-  std::string name;                          // e.g. "velocity"
+  std::string name;  // e.g. "velocity"
   Basis basis = Basis::Q2;
-  std::vector<std::string> components;       // e.g. {"vx", "vy"}; size = number of components
-  std::vector<std::string> groups;           // element groups it lives on; empty = all
+  std::vector<std::string> components;  // e.g. {"vx", "vy"}; size = number of components
+  std::vector<std::string> groups;      // element groups it lives on; empty = all
 };
 
 class DofMap {
@@ -54,9 +54,9 @@ class DofMap {
   int mesh_group(int e) const { return mesh_->element_group(e); }
   const Mesh* mesh_;
   std::vector<FieldSpec> fields_;
-  std::vector<std::vector<char>> active_;     // [field][group]
-  std::vector<std::vector<int>> node_dofs_;   // [field][node * comps + c]
-  std::vector<std::vector<int>> elem_dofs_;   // [field][(e * 3 + k) * comps + c]
+  std::vector<std::vector<char>> active_;    // [field][group]
+  std::vector<std::vector<int>> node_dofs_;  // [field][node * comps + c]
+  std::vector<std::vector<int>> elem_dofs_;  // [field][(e * 3 + k) * comps + c]
   int size_ = 0;
 };
 

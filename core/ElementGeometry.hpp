@@ -13,20 +13,20 @@ namespace keller {
 // Geometry at one Gauss point of the element interior.
 template <class G>
 struct QpGeometry {
-  G x[2];          // physical position
-  G detJ;          // det(dx/ds)
-  G wdetJ;         // Gauss weight * detJ: the area element
-  G dN2dx[9][2];   // Q2 shape-function gradients in physical coordinates
-  G dN1dx[4][2];   // Q1 shape-function gradients in physical coordinates
+  G x[2];         // physical position
+  G detJ;         // det(dx/ds)
+  G wdetJ;        // Gauss weight * detJ: the area element
+  G dN2dx[9][2];  // Q2 shape-function gradients in physical coordinates
+  G dN1dx[4][2];  // Q1 shape-function gradients in physical coordinates
 };
 
 // Geometry at one Gauss point of an element edge.
 template <class G>
 struct EdgeQpGeometry {
-  G x[2];        // physical position
-  G normal[2];   // outward unit normal
-  G wds;         // Gauss weight * |dx/ds| along the edge: the line element
-  G dN2dx[9][2]; // Q2 gradients in physical coordinates at this point
+  G x[2];         // physical position
+  G normal[2];    // outward unit normal
+  G wds;          // Gauss weight * |dx/ds| along the edge: the line element
+  G dN2dx[9][2];  // Q2 gradients in physical coordinates at this point
 };
 
 using ElementNodes = std::array<std::array<double, 2>, 9>;
@@ -68,12 +68,10 @@ bool map_element(const G (&xy)[9][2], std::array<QpGeometry<G>, ref::kQp>& out) 
     for (int a = 0; a < 9; ++a) {
       g.x[0] += xy[a][0] * tb.N2[q][a];
       g.x[1] += xy[a][1] * tb.N2[q][a];
-      for (int i = 0; i < 2; ++i)
-        g.dN2dx[a][i] = tb.dN2[q][a][0] * Jinv[0][i] + tb.dN2[q][a][1] * Jinv[1][i];
+      for (int i = 0; i < 2; ++i) g.dN2dx[a][i] = tb.dN2[q][a][0] * Jinv[0][i] + tb.dN2[q][a][1] * Jinv[1][i];
     }
     for (int k = 0; k < 4; ++k)
-      for (int i = 0; i < 2; ++i)
-        g.dN1dx[k][i] = tb.dN1[q][k][0] * Jinv[0][i] + tb.dN1[q][k][1] * Jinv[1][i];
+      for (int i = 0; i < 2; ++i) g.dN1dx[k][i] = tb.dN1[q][k][0] * Jinv[0][i] + tb.dN1[q][k][1] * Jinv[1][i];
   }
   return true;
 }

@@ -11,10 +11,10 @@ namespace keller {
 
 struct Grading {
   enum class Kind {
-    Uniform,    // equal sizes
-    Start,      // fine at s = 0: sizes grow by a constant factor towards s = 1
-    End,        // fine at s = 1
-    BothEnds,   // fine at both ends, coarse in the middle (symmetric)
+    Uniform,   // equal sizes
+    Start,     // fine at s = 0: sizes grow by a constant factor towards s = 1
+    End,       // fine at s = 1
+    BothEnds,  // fine at both ends, coarse in the middle (symmetric)
   };
   Kind kind = Kind::Uniform;
   double ratio = 1.0;  // largest element size / smallest element size (>= 1)

@@ -73,8 +73,8 @@ void H5File::close() {
   const herr_t status = H5Fclose(file_);
   file_ = -1;
   if (open_objects > 1 || status < 0)
-    throw std::runtime_error(fmt::format("HDF5 file '{}': not closed cleanly ({} open objects, status {})", path_,
-                                         open_objects, status));
+    throw std::runtime_error(
+        fmt::format("HDF5 file '{}': not closed cleanly ({} open objects, status {})", path_, open_objects, status));
 }
 
 void H5File::flush() {
@@ -180,7 +180,8 @@ void H5File::set_attribute(const std::string& object, const std::string& name, d
 }
 
 void H5File::set_attribute(const std::string& object, const std::string& name, long value) {
-  with_attribute(file_, path_, object, name, H5T_STD_I64LE, [&](hid_t a) { return H5Awrite(a, H5T_NATIVE_LONG, &value); });
+  with_attribute(file_, path_, object, name, H5T_STD_I64LE,
+                 [&](hid_t a) { return H5Awrite(a, H5T_NATIVE_LONG, &value); });
 }
 
 std::string H5File::read_string(const std::string& dataset) const {
@@ -324,7 +325,8 @@ void H5File::append_rows(const std::string& dataset, const double* data, long ro
   const hsize_t count[2] = {static_cast<hsize_t>(rows), dims[1]};
   H5Sselect_hyperslab(fspace, H5S_SELECT_SET, start, nullptr, count, nullptr);
   Handle mspace(H5Screate_simple(2, count, nullptr), H5Sclose);
-  if (H5Dwrite(ds, H5T_NATIVE_DOUBLE, mspace, fspace, H5P_DEFAULT, data) < 0) fail(path_, "cannot append to " + dataset);
+  if (H5Dwrite(ds, H5T_NATIVE_DOUBLE, mspace, fspace, H5P_DEFAULT, data) < 0)
+    fail(path_, "cannot append to " + dataset);
   if (H5Dflush(ds) < 0) fail(path_, "cannot flush " + dataset);
 }
 

@@ -21,9 +21,9 @@ struct BoundaryEdge {
 struct MeshBlock {
   std::string name;
   int group = 0;
-  int nx = 0, ny = 0;              // elements along s and t
-  std::vector<int> node_grid;      // (2 nx + 1) x (2 ny + 1) node ids, index i + (2 nx + 1) j
-  std::vector<int> elements;       // element ids, index i + nx j
+  int nx = 0, ny = 0;          // elements along s and t
+  std::vector<int> node_grid;  // (2 nx + 1) x (2 ny + 1) node ids, index i + (2 nx + 1) j
+  std::vector<int> elements;   // element ids, index i + nx j
   int node(int i, int j) const { return node_grid[i + (2 * nx + 1) * j]; }
   int element(int i, int j) const { return elements[i + nx * j]; }
 };

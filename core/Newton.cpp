@@ -17,7 +17,10 @@ double inf_norm(const Vector& v) { return v.size() ? v.lpNorm<Eigen::Infinity>()
 }  // namespace
 
 NewtonSolver::NewtonSolver(Problem& problem, NewtonOptions options, SparseLUOptions lu_options)
-    : problem_(problem), options_(options), lu_(std::make_shared<SparseLU>(lu_options)), J_(problem.jacobian_pattern()) {}
+    : problem_(problem),
+      options_(options),
+      lu_(std::make_shared<SparseLU>(lu_options)),
+      J_(problem.jacobian_pattern()) {}
 
 NewtonResult NewtonSolver::solve(Vector& u, const Observer& observer) {
   NewtonResult res;
@@ -35,8 +38,8 @@ NewtonResult NewtonSolver::solve(Vector& u, const Observer& observer) {
     return res;
   }
   const double F0 = inf_norm(F);
-  double normF = F0;        // convergence is judged in the max norm
-  double norm2 = F.norm();  // the line search in the 2-norm, for which du is a descent direction
+  double normF = F0;           // convergence is judged in the max norm
+  double norm2 = F.norm();     // the line search in the 2-norm, for which du is a descent direction
   double previous = INFINITY;  // |F| one iteration before normF
   double contraction = 0.0;    // the fall of the last iteration, the chord's rate on a kept factorisation
   int on_this_matrix = 0;      // iterations made with the present factorisation
@@ -44,8 +47,9 @@ NewtonResult NewtonSolver::solve(Vector& u, const Observer& observer) {
   for (int k = 0;; ++k) {
     if (normF <= test.tolerance) break;
     if (k >= options_.max_iterations) {
-      res.status = {StatusCode::NotConverged, fmt::format("no convergence in {} iterations (|F| = {:.3e}, tolerance {:.3e})",
-                                                          k, normF, test.tolerance)};
+      res.status = {
+          StatusCode::NotConverged,
+          fmt::format("no convergence in {} iterations (|F| = {:.3e}, tolerance {:.3e})", k, normF, test.tolerance)};
       break;
     }
     NewtonIteration it;

@@ -34,20 +34,20 @@ struct NewtonOptions {
 
 struct NewtonIteration {
   int iteration = 0;
-  double residual_norm = 0;   // ||F||_inf at the start of the iteration
-  double update_norm = 0;     // ||du||_inf of the full Newton step
-  bool chord = false;         // solved with the previous iteration's factorisation
-  double step_length = 1;     // damping factor taken
-  double seconds = 0;         // wall time of this iteration
+  double residual_norm = 0;  // ||F||_inf at the start of the iteration
+  double update_norm = 0;    // ||du||_inf of the full Newton step
+  bool chord = false;        // solved with the previous iteration's factorisation
+  double step_length = 1;    // damping factor taken
+  double seconds = 0;        // wall time of this iteration
   double assembly_seconds = 0, factor_seconds = 0, solve_seconds = 0, line_search_seconds = 0;
 };
 
 struct NewtonResult {
-  Status status;                       // Ok iff converged
-  int iterations = 0;                  // iterations done
-  int factorisations = 0;              // Jacobian factorisations done (fewer with chord_rate)
-  double residual_norm = 0;            // final ||F||_inf
-  bool at_rounding_floor = false;      // converged at the problem's rounding floor, above the tolerance
+  Status status;                   // Ok iff converged
+  int iterations = 0;              // iterations done
+  int factorisations = 0;          // Jacobian factorisations done (fewer with chord_rate)
+  double residual_norm = 0;        // final ||F||_inf
+  bool at_rounding_floor = false;  // converged at the problem's rounding floor, above the tolerance
   std::vector<NewtonIteration> history;
   double seconds = 0;
   double assembly_seconds = 0, factor_seconds = 0, solve_seconds = 0, line_search_seconds = 0;

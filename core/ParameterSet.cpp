@@ -13,7 +13,8 @@ int ParameterSet::add(std::string name, double value, std::string doc, double lo
 int ParameterSet::add(std::string name, double value, std::string doc, const Range& range) {
   if (has(name)) throw std::invalid_argument("parameter '" + name + "' declared twice");
   if (!range.contains(value))
-    throw std::out_of_range(fmt::format("parameter '{}' = {} outside its range: must be {}", name, value, range.describe()));
+    throw std::out_of_range(
+        fmt::format("parameter '{}' = {} outside its range: must be {}", name, value, range.describe()));
   params_.push_back({std::move(name), value, range.lo, range.hi, std::move(doc), range.lo_open, range.hi_open});
   values_.push_back(value);
   ++version_;
@@ -35,7 +36,8 @@ int ParameterSet::index(const std::string& name) const {
 void ParameterSet::set(int i, double v) {
   const Parameter& p = params_.at(static_cast<size_t>(i));
   if (!p.range().contains(v))
-    throw std::out_of_range(fmt::format("parameter '{}' = {} outside its range: must be {}", p.name, v, p.range().describe()));
+    throw std::out_of_range(
+        fmt::format("parameter '{}' = {} outside its range: must be {}", p.name, v, p.range().describe()));
   values_[i] = v;
   params_[i].value = v;
   ++version_;

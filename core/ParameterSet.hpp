@@ -23,8 +23,7 @@ struct Parameter {
 class ParameterSet {
  public:
   // Adds a parameter and returns its index; throws if the name exists or the value is out of range.
-  int add(std::string name, double value, std::string doc,
-          double lower = -std::numeric_limits<double>::infinity(),
+  int add(std::string name, double value, std::string doc, double lower = -std::numeric_limits<double>::infinity(),
           double upper = std::numeric_limits<double>::infinity());
   // The same with a range that may have open ends (Wi > 0).
   int add(std::string name, double value, std::string doc, const Range& range);

@@ -35,11 +35,11 @@ PendingFile::~PendingFile() {
 void PendingFile::commit() {
   struct stat st {};
   if (::lstat(target_.c_str(), &st) == 0 && !S_ISREG(st.st_mode))
-    throw std::runtime_error(fmt::format("'{}' is no longer a regular file; the new file stays at '{}'", target_, path_));
+    throw std::runtime_error(
+        fmt::format("'{}' is no longer a regular file; the new file stays at '{}'", target_, path_));
   sync_file(path_);
   if (::rename(path_.c_str(), target_.c_str()) != 0)
-    throw std::runtime_error(
-        fmt::format("cannot rename '{}' to '{}': {}", path_, target_, std::strerror(errno)));
+    throw std::runtime_error(fmt::format("cannot rename '{}' to '{}': {}", path_, target_, std::strerror(errno)));
   done_ = true;
   // the rename itself is durable once the folder is flushed
   const fs::path p(target_);

@@ -16,10 +16,10 @@
 namespace keller {
 
 struct PointAnalysisResult {
-  std::vector<double> columns;  // one value per PointAnalysis::column_names() (NaN: not available)
-  int count = -1;               // e.g. eigenvalues with Re(sigma) < 0
-  double locator = 0.0;         // e.g. Re(sigma) of the eigenvalue nearest the imaginary axis
-  double critical_imag = 0.0;   // its imaginary part (0: real)
+  std::vector<double> columns;      // one value per PointAnalysis::column_names() (NaN: not available)
+  int count = -1;                   // e.g. eigenvalues with Re(sigma) < 0
+  double locator = 0.0;             // e.g. Re(sigma) of the eigenvalue nearest the imaginary axis
+  double critical_imag = 0.0;       // its imaginary part (0: real)
   Vector critical_re, critical_im;  // its eigenvector (empty when not computed)
 };
 

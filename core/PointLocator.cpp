@@ -45,8 +45,10 @@ PointLocator::PointLocator(const Mesh& mesh, int group) : mesh_(&mesh) {
   auto clampi = [](int v, int n) { return std::min(std::max(v, 0), n - 1); };
   for (size_t k = 0; k < elements.size(); ++k) {
     const Box& b = boxes[k];
-    const int i0 = clampi(static_cast<int>((b.x0 - x0_) / dx_), nbx_), i1 = clampi(static_cast<int>((b.x1 - x0_) / dx_), nbx_);
-    const int j0 = clampi(static_cast<int>((b.y0 - y0_) / dy_), nby_), j1 = clampi(static_cast<int>((b.y1 - y0_) / dy_), nby_);
+    const int i0 = clampi(static_cast<int>((b.x0 - x0_) / dx_), nbx_),
+              i1 = clampi(static_cast<int>((b.x1 - x0_) / dx_), nbx_);
+    const int j0 = clampi(static_cast<int>((b.y0 - y0_) / dy_), nby_),
+              j1 = clampi(static_cast<int>((b.y1 - y0_) / dy_), nby_);
     for (int j = j0; j <= j1; ++j)
       for (int i = i0; i <= i1; ++i) buckets_[static_cast<size_t>(i + nbx_ * j)].push_back(elements[k]);
   }
@@ -56,8 +58,7 @@ bool PointLocator::invert(int e, double x, double y, MeshPoint& out, double tol)
   double xy[9][2];
   mesh_->element_nodes(e, xy);
   double size = 0;
-  for (int a = 0; a < 9; ++a)
-    size = std::max({size, std::abs(xy[a][0] - xy[4][0]), std::abs(xy[a][1] - xy[4][1])});
+  for (int a = 0; a < 9; ++a) size = std::max({size, std::abs(xy[a][0] - xy[4][0]), std::abs(xy[a][1] - xy[4][1])});
   double s = 0, t = 0;
   bool converged = false;
   for (int it = 0; it < 40 && !converged; ++it) {

@@ -48,10 +48,22 @@ Tables build_tables() {
     for (int k = 0; k < 3; ++k) {
       double s = 0, t = 0;
       switch (e) {
-        case 0: s = gp[k]; t = -1; break;
-        case 1: s = 1; t = gp[k]; break;
-        case 2: s = gp[k]; t = 1; break;
-        default: s = -1; t = gp[k]; break;
+        case 0:
+          s = gp[k];
+          t = -1;
+          break;
+        case 1:
+          s = 1;
+          t = gp[k];
+          break;
+        case 2:
+          s = gp[k];
+          t = 1;
+          break;
+        default:
+          s = -1;
+          t = gp[k];
+          break;
       }
       tb.edge_s[e][k] = s;
       tb.edge_t[e][k] = t;

@@ -18,8 +18,7 @@ inline constexpr int kQp = 9;      // 3x3 Gauss points
 inline constexpr int kEdgeQp = 3;  // 3-point Gauss rule on an edge
 
 inline constexpr std::array<int, 4> q1_node = {0, 2, 6, 8};
-inline constexpr std::array<std::array<int, 3>, 4> edge_nodes = {
-    {{0, 1, 2}, {2, 5, 8}, {6, 7, 8}, {0, 3, 6}}};
+inline constexpr std::array<std::array<int, 3>, 4> edge_nodes = {{{0, 1, 2}, {2, 5, 8}, {6, 7, 8}, {0, 3, 6}}};
 
 // 1D quadratic Lagrange polynomials on nodes -1, 0, 1 and their derivatives.
 inline double lagrange2(int i, double x) {

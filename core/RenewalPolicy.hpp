@@ -26,13 +26,13 @@ struct RenewalPolicy {
   double floor_level = 0.0;
 
   struct History {
-    int iteration = 1;       // iterations made so far in this solve (>= 1)
-    int on_this_matrix = 1;  // of them with the present factorisation (>= 1)
-    double residual = 0.0;   // |F|_inf now
-    double previous = 0.0;   // one iteration ago
+    int iteration = 1;             // iterations made so far in this solve (>= 1)
+    int on_this_matrix = 1;        // of them with the present factorisation (>= 1)
+    double residual = 0.0;         // |F|_inf now
+    double previous = 0.0;         // one iteration ago
     double before_previous = 0.0;  // two ago (used where on_this_matrix >= 2)
-    double goal = 0.0;       // the residual the solve aims at
-    bool full_step = true;   // the last update was taken in full (not damped by a line search)
+    double goal = 0.0;             // the residual the solve aims at
+    bool full_step = true;         // the last update was taken in full (not damped by a line search)
   };
 
   // The iterations the chord still needs to reach the goal at its observed rate (the mean rate of

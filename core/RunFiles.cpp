@@ -12,7 +12,8 @@ namespace keller {
 namespace fs = std::filesystem;
 
 bool same_file(const std::string& a, const std::string& b) {
-  struct stat sa {}, sb {};
+  struct stat sa {
+  }, sb{};
   const bool ea = ::stat(a.c_str(), &sa) == 0, eb = ::stat(b.c_str(), &sb) == 0;
   if (ea && eb) return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
   if (ea != eb) return false;
@@ -49,9 +50,10 @@ void RunFiles::check() const {
     if (o.path.empty()) throw std::invalid_argument(fmt::format("{}: empty path", o.role));
     for (const Entry& in : inputs_)
       if (same_file(o.path, in.path))
-        throw std::invalid_argument(fmt::format("{} '{}' is the same file as the {} '{}': it would be overwritten; "
-                                                "write to another file",
-                                                o.role, o.path, in.role, in.path));
+        throw std::invalid_argument(
+            fmt::format("{} '{}' is the same file as the {} '{}': it would be overwritten; "
+                        "write to another file",
+                        o.role, o.path, in.role, in.path));
     for (size_t j = 0; j < i; ++j)
       if (same_file(o.path, outputs_[j].path))
         throw std::invalid_argument(fmt::format("{} '{}' and {} '{}' are the same file; give them different names",

@@ -2,12 +2,12 @@
 
 #include <fmt/format.h>
 
+#include <toml++/toml.h>
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
-#include <toml++/toml.h>
 
 namespace keller {
 
@@ -149,7 +149,8 @@ std::string SceneSchema::help() const {
       if (k.type == KeySpec::Type::String && !k.choices.empty()) {
         allowed = "one of:";
         for (const auto& c : k.choices) allowed += " " + c;
-      } else if (k.type == KeySpec::Type::Real || k.type == KeySpec::Type::Integer || k.type == KeySpec::Type::RealList) {
+      } else if (k.type == KeySpec::Type::Real || k.type == KeySpec::Type::Integer ||
+                 k.type == KeySpec::Type::RealList) {
         if (k.range.describe() != "any number") allowed = k.range.describe();
       }
       out += fmt::format("  {} = {}\n      {}; {}{}\n", k.key(), format_value(k.default_value), k.doc, k.type_name(),
@@ -215,8 +216,8 @@ toml::table parse_toml(const std::string& text, const std::string& source) {
   try {
     return toml::parse(text, source);
   } catch (const toml::parse_error& e) {
-    throw SceneError(fmt::format("{}:{}:{}: not valid TOML: {}", source, e.source().begin.line,
-                                 e.source().begin.column, e.description()));
+    throw SceneError(fmt::format("{}:{}:{}: not valid TOML: {}", source, e.source().begin.line, e.source().begin.column,
+                                 e.description()));
   }
 }
 
@@ -310,7 +311,8 @@ Scene Scene::parse(const std::string& text, const std::string& source, const Sce
     for (const auto& [name, doc] : schema.sections())
       if (name.rfind(path + ".", 0) == 0) prefix_of_section = true;
     if (!prefix_of_section)
-      throw SceneError(fmt::format("{}: unknown section [{}]; allowed sections: {}", location(source, line), path, section_list()));
+      throw SceneError(
+          fmt::format("{}: unknown section [{}]; allowed sections: {}", location(source, line), path, section_list()));
   }
   for (const Leaf& leaf : leaves) {
     const KeySpec* spec = schema.find(leaf.path);
@@ -335,17 +337,20 @@ Scene Scene::parse(const std::string& text, const std::string& source, const Sce
                                     leaf.path, v, spec->range.describe()));
     };
     auto not_finite = [&](double v) {
-      return SceneError(fmt::format("{}: key '{}' = {} is not a finite number{}", location(source, leaf.line),
-                                    leaf.path, v,
-                                    spec->allows_infinity() ? "" : fmt::format(" (must be {})", spec->range.describe())));
+      return SceneError(
+          fmt::format("{}: key '{}' = {} is not a finite number{}", location(source, leaf.line), leaf.path, v,
+                      spec->allows_infinity() ? "" : fmt::format(" (must be {})", spec->range.describe())));
     };
     SceneValue value;
     switch (spec->type) {
       case KeySpec::Type::Real: {
         double v = 0;
-        if (n.is_floating_point()) v = *n.value<double>();
-        else if (n.is_integer()) v = static_cast<double>(*n.value<int64_t>());
-        else throw wrong_type();
+        if (n.is_floating_point())
+          v = *n.value<double>();
+        else if (n.is_integer())
+          v = static_cast<double>(*n.value<int64_t>());
+        else
+          throw wrong_type();
         if (!std::isfinite(v) && !(std::isinf(v) && spec->allows_infinity())) throw not_finite(v);
         if (!spec->range.contains(v)) throw out_of_range(v);
         value = v;
@@ -381,9 +386,12 @@ Scene Scene::parse(const std::string& text, const std::string& source, const Sce
         std::vector<double> v;
         for (const toml::node& e : *arr) {
           double x = 0;
-          if (e.is_floating_point()) x = *e.value<double>();
-          else if (e.is_integer()) x = static_cast<double>(*e.value<int64_t>());
-          else throw wrong_type();
+          if (e.is_floating_point())
+            x = *e.value<double>();
+          else if (e.is_integer())
+            x = static_cast<double>(*e.value<int64_t>());
+          else
+            throw wrong_type();
           if (!std::isfinite(x)) throw not_finite(x);
           if (!spec->range.contains(x)) throw out_of_range(x);
           v.push_back(x);

@@ -25,7 +25,7 @@ using SceneValue = std::variant<double, long, bool, std::string, std::vector<dou
 
 struct KeySpec {
   enum class Type { Real, Integer, Boolean, String, RealList };
-  std::string path;   // "section.key" (sections may nest: "a.b.key")
+  std::string path;  // "section.key" (sections may nest: "a.b.key")
   Type type = Type::Real;
   SceneValue default_value;
   std::string doc;
@@ -50,8 +50,7 @@ class SceneSchema {
   void boolean(const std::string& path, bool def, const std::string& doc);
   void string(const std::string& path, const std::string& def, const std::string& doc,
               std::vector<std::string> choices = {});
-  void real_list(const std::string& path, std::vector<double> def, const std::string& doc,
-                 Range range = Range::any());
+  void real_list(const std::string& path, std::vector<double> def, const std::string& doc, Range range = Range::any());
 
   // A different default for a declared string key (a problem type's own choice of a common key,
   // such as its best fill-reducing ordering); the doc says so. Throws std::logic_error for a key

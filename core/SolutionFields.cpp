@@ -12,7 +12,10 @@ SolutionFields extract_fields(const Mesh& mesh, const DofMap& dofs, const Vector
     const FieldSpec& fs = dofs.field(f);
     const int nc = dofs.num_components(f);
     if (fs.basis == Basis::P1Disc) {
-      ElementField ef{fs.name, to_string(fs.basis), fs.components, fs.groups,
+      ElementField ef{fs.name,
+                      to_string(fs.basis),
+                      fs.components,
+                      fs.groups,
                       Eigen::MatrixXd::Constant(mesh.num_elements(), 3 * nc, nan),
                       Eigen::MatrixXd::Constant(mesh.num_elements(), nc, nan)};
       for (int e = 0; e < mesh.num_elements(); ++e) {

@@ -16,26 +16,26 @@ namespace keller {
 
 struct NodalField {
   std::string name;
-  std::string basis;                    // "Q2", "Q1" (Q1 values are given at vertex nodes and
-                                        // interpolated to the others, which is exact)
+  std::string basis;  // "Q2", "Q1" (Q1 values are given at vertex nodes and
+                      // interpolated to the others, which is exact)
   std::vector<std::string> components;
-  std::vector<std::string> groups;      // element groups it lives on (empty = all)
-  Eigen::MatrixXd values;               // num_nodes x components, NaN where absent
+  std::vector<std::string> groups;  // element groups it lives on (empty = all)
+  Eigen::MatrixXd values;           // num_nodes x components, NaN where absent
 };
 
 struct ElementField {
   std::string name;
-  std::string basis;                    // "P1disc": value = c0 + c1 (x - xc) + c2 (y - yc)
+  std::string basis;  // "P1disc": value = c0 + c1 (x - xc) + c2 (y - yc)
   std::vector<std::string> components;
   std::vector<std::string> groups;
-  Eigen::MatrixXd coefficients;         // num_elements x (3 * components), component-major
-  Eigen::MatrixXd centre_values;        // num_elements x components (c0), for cell plots
+  Eigen::MatrixXd coefficients;   // num_elements x (3 * components), component-major
+  Eigen::MatrixXd centre_values;  // num_elements x components (c0), for cell plots
 };
 
 struct NamedArray {
   std::string name;
   std::string doc;
-  Eigen::MatrixXd values;               // rows x columns
+  Eigen::MatrixXd values;  // rows x columns
   std::vector<std::string> columns;
 };
 

@@ -145,7 +145,8 @@ void write_xdmf(const std::string& xdmf_path, const std::string& h5_name, const 
       x += fmt::format("    <Grid Name=\"{}\" GridType=\"Uniform\">\n", gname);
       x += fmt::format(
           "     <Topology TopologyType=\"Quadrilateral_9\" NumberOfElements=\"{}\">\n"
-          "      <DataItem Dimensions=\"{} 9\" NumberType=\"Int\" Precision=\"4\" Format=\"HDF\">{}:/{}/xdmf/{}_topology"
+          "      <DataItem Dimensions=\"{} 9\" NumberType=\"Int\" Precision=\"4\" "
+          "Format=\"HDF\">{}:/{}/xdmf/{}_topology"
           "</DataItem>\n     </Topology>\n",
           E, E, h5_name, mesh_group, gname);
       x += fmt::format(
@@ -162,7 +163,8 @@ void write_xdmf(const std::string& xdmf_path, const std::string& h5_name, const 
         if (nc == 2)
           x += fmt::format(
               "     <Attribute Name=\"{}\" AttributeType=\"Vector\" Center=\"Node\">\n"
-              "      <DataItem Dimensions=\"{} 3\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">{}:/{}/xdmf/{}_vector"
+              "      <DataItem Dimensions=\"{} 3\" NumberType=\"Float\" Precision=\"8\" "
+              "Format=\"HDF\">{}:/{}/xdmf/{}_vector"
               "</DataItem>\n     </Attribute>\n",
               f.name, N, h5_name, s.group, f.name);
         for (long c = 0; c < nc; ++c)

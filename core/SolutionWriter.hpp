@@ -23,9 +23,9 @@ void write_mesh(H5File& file, const std::string& group, const Mesh& mesh);
 void write_fields(H5File& file, const std::string& group, const SolutionFields& fields);
 
 struct XdmfSolution {
-  std::string group;   // HDF5 group the fields were written to
-  std::string label;   // shown in ParaView's time/selector, e.g. "point 12 (Wi = 0.3)"
-  double time = 0.0;   // position in the temporal collection (e.g. the parameter value)
+  std::string group;  // HDF5 group the fields were written to
+  std::string label;  // shown in ParaView's time/selector, e.g. "point 12 (Wi = 0.3)"
+  double time = 0.0;  // position in the temporal collection (e.g. the parameter value)
 };
 
 // Writes (atomically: temporary file then rename) an XDMF file for the listed solutions of an

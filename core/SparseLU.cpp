@@ -61,7 +61,8 @@ Status umfpack_status(int status, const char* what) {
     case UMFPACK_OK:
     case UMFPACK_WARNING_determinant_underflow:
     case UMFPACK_WARNING_determinant_overflow: return {};
-    case UMFPACK_WARNING_singular_matrix: return {StatusCode::SingularMatrix, fmt::format("{}: matrix is singular", what)};
+    case UMFPACK_WARNING_singular_matrix:
+      return {StatusCode::SingularMatrix, fmt::format("{}: matrix is singular", what)};
     case UMFPACK_ERROR_out_of_memory: return {StatusCode::LinearSolverError, fmt::format("{}: out of memory", what)};
     default: return {StatusCode::LinearSolverError, fmt::format("{}: UMFPACK status {}", what, status)};
   }
@@ -142,7 +143,8 @@ std::shared_ptr<void> own_symbolic(void* s) {
 }  // namespace
 
 bool SparseLU::same_pattern(const SparseMatrix& A) const {
-  if (!symbolic_ || A.cols() + 1 != static_cast<long>(outer_.size()) || A.nonZeros() != static_cast<long>(inner_.size()))
+  if (!symbolic_ || A.cols() + 1 != static_cast<long>(outer_.size()) ||
+      A.nonZeros() != static_cast<long>(inner_.size()))
     return false;
   return std::equal(outer_.begin(), outer_.end(), A.outerIndexPtr()) &&
          std::equal(inner_.begin(), inner_.end(), A.innerIndexPtr());
@@ -170,7 +172,8 @@ Status SparseLU::analyze(const SparseMatrix& A) {
     return {};
   }
   void* symbolic = nullptr;
-  const int st = umfpack_di_symbolic(n, n, A.outerIndexPtr(), A.innerIndexPtr(), A.valuePtr(), &symbolic, control_, info_);
+  const int st =
+      umfpack_di_symbolic(n, n, A.outerIndexPtr(), A.innerIndexPtr(), A.valuePtr(), &symbolic, control_, info_);
   stats_.analyze_seconds += now_seconds() - t0;
   ++stats_.analyses;
   if (st != UMFPACK_OK) {
@@ -197,7 +200,8 @@ Status SparseLU::factorize(const SparseMatrix& A) {
   free_numeric();
   values_.assign(A.valuePtr(), A.valuePtr() + A.nonZeros());
   const double t0 = now_seconds();
-  const int st = umfpack_di_numeric(outer_.data(), inner_.data(), values_.data(), symbolic_.get(), &numeric_, control_, info_);
+  const int st =
+      umfpack_di_numeric(outer_.data(), inner_.data(), values_.data(), symbolic_.get(), &numeric_, control_, info_);
   stats_.factor_seconds += now_seconds() - t0;
   ++stats_.factorisations;
   stats_.nnz_lu = info_[UMFPACK_LNZ] + info_[UMFPACK_UNZ] - info_[UMFPACK_NROW];

@@ -40,14 +40,14 @@ class SparseLU {
   struct Statistics {
     int n = 0;
     long nnz_matrix = 0;
-    double nnz_lu = 0;            // nonzeros in L + U (with diagonals)
-    double flops = 0;             // of the last numeric factorisation
-    double peak_memory_bytes = 0; // UMFPACK's peak (symbolic + numeric)
-    double numeric_bytes = 0;     // size of the factors
-    double rcond = 0;             // UMFPACK's estimate of the reciprocal condition number
+    double nnz_lu = 0;             // nonzeros in L + U (with diagonals)
+    double flops = 0;              // of the last numeric factorisation
+    double peak_memory_bytes = 0;  // UMFPACK's peak (symbolic + numeric)
+    double numeric_bytes = 0;      // size of the factors
+    double rcond = 0;              // UMFPACK's estimate of the reciprocal condition number
     double analyze_seconds = 0, factor_seconds = 0, solve_seconds = 0;  // cumulative wall time
     long analyses = 0, factorisations = 0, solves = 0;
-    long analyses_reused = 0;     // symbolic analyses taken from an earlier identical one
+    long analyses_reused = 0;  // symbolic analyses taken from an earlier identical one
     std::string ordering_used;
   };
 

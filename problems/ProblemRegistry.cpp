@@ -5,12 +5,12 @@
 #include "problems/analytic/Bratu1DProblem.hpp"
 #include "problems/analytic/Bratu2DProblem.hpp"
 #include "problems/analytic/Brusselator1DProblem.hpp"
-#include "problems/channel/ChannelProblem.hpp"
-#include "problems/channel/CollapsibleChannelProblem.hpp"
-#include "problems/cylinder/CylinderProblem.hpp"
 #include "problems/analytic/Pitchfork1DProblem.hpp"
 #include "problems/analytic/ShiftedBratu1DProblem.hpp"
+#include "problems/channel/ChannelProblem.hpp"
+#include "problems/channel/CollapsibleChannelProblem.hpp"
 #include "problems/channel/WallProblem.hpp"
+#include "problems/cylinder/CylinderProblem.hpp"
 
 namespace keller {
 
@@ -20,7 +20,8 @@ const std::vector<ProblemType>& problem_types() {
        [](const Scene& s) -> std::unique_ptr<Problem> {
          return std::make_unique<ChannelProblem>(ChannelOptions::from_scene(s));
        }},
-      {"collapsible-channel", "the collapsible channel of model.md: any fluid, neo-Hookean wall, moving mesh",
+      {"collapsible-channel",
+       "the collapsible channel of model.md: any fluid, neo-Hookean wall, moving mesh",
        CollapsibleOptions::declare,
        [](const Scene& s) -> std::unique_ptr<Problem> {
          return std::make_unique<CollapsibleChannelProblem>(CollapsibleOptions::from_scene(s));
@@ -28,16 +29,19 @@ const std::vector<ProblemType>& problem_types() {
        {{"linear_solver.ordering", "best",
          "AMD/COLAMD, METIS and NESDIS tried, the least fill kept: METIS halves AMD's fill here and best cuts "
          "another 19% on M2 (docs/performance.md)"}}},
-      {"cylinder", "confined-cylinder benchmark (radius 1, channel half-width 2)", CylinderOptions::declare,
+      {"cylinder",
+       "confined-cylinder benchmark (radius 1, channel half-width 2)",
+       CylinderOptions::declare,
        [](const Scene& s) -> std::unique_ptr<Problem> {
          return std::make_unique<CylinderProblem>(CylinderOptions::from_scene(s));
        },
        {{"linear_solver.ordering", "best",
          "the least fill of AMD/COLAMD, METIS and NESDIS: METIS alone cuts AMD's fill by 35% on C3 "
          "(docs/performance.md)"}}},
-      {"wall", "the neo-Hookean wall of the collapsible channel alone, under follower pressures",
-       WallOptions::declare,
-       [](const Scene& s) -> std::unique_ptr<Problem> { return std::make_unique<WallProblem>(WallOptions::from_scene(s)); }},
+      {"wall", "the neo-Hookean wall of the collapsible channel alone, under follower pressures", WallOptions::declare,
+       [](const Scene& s) -> std::unique_ptr<Problem> {
+         return std::make_unique<WallProblem>(WallOptions::from_scene(s));
+       }},
       {"bratu1d", "1D Bratu problem by central differences (test problem)", Bratu1DProblem::declare,
        Bratu1DProblem::from_scene},
       {"bratu1d-shifted", "1D Bratu problem with a linear term mu u (test problem: fold curves)",

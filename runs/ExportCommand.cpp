@@ -106,7 +106,8 @@ int run_export(const ExportArguments& args) {
       };
       const std::string xdmf = xdmf_path_for(args.input);
       if (closed_cleanly(args.input)) {
-        const PublishedBranch b = publish_branch(args.input, args.input, xdmf, true, fields_at, &InterruptGuard::requested);
+        const PublishedBranch b =
+            publish_branch(args.input, args.input, xdmf, true, fields_at, &InterruptGuard::requested);
         if (!b.fields) {
           fmt::print("interrupted: {} is as it was\n", args.input);
           return exit_code::interrupted;

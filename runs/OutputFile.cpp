@@ -44,8 +44,10 @@ std::string record_difference(const std::string& stored, const std::string& now)
   auto add = [&](const std::string& s) { out += (out.empty() ? "" : "; ") + s; };
   for (const auto& [key, value] : a) {
     auto it = b.find(key);
-    if (it == b.end()) add(fmt::format("{} = {} in the file, not a key of this scene", key, value));
-    else if (it->second != value) add(fmt::format("{} = {} in the file, {} in this scene", key, value, it->second));
+    if (it == b.end())
+      add(fmt::format("{} = {} in the file, not a key of this scene", key, value));
+    else if (it->second != value)
+      add(fmt::format("{} = {} in the file, {} in this scene", key, value, it->second));
   }
   for (const auto& [key, value] : b)
     if (!a.count(key)) add(fmt::format("{} = {} in this scene, not in the file", key, value));
@@ -71,7 +73,8 @@ RunHeader read_run_header(const H5File& f) {
   if (f.exists("/scene")) h.scene = f.read_string("/scene");
   if (!f.exists("/problem")) return h;
   if (f.has_attribute("/problem", "name")) h.problem = f.read_string_attribute("/problem", "name");
-  if (f.has_attribute("/problem", "unknowns")) h.unknowns = static_cast<long>(f.read_double_attribute("/problem", "unknowns"));
+  if (f.has_attribute("/problem", "unknowns"))
+    h.unknowns = static_cast<long>(f.read_double_attribute("/problem", "unknowns"));
   if (f.exists("/problem/physics")) h.physics = f.read_string("/problem/physics");
   if (f.has_attribute("/problem", "physics_hash")) h.physics_hash = f.read_string_attribute("/problem", "physics_hash");
   if (f.exists("/problem/parameters"))
@@ -90,7 +93,8 @@ void write_solution(H5File& file, const std::string& group, Problem& problem, co
   file.create_group(group + "/observables");
   if (st.is_ok()) {
     const auto names = problem.observable_names();
-    for (size_t i = 0; i < names.size() && i < obs.size(); ++i) file.set_attribute(group + "/observables", names[i], obs[i]);
+    for (size_t i = 0; i < names.size() && i < obs.size(); ++i)
+      file.set_attribute(group + "/observables", names[i], obs[i]);
   }
   file.write_vector(group + "/u", std::vector<double>(u.data(), u.data() + u.size()));
 }

@@ -7,10 +7,10 @@
 
 #include "continuation/StartSolver.hpp"
 #include "core/Newton.hpp"
-#include "core/SolutionWriter.hpp"
-#include "core/SparseLU.hpp"
 #include "core/PendingFile.hpp"
 #include "core/RunFiles.hpp"
+#include "core/SolutionWriter.hpp"
+#include "core/SparseLU.hpp"
 #include "runs/ExitCode.hpp"
 #include "runs/OutputFile.hpp"
 #include "runs/SceneLoader.hpp"
@@ -95,10 +95,11 @@ int run_solve(const SolveArguments& args, RunSummary* out_summary) {
     }
   }
   const auto& lu = newton.lu().statistics();
-  fmt::print("  final |F| = {:.4e} after {} iterations ({} factorisations), {:.3f} s (assembly {:.3f}, factorisation "
-             "{:.3f}, solve {:.3f}, line search {:.3f})\n",
-             res.residual_norm, res.iterations, res.factorisations, res.seconds, res.assembly_seconds,
-             res.factor_seconds, res.solve_seconds, res.line_search_seconds);
+  fmt::print(
+      "  final |F| = {:.4e} after {} iterations ({} factorisations), {:.3f} s (assembly {:.3f}, factorisation "
+      "{:.3f}, solve {:.3f}, line search {:.3f})\n",
+      res.residual_norm, res.iterations, res.factorisations, res.seconds, res.assembly_seconds, res.factor_seconds,
+      res.solve_seconds, res.line_search_seconds);
   if (lu.factorisations > 0)
     fmt::print("  LU: n = {}, nnz(A) = {}, nnz(L+U) = {:.0f} (fill {:.1f}x), ordering {}\n", lu.n, lu.nnz_matrix,
                lu.nnz_lu, lu.nnz_lu / static_cast<double>(lu.nnz_matrix), lu.ordering_used);

@@ -11,7 +11,7 @@ namespace keller {
 
 struct SolveArguments {
   std::string scene;
-  std::string output;  // empty: <scene stem>.h5 in the current directory
+  std::string output;                  // empty: <scene stem>.h5 in the current directory
   std::vector<std::string> overrides;  // "section.key=value"
 };
 

@@ -97,14 +97,16 @@ StoredPoint read_stored_start(const StoredStart& start, const LoadedScene& scene
     for (int r : table.saved_rows)
       if (r < table.rows.rows() && static_cast<int>(table.rows(r, kind)) == static_cast<int>(PointKind::BranchPoint))
         located += (located.empty() ? "" : ", ") + std::to_string(r);
-    refusals.push_back(fmt::format("row {} is not a located branch point (located branch points with a stored "
-                                   "solution: {})",
-                                   point.index, located.empty() ? "none" : located));
+    refusals.push_back(
+        fmt::format("row {} is not a located branch point (located branch points with a stored "
+                    "solution: {})",
+                    point.index, located.empty() ? "none" : located));
   }
   if (start.curve && stored.table.parameter == parameter)
-    throw std::invalid_argument(fmt::format("{}: the curve of a point of a branch in '{}' needs another free parameter "
-                                            "than '{}' (--free)",
-                                            where, parameter, parameter));
+    throw std::invalid_argument(
+        fmt::format("{}: the curve of a point of a branch in '{}' needs another free parameter "
+                    "than '{}' (--free)",
+                    where, parameter, parameter));
   auto wanted = [&](int k) {
     return start.event_curve ? k == static_cast<int>(PointKind::Event) || k == static_cast<int>(PointKind::End)
                              : k == static_cast<int>(PointKind::Fold);

@@ -21,11 +21,11 @@
 namespace keller {
 
 struct StoredStart {
-  std::string flag;       // "--restart" or "--switch": names the source in messages
+  std::string flag;  // "--restart" or "--switch": names the source in messages
   std::string file;
-  int row = -1;           // -1: the last stored point
+  int row = -1;  // -1: the last stored point
   bool switching = false;
-  bool curve = false;     // --from: a curve starts at the point, its branch's parameter an unknown of it
+  bool curve = false;        // --from: a curve starts at the point, its branch's parameter an unknown of it
   bool event_curve = false;  // the point must be a located fold (false) or event or end (true)
   bool force = false;
 };

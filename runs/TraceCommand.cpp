@@ -82,7 +82,8 @@ std::optional<Unfinished> unfinished_run(const std::string& work, const std::str
     throw std::invalid_argument(fmt::format(
         "'{}' holds the unfinished branch ({} rows) of another run ({}); move it away to keep it, or pass --fresh to "
         "discard it",
-        work, t.rows.rows(), stored.empty() ? "no record of its run" : "it differs in: " + record_difference(stored, record)));
+        work, t.rows.rows(),
+        stored.empty() ? "no record of its run" : "it differs in: " + record_difference(stored, record)));
   Unfinished u;
   u.seed = read_branch_seed(work);
   u.point = read_branch_point(work, u.seed.row);
@@ -107,18 +108,21 @@ std::string located_monitor(const std::string& file, int row, const BranchTable&
 }
 
 void print_summary(const ContinuationResult& result) {
-  fmt::print("{} points, {} rejected steps, {} factorisations ({:.2f} per point; {} of them branch-point probes), {} "
-             "tangent solves by iteration, renewal cost {:.1f} solves; {}\n",
-             result.points, result.rejected, result.factorisations,
-             result.points > 0 ? static_cast<double>(result.factorisations) / result.points : 0.0, result.probes,
-             result.tangent_iterations, result.renewal_cost, result.reason);
+  fmt::print(
+      "{} points, {} rejected steps, {} factorisations ({:.2f} per point; {} of them branch-point probes), {} "
+      "tangent solves by iteration, renewal cost {:.1f} solves; {}\n",
+      result.points, result.rejected, result.factorisations,
+      result.points > 0 ? static_cast<double>(result.factorisations) / result.points : 0.0, result.probes,
+      result.tangent_iterations, result.renewal_cost, result.reason);
   const ContinuationTimings& tm = result.timings;
-  fmt::print("time {:.2f} s: factorisations {:.2f}, solves {:.2f} ({}), Jacobians {:.2f} ({}), dF/dp {:.2f}, residuals {:.2f} ({}), "
-             "observables {:.2f}, stability {:.2f} ({} spectra), output {:.2f}, other {:.2f}\n",
-             tm.total, tm.factorisation, tm.solve, tm.solves, tm.jacobian, tm.jacobians, tm.parameter_derivative, tm.residual,
-             tm.residuals, tm.observables, tm.analysis, tm.analyses, tm.output,
-             tm.total - tm.factorisation - tm.solve - tm.jacobian - tm.parameter_derivative - tm.residual -
-                 tm.observables - tm.analysis - tm.output);
+  fmt::print(
+      "time {:.2f} s: factorisations {:.2f}, solves {:.2f} ({}), Jacobians {:.2f} ({}), dF/dp {:.2f}, residuals {:.2f} "
+      "({}), "
+      "observables {:.2f}, stability {:.2f} ({} spectra), output {:.2f}, other {:.2f}\n",
+      tm.total, tm.factorisation, tm.solve, tm.solves, tm.jacobian, tm.jacobians, tm.parameter_derivative, tm.residual,
+      tm.residuals, tm.observables, tm.analysis, tm.analyses, tm.output,
+      tm.total - tm.factorisation - tm.solve - tm.jacobian - tm.parameter_derivative - tm.residual - tm.observables -
+          tm.analysis - tm.output);
 }
 
 }  // namespace
@@ -160,14 +164,16 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
     if (args.from.empty() != args.curve.empty())
       throw std::invalid_argument(
           "--from FILE.h5:ROW and --curve fold|event go together (a curve starts at a located point)");
-    if (!args.free.empty() && args.from.empty()) throw std::invalid_argument("--free applies to a curve (--from, --curve)");
+    if (!args.free.empty() && args.from.empty())
+      throw std::invalid_argument("--free applies to a curve (--from, --curve)");
     if (!args.curve.empty() && args.curve != "fold" && args.curve != "event")
       throw std::invalid_argument("--curve: '" + args.curve + "' is not a curve keller traces (fold, event)");
     if (!args.from.empty() && (!args.restart.empty() || !args.switch_at.empty()))
       throw std::invalid_argument("--from excludes --restart and --switch");
     if (!args.from.empty() && sopt.enabled)
-      throw std::invalid_argument("[stability]: the points of a curve are not analysed; trace ordinary branches "
-                                  "at the curve's parameter values for their stability");
+      throw std::invalid_argument(
+          "[stability]: the points of a curve are not analysed; trace ordinary branches "
+          "at the curve's parameter values for their stability");
     RunFiles files;
     files.input("scene file", args.scene);
     if (!args.restart.empty()) from = parse_stored_start("--restart", args.restart);
@@ -221,8 +227,8 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
         // point's, and its tangent and state scale are its own
         const std::optional<double> v = stored->value_of(copt.parameter);
         if (!v)
-          throw std::invalid_argument(fmt::format("{}: '{}' does not record the value of '{}'", from->flag, from->file,
-                                                  copt.parameter));
+          throw std::invalid_argument(
+              fmt::format("{}: '{}' does not record the value of '{}'", from->flag, from->file, copt.parameter));
         start->lambda = *v;
       } else {
         copt.state_scale = stored->table.state_scale;
@@ -244,7 +250,7 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
   const SparseLUOptions lopt = sparse_lu_options_from(scene);
 
   Vector u0;
-  StartFactorisation start_factorisation;  // the first state's last factorisation of J, handed to the branch
+  StartFactorisation start_factorisation;          // the first state's last factorisation of J, handed to the branch
   std::unique_ptr<FoldCurveProblem> curve;         // --curve fold: the augmented problem traced instead
   std::unique_ptr<EventCurveProblem> event_curve;  // --curve event
   if (from && from->event_curve) {
@@ -253,19 +259,23 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
     const BranchPoint& event = stored->point;
     // the monitor whose zero the row is: an event's label, or the stop observable's ("min_m1 < stop_below")
     std::string monitor;
-    const std::string label = event.label.empty() ? located_monitor(from->file, event.index, stored->table) : event.label;
+    const std::string label =
+        event.label.empty() ? located_monitor(from->file, event.index, stored->table) : event.label;
     for (const std::string& m : problem->monitor_names())
       if (label == m || label.rfind(m + " ", 0) == 0) monitor = m;
     if (monitor.empty())
-      return fail(exit_code::usage, fmt::format("--from '{}': row {} ({}) is not the zero of a monitor of this problem "
-                                                "({})",
-                                                from->file, event.index, label, problem->monitor_names().empty()
-                                                    ? std::string("it has none")
-                                                    : "its monitors: " + fmt::format("{}", fmt::join(problem->monitor_names(), ", "))));
+      return fail(exit_code::usage,
+                  fmt::format("--from '{}': row {} ({}) is not the zero of a monitor of this problem "
+                              "({})",
+                              from->file, event.index, label,
+                              problem->monitor_names().empty()
+                                  ? std::string("it has none")
+                                  : "its monitors: " + fmt::format("{}", fmt::join(problem->monitor_names(), ", "))));
     if (!copt.stop.observable.empty()) {
-      fmt::print("note: continuation.stop_observable ({}) is left aside: an event curve's pieces end where the "
-                 "minimum's place moves\n",
-                 copt.stop.observable);
+      fmt::print(
+          "note: continuation.stop_observable ({}) is left aside: an event curve's pieces end where the "
+          "minimum's place moves\n",
+          copt.stop.observable);
       copt.stop.observable.clear();
     }
     event_curve = std::make_unique<EventCurveProblem>(*problem, stored->table.parameter, monitor);
@@ -281,10 +291,11 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
       summary.exit_code = exit_code::numerical_failure;
       return summary.exit_code;
     }
-    fmt::print("event curve of {} = 0 in ({}, {}) from row {} of {} ({} = {:.10g}, {} = {:.10g}), the minimum at place "
-               "{}\n",
-               monitor, copt.parameter, stored->table.parameter, event.index, from->file, stored->table.parameter,
-               U[U.size() - 1], copt.parameter, problem->parameters().get(copt.parameter), event_curve->place());
+    fmt::print(
+        "event curve of {} = 0 in ({}, {}) from row {} of {} ({} = {:.10g}, {} = {:.10g}), the minimum at place "
+        "{}\n",
+        monitor, copt.parameter, stored->table.parameter, event.index, from->file, stored->table.parameter,
+        U[U.size() - 1], copt.parameter, problem->parameters().get(copt.parameter), event_curve->place());
     if (unfinished)
       fmt::print("continuing the unfinished curve in {} from its row {} ({} = {:.10g}; --fresh starts over)\n", work,
                  unfinished->seed.row, copt.parameter, start->lambda);
@@ -303,8 +314,8 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
       summary.exit_code = exit_code::numerical_failure;
       return summary.exit_code;
     }
-    fmt::print("fold curve in ({}, {}) from the fold at row {} of {} ({} = {:.10g}, {} = {:.10g})\n",
-               copt.parameter, stored->table.parameter, fold.index, from->file, stored->table.parameter, U[U.size() - 1],
+    fmt::print("fold curve in ({}, {}) from the fold at row {} of {} ({} = {:.10g}, {} = {:.10g})\n", copt.parameter,
+               stored->table.parameter, fold.index, from->file, stored->table.parameter, U[U.size() - 1],
                copt.parameter, problem->parameters().get(copt.parameter));
     if (unfinished) {
       // the borders from the fold's null vector, refined at the point the unfinished curve continues from
@@ -364,7 +375,9 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
   }
 
   // 3. the branch, written to `work` point by point
-  Problem& traced = curve ? static_cast<Problem&>(*curve) : event_curve ? static_cast<Problem&>(*event_curve) : *problem;
+  Problem& traced = curve         ? static_cast<Problem&>(*curve)
+                    : event_curve ? static_cast<Problem&>(*event_curve)
+                                  : *problem;
   ContinuationOptions fixed = copt;
   if (event_curve) {  // each piece of the curve ends where the minimum's place moves
     fixed.stop.observable = EventCurveProblem::kMargin;
@@ -417,9 +430,9 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
     std::optional<FoldCurveProblem::BorderUpdate> borders;
     if (curve) observer = &borders.emplace(*curve, *observer);
     InterruptGuard::forward_to(run.get());
-    result = event_curve ? event_curve->trace(fixed, nopt, lopt, u0, *observer,
-                                              [](Continuation* c) { InterruptGuard::forward_to(c); })
-             : unfinished          ? run->resume(*start, *observer)
+    result = event_curve               ? event_curve->trace(fixed, nopt, lopt, u0, *observer,
+                                                            [](Continuation* c) { InterruptGuard::forward_to(c); })
+             : unfinished              ? run->resume(*start, *observer)
              : from && from->switching ? run->switch_branch(*start, args.switch_direction, *observer)
              : start                   ? run->resume(*start, *observer)
                                        : run->run(u0, *observer, start_factorisation);
@@ -473,9 +486,10 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
   summary.output = out;
   summary.exit_code = code;
   if (with_fields && !published.fields) {
-    fmt::print("interrupted while writing the fields: the branch is complete in {} without them; `keller export {} "
-               "--xdmf` writes them\n",
-               out, out);
+    fmt::print(
+        "interrupted while writing the fields: the branch is complete in {} without them; `keller export {} "
+        "--xdmf` writes them\n",
+        out, out);
     summary.exit_code = exit_code::interrupted;
     return summary.exit_code;
   }

@@ -1,12 +1,11 @@
 // `keller trace SCENE.toml -o OUT.h5 [--restart FILE.h5:ROW | --switch FILE.h5:ROW |
 // --from FILE.h5:ROW --curve fold --free PARAMETER]`: traces a solution branch with the
 // continuation engine, or the curve of the fold located at a stored row in a second parameter
-// (continuation/FoldCurveProblem; [continuation] then sets the curve's range, stops and steps). The branch is written point by point to
-// OUT.h5.part (readable at every moment, whatever ends the run) and takes the name OUT.h5 once
-// the branch has ended, with the fields of its stored solutions and an XDMF file beside it. A
-// run that was interrupted or killed leaves OUT.h5.part, and the same command continues it from
-// its last stored solution; a branch that ended at the step-size floor does not replace an
-// existing OUT.h5.
+// (continuation/FoldCurveProblem; [continuation] then sets the curve's range, stops and steps). The branch is written
+// point by point to OUT.h5.part (readable at every moment, whatever ends the run) and takes the name OUT.h5 once the
+// branch has ended, with the fields of its stored solutions and an XDMF file beside it. A run that was interrupted or
+// killed leaves OUT.h5.part, and the same command continues it from its last stored solution; a branch that ended at
+// the step-size floor does not replace an existing OUT.h5.
 #pragma once
 
 #include <string>

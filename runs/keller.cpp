@@ -1,6 +1,6 @@
 // keller: continuation and bifurcation of steady flows. Command-line entry point.
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <CLI/CLI.hpp>
 
 #include <new>
 
@@ -32,19 +32,24 @@ int run(int argc, char** argv) {  // argc and argv go on to MPI_Init under mpiru
   bool trace_help_scene = false;
   CLI::App* cmd_trace = app.add_subcommand("trace", "trace a solution branch by pseudo-arclength continuation");
   cmd_trace->add_option("scene", trace.scene, "scene file (TOML) with a [continuation] section");
-  cmd_trace->add_option("-o,--output", trace.output,
-                        "branch file (HDF5; default: <scene name>.h5 here); written as OUT.h5.part until the branch ends");
-  cmd_trace->add_option("--restart", trace.restart, "continue from a stored point: FILE.h5:ROW (ROW a number or 'last')");
-  cmd_trace->add_option("--switch", trace.switch_at,
-                        "start a new branch at the located branch point stored in FILE.h5:ROW, along the null vector of J");
+  cmd_trace->add_option(
+      "-o,--output", trace.output,
+      "branch file (HDF5; default: <scene name>.h5 here); written as OUT.h5.part until the branch ends");
+  cmd_trace->add_option("--restart", trace.restart,
+                        "continue from a stored point: FILE.h5:ROW (ROW a number or 'last')");
+  cmd_trace->add_option(
+      "--switch", trace.switch_at,
+      "start a new branch at the located branch point stored in FILE.h5:ROW, along the null vector of J");
   cmd_trace->add_option("--switch-direction", trace.switch_direction, "side of the old branch to switch to: 1 or -1")
       ->check(CLI::IsMember({-1, 1}));
-  cmd_trace->add_option("--from", trace.from,
-                        "start a curve at the located point stored in FILE.h5:ROW (a fold or event), its branch's parameter "
-                        "an unknown of the curve");
-  cmd_trace->add_option("--curve", trace.curve,
-                        "the curve --from continues in a second parameter: fold (of a located fold) or event (the "
-                        "zero of a monitor, min_m1 = 0: a located event or monitor end)")
+  cmd_trace->add_option(
+      "--from", trace.from,
+      "start a curve at the located point stored in FILE.h5:ROW (a fold or event), its branch's parameter "
+      "an unknown of the curve");
+  cmd_trace
+      ->add_option("--curve", trace.curve,
+                   "the curve --from continues in a second parameter: fold (of a located fold) or event (the "
+                   "zero of a monitor, min_m1 = 0: a located event or monitor end)")
       ->check(CLI::IsMember({"fold", "event"}));
   cmd_trace->add_option("--free", trace.free,
                         "the curve's second parameter, with [continuation]'s range, stops and steps (default: "
@@ -73,7 +78,8 @@ int run(int argc, char** argv) {  // argc and argv go on to MPI_Init under mpiru
   cmd_study->add_option("-o,--output", study.folder, "folder of the study's files (default: <study name> here)");
   cmd_study->footer(keller::exit_code::help);
   cmd_study->require_subcommand(0, 1);
-  CLI::App* study_list = cmd_study->add_subcommand("list", "list the tasks, one a line: index, status, name, overrides");
+  CLI::App* study_list =
+      cmd_study->add_subcommand("list", "list the tasks, one a line: index, status, name, overrides");
   CLI::App* study_run = cmd_study->add_subcommand("run", "run one task here (for batch schedulers: --task K)");
   CLI::App* study_collect = cmd_study->add_subcommand("collect", "collect the tasks' results into STUDY.csv and .h5");
   for (CLI::App* sub : {study_list, study_run, study_collect}) {
@@ -90,7 +96,8 @@ int run(int argc, char** argv) {  // argc and argv go on to MPI_Init under mpiru
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     // every usage error has the same code (CLI11's own are 105-109)
-    fmt::print(stderr, "keller: error: {}\nRun 'keller --help' (or 'keller COMMAND --help') for the usage.\n", e.what());
+    fmt::print(stderr, "keller: error: {}\nRun 'keller --help' (or 'keller COMMAND --help') for the usage.\n",
+               e.what());
     return keller::exit_code::usage;
   }
 
@@ -118,7 +125,10 @@ int run(int argc, char** argv) {  // argc and argv go on to MPI_Init under mpiru
   }
   if (cmd_export->parsed()) return keller::run_export(exp);
   if (cmd_study->parsed()) {
-    study.action = study_list->parsed() ? "list" : study_run->parsed() ? "run" : study_collect->parsed() ? "collect" : "";
+    study.action = study_list->parsed()      ? "list"
+                   : study_run->parsed()     ? "run"
+                   : study_collect->parsed() ? "collect"
+                                             : "";
     if (study.study.empty()) {
       fmt::print(stderr, "keller: error: study needs a study file (keller study STUDY.toml)\n");
       return keller::exit_code::usage;
@@ -134,8 +144,9 @@ int main(int argc, char** argv) {
   try {
     return run(argc, argv);
   } catch (const std::bad_alloc&) {
-    fmt::print(stderr, "keller: error: not enough memory for this problem (a mesh or grid size in the scene is too "
-                       "large for this machine); nothing written\n");
+    fmt::print(stderr,
+               "keller: error: not enough memory for this problem (a mesh or grid size in the scene is too "
+               "large for this machine); nothing written\n");
     return keller::exit_code::usage;
   }
 }

@@ -22,7 +22,8 @@ Status umfpack_status(int status, const char* what) {
     case UMFPACK_WARNING_determinant_overflow: return {};
     case UMFPACK_WARNING_singular_matrix:
       return {StatusCode::SingularMatrix, fmt::format("complex {}: matrix is singular", what)};
-    case UMFPACK_ERROR_out_of_memory: return {StatusCode::LinearSolverError, fmt::format("complex {}: out of memory", what)};
+    case UMFPACK_ERROR_out_of_memory:
+      return {StatusCode::LinearSolverError, fmt::format("complex {}: out of memory", what)};
     default: return {StatusCode::LinearSolverError, fmt::format("complex {}: UMFPACK status {}", what, status)};
   }
 }
@@ -67,7 +68,8 @@ void ComplexSparseLU::free_symbolic() {
 }
 
 bool ComplexSparseLU::same_pattern(const ComplexSparseMatrix& A) const {
-  if (!symbolic_ || A.cols() + 1 != static_cast<long>(outer_.size()) || A.nonZeros() != static_cast<long>(inner_.size()))
+  if (!symbolic_ || A.cols() + 1 != static_cast<long>(outer_.size()) ||
+      A.nonZeros() != static_cast<long>(inner_.size()))
     return false;
   return std::equal(outer_.begin(), outer_.end(), A.outerIndexPtr()) &&
          std::equal(inner_.begin(), inner_.end(), A.innerIndexPtr());

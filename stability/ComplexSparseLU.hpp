@@ -46,8 +46,8 @@ class ComplexSparseLU {
   void* symbolic_ = nullptr;
   void* numeric_ = nullptr;
   int n_ = 0;
-  std::vector<int> outer_, inner_;      // pattern of the analysed matrix
-  std::vector<double> real_, imag_;     // values of the factorised matrix (used by refinement)
+  std::vector<int> outer_, inner_;   // pattern of the analysed matrix
+  std::vector<double> real_, imag_;  // values of the factorised matrix (used by refinement)
   long analyses_ = 0, factorisations_ = 0;
 };
 

@@ -166,7 +166,8 @@ Status real_arnoldi(int n, int nev, int ncv, const EigenOptions& o, const Vector
     Eigen::Map<Vector>(&workd[ipntr[1] - 1], n) = y;
   }
   out.restarts = iparam[2];
-  if (ido != 99) return {StatusCode::NotConverged, fmt::format("eigen solver: unexpected ARPACK dnaupd request {}", ido)};
+  if (ido != 99)
+    return {StatusCode::NotConverged, fmt::format("eigen solver: unexpected ARPACK dnaupd request {}", ido)};
   const Status iteration = info == 0 ? Status{} : arpack_status("dnaupd", info, o, iparam[4]);
   if (info < 0 || iparam[4] <= 0) return iteration;
 
@@ -176,8 +177,8 @@ Status real_arnoldi(int n, int nev, int ncv, const EigenOptions& o, const Vector
   std::vector<double> dr(ncv), di(ncv), z(static_cast<std::size_t>(n) * ncv), workev(3 * ncv);
   int extract_info = 0;
   dneupd_(&rvec, &howmny, select.data(), dr.data(), di.data(), z.data(), &ldz, &sigmar, &sigmai, workev.data(), &bmat,
-          &n, which, &nev, &tol, resid.data(), &ncv, v.data(), &ldv, iparam, ipntr, workd.data(), workl.data(),
-          &lworkl, &extract_info, 1, 1, 2);
+          &n, which, &nev, &tol, resid.data(), &ncv, v.data(), &ldv, iparam, ipntr, workd.data(), workl.data(), &lworkl,
+          &extract_info, 1, 1, 2);
   if (extract_info != 0) return arpack_status("dneupd", extract_info, o, 0);
   const int nconv = iparam[4];
   out.converged = nconv;
@@ -227,7 +228,8 @@ Status complex_arnoldi(int n, int nev, int ncv, const EigenOptions& o, const Com
     Eigen::Map<ComplexVector>(&workd[ipntr[1] - 1], n) = y;
   }
   out.restarts = iparam[2];
-  if (ido != 99) return {StatusCode::NotConverged, fmt::format("eigen solver: unexpected ARPACK znaupd request {}", ido)};
+  if (ido != 99)
+    return {StatusCode::NotConverged, fmt::format("eigen solver: unexpected ARPACK znaupd request {}", ido)};
   const Status iteration = info == 0 ? Status{} : arpack_status("znaupd", info, o, iparam[4]);
   if (info < 0 || iparam[4] <= 0) return iteration;
 
@@ -269,8 +271,8 @@ Status finish(const std::vector<RitzPair>& ritz, Complex s, const ComplexOperato
     phi /= r.nu;
     const double norm = phi.norm();
     if (!(norm > 0) || !phi.allFinite())
-      return {StatusCode::NotFinite, fmt::format("eigen solver: eigenvector of sigma = {} is not finite or zero",
-                                                 pair.value.real())};
+      return {StatusCode::NotFinite,
+              fmt::format("eigen solver: eigenvector of sigma = {} is not finite or zero", pair.value.real())};
     Eigen::Index k = 0;
     phi.cwiseAbs().maxCoeff(&k);
     phi *= std::conj(phi[k]) / (std::abs(phi[k]) * norm);
@@ -306,8 +308,8 @@ Status EigenSolver::solve(const SparseMatrix& J, const SparseMatrix& B, const Ei
   out.requested = o.count;
   const long n_long = J.rows();
   if (J.cols() != n_long || B.rows() != n_long || B.cols() != n_long)
-    return invalid(fmt::format("J is {} x {} and B is {} x {}; both must be n x n", J.rows(), J.cols(), B.rows(),
-                               B.cols()));
+    return invalid(
+        fmt::format("J is {} x {} and B is {} x {}; both must be n x n", J.rows(), J.cols(), B.rows(), B.cols()));
   if (n_long > std::numeric_limits<int>::max() / 4) return invalid(fmt::format("n = {} is too large", n_long));
   const int n = static_cast<int>(n_long);
   if (o.count < 1 || o.count > n - 2)
@@ -319,8 +321,7 @@ Status EigenSolver::solve(const SparseMatrix& J, const SparseMatrix& B, const Ei
     return invalid(fmt::format("tolerance = {:g} (>= 0), max_restarts = {} (>= 1), residual_tolerance = {:g} (> 0)",
                                o.tolerance, o.max_restarts, o.residual_tolerance));
   if (!std::isfinite(o.shift.real()) || !std::isfinite(o.shift.imag())) return invalid("the shift is not finite");
-  if (!all_finite(J) || !all_finite(B))
-    return {StatusCode::NotFinite, "eigen solver: J or B has a NaN or Inf entry"};
+  if (!all_finite(J) || !all_finite(B)) return {StatusCode::NotFinite, "eigen solver: J or B has a NaN or Inf entry"};
 
   const Complex s = o.shift;
   std::vector<RitzPair> ritz;
@@ -367,8 +368,8 @@ Status EigenSolver::solve(const SparseMatrix& J, const SparseMatrix& B, const Ei
     ++out.factorisations;
     const Status st = complex_lu_->factorize(shifted(J, B, s));
     if (!st.is_ok())
-      return {st.code(), fmt::format("eigen solver: factorising J - s B at s = {:g}{:+g}i: {}", s.real(), s.imag(),
-                                     st.message())};
+      return {st.code(),
+              fmt::format("eigen solver: factorising J - s B at s = {:g}{:+g}i: {}", s.real(), s.imag(), st.message())};
     op = [this, &out, &B](const ComplexVector& x, ComplexVector& y) {
       ++out.solves;
       return complex_lu_->solve(times(B, x), y);

@@ -15,14 +15,15 @@ void StabilityOptions::declare(SceneSchema& s) {
   s.real_list("stability.shifts_re", {0.0}, "real parts of the shifts (eigenvalues nearest each are computed)");
   s.real_list("stability.shifts_im", {0.0},
               "imaginary parts of the shifts (same length as shifts_re; nonzero: complex arithmetic, for Hopf)");
-  s.integer("stability.every", 1, "analyse every N-th accepted point and the last; a change in between is bracketed by bisection "
+  s.integer("stability.every", 1,
+            "analyse every N-th accepted point and the last; a change in between is bracketed by bisection "
             "over the points in between and located",
             Range::at_least(1));
-  s.integer("stability.ncv", 0, "Arnoldi basis size per shift (0: max(2 count + 1, 20)); larger helps clustered spectra",
+  s.integer("stability.ncv", 0,
+            "Arnoldi basis size per shift (0: max(2 count + 1, 20)); larger helps clustered spectra",
             Range::non_negative());
   s.real("stability.arpack_tolerance", 1e-10, "ARPACK's relative accuracy of the Ritz values", Range::positive());
-  s.real("stability.residual_tolerance", 1e-8, "largest accepted relative residual of an eigenpair",
-         Range::positive());
+  s.real("stability.residual_tolerance", 1e-8, "largest accepted relative residual of an eigenpair", Range::positive());
   s.real("stability.neutral_tolerance", 1e-8,
          "eigenvalues with |Re sigma| <= this x max(1, |sigma|) are neutral, not counted as unstable",
          Range::non_negative());
@@ -67,8 +68,7 @@ std::vector<std::string> StabilityAnalysis::column_names() const {
   return c;
 }
 
-Status StabilityAnalysis::analyse(Problem& problem, const Vector& u, PointAnalysisResult& out,
-                                  SparseLU* factorised_j) {
+Status StabilityAnalysis::analyse(Problem& problem, const Vector& u, PointAnalysisResult& out, SparseLU* factorised_j) {
   const auto t0 = std::chrono::steady_clock::now();
   struct AddTime {
     double& to;

@@ -22,13 +22,13 @@ namespace keller {
 
 struct StabilityOptions {
   bool enabled = false;
-  int count = 6;                                      // eigenvalues per shift (and columns)
-  std::vector<std::complex<double>> shifts = {0.0};   // shift-invert points
-  int every = 1;                                      // analyse every N-th accepted point
-  double residual_tolerance = 1e-8;                   // relative eigen-residual that is accepted
-  int ncv = 0;                                        // Arnoldi basis size (0: EigenSolver's default)
-  double arpack_tolerance = 1e-10;                    // ARPACK's relative accuracy of the Ritz values
-  double neutral_tolerance = 1e-8;                    // |Re sigma| <= this x max(1,|sigma|): neutral
+  int count = 6;                                     // eigenvalues per shift (and columns)
+  std::vector<std::complex<double>> shifts = {0.0};  // shift-invert points
+  int every = 1;                                     // analyse every N-th accepted point
+  double residual_tolerance = 1e-8;                  // relative eigen-residual that is accepted
+  int ncv = 0;                                       // Arnoldi basis size (0: EigenSolver's default)
+  double arpack_tolerance = 1e-10;                   // ARPACK's relative accuracy of the Ritz values
+  double neutral_tolerance = 1e-8;                   // |Re sigma| <= this x max(1,|sigma|): neutral
   static void declare(SceneSchema& schema);
   static StabilityOptions from_scene(const Scene& scene);
 };

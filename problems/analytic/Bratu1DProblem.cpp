@@ -93,7 +93,8 @@ void Bratu1DProblem::declare(SceneSchema& s) {
 }
 
 std::unique_ptr<Problem> Bratu1DProblem::from_scene(const Scene& scene) {
-  return std::make_unique<Bratu1DProblem>(static_cast<int>(scene.integer("bratu.intervals")), scene.real("bratu.lambda"));
+  return std::make_unique<Bratu1DProblem>(static_cast<int>(scene.integer("bratu.intervals")),
+                                          scene.real("bratu.lambda"));
 }
 
 }  // namespace keller

@@ -52,8 +52,7 @@ class BratuKernel {
         gy += g.dN2dx[a][1] * u[a];
       }
       const T source = lambda * exp(val);
-      for (int a = 0; a < 9; ++a)
-        r[a] += g.wdetJ * (g.dN2dx[a][0] * gx + g.dN2dx[a][1] * gy - tb.N2[q][a] * source);
+      for (int a = 0; a < 9; ++a) r[a] += g.wdetJ * (g.dN2dx[a][0] * gx + g.dN2dx[a][1] * gy - tb.N2[q][a] * source);
     }
     return {};
   }
@@ -68,8 +67,16 @@ class BratuKernel {
 Bratu2DProblem::Bratu2DProblem(int n, double lambda) : n_(n) {
   if (n < 1) throw std::invalid_argument("bratu2d: need at least one element per side");
   BlockMeshBuilder b;
-  b.add_block({"square", "domain", n, n, Grading::uniform(), Grading::uniform(),
-               [](double s, double t) { return Mesh::Point{s, t}; }, {"boundary", "boundary", "boundary", "boundary"}});
+  b.add_block({"square",
+               "domain",
+               n,
+               n,
+               Grading::uniform(),
+               Grading::uniform(),
+               [](double s, double t) {
+                 return Mesh::Point{s, t};
+               },
+               {"boundary", "boundary", "boundary", "boundary"}});
   mesh_ = b.build();
   params_.add("lambda", lambda, "Bratu parameter");
   dofs_ = std::make_unique<DofMap>(mesh_, std::vector<FieldSpec>{{"u", Basis::Q2, {"u"}, {}}});
@@ -111,8 +118,10 @@ std::string Bratu2DProblem::summary() const {
 std::unique_ptr<Problem> Bratu2DProblem::from_scene(const Scene& scene) {
   // (2n + 1)^2 unknowns and about 25 Jacobian entries each must stay far inside int
   if (scene.integer("bratu.intervals") > max_elements_per_side)
-    throw scene.error("bratu.intervals", fmt::format("bratu2d takes at most {} elements per side", max_elements_per_side));
-  return std::make_unique<Bratu2DProblem>(static_cast<int>(scene.integer("bratu.intervals")), scene.real("bratu.lambda"));
+    throw scene.error("bratu.intervals",
+                      fmt::format("bratu2d takes at most {} elements per side", max_elements_per_side));
+  return std::make_unique<Bratu2DProblem>(static_cast<int>(scene.integer("bratu.intervals")),
+                                          scene.real("bratu.lambda"));
 }
 
 }  // namespace keller

@@ -152,8 +152,8 @@ Status Brusselator1DProblem::observables(const Vector& w, std::vector<double>& v
 
 SolutionFields Brusselator1DProblem::fields(const Vector& w) const {
   SolutionFields f;
-  NamedArray arr{"profile", "u(x) and v(x) on the grid, boundary nodes included", Eigen::MatrixXd(n_ + 1, 3),
-                 {"x", "u", "v"}};
+  NamedArray arr{
+      "profile", "u(x) and v(x) on the grid, boundary nodes included", Eigen::MatrixXd(n_ + 1, 3), {"x", "u", "v"}};
   for (int i = 0; i <= n_; ++i) {
     arr.values(i, 0) = i * h();
     arr.values(i, 1) = w[2 * i];
@@ -165,9 +165,10 @@ SolutionFields Brusselator1DProblem::fields(const Vector& w) const {
 
 std::string Brusselator1DProblem::summary() const {
   const double a = params_.value(kA);
-  return fmt::format("1D Brusselator on (0, {}), no-flux ends, central differences on {} intervals, {} unknowns; "
-                     "Hopf of the uniform state at b = 1 + a^2 = {:.10g}, frequency {:.10g}",
-                     length_, n_, size(), 1.0 + a * a, a);
+  return fmt::format(
+      "1D Brusselator on (0, {}), no-flux ends, central differences on {} intervals, {} unknowns; "
+      "Hopf of the uniform state at b = 1 + a^2 = {:.10g}, frequency {:.10g}",
+      length_, n_, size(), 1.0 + a * a, a);
 }
 
 std::unique_ptr<Problem> Brusselator1DProblem::from_scene(const Scene& scene) {

@@ -72,9 +72,10 @@ SolutionFields Pitchfork1DProblem::fields(const Vector& u) const {
 }
 
 std::string Pitchfork1DProblem::summary() const {
-  return fmt::format("1D pitchfork u'' + lambda u - u^3 + eps = 0, central differences on {} intervals, {} unknowns; "
-                     "branch points of u = 0 at lambda_1 = {:.10g}, lambda_2 = {:.10g}",
-                     n_, size(), branch_point(1, n_), branch_point(2, n_));
+  return fmt::format(
+      "1D pitchfork u'' + lambda u - u^3 + eps = 0, central differences on {} intervals, {} unknowns; "
+      "branch points of u = 0 at lambda_1 = {:.10g}, lambda_2 = {:.10g}",
+      n_, size(), branch_point(1, n_), branch_point(2, n_));
 }
 
 double Pitchfork1DProblem::branch_point(int k, int intervals) {

@@ -63,8 +63,7 @@ SolutionFields ShiftedBratu1DProblem::fields(const Vector& u) const {
 }
 
 std::string ShiftedBratu1DProblem::summary() const {
-  return fmt::format("1D Bratu with a linear term mu u, central differences on {} intervals, {} unknowns", n_,
-                     size());
+  return fmt::format("1D Bratu with a linear term mu u, central differences on {} intervals, {} unknowns", n_, size());
 }
 
 void ShiftedBratu1DProblem::declare(SceneSchema& s) {

@@ -39,24 +39,50 @@ Mesh build_channel_mesh(const ChannelGeometry& g, const ChannelMeshSpec& s, bool
   auto rigid_ratio = [&](int n, double length) { return std::max(grading_ratio_for_smallest(n, length, h_end), 1.0); };
 
   BlockMeshBuilder b;
-  BlockSpec up{"upstream", "fluid", s.nx_upstream, s.ny_fluid,
-               Grading::end(rigid_ratio(s.nx_upstream, Lu)), gy,
-               [=](double u, double v) { return Mesh::Point{Lu * u, v}; },
+  BlockSpec up{"upstream",
+               "fluid",
+               s.nx_upstream,
+               s.ny_fluid,
+               Grading::end(rigid_ratio(s.nx_upstream, Lu)),
+               gy,
+               [=](double u, double v) {
+                 return Mesh::Point{Lu * u, v};
+               },
                {"bottom_wall", "", "top_wall", "inflow"}};
-  BlockSpec def{"deformable", "fluid", s.nx_deformable, s.ny_fluid, gx_def, gy,
-                [=](double u, double v) { return Mesh::Point{Lu + L * u, v}; },
+  BlockSpec def{"deformable",
+                "fluid",
+                s.nx_deformable,
+                s.ny_fluid,
+                gx_def,
+                gy,
+                [=](double u, double v) {
+                  return Mesh::Point{Lu + L * u, v};
+                },
                 {"bottom_wall", "", "interface", ""}};
-  BlockSpec down{"downstream", "fluid", s.nx_downstream, s.ny_fluid,
-                 Grading::start(rigid_ratio(s.nx_downstream, Ld)), gy,
-                 [=](double u, double v) { return Mesh::Point{Lu + L + Ld * u, v}; },
+  BlockSpec down{"downstream",
+                 "fluid",
+                 s.nx_downstream,
+                 s.ny_fluid,
+                 Grading::start(rigid_ratio(s.nx_downstream, Ld)),
+                 gy,
+                 [=](double u, double v) {
+                   return Mesh::Point{Lu + L + Ld * u, v};
+                 },
                  {"bottom_wall", "outflow", "top_wall", ""}};
   const int iu = b.add_block(up), id = b.add_block(def), idn = b.add_block(down);
   b.connect(iu, Side::Right, id, Side::Left);
   b.connect(id, Side::Right, idn, Side::Left);
   if (with_solid) {
     if (!(t > 0.0)) throw std::invalid_argument("channel mesh: wall thickness must be > 0");
-    BlockSpec wall{"wall", "solid", s.nx_deformable, s.ny_solid, gx_def, Grading::uniform(),
-                   [=](double u, double v) { return Mesh::Point{Lu + L * u, 1.0 + t * v}; },
+    BlockSpec wall{"wall",
+                   "solid",
+                   s.nx_deformable,
+                   s.ny_solid,
+                   gx_def,
+                   Grading::uniform(),
+                   [=](double u, double v) {
+                     return Mesh::Point{Lu + L * u, 1.0 + t * v};
+                   },
                    {"interface", "wall_right", "wall_top", "wall_left"}};
     const int iw = b.add_block(wall);
     b.connect(id, Side::Top, iw, Side::Bottom);
@@ -70,8 +96,15 @@ Mesh build_wall_mesh(const ChannelGeometry& g, const ChannelMeshSpec& s) {
   if (!(g.thickness > 0.0)) throw std::invalid_argument("wall mesh: wall thickness must be > 0");
   const double Lu = g.upstream_length, L = g.deformable_length, t = g.thickness;
   BlockMeshBuilder b;
-  b.add_block({"wall", "solid", s.nx_deformable, s.ny_solid, Grading::both_ends(s.ratio_x), Grading::uniform(),
-               [=](double u, double v) { return Mesh::Point{Lu + L * u, 1.0 + t * v}; },
+  b.add_block({"wall",
+               "solid",
+               s.nx_deformable,
+               s.ny_solid,
+               Grading::both_ends(s.ratio_x),
+               Grading::uniform(),
+               [=](double u, double v) {
+                 return Mesh::Point{Lu + L * u, 1.0 + t * v};
+               },
                {"interface", "wall_right", "wall_top", "wall_left"}});
   return b.build();
 }

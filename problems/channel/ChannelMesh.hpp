@@ -24,8 +24,8 @@ struct ChannelGeometry {
 struct ChannelMeshSpec {
   std::string name = "M1";
   int nx_upstream = 10, nx_deformable = 20, nx_downstream = 10;  // fluid columns per block
-  int ny_fluid = 8;                                                // fluid rows
-  int ny_solid = 4;                                                // solid rows (deformable wall)
+  int ny_fluid = 8;                                              // fluid rows
+  int ny_solid = 4;                                              // solid rows (deformable wall)
   double ratio_x = 3.0;  // deformable block: largest / smallest column width (fine at both ends)
   double ratio_y = 2.0;  // fluid rows: largest / smallest (fine at both walls)
   // The rigid blocks are graded geometrically so that the column next to the deformable

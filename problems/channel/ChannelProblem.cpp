@@ -36,7 +36,8 @@ ChannelProblem::ChannelProblem(const ChannelOptions& options, Mesh mesh) : optio
 }
 
 void ChannelProblem::setup() {
-  iGamma_ = params_.add("Gamma", options_.Gamma, "mean inflow velocity (solid elasticity parameter)", Range::positive());
+  iGamma_ =
+      params_.add("Gamma", options_.Gamma, "mean inflow velocity (solid elasticity parameter)", Range::positive());
   FlowBoundaries bc;
   bc.walls = {"bottom_wall", "top_wall", "interface"};
   bc.channel_lo = 0.0;
@@ -179,8 +180,8 @@ std::string ChannelProblem::summary() const {
   const FluidOptions& f = options_.fluid;
   return fmt::format("channel, {} fluid{}, rigid walls, {}; mesh {}: {} elements, {} nodes; {}, {} unknowns",
                      to_string(f.model), f.viscoelastic() && f.log_conformation ? " (log-conformation)" : "",
-                     f.inertia ? "Navier-Stokes" : "Stokes", options_.mesh.name, mesh_.num_elements(), mesh_.num_nodes(),
-                     f.viscoelastic() ? "Q2-P1disc-Q1-Q1 DEVSS-TG/SUPG" : "Q2-P1disc", size());
+                     f.inertia ? "Navier-Stokes" : "Stokes", options_.mesh.name, mesh_.num_elements(),
+                     mesh_.num_nodes(), f.viscoelastic() ? "Q2-P1disc-Q1-Q1 DEVSS-TG/SUPG" : "Q2-P1disc", size());
 }
 
 }  // namespace keller

@@ -43,13 +43,14 @@ CollapsibleOptions CollapsibleOptions::from_scene(const Scene& scene) {
 CollapsibleChannelProblem::CollapsibleChannelProblem(const CollapsibleOptions& options)
     : options_(options), mesh_(build_channel_mesh(options.geometry, options.mesh, true)) {
   const ChannelGeometry& g = options_.geometry;
-  iGamma_ = params_.add("Gamma", options_.Gamma, "wall elasticity parameter (the mean inflow velocity)", Range::positive());
+  iGamma_ =
+      params_.add("Gamma", options_.Gamma, "wall elasticity parameter (the mean inflow velocity)", Range::positive());
   FlowBoundaries bc;
   bc.walls = {"bottom_wall", "top_wall", "interface"};
   flow_ = std::make_unique<FlowEquations>(mesh_, "fluid", options_.fluid, bc, params_, iGamma_);
-  wall_ = std::make_unique<SolidWall>(
-      mesh_, WallGeometry{g.upstream_length, g.upstream_length + g.deformable_length, 1.0}, g.thickness, options_.Pe,
-      params_);
+  wall_ =
+      std::make_unique<SolidWall>(mesh_, WallGeometry{g.upstream_length, g.upstream_length + g.deformable_length, 1.0},
+                                  g.thickness, options_.Pe, params_);
   motion_ = std::make_unique<FluidMeshMotion>(mesh_, "fluid", options_.motion);
 
   // the node positions are shared: the solid's equilibrium governs its nodes (the interface
@@ -93,7 +94,8 @@ Vector CollapsibleChannelProblem::initial_guess() {
   motion_->generated_state(*dofs_, u);
   wall_->reference_state(u);
   const int fp = dofs_->field_index("solid_pressure");
-  for (int e : wall_->elements()) u[dofs_->element_dof(fp, e, 0, 0)] = 1.0 + params_.value(wall_->external_pressure_index());
+  for (int e : wall_->elements())
+    u[dofs_->element_dof(fp, e, 0, 0)] = 1.0 + params_.value(wall_->external_pressure_index());
   for (int k = 0; k < dirichlet_->num_items(); ++k) u[dirichlet_->dofs()[k]] = dirichlet_->value(k);
   return u;
 }
@@ -352,11 +354,14 @@ SolutionFields CollapsibleChannelProblem::fields(const Vector& u) const {
   flow_->add_fields(u, f);
   NodalField disp{"displacement", "Q2", {"dx", "dy"}, {}, Eigen::MatrixXd(mesh_.num_nodes(), 2)};
   for (int n = 0; n < mesh_.num_nodes(); ++n)
-    for (int i = 0; i < 2; ++i) disp.values(n, i) = deformed_.node(n)[static_cast<size_t>(i)] - mesh_.node(n)[static_cast<size_t>(i)];
+    for (int i = 0; i < 2; ++i)
+      disp.values(n, i) = deformed_.node(n)[static_cast<size_t>(i)] - mesh_.node(n)[static_cast<size_t>(i)];
   f.nodal.push_back(std::move(disp));
   const auto shape = wall_->interface_shape(u);
-  NamedArray iface{"interface_shape", "deformed interface (bottom of the wall), left to right",
-                   Eigen::MatrixXd(static_cast<long>(shape.size()), 2), {"x", "y"}};
+  NamedArray iface{"interface_shape",
+                   "deformed interface (bottom of the wall), left to right",
+                   Eigen::MatrixXd(static_cast<long>(shape.size()), 2),
+                   {"x", "y"}};
   for (size_t k = 0; k < shape.size(); ++k) {
     iface.values(static_cast<long>(k), 0) = shape[k][0];
     iface.values(static_cast<long>(k), 1) = shape[k][1];
@@ -386,11 +391,14 @@ SolutionFields CollapsibleChannelProblem::fields(const Vector& u) const {
   const MeshBlock& def = mesh_.block("deformable");
   int col = 0;
   for (int i = 0; i <= 2 * def.nx; ++i)
-    if (u[dofs_->node_dof(fx, def.node(i, 2 * def.ny), 1)] < u[dofs_->node_dof(fx, def.node(col, 2 * def.ny), 1)]) col = i;
+    if (u[dofs_->node_dof(fx, def.node(i, 2 * def.ny), 1)] < u[dofs_->node_dof(fx, def.node(col, 2 * def.ny), 1)])
+      col = i;
   const bool ve = options_.fluid.viscoelastic();
   const int fv = dofs_->field_index("velocity");
-  NamedArray gap{"gap_profile", "across the narrowest gap (the mesh line through the lowest interface node), bottom to top",
-                 Eigen::MatrixXd(2 * def.ny + 1, 5), {"x", "y", "vx", "vy", "Mxx"}};
+  NamedArray gap{"gap_profile",
+                 "across the narrowest gap (the mesh line through the lowest interface node), bottom to top",
+                 Eigen::MatrixXd(2 * def.ny + 1, 5),
+                 {"x", "y", "vx", "vy", "Mxx"}};
   const NodalField* conf = nullptr;
   for (const NodalField& nf : f.nodal)
     if (nf.name == (ve && options_.fluid.log_conformation ? "conformation_M" : "conformation")) conf = &nf;
@@ -401,8 +409,10 @@ SolutionFields CollapsibleChannelProblem::fields(const Vector& u) const {
   }
   f.arrays.push_back(std::move(gap));
   const std::vector<double> q = column_flow_rates(u);
-  NamedArray flow{"column_flow_rates", "flow rate through every vertical mesh line, upstream to downstream",
-                  Eigen::MatrixXd(static_cast<long>(q.size()), 1), {"Q"}};
+  NamedArray flow{"column_flow_rates",
+                  "flow rate through every vertical mesh line, upstream to downstream",
+                  Eigen::MatrixXd(static_cast<long>(q.size()), 1),
+                  {"Q"}};
   for (size_t k = 0; k < q.size(); ++k) flow.values(static_cast<long>(k), 0) = q[k];
   f.arrays.push_back(std::move(flow));
   return f;
@@ -411,7 +421,8 @@ SolutionFields CollapsibleChannelProblem::fields(const Vector& u) const {
 std::string CollapsibleChannelProblem::summary() const {
   const FluidOptions& f = options_.fluid;
   return fmt::format(
-      "collapsible channel, {} fluid{}, neo-Hookean wall, elliptic mesh ({} wall nodes); mesh {}: {} elements ({} fluid + "
+      "collapsible channel, {} fluid{}, neo-Hookean wall, elliptic mesh ({} wall nodes); mesh {}: {} elements ({} "
+      "fluid + "
       "{} solid), {} nodes; {} unknowns",
       to_string(f.model), f.viscoelastic() && f.log_conformation ? " (log-conformation)" : "",
       options_.motion.sliding_walls ? "sliding" : "fixed", options_.mesh.name, mesh_.num_elements(),

@@ -115,8 +115,8 @@ class CollapsibleChannelProblem final : public Problem {
     double ds = 0;                    // Gauss weight times the line element
     double pressure = 0;
     double extra[2][2] = {{0, 0}, {0, 0}};  // beta (K + K^T) + tau_p
-    double Mxx = 0;                   // NaN for a Newtonian fluid
-    double free_weight = 1;           // sum of the test functions of the unclamped nodes
+    double Mxx = 0;                         // NaN for a Newtonian fluid
+    double free_weight = 1;                 // sum of the test functions of the unclamped nodes
   };
   std::vector<InterfaceSample> interface_samples(const Vector& u) const;
   void declare_quantities();

@@ -13,7 +13,8 @@ namespace keller {
 void WallOptions::declare(SceneSchema& s) {
   declare_channel_mesh_keys(s);
   s.section("parameters", "continuation parameters and their starting values");
-  s.real("parameters.t", 0.4, "wall thickness t (units of W)", Range::between(SolidWall::min_thickness, SolidWall::max_thickness));
+  s.real("parameters.t", 0.4, "wall thickness t (units of W)",
+         Range::between(SolidWall::min_thickness, SolidWall::max_thickness));
   s.real("parameters.Pe", 0.04, "external pressure on the top of the wall (units of G)");
   s.real("parameters.Pin", 0.0, "uniform pressure on the bottom of the wall (units of G)");
 }
@@ -31,13 +32,12 @@ WallOptions WallOptions::from_scene(const Scene& scene) {
 WallProblem::WallProblem(const WallOptions& options)
     : options_(options), mesh_(build_wall_mesh(options.geometry, options.mesh)) {
   const ChannelGeometry& g = options_.geometry;
-  wall_ = std::make_unique<SolidWall>(mesh_, WallGeometry{g.upstream_length, g.upstream_length + g.deformable_length, 1.0},
-                                      g.thickness, options_.Pe, params_);
+  wall_ =
+      std::make_unique<SolidWall>(mesh_, WallGeometry{g.upstream_length, g.upstream_length + g.deformable_length, 1.0},
+                                  g.thickness, options_.Pe, params_);
   iPin_ = params_.add("Pin", options_.Pin, "uniform pressure on the bottom of the wall (units of G)");
-  ComposedSystem system = Composition()
-                              .share({"position", Basis::Q2, {"x", "y"}, {"solid"}})
-                              .add(*wall_)
-                              .build(mesh_, params_, "clamps");
+  ComposedSystem system =
+      Composition().share({"position", Basis::Q2, {"x", "y"}, {"solid"}}).add(*wall_).build(mesh_, params_, "clamps");
   dofs_ = std::move(system.dofs);
   dirichlet_ = system.dirichlet;
   // the uniform pressure Pin standing in for the fluid, on the bottom face
@@ -66,7 +66,8 @@ Status WallProblem::observables(const Vector& u, std::vector<double>& values) {
 SolutionFields WallProblem::fields(const Vector& u) const {
   // written on the deformed configuration, with the displacement as a field
   const int fx = dofs_->field_index("position");
-  for (int n = 0; n < mesh_.num_nodes(); ++n) deformed_.set_node(n, {u[dofs_->node_dof(fx, n, 0)], u[dofs_->node_dof(fx, n, 1)]});
+  for (int n = 0; n < mesh_.num_nodes(); ++n)
+    deformed_.set_node(n, {u[dofs_->node_dof(fx, n, 0)], u[dofs_->node_dof(fx, n, 1)]});
   SolutionFields f = extract_fields(deformed_, *dofs_, u);
   NodalField disp{"displacement", "Q2", {"dx", "dy"}, {"solid"}, Eigen::MatrixXd(mesh_.num_nodes(), 2)};
   for (int n = 0; n < mesh_.num_nodes(); ++n) {
@@ -79,9 +80,10 @@ SolutionFields WallProblem::fields(const Vector& u) const {
 }
 
 std::string WallProblem::summary() const {
-  return fmt::format("neo-Hookean wall alone (plane strain, incompressible, Q2-P1disc); mesh {}: {} elements, {} nodes; "
-                     "{} unknowns",
-                     options_.mesh.name, mesh_.num_elements(), mesh_.num_nodes(), size());
+  return fmt::format(
+      "neo-Hookean wall alone (plane strain, incompressible, Q2-P1disc); mesh {}: {} elements, {} nodes; "
+      "{} unknowns",
+      options_.mesh.name, mesh_.num_elements(), mesh_.num_nodes(), size());
 }
 
 }  // namespace keller

@@ -24,7 +24,8 @@ Composition& Composition::share(FieldSpec field) {
   return *this;
 }
 
-ComposedSystem Composition::build(const Mesh& mesh, const ParameterSet& params, const std::string& dirichlet_name) const {
+ComposedSystem Composition::build(const Mesh& mesh, const ParameterSet& params,
+                                  const std::string& dirichlet_name) const {
   ComposedSystem s;
   s.dofs = std::make_unique<DofMap>(mesh, fields_);
   s.dirichlet = std::make_shared<DirichletTerm>(dirichlet_name, params);

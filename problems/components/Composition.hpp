@@ -34,7 +34,8 @@ class Composition {
   // A field no single component owns (the node positions a solid and a fluid mesh share).
   Composition& share(FieldSpec field);
   // dirichlet_name: the name of the Dirichlet term in diagnostics.
-  ComposedSystem build(const Mesh& mesh, const ParameterSet& params, const std::string& dirichlet_name = "dirichlet") const;
+  ComposedSystem build(const Mesh& mesh, const ParameterSet& params,
+                       const std::string& dirichlet_name = "dirichlet") const;
 
  private:
   std::vector<Component*> components_;

@@ -10,9 +10,9 @@
 #include <stdexcept>
 
 #include "core/KernelTerm.hpp"
-#include "problems/laws/LogConformation.hpp"
 #include "problems/kernels/NewtonianFlowKernel.hpp"
 #include "problems/kernels/OutflowTractionKernel.hpp"
+#include "problems/laws/LogConformation.hpp"
 
 namespace keller {
 
@@ -105,9 +105,8 @@ FlowEquations::FlowEquations(const Mesh& mesh, const std::string& group, FluidOp
   fields_ = {{"velocity", Basis::Q2, {"vx", "vy"}, {group}}, {"pressure", Basis::P1Disc, {"p"}, {group}}};
   if (options_.viscoelastic()) {
     fields_.push_back({"gradient", Basis::Q1, {"Lxx", "Lxy", "Lyx", "Lyy"}, {group}});
-    std::vector<std::string> comps = options_.log_conformation
-                                         ? std::vector<std::string>{"Psi_xx", "Psi_xy", "Psi_yy"}
-                                         : std::vector<std::string>{"Mxx", "Mxy", "Myy"};
+    std::vector<std::string> comps = options_.log_conformation ? std::vector<std::string>{"Psi_xx", "Psi_xy", "Psi_yy"}
+                                                               : std::vector<std::string>{"Mxx", "Mxy", "Myy"};
     if (options_.conformation_components() == 4) comps.push_back(options_.log_conformation ? "Psi_zz" : "Mzz");
     fields_.push_back({"conformation", Basis::Q1, comps, {group}});
   }
@@ -163,7 +162,8 @@ void FlowEquations::add_kernels(const DofMap& dofs) {
   const ParameterSet& params = *params_;
   if (!options_.viscoelastic()) {
     terms_.push_back(std::make_shared<KernelTerm<NewtonianFlowKernel<Moving>>>(
-        NewtonianFlowKernel<Moving>(*mesh_, dofs, elements_, &geometry_, index_, options_.inertia, options_.kernel.source),
+        NewtonianFlowKernel<Moving>(*mesh_, dofs, elements_, &geometry_, index_, options_.inertia,
+                                    options_.kernel.source),
         params));
   } else if (options_.conformation_components() == 3) {
     terms_.push_back(std::make_shared<KernelTerm<ViscoelasticFlowKernel<3, Moving>>>(
@@ -242,7 +242,8 @@ void FlowEquations::initial_guess(Vector& u) const {
     double lam = lambda;
     if (options_.model == FluidModel::Owens) lam *= owens_factor(dudy[k] * dudy[k], U, options_.kernel.owens);
     const auto state = steady_state(lam * dudy[k], b);
-    for (int c = 0; c < options_.conformation_components(); ++c) u[dofs.node_dof(fm, n, c)] = state[static_cast<size_t>(c)];
+    for (int c = 0; c < options_.conformation_components(); ++c)
+      u[dofs.node_dof(fm, n, c)] = state[static_cast<size_t>(c)];
     for (int c = 0; c < 4; ++c) u[dofs.node_dof(fl, n, c)] = c == 1 ? dudy[k] : 0.0;
   }
 }
@@ -318,7 +319,8 @@ void FlowEquations::add_fields(const Vector& u, SolutionFields& out) const {
   }
   // Q1 interpolation from the vertices to every node of each fluid element
   auto q1_field = [&](const std::string& name, std::vector<std::string> comps, int first) {
-    NodalField f{name, "Q1", comps, fields_[0].groups, Eigen::MatrixXd::Constant(N, static_cast<long>(comps.size()), nan)};
+    NodalField f{name, "Q1", comps, fields_[0].groups,
+                 Eigen::MatrixXd::Constant(N, static_cast<long>(comps.size()), nan)};
     for (int e : elements_) {
       const auto& el = mesh_->element(e);
       for (int a = 0; a < 9; ++a) {

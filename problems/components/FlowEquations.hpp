@@ -23,10 +23,10 @@
 #include "core/SolutionFields.hpp"
 #include "core/Term.hpp"
 #include "problems/components/Component.hpp"
-#include "problems/laws/ConstitutiveLaw.hpp"
-#include "problems/laws/InflowProfile.hpp"
 #include "problems/kernels/FlowParameters.hpp"
 #include "problems/kernels/ViscoelasticFlowKernel.hpp"
+#include "problems/laws/ConstitutiveLaw.hpp"
+#include "problems/laws/InflowProfile.hpp"
 
 namespace keller {
 
@@ -57,8 +57,8 @@ struct FluidOptions {
 struct FlowBoundaries {
   std::string inflow = "inflow";
   std::string outflow = "outflow";
-  std::vector<std::string> walls;     // no slip
-  std::vector<std::string> symmetry;  // v_y = 0, tangential traction free
+  std::vector<std::string> walls;             // no slip
+  std::vector<std::string> symmetry;          // v_y = 0, tangential traction free
   double channel_lo = 0.0, channel_hi = 1.0;  // the walls of the channel the inflow profile is in
 };
 

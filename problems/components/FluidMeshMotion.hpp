@@ -32,7 +32,7 @@ struct MeshMotionOptions {
 
 struct MeshMotionBoundaries {
   std::vector<std::string> walls = {"bottom_wall", "top_wall"};  // horizontal rigid walls
-  std::vector<std::string> ends = {"inflow", "outflow"};          // vertical ends
+  std::vector<std::string> ends = {"inflow", "outflow"};         // vertical ends
 };
 
 class FluidMeshMotion final : public Component {

@@ -108,9 +108,7 @@ double SolidWall::area(const Vector& u) const {
   return sum;
 }
 
-double SolidWall::reference_area() const {
-  return (geometry_.x_right - geometry_.x_left) * params_->value(it_);
-}
+double SolidWall::reference_area() const { return (geometry_.x_right - geometry_.x_left) * params_->value(it_); }
 
 std::vector<std::array<double, 2>> SolidWall::interface_shape(const Vector& u) const {
   const int fx = dofs_->field_index("position");

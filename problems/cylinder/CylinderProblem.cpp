@@ -125,26 +125,57 @@ Mesh build_cylinder_mesh(const CylinderOptions& o) {
     return qr > 1.0 ? std::expm1(xi * std::log(qr)) / (qr - 1.0) : xi;
   };
   BlockMeshBuilder b;
-  const int up = b.add_block({"upstream", "fluid", s.nx_upstream, s.n_quarter, Grading::end(s.upstream_ratio), around,
-                              [=](double u, double v) { return Mesh::Point{-Lu + (Lu - 2.0) * u, 2.0 * v}; },
+  const int up = b.add_block({"upstream",
+                              "fluid",
+                              s.nx_upstream,
+                              s.n_quarter,
+                              Grading::end(s.upstream_ratio),
+                              around,
+                              [=](double u, double v) {
+                                return Mesh::Point{-Lu + (Lu - 2.0) * u, 2.0 * v};
+                              },
                               {"symmetry", "", "wall", "inflow"}});
-  const int west = b.add_block({"west", "fluid", s.n_quarter, s.n_radial, around, radial,
-                                [=](double u, double t) { return blend(arc(M_PI - 0.25 * M_PI * u), {-2.0, 2.0 * u}, t); },
+  const int west = b.add_block({"west",
+                                "fluid",
+                                s.n_quarter,
+                                s.n_radial,
+                                around,
+                                radial,
+                                [=](double u, double t) {
+                                  return blend(arc(M_PI - 0.25 * M_PI * u), {-2.0, 2.0 * u}, t);
+                                },
                                 {"cylinder", "", "", "symmetry"}});
-  const int north = b.add_block({"north", "fluid", 2 * s.n_quarter, s.n_radial, around, radial,
+  const int north = b.add_block({"north",
+                                 "fluid",
+                                 2 * s.n_quarter,
+                                 s.n_radial,
+                                 around,
+                                 radial,
                                  [=](double u, double t) {
                                    return blend(arc(0.75 * M_PI - 0.5 * M_PI * u), {-2.0 + 4.0 * u, 2.0}, t);
                                  },
                                  {"cylinder", "", "wall", ""}});
   // east runs radially in s and around in t (so that it is positively oriented and its outer
   // side x = 2 runs upwards like the downstream block's inflow side)
-  const int east = b.add_block({"east", "fluid", s.n_radial, nw, radial, wake,
+  const int east = b.add_block({"east",
+                                "fluid",
+                                s.n_radial,
+                                nw,
+                                radial,
+                                wake,
                                 [=](double r, double v) {
                                   return blend(arc(0.25 * M_PI * uniform_in(v)), {2.0, 2.0 * v}, r);
                                 },
                                 {"symmetry", "", "", "cylinder"}});
-  const int down = b.add_block({"downstream", "fluid", s.nx_downstream, nw, Grading::start(s.downstream_ratio),
-                                wake, [=](double u, double v) { return Mesh::Point{2.0 + (Ld - 2.0) * u, 2.0 * v}; },
+  const int down = b.add_block({"downstream",
+                                "fluid",
+                                s.nx_downstream,
+                                nw,
+                                Grading::start(s.downstream_ratio),
+                                wake,
+                                [=](double u, double v) {
+                                  return Mesh::Point{2.0 + (Ld - 2.0) * u, 2.0 * v};
+                                },
                                 {"symmetry", "outflow", "wall", ""}});
   b.connect(up, Side::Right, west, Side::Top);
   b.connect(west, Side::Right, north, Side::Left);

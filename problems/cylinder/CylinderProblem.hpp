@@ -24,17 +24,17 @@ namespace keller {
 
 struct CylinderMeshSpec {
   std::string name = "C1";
-  int n_quarter = 8;        // elements along a quarter of the cylinder (the N block has twice as many)
-  int n_radial = 8;         // elements from the cylinder to the enclosing box
-  int nx_upstream = 12;     // elements along the upstream channel
-  int nx_downstream = 24;   // elements along the downstream channel
-  double radial_ratio = 4.0;      // largest / smallest radial size (fine at the cylinder)
-  double upstream_ratio = 10.0;   // largest / smallest (fine next to the box)
-  double downstream_ratio = 20.0; // largest / smallest (fine next to the box: the wake)
-  double wake_ratio = 1.0;        // across the channel behind the cylinder (the east block around, the
-                                  // downstream block in y): largest / smallest, fine on the axis
-  int n_rear = 0;                 // elements around the rear eighth and across the downstream channel (0: n_quarter)
-  double rear_ratio = 1.0;        // around the rear eighth of the cylinder, fine at the rear stagnation point
+  int n_quarter = 8;               // elements along a quarter of the cylinder (the N block has twice as many)
+  int n_radial = 8;                // elements from the cylinder to the enclosing box
+  int nx_upstream = 12;            // elements along the upstream channel
+  int nx_downstream = 24;          // elements along the downstream channel
+  double radial_ratio = 4.0;       // largest / smallest radial size (fine at the cylinder)
+  double upstream_ratio = 10.0;    // largest / smallest (fine next to the box)
+  double downstream_ratio = 20.0;  // largest / smallest (fine next to the box: the wake)
+  double wake_ratio = 1.0;         // across the channel behind the cylinder (the east block around, the
+                                   // downstream block in y): largest / smallest, fine on the axis
+  int n_rear = 0;                  // elements around the rear eighth and across the downstream channel (0: n_quarter)
+  double rear_ratio = 1.0;         // around the rear eighth of the cylinder, fine at the rear stagnation point
   // C1..C4 (refinement 1..4 of C1), W1..W4 (the same sizes, the wake resolved)
   static CylinderMeshSpec preset(const std::string& name);
 };
@@ -102,7 +102,7 @@ class CylinderProblem final : public Problem {
   std::unique_ptr<DofMap> dofs_;
   std::shared_ptr<DirichletTerm> dirichlet_;
   std::unique_ptr<Assembler> assembler_;
-  std::vector<int> cylinder_vx_;  // x-velocity rows of the cylinder's nodes
+  std::vector<int> cylinder_vx_;        // x-velocity rows of the cylinder's nodes
   std::vector<int> cylinder_elements_;  // elements with a node on the cylinder
   std::vector<char> on_cylinder_;       // per mesh node
 };

@@ -59,9 +59,7 @@ class NewtonianFlowKernel {
 
   std::string name() const { return "newtonian-flow"; }
   int num_items() const { return static_cast<int>(elements_.size()); }
-  void item_dofs(int item, int* out) const {
-    std::copy_n(&dofs_[static_cast<size_t>(item) * kSize], kSize, out);
-  }
+  void item_dofs(int item, int* out) const { std::copy_n(&dofs_[static_cast<size_t>(item) * kSize], kSize, out); }
 
   Status mass(int item, const double* u, const double* params, double* B) const {
     const double rho = flow_density(p_, params, inertia_);

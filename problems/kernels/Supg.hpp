@@ -12,7 +12,7 @@
 namespace keller {
 
 struct SupgOptions {
-  bool local = true;            // tau = scale h_e / |v| (guarded), or global scale h_c / v_c
+  bool local = true;  // tau = scale h_e / |v| (guarded), or global scale h_c / v_c
   double scale = 1.0;
   double velocity_floor = 1e-3;  // |v| is floored at this fraction of the velocity scale
   double global_size = 1.0;      // h_c for the global option

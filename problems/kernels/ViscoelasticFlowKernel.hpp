@@ -61,11 +61,11 @@ class ViscoelasticFlowKernel {
   static constexpr int kSize = kRows + (Moving ? 18 : 0);
 
   ViscoelasticFlowKernel(const Mesh& mesh, const DofMap& dofs, std::vector<int> elements,
-                         const std::vector<std::array<QpGeometry<double>, ref::kQp>>* geometry,
-                         FlowParameterIndices p, ViscoelasticKernelOptions o)
+                         const std::vector<std::array<QpGeometry<double>, ref::kQp>>* geometry, FlowParameterIndices p,
+                         ViscoelasticKernelOptions o)
       : mesh_(&mesh), geometry_(geometry), elements_(std::move(elements)), p_(p), o_(o) {
-    const int fv = dofs.field_index("velocity"), fp = dofs.field_index("pressure"),
-              fl = dofs.field_index("gradient"), fm = dofs.field_index("conformation");
+    const int fv = dofs.field_index("velocity"), fp = dofs.field_index("pressure"), fl = dofs.field_index("gradient"),
+              fm = dofs.field_index("conformation");
     if (dofs.num_components(fm) != NC) throw std::logic_error("conformation field has the wrong number of components");
     dofs_.resize(elements_.size() * kSize);
     size_.resize(elements_.size());

@@ -26,7 +26,7 @@ namespace {
 
 // 8-point Gauss-Legendre on [0, 1]
 constexpr double kGx[8] = {0.019855071751231856, 0.10166676129318664, 0.2372337950418355, 0.4082826787521751,
-                           0.5917173212478249, 0.7627662049581645, 0.8983332387068134, 0.9801449282487681};
+                           0.5917173212478249,   0.7627662049581645,  0.8983332387068134, 0.9801449282487681};
 constexpr double kGw[8] = {0.05061426814518813, 0.11119051722668724, 0.15685332293894363, 0.18134189168918100,
                            0.18134189168918100, 0.15685332293894363, 0.11119051722668724, 0.05061426814518813};
 constexpr int kPanels = 32;  // over the half-width; shorter stretches get proportionally fewer
@@ -43,8 +43,10 @@ FullyDevelopedProfile::FullyDevelopedProfile(std::function<double(double)> visco
   double G = 3.0 * U_ * eta_(U_ / H_) / (H_ * H_);
   double lo = 0, hi = INFINITY, Um = mean_velocity(G);
   for (int it = 0; it < 100; ++it) {
-    if (Um < U_) lo = G;
-    else hi = G;
+    if (Um < U_)
+      lo = G;
+    else
+      hi = G;
     if (std::abs(Um - U_) <= 1e-14 * U_) break;
     const double dG = G * 1e-6, slope = std::log(mean_velocity(G + dG) / Um) / std::log1p(1e-6);
     double next = G * std::exp(std::log(U_ / Um) / std::max(slope, 0.05));
@@ -63,8 +65,10 @@ double FullyDevelopedProfile::shear_rate_of_stress(double tau, double guess) con
   g = std::clamp(g, 1e-300, hi);
   for (int it = 0; it < 100; ++it) {
     const double r = eta_(g) * g - tau;
-    if (r > 0) hi = g;
-    else lo = g;
+    if (r > 0)
+      hi = g;
+    else
+      lo = g;
     const double dg = 1e-7 * g;
     const double slope = (eta_(g + dg) * (g + dg) - eta_(g) * g) / dg;
     double next = g - r / slope;

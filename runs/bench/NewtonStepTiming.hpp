@@ -60,16 +60,18 @@ inline StepTiming time_newton_step(Problem& p, const Vector& u, const SparseLUOp
 }
 
 inline void print_header() {
-  fmt::print("{:>6} {:>6} {:>8} {:>9} {:>10} {:>6} {:>9} {:>9} {:>9} {:>9} {:>7} {:>8} {:>8} {:>6} {:>7}\n", "mesh", "elems",
-             "unknowns", "nnz(J)", "nnz(L+U)", "fill", "resid ms", "assem ms", "factor ms", "solve ms", "assem/f",
-             "LU MB", "RSS MB", "GFlop", "GFlop/s");
+  fmt::print("{:>6} {:>6} {:>8} {:>9} {:>10} {:>6} {:>9} {:>9} {:>9} {:>9} {:>7} {:>8} {:>8} {:>6} {:>7}\n", "mesh",
+             "elems", "unknowns", "nnz(J)", "nnz(L+U)", "fill", "resid ms", "assem ms", "factor ms", "solve ms",
+             "assem/f", "LU MB", "RSS MB", "GFlop", "GFlop/s");
 }
 
 inline void print_row(const std::string& mesh, int elements, const StepTiming& s) {
-  fmt::print("{:>6} {:>6} {:>8} {:>9} {:>10.0f} {:>6.2f} {:>9.2f} {:>9.2f} {:>9.2f} {:>9.2f} {:>7.2f} {:>8.1f} {:>8.1f} {:>6.2f} {:>7.2f}\n",
-             mesh, elements, s.unknowns, s.nnz, s.nnz_lu, s.nnz_lu / static_cast<double>(s.nnz), 1e3 * s.residual,
-             1e3 * s.assembly, 1e3 * s.factor, 1e3 * s.solve, s.assembly / s.factor, s.lu_mb, s.rss_mb, s.gflop,
-             s.gflop / s.factor);
+  fmt::print(
+      "{:>6} {:>6} {:>8} {:>9} {:>10.0f} {:>6.2f} {:>9.2f} {:>9.2f} {:>9.2f} {:>9.2f} {:>7.2f} {:>8.1f} {:>8.1f} "
+      "{:>6.2f} {:>7.2f}\n",
+      mesh, elements, s.unknowns, s.nnz, s.nnz_lu, s.nnz_lu / static_cast<double>(s.nnz), 1e3 * s.residual,
+      1e3 * s.assembly, 1e3 * s.factor, 1e3 * s.solve, s.assembly / s.factor, s.lu_mb, s.rss_mb, s.gflop,
+      s.gflop / s.factor);
   std::fflush(stdout);
 }
 

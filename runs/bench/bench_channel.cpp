@@ -12,8 +12,8 @@
 #include <vector>
 
 #include "core/SparseLU.hpp"
-#include "runs/bench/NewtonStepTiming.hpp"
 #include "problems/channel/ChannelProblem.hpp"
+#include "runs/bench/NewtonStepTiming.hpp"
 
 using namespace keller;
 
@@ -40,21 +40,26 @@ int main(int argc, char** argv) {
       if (i + 1 >= argc) throw std::invalid_argument("missing value after " + a);
       return argv[++i];
     };
-    if (a == "--meshes") meshes = split(next());
-    else if (a == "--ordering") lu_opt.ordering = ordering_from_string(next());
+    if (a == "--meshes")
+      meshes = split(next());
+    else if (a == "--ordering")
+      lu_opt.ordering = ordering_from_string(next());
     else if (a == "--strategy") {
       const std::string s = next();
       lu_opt.strategy = s == "symmetric"     ? SparseLUOptions::Strategy::Symmetric
                         : s == "unsymmetric" ? SparseLUOptions::Strategy::Unsymmetric
                                              : SparseLUOptions::Strategy::Auto;
-    } else if (a == "--repeat") repeat = std::stoi(next());
-    else if (a == "--re") Re = std::stod(next());
+    } else if (a == "--repeat")
+      repeat = std::stoi(next());
+    else if (a == "--re")
+      Re = std::stod(next());
     else {
       fmt::print(stderr, "unknown argument {}\n", a);
       return 2;
     }
   }
-  fmt::print("rigid channel, Newtonian, Re = {}, ordering {}, median of {} runs\n", Re, to_string(lu_opt.ordering), repeat);
+  fmt::print("rigid channel, Newtonian, Re = {}, ordering {}, median of {} runs\n", Re, to_string(lu_opt.ordering),
+             repeat);
   bench::print_header();
   for (const std::string& name : meshes) {
     ChannelOptions o;

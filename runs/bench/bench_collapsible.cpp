@@ -44,10 +44,14 @@ int main(int argc, char** argv) {
       lu_opt.ordering = ordering_from_string(next());
     } else if (a == "--strategy") {
       const std::string v = next();
-      if (v == "auto") lu_opt.strategy = SparseLUOptions::Strategy::Auto;
-      else if (v == "symmetric") lu_opt.strategy = SparseLUOptions::Strategy::Symmetric;
-      else if (v == "unsymmetric") lu_opt.strategy = SparseLUOptions::Strategy::Unsymmetric;
-      else throw std::invalid_argument("--strategy auto|symmetric|unsymmetric");
+      if (v == "auto")
+        lu_opt.strategy = SparseLUOptions::Strategy::Auto;
+      else if (v == "symmetric")
+        lu_opt.strategy = SparseLUOptions::Strategy::Symmetric;
+      else if (v == "unsymmetric")
+        lu_opt.strategy = SparseLUOptions::Strategy::Unsymmetric;
+      else
+        throw std::invalid_argument("--strategy auto|symmetric|unsymmetric");
     } else if (a == "--pivot-tolerance") {
       lu_opt.pivot_tolerance = std::stod(next());
     } else {

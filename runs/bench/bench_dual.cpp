@@ -22,8 +22,16 @@ struct HandDual {
   HandDual() = default;
   HandDual(double x) : v(x) {}  // NOLINT: constants promote implicitly, as with AutoDiffScalar
   HandDual(double x, const A& dx) : v(x), d(dx) {}
-  HandDual& operator+=(const HandDual& o) { v += o.v; d += o.d; return *this; }
-  HandDual& operator-=(const HandDual& o) { v -= o.v; d -= o.d; return *this; }
+  HandDual& operator+=(const HandDual& o) {
+    v += o.v;
+    d += o.d;
+    return *this;
+  }
+  HandDual& operator-=(const HandDual& o) {
+    v -= o.v;
+    d -= o.d;
+    return *this;
+  }
   friend HandDual operator+(const HandDual& a, const HandDual& b) { return {a.v + b.v, a.d + b.d}; }
   friend HandDual operator-(const HandDual& a, const HandDual& b) { return {a.v - b.v, a.d - b.d}; }
   friend HandDual operator*(const HandDual& a, const HandDual& b) { return {a.v * b.v, a.d * b.v + b.d * a.v}; }
@@ -81,19 +89,21 @@ void run(benchmark::State& state, Seed seed, Extract extract) {
 void HandWrittenDual(benchmark::State& state) {
   constexpr int N = NewtonianFlowKernel<>::kSize;
   using D = HandDual<N>;
-  run<D>(state,
-         [](double v, int i) {
-           D x(v);
-           x.d[i] = 1.0;
-           return x;
-         },
-         [](const D& d, int j) { return d.d[j]; });
+  run<D>(
+      state,
+      [](double v, int i) {
+        D x(v);
+        x.d[i] = 1.0;
+        return x;
+      },
+      [](const D& d, int j) { return d.d[j]; });
 }
 
 void EigenAutoDiffScalar(benchmark::State& state) {
   using A = Dual<NewtonianFlowKernel<>::kSize>;
-  run<A>(state, [](double v, int i) { return make_variable<NewtonianFlowKernel<>::kSize>(v, i); },
-         [](const A& a, int j) { return a.derivatives()[j]; });
+  run<A>(
+      state, [](double v, int i) { return make_variable<NewtonianFlowKernel<>::kSize>(v, i); },
+      [](const A& a, int j) { return a.derivatives()[j]; });
 }
 
 void ResidualOnly(benchmark::State& state) {

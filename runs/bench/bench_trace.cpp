@@ -75,12 +75,15 @@ RunFigures trace(Problem& problem, const Vector& u0, const ContinuationOptions& 
 }
 
 // The nine solver keys every collapsible scene copied before the engine chose them itself.
-const std::vector<std::string> kTunedKeys = {
-    "continuation.bordered=\"block\"",     "continuation.corrector=\"chord\"",
-    "continuation.reuse_factorisation=true", "continuation.target_iterations=14",
-    "continuation.max_iterations=30",        "continuation.renewal_cost=25",
-    "continuation.anderson_depth=5",         "continuation.detect_branch_points=false",
-    "newton.chord_rate=0.25"};
+const std::vector<std::string> kTunedKeys = {"continuation.bordered=\"block\"",
+                                             "continuation.corrector=\"chord\"",
+                                             "continuation.reuse_factorisation=true",
+                                             "continuation.target_iterations=14",
+                                             "continuation.max_iterations=30",
+                                             "continuation.renewal_cost=25",
+                                             "continuation.anderson_depth=5",
+                                             "continuation.detect_branch_points=false",
+                                             "newton.chord_rate=0.25"};
 
 std::string machine() {
   std::string model = "?";
@@ -103,8 +106,7 @@ void print_run(const std::string& label, const RunFigures& f) {
   const int steps = std::max(f.rows - 1, 1);  // rows after the start (steps and located points)
   fmt::print("{:<22} {:>5} {:>6} {:>7} {:>8.2f} {:>8.3f} {:>9.2f} {:>8.2f} {:>7.2f} {:>8.2f} {:>8.2f}  {}\n", label,
              f.rows, f.result.factorisations, t.solves, f.seconds, f.seconds / steps, t.factorisation, t.solve,
-             t.jacobian, t.analysis,
-             f.seconds - t.factorisation - t.solve - t.jacobian - t.analysis, f.result.reason);
+             t.jacobian, t.analysis, f.seconds - t.factorisation - t.solve - t.jacobian - t.analysis, f.result.reason);
 }
 
 }  // namespace
@@ -120,13 +122,20 @@ int main(int argc, char** argv) {
       if (i + 1 >= argc) throw std::invalid_argument("missing value after " + a);
       return argv[++i];
     };
-    if (a == "--steps") steps = std::stoi(next());
-    else if (a == "--every") every = std::stoi(next());
-    else if (a == "--no-spectra") spectra = false;
-    else if (a == "--against-tuned") against_tuned = true;
-    else if (a == "--repeat") repeat = std::stoi(next());
-    else if (a == "--set") overrides.push_back(next());
-    else if (!a.empty() && a[0] != '-') scene = a;
+    if (a == "--steps")
+      steps = std::stoi(next());
+    else if (a == "--every")
+      every = std::stoi(next());
+    else if (a == "--no-spectra")
+      spectra = false;
+    else if (a == "--against-tuned")
+      against_tuned = true;
+    else if (a == "--repeat")
+      repeat = std::stoi(next());
+    else if (a == "--set")
+      overrides.push_back(next());
+    else if (!a.empty() && a[0] != '-')
+      scene = a;
     else {
       fmt::print(stderr, "unknown argument {}\n", a);
       return 2;
@@ -152,7 +161,8 @@ int main(int argc, char** argv) {
   sopt.every = every;
   const NewtonOptions nopt = newton_options_from(loaded.scene);
   const SparseLUOptions lopt = sparse_lu_options_from(loaded.scene);
-  fmt::print("{}\n{}\n{}\nparameter {}, {} steps at most\n", machine(), scene, problem->summary(), copt.parameter, steps);
+  fmt::print("{}\n{}\n{}\nparameter {}, {} steps at most\n", machine(), scene, problem->summary(), copt.parameter,
+             steps);
 
   Vector u0 = problem->initial_guess();
   NewtonSolver newton(*problem, nopt, lopt);
@@ -163,7 +173,8 @@ int main(int argc, char** argv) {
     return 1;
   }
   const double start_value = problem->parameters().get(copt.parameter);
-  fmt::print("first steady state: {} Newton iterations ({} factorisations), {:.2f} s (not in the runs below)\n\n", r.iterations, r.factorisations,
+  fmt::print("first steady state: {} Newton iterations ({} factorisations), {:.2f} s (not in the runs below)\n\n",
+             r.iterations, r.factorisations,
              std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
 
   fmt::print("{:<22} {:>5} {:>6} {:>7} {:>8} {:>8} {:>9} {:>8} {:>7} {:>8} {:>8}  {}\n", "run", "rows", "factor",
@@ -190,9 +201,10 @@ int main(int argc, char** argv) {
     }
     const double fd = static_cast<double>(f_default) / std::max(rows_default - repeat, 1);
     const double ft = static_cast<double>(f_tuned) / std::max(rows_tuned - repeat, 1);
-    fmt::print("\ndefaults / tuned: factorisations per row {:.3f} / {:.3f} = {:.3f}; time {:.2f} / {:.2f} s = {:.3f} "
-               "(issue 17's goal: both within 1.10)\n",
-               fd, ft, fd / ft, t_default, t_tuned, t_default / t_tuned);
+    fmt::print(
+        "\ndefaults / tuned: factorisations per row {:.3f} / {:.3f} = {:.3f}; time {:.2f} / {:.2f} s = {:.3f} "
+        "(issue 17's goal: both within 1.10)\n",
+        fd, ft, fd / ft, t_default, t_tuned, t_default / t_tuned);
     fmt::print("{}\n", machine());
     return 0;
   }
@@ -207,14 +219,15 @@ int main(int argc, char** argv) {
   // EigenOptions::ncv's default (capped by n)
   const int ncv = std::min(sopt.ncv > 0 ? sopt.ncv : std::max(2 * sopt.count + 1, 20), problem->size());
   const double point_s = plain.seconds / std::max(plain.rows - 1, 1);
-  fmt::print("\nmonitoring adds {:+.0f}% (issue 6's goal: <= +25%): {} spectra in {:.2f} s, {} eigen-solver factorisations, "
-             "{:.0f} solves per spectrum at {:.1f} ms each\n",
-             100.0 * (with.seconds - plain.seconds) / plain.seconds, with.spectra, with.eig_seconds,
-             with.eig_factorisations, with.spectra ? static_cast<double>(with.eig_solves) / with.spectra : 0.0,
-             1e3 * solve_s);
-  fmt::print("a spectrum costs at least one Arnoldi basis, ncv = {} solves = {:.2f} s = {:.0f}% of a point "
-             "({:.2f} s); the 25% goal allows {:.0f} solves per point\n",
-             ncv, ncv * solve_s, 100.0 * ncv * solve_s / point_s, point_s, solve_s > 0 ? 0.25 * point_s / solve_s : 0.0);
+  fmt::print(
+      "\nmonitoring adds {:+.0f}% (issue 6's goal: <= +25%): {} spectra in {:.2f} s, {} eigen-solver factorisations, "
+      "{:.0f} solves per spectrum at {:.1f} ms each\n",
+      100.0 * (with.seconds - plain.seconds) / plain.seconds, with.spectra, with.eig_seconds, with.eig_factorisations,
+      with.spectra ? static_cast<double>(with.eig_solves) / with.spectra : 0.0, 1e3 * solve_s);
+  fmt::print(
+      "a spectrum costs at least one Arnoldi basis, ncv = {} solves = {:.2f} s = {:.0f}% of a point "
+      "({:.2f} s); the 25% goal allows {:.0f} solves per point\n",
+      ncv, ncv * solve_s, 100.0 * ncv * solve_s / point_s, point_s, solve_s > 0 ? 0.25 * point_s / solve_s : 0.0);
   fmt::print("{}\n", machine());
   return 0;
 }

@@ -2,11 +2,11 @@
 
 #include <fmt/format.h>
 
+#include <toml++/toml.h>
 #include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
-#include <toml++/toml.h>
 
 #include "continuation/ContinuationOptions.hpp"
 #include "core/Scene.hpp"
@@ -63,14 +63,16 @@ std::string toml_text(const toml::node& n) {
 void leaves(const toml::table& t, const std::string& prefix, Assignments& out) {
   for (auto&& [k, v] : t) {
     const std::string path = prefix.empty() ? std::string(k.str()) : prefix + "." + std::string(k.str());
-    if (const toml::table* sub = v.as_table()) leaves(*sub, path, out);
-    else out.push_back({path, {toml_text(v), static_cast<int>(v.source().begin.line)}});
+    if (const toml::table* sub = v.as_table())
+      leaves(*sub, path, out);
+    else
+      out.push_back({path, {toml_text(v), static_cast<int>(v.source().begin.line)}});
   }
 }
 
 // The leaves of [grid]: each an array of the values it takes.
 std::vector<std::pair<std::string, std::vector<Value>>> grid_leaves(const toml::table& t, const std::string& prefix,
-                                                                     const std::string& file) {
+                                                                    const std::string& file) {
   std::vector<std::pair<std::string, std::vector<Value>>> out;
   for (auto&& [k, v] : t) {
     const std::string path = prefix.empty() ? std::string(k.str()) : prefix + "." + std::string(k.str());
@@ -82,8 +84,8 @@ std::vector<std::pair<std::string, std::vector<Value>>> grid_leaves(const toml::
     const toml::array* a = v.as_array();
     const int line = static_cast<int>(v.source().begin.line);
     if (!a || a->empty())
-      throw SceneError(fmt::format("{}:{}: [grid] key '{}' must be a non-empty list of the values it takes", file,
-                                   line, path));
+      throw SceneError(
+          fmt::format("{}:{}: [grid] key '{}' must be a non-empty list of the values it takes", file, line, path));
     std::vector<Value> values;
     for (const toml::node& e : *a) values.push_back({toml_text(e), line});
     out.push_back({path, std::move(values)});
@@ -102,7 +104,8 @@ std::string task_name(const std::vector<std::pair<std::string, std::string>>& va
   std::string name, all;
   for (const auto& [k, v] : varied) {
     std::string part;
-    for (char c : unquoted(v)) part += (std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '-' || c == '+') ? c : '_';
+    for (char c : unquoted(v))
+      part += (std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '-' || c == '+') ? c : '_';
     if (part.size() > 24) part.resize(24);
     name += (name.empty() ? "" : "_") + part;
     all += k + "=" + v + "\n";
@@ -139,7 +142,8 @@ Study Study::load(const std::string& path, const std::string& folder) {
   for (auto&& [k, v] : doc) {
     const std::string key(k.str());
     if (key != "study" && key != "set" && key != "grid" && key != "cases" && key != "collect")
-      throw error(v, fmt::format("unknown section [{}]; a study has [study], [set], [grid], [[cases]], [collect]", key));
+      throw error(v,
+                  fmt::format("unknown section [{}]; a study has [study], [set], [grid], [[cases]], [collect]", key));
   }
   Study s;
   s.path_ = path;
@@ -198,11 +202,12 @@ Study Study::load(const std::string& path, const std::string& folder) {
     if (!c.as_table()) throw error(*c.node(), "[collect] must be a table");
     for (auto&& [k, v] : *c.as_table()) {
       const std::string key(k.str());
-      std::vector<std::string>* list = key == "events" ? &s.collect_.events
+      std::vector<std::string>* list = key == "events"  ? &s.collect_.events
                                        : key == "stops" ? &s.collect_.stops
                                        : key == "end"   ? &s.collect_.end
                                                         : nullptr;
-      if (!list) throw error(v, fmt::format("unknown key 'collect.{}'; keys allowed in [collect]: events, stops, end", key));
+      if (!list)
+        throw error(v, fmt::format("unknown key 'collect.{}'; keys allowed in [collect]: events, stops, end", key));
       const toml::array* a = v.as_array();
       if (!a) throw error(v, fmt::format("key 'collect.{}' must be a list of names", key));
       for (const toml::node& e : *a) {
@@ -228,9 +233,11 @@ Study Study::load(const std::string& path, const std::string& folder) {
   }
   for (const Assignments& c : cases)
     for (const auto& [k, v] : c)
-      if (std::find(s.varied_keys_.begin(), s.varied_keys_.end(), k) == s.varied_keys_.end()) s.varied_keys_.push_back(k);
+      if (std::find(s.varied_keys_.begin(), s.varied_keys_.end(), k) == s.varied_keys_.end())
+        s.varied_keys_.push_back(k);
   for (const auto& [key, values] : grid)
-    if (std::find(s.varied_keys_.begin(), s.varied_keys_.end(), key) == s.varied_keys_.end()) s.varied_keys_.push_back(key);
+    if (std::find(s.varied_keys_.begin(), s.varied_keys_.end(), key) == s.varied_keys_.end())
+      s.varied_keys_.push_back(key);
 
   std::set<std::string> names;
   for (const Assignments& c : cases)
@@ -245,9 +252,12 @@ Study Study::load(const std::string& path, const std::string& folder) {
       for (const auto& [k, v] : c) t.varied.push_back({k, v.text});
       for (const auto& [k, v] : p) t.varied.push_back({k, v.text});
       for (const auto& [k, v] : all) {
-        if (k == "scene") t.scene = relative_to_study(unquoted(v.text));
-        else if (k == "start") t.start = unquoted(v.text);
-        else t.overrides.push_back(k + "=" + v.text);
+        if (k == "scene")
+          t.scene = relative_to_study(unquoted(v.text));
+        else if (k == "start")
+          t.start = unquoted(v.text);
+        else
+          t.overrides.push_back(k + "=" + v.text);
       }
       if (!t.start.empty() && s.kind_ != "trace")
         throw SceneError(fmt::format("{}: task {} ({}): a start from a stored point needs task = \"trace\"", path,

@@ -20,14 +20,14 @@ namespace keller {
 
 struct StudyTask {
   int index = 0;
-  std::string name;                                        // file name stem, stable under re-ordering
-  std::string scene;                                       // base scene of this task
-  std::string start;                                       // "FILE.h5:ROW" or ""
-  std::vector<std::pair<std::string, std::string>> varied; // the overrides that tell tasks apart (key, TOML value)
-  std::vector<std::string> overrides;                      // every "key=value" applied to the scene
-  std::string record;                                      // what defines the run (resolved scene, start, kind)
-  std::string hash;                                        // of the record: a task is done for this hash only
-  std::string label() const;                               // "fluid.model=fene-p, parameters.Gamma=0.000495"
+  std::string name;                                         // file name stem, stable under re-ordering
+  std::string scene;                                        // base scene of this task
+  std::string start;                                        // "FILE.h5:ROW" or ""
+  std::vector<std::pair<std::string, std::string>> varied;  // the overrides that tell tasks apart (key, TOML value)
+  std::vector<std::string> overrides;                       // every "key=value" applied to the scene
+  std::string record;                                       // what defines the run (resolved scene, start, kind)
+  std::string hash;                                         // of the record: a task is done for this hash only
+  std::string label() const;                                // "fluid.model=fene-p, parameters.Gamma=0.000495"
 };
 
 struct StudyCollect {
@@ -44,8 +44,8 @@ class Study {
   static Study load(const std::string& path, const std::string& folder = "");
 
   const std::string& path() const { return path_; }
-  const std::string& name() const { return name_; }      // the study file's stem
-  const std::string& kind() const { return kind_; }      // "trace" or "solve"
+  const std::string& name() const { return name_; }  // the study file's stem
+  const std::string& kind() const { return kind_; }  // "trace" or "solve"
   const std::string& folder() const { return folder_; }
   const std::vector<StudyTask>& tasks() const { return tasks_; }
   const StudyCollect& collect() const { return collect_; }

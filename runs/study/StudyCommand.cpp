@@ -40,8 +40,9 @@ int run_study_command(const StudyArguments& args, int& argc, char**& argv) {
       return exit_code::usage;
     }
     const TaskRecord r = run_study_task(study, study.tasks()[static_cast<size_t>(args.task)]);
-    return r.status == "done" ? exit_code::ok : r.status == "interrupted" ? exit_code::interrupted
-                                                                          : exit_code::numerical_failure;
+    return r.status == "done"          ? exit_code::ok
+           : r.status == "interrupted" ? exit_code::interrupted
+                                       : exit_code::numerical_failure;
   }
   if (args.action == "collect") {
     write_study_table(study);

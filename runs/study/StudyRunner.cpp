@@ -150,9 +150,10 @@ void StudyProgress::finished(const StudyTask& task, const TaskRecord& record) {
 void print_overhead(int gaps, double gap_seconds, int tasks, double process_seconds) {
   if (gaps == 0 || tasks == 0) return;
   const double per_task = gap_seconds / gaps, task = process_seconds / tasks;
-  fmt::print("scheduling: {:.2f} ms between a task's end and the next task's start on its worker, {:.3f}% of a "
-             "task's mean {:.3f} s\n",
-             1e3 * per_task, task > 0 ? 100 * per_task / task : 0.0, task);
+  fmt::print(
+      "scheduling: {:.2f} ms between a task's end and the next task's start on its worker, {:.3f}% of a "
+      "task's mean {:.3f} s\n",
+      1e3 * per_task, task > 0 ? 100 * per_task / task : 0.0, task);
 }
 
 void write_study_table(const Study& study) {
@@ -230,8 +231,9 @@ int run_study_local(const Study& study, int jobs) {
   print_overhead(spawned_after_reap, gaps, finished, process);
   write_study_table(study);
   if (InterruptGuard::requested()) {
-    fmt::print("interrupted: the tasks that were running stop after their current point; run the study again to "
-               "continue them\n");
+    fmt::print(
+        "interrupted: the tasks that were running stop after their current point; run the study again to "
+        "continue them\n");
     return exit_code::interrupted;
   }
   return failures ? exit_code::numerical_failure : exit_code::ok;

@@ -44,9 +44,12 @@ void collect_branch(const Study& study, const std::string& path, StudyRow& row) 
   const std::string& monitor_names_joined = t.status;  // for files whose end rows name no monitor
   for (const std::string& name : c.events) {
     int want_kind = kind_event;
-    if (name == "fold") want_kind = kind_fold;
-    else if (name == "branch-point") want_kind = kind_branch_point;
-    else if (name == "hopf") want_kind = kind_hopf;
+    if (name == "fold")
+      want_kind = kind_fold;
+    else if (name == "branch-point")
+      want_kind = kind_branch_point;
+    else if (name == "hopf")
+      want_kind = kind_hopf;
     // a monitor's zero is an event, or the end of the branch where the stop observable of that
     // name crossed its threshold (the engine reports such a point once, as the end)
     std::vector<int> monitors, thresholds;
@@ -55,15 +58,19 @@ void collect_branch(const Study& study, const std::string& path, StudyRow& row) 
       if (t.monitors[m].rfind(name + " < ", 0) == 0 || t.monitors[m].rfind(name + " > ", 0) == 0)
         thresholds.push_back(static_cast<int>(m));
     }
-    auto in = [](const std::vector<int>& v, double x) { return std::find(v.begin(), v.end(), static_cast<int>(x)) != v.end(); };
+    auto in = [](const std::vector<int>& v, double x) {
+      return std::find(v.begin(), v.end(), static_cast<int>(x)) != v.end();
+    };
     double value = NAN;
     for (long i = 0; i < ev_rows && std::isnan(value); ++i) {
       const double* e = &events[static_cast<size_t>(i * ev_cols)];
       const int k = static_cast<int>(e[1]);
-      if (want_kind != kind_event ? k == want_kind : (k == kind_event && in(monitors, e[3])) ||
-                                                         (k == kind_end && (in(thresholds, e[3]) ||
-                                                                            (e[3] < 0 && (monitor_names_joined.rfind(name + " < ", 0) == 0 ||
-                                                                                          monitor_names_joined.rfind(name + " > ", 0) == 0)))))
+      if (want_kind != kind_event
+              ? k == want_kind
+              : (k == kind_event && in(monitors, e[3])) ||
+                    (k == kind_end &&
+                     (in(thresholds, e[3]) || (e[3] < 0 && (monitor_names_joined.rfind(name + " < ", 0) == 0 ||
+                                                            monitor_names_joined.rfind(name + " > ", 0) == 0)))))
         value = e[2];
     }
     row.number["event:" + name] = value;
@@ -89,7 +96,8 @@ void collect_solution(const Study& study, const std::string& path, StudyRow& row
   H5File f(path, H5File::Mode::Read);
   std::vector<std::string> shown;
   for (const std::string& o : study.collect().end) {
-    const double v = f.has_attribute("/solution/observables", o) ? f.read_double_attribute("/solution/observables", o) : NAN;
+    const double v =
+        f.has_attribute("/solution/observables", o) ? f.read_double_attribute("/solution/observables", o) : NAN;
     row.number["end:" + o] = v;
     shown.push_back(fmt::format("{} = {:.7g}", o, v));
   }
@@ -131,8 +139,10 @@ StudyRow StudyTable::row(const Study& study, const StudyTask& task) {
   row.found = record->status == "done" ? "" : record->status + ": " + s.reason;
   if (current && record->status == "done" && fs::exists(study.task_output(task))) {
     try {
-      if (study.kind() == "trace") collect_branch(study, study.task_output(task), row);
-      else collect_solution(study, study.task_output(task), row);
+      if (study.kind() == "trace")
+        collect_branch(study, study.task_output(task), row);
+      else
+        collect_solution(study, study.task_output(task), row);
     } catch (const std::exception& e) {
       row.text["status"] = "failed";
       row.text["reason"] = std::string("its output cannot be read: ") + e.what();
@@ -157,8 +167,10 @@ StudyTable StudyTable::collect(const Study& study) {
       const auto at = name.find('@');
       if (at == std::string::npos) continue;
       const auto hash = name.find('#', at);
-      const double value = std::stod(name.substr(at + 1, hash == std::string::npos ? std::string::npos : hash - at - 1));
-      stop_columns.insert({name.substr(0, at), value, hash == std::string::npos ? 1 : std::stoi(name.substr(hash + 1))});
+      const double value =
+          std::stod(name.substr(at + 1, hash == std::string::npos ? std::string::npos : hash - at - 1));
+      stop_columns.insert(
+          {name.substr(0, at), value, hash == std::string::npos ? 1 : std::stoi(name.substr(hash + 1))});
     }
   for (const std::string& o : study.collect().stops)
     for (const auto& [obs, value, k] : stop_columns)
@@ -166,8 +178,10 @@ StudyTable StudyTable::collect(const Study& study) {
   end.push_back("end_parameter");
   for (const std::string& o : study.collect().end) end.push_back("end:" + o);
   t.number_columns_ = {"exit_code"};
-  for (const auto* group : {&events, &stops, &end}) t.number_columns_.insert(t.number_columns_.end(), group->begin(), group->end());
-  for (const char* c : {"unknowns", "points", "rejected", "factorisations", "seconds", "process_seconds", "peak_mb", "attempts"})
+  for (const auto* group : {&events, &stops, &end})
+    t.number_columns_.insert(t.number_columns_.end(), group->begin(), group->end());
+  for (const char* c :
+       {"unknowns", "points", "rejected", "factorisations", "seconds", "process_seconds", "peak_mb", "attempts"})
     t.number_columns_.push_back(c);
   return t;
 }
@@ -191,7 +205,8 @@ void StudyTable::write(const std::string& csv_path, const std::string& h5_path) 
         }
         for (const std::string& c : number_columns_) {
           const auto it = r.number.find(c);
-          o << "," << (it == r.number.end() || std::isnan(it->second) ? std::string() : fmt::format("{:.17g}", it->second));
+          o << ","
+            << (it == r.number.end() || std::isnan(it->second) ? std::string() : fmt::format("{:.17g}", it->second));
         }
         o << "\n";
       }

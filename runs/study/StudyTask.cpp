@@ -4,9 +4,9 @@
 
 #include <sys/resource.h>
 
+#include <toml++/toml.h>
 #include <filesystem>
 #include <fstream>
-#include <toml++/toml.h>
 
 #include "core/H5File.hpp"
 #include "core/PendingFile.hpp"
@@ -125,8 +125,8 @@ void write_task_record(const Study& study, const StudyTask& task, const TaskReco
     std::ofstream o(file.path());
     const RunSummary& s = r.summary;
     o << fmt::format("# task {} of {}: {}\n", task.index, study.path(), task.label());
-    o << fmt::format("hash = {}\nstatus = {}\nattempts = {}\nexit_code = {}\nreason = {}\noutput = {}\n", quoted(r.hash),
-                     quoted(r.status), r.attempts, s.exit_code, quoted(s.reason), quoted(s.output));
+    o << fmt::format("hash = {}\nstatus = {}\nattempts = {}\nexit_code = {}\nreason = {}\noutput = {}\n",
+                     quoted(r.hash), quoted(r.status), r.attempts, s.exit_code, quoted(s.reason), quoted(s.output));
     o << fmt::format("unknowns = {}\npoints = {}\nrejected = {}\nfactorisations = {}\nseconds = {:.17g}\n", s.unknowns,
                      s.points, s.rejected, s.factorisations, s.seconds);
     o << fmt::format("process_seconds = {:.17g}\npeak_mb = {:.17g}\n", r.process_seconds, r.peak_mb);

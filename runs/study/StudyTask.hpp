@@ -14,10 +14,10 @@
 namespace keller {
 
 struct TaskRecord {
-  std::string hash;       // StudyTask::hash when it ran
-  std::string status;     // "done", "failed" or "interrupted"
-  RunSummary summary;     // exit code, why it ended, the output, the cost
-  int attempts = 1;       // runs of this task by the executor (a worker that died is retried once)
+  std::string hash;            // StudyTask::hash when it ran
+  std::string status;          // "done", "failed" or "interrupted"
+  RunSummary summary;          // exit code, why it ended, the output, the cost
+  int attempts = 1;            // runs of this task by the executor (a worker that died is retried once)
   double process_seconds = 0;  // the task's process from start to end, as its executor saw it
   double peak_mb = 0;          // the task process's peak resident memory
 };

@@ -14,7 +14,8 @@ namespace fs = std::filesystem;
 
 TEST(CommandLine, SolvesTheDefaultScene) {
   const std::string dir = test::scratch_dir("cli_solve");
-  const auto r = test::run_keller("solve " + test::source_path("runs/scenes/channel_stokes.toml") + " -o " + dir + "/out.h5");
+  const auto r =
+      test::run_keller("solve " + test::source_path("runs/scenes/channel_stokes.toml") + " -o " + dir + "/out.h5");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("[mesh]"), std::string::npos);  // resolved scene printed
   EXPECT_NE(r.out.find("iter"), std::string::npos);    // Newton table printed
@@ -60,7 +61,8 @@ void expect_rejected(const std::string& scene_path, const std::string& expected,
 TEST(CommandLine, MalformedScenesGetTheirOwnErrors) {
   const std::string dir = test::scratch_dir("cli_bad");
   const std::vector<BadScene> cases = {
-      {"unknown_key.toml", "[mesh]\nnme = \"M1\"\n", "bad/unknown_key.toml:2: unknown key 'mesh.nme'; keys allowed in [mesh]: name,"},
+      {"unknown_key.toml", "[mesh]\nnme = \"M1\"\n",
+       "bad/unknown_key.toml:2: unknown key 'mesh.nme'; keys allowed in [mesh]: name,"},
       {"wrong_type.toml", "[mesh]\nname = 3\n", "key 'mesh.name' must be a string, got an integer (3)"},
       {"negative_length.toml", "[geometry]\nupstream_length = -7.0\n",
        "key 'geometry.upstream_length' = -7 is out of range: must be > 0"},

@@ -149,10 +149,10 @@ TEST(CurveCommand, LimitingWiCurveOfTheCollapsibleChannelMatchesWiBranches) {
   };
   const auto [row, wi0] = limiting_wi(dir + "/wi.h5", "");
   ASSERT_GE(row, 0);
-  auto r = test::run_keller("trace " + scene + " -o " + dir + "/curve.h5 --from " + dir + "/wi.h5:" +
-                            std::to_string(row) +
-                            " --curve event --free Gamma --set continuation.direction=decrease --set "
-                            "continuation.stops=[1e-4,2e-4,3e-4,4e-4] --set continuation.lower=5e-5");
+  auto r =
+      test::run_keller("trace " + scene + " -o " + dir + "/curve.h5 --from " + dir + "/wi.h5:" + std::to_string(row) +
+                       " --curve event --free Gamma --set continuation.direction=decrease --set "
+                       "continuation.stops=[1e-4,2e-4,3e-4,4e-4] --set continuation.lower=5e-5");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("left aside"), std::string::npos) << r.out;  // the scene's stop observable
   const BranchTable curve = read_branch_table(dir + "/curve.h5");
@@ -162,7 +162,8 @@ TEST(CurveCommand, LimitingWiCurveOfTheCollapsibleChannelMatchesWiBranches) {
   ASSERT_EQ(at.size(), 4u);
   for (long i : at) {
     const double g = curve.rows(i, gamma);
-    const auto [end, w] = limiting_wi(dir + "/g" + std::to_string(i) + ".h5", " --set parameters.Gamma=" + std::to_string(g));
+    const auto [end, w] =
+        limiting_wi(dir + "/g" + std::to_string(i) + ".h5", " --set parameters.Gamma=" + std::to_string(g));
     std::cout << std::setprecision(12) << "Gamma = " << g << ": curve Wi = " << curve.rows(i, wi)
               << ", limiting Wi of the Wi branch " << w << "\n";
     EXPECT_NEAR(curve.rows(i, wi), w, 1e-6) << "Gamma = " << g;

@@ -124,8 +124,9 @@ TEST(OutputSafety, AFailingRunNeverReplacesAResult) {
   const std::string good = contents(dir + "/b1.h5");
   // the renewal cost pinned: the two failing runs below must fail alike, to the residual in their
   // status, which a cost measured from the run's times would let differ
-  const std::string failing = quick + " --set continuation.min_step=5.0 --set continuation.initial_step=5.0"
-                                      " --set continuation.max_step=5.0 --set continuation.renewal_cost=25.0";
+  const std::string failing = quick +
+                              " --set continuation.min_step=5.0 --set continuation.initial_step=5.0"
+                              " --set continuation.max_step=5.0 --set continuation.renewal_cost=25.0";
   r = test::run_keller("trace " + bratu1d + failing + " -o " + dir + "/b1.h5");
   EXPECT_EQ(r.exit_code, 1) << r.err;
   EXPECT_NE(r.out.find("is kept as it was"), std::string::npos) << r.out;
@@ -149,7 +150,8 @@ TEST(OutputSafety, AFailingRunNeverReplacesAResult) {
 // point; --force lets a user through, with a warning.
 TEST(OutputSafety, StoredStartsBelongToTheScene) {
   const std::string dir = test::scratch_dir("safety_start");
-  auto r = test::run_keller("trace " + pitchfork + " --set continuation.upper=12 --set continuation.save_every=2 -o " + dir + "/pf.h5");
+  auto r = test::run_keller("trace " + pitchfork + " --set continuation.upper=12 --set continuation.save_every=2 -o " +
+                            dir + "/pf.h5");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const BranchTable pf = read_branch_table(dir + "/pf.h5");
   int branch_point = -1, regular = -1;
@@ -161,20 +163,20 @@ TEST(OutputSafety, StoredStartsBelongToTheScene) {
   ASSERT_GE(branch_point, 0);
   ASSERT_GE(regular, 0);
   // bratu1d and pitchfork1d with 64 intervals have the same 63 unknowns
-  r = test::run_keller("trace " + bratu1d + " --set bratu.intervals=64 -o " + dir + "/x.h5 --restart " + dir + "/pf.h5:" +
-                       std::to_string(regular));
+  r = test::run_keller("trace " + bratu1d + " --set bratu.intervals=64 -o " + dir + "/x.h5 --restart " + dir +
+                       "/pf.h5:" + std::to_string(regular));
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("it was made by problem 'pitchfork1d', this scene is 'bratu1d'"), std::string::npos) << r.err;
   r = test::run_keller("trace " + pitchfork + " --set pitchfork.intervals=64 --set parameters.eps=0.5 -o " + dir +
                        "/x.h5 --restart " + dir + "/pf.h5:" + std::to_string(regular));
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("it was traced at eps = 0, this scene sets eps = 0.5"), std::string::npos) << r.err;
-  r = test::run_keller("trace " + pitchfork + " --set pitchfork.intervals=65 -o " + dir +
-                       "/x.h5 --restart " + dir + "/pf.h5:" + std::to_string(regular));
+  r = test::run_keller("trace " + pitchfork + " --set pitchfork.intervals=65 -o " + dir + "/x.h5 --restart " + dir +
+                       "/pf.h5:" + std::to_string(regular));
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("pitchfork.intervals = 64 in the file, 65 in this scene"), std::string::npos) << r.err;
-  r = test::run_keller("trace " + pitchfork + " -o " + dir + "/sw.h5 --switch " + dir + "/pf.h5:" +
-                       std::to_string(regular));
+  r = test::run_keller("trace " + pitchfork + " -o " + dir + "/sw.h5 --switch " + dir +
+                       "/pf.h5:" + std::to_string(regular));
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("is not a located branch point (located branch points with a stored solution: " +
                        std::to_string(branch_point) + ")"),
@@ -211,7 +213,8 @@ TEST(OutputSafety, BadValuesAndUsageGetClearMessagesAndCode2) {
       {"trace", "trace needs a scene file"},
       {"frobnicate", "keller: error:"},
       {"export", "keller: error:"},
-      {"trace " + bratu1d + " -o " + dir + "/o.h5 --force", "--force applies to a start from --restart, --switch or --from"},
+      {"trace " + bratu1d + " -o " + dir + "/o.h5 --force",
+       "--force applies to a start from --restart, --switch or --from"},
   };
   for (const Refused& c : cases) {
     SCOPED_TRACE(c.args);

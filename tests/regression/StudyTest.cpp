@@ -43,7 +43,8 @@ std::string contents(const std::string& path) {
 std::string bratu_study(const std::string& dir, const std::string& ends = "2.0, 3.0, 4.0") {
   const std::string path = dir + "/bratu.toml";
   std::ofstream(path) << "[study]\nscene = \"" << test::source_path("runs/scenes/bratu1d_fold.toml")
-                      << "\"\n\n[set]\n\"output.xdmf\" = false\n\"continuation.renewal_cost\" = 25.0\n\n[grid]\n\"bratu.intervals\" = [16, 24, 32, 48]\n"
+                      << "\"\n\n[set]\n\"output.xdmf\" = false\n\"continuation.renewal_cost\" = "
+                         "25.0\n\n[grid]\n\"bratu.intervals\" = [16, 24, 32, 48]\n"
                       << "\"continuation.stop_above\" = [" << ends << "]\n\n[collect]\nevents = [\"fold\", \"u_mid\"]\n"
                       << "stops = [\"u_mid\"]\nend = [\"u_mid\"]\n";
   return path;
@@ -270,9 +271,11 @@ TEST(Study, ABranchInAnotherParameterFromAStoredPointIsTheBranchFromAFreshSolve)
   const std::string coarse =
       " --set mesh.name=custom --set mesh.nx_upstream=5 --set mesh.nx_deformable=10 --set mesh.nx_downstream=5"
       " --set mesh.ny_fluid=4 --set mesh.ny_solid=2 --set output.xdmf=false";
-  auto r = test::run_keller("trace " + test::source_path("runs/scenes/collapsible_oldroyd_b_gamma.toml") + coarse +
-                            " --set parameters.Wi=0.02 --set continuation.upper=2.5e-4 --set 'continuation.stops=[1.98e-4]'"
-                            " -o " + dir + "/gamma.h5");
+  auto r =
+      test::run_keller("trace " + test::source_path("runs/scenes/collapsible_oldroyd_b_gamma.toml") + coarse +
+                       " --set parameters.Wi=0.02 --set continuation.upper=2.5e-4 --set 'continuation.stops=[1.98e-4]'"
+                       " -o " +
+                       dir + "/gamma.h5");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const BranchTable g = read_branch_table(dir + "/gamma.h5");
   int row = -1;
@@ -280,9 +283,11 @@ TEST(Study, ABranchInAnotherParameterFromAStoredPointIsTheBranchFromAFreshSolve)
     if (static_cast<int>(g.rows(i, g.column("kind"))) == 2) row = static_cast<int>(i);
   ASSERT_GE(row, 0);
   ASSERT_NEAR(g.rows(row, g.column("Gamma")), 1.98e-4, 1e-12);
-  const std::string wi = test::source_path("runs/scenes/collapsible_oldroyd_b_wi_low_gamma.toml") + coarse +
-                         " --set parameters.Gamma=1.98e-4 --set continuation.upper=0.06 --set 'continuation.stops=[0.03,0.05]'";
-  r = test::run_keller("trace " + wi + " -o " + dir + "/from_gamma.h5 --restart " + dir + "/gamma.h5:" + std::to_string(row));
+  const std::string wi =
+      test::source_path("runs/scenes/collapsible_oldroyd_b_wi_low_gamma.toml") + coarse +
+      " --set parameters.Gamma=1.98e-4 --set continuation.upper=0.06 --set 'continuation.stops=[0.03,0.05]'";
+  r = test::run_keller("trace " + wi + " -o " + dir + "/from_gamma.h5 --restart " + dir +
+                       "/gamma.h5:" + std::to_string(row));
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("starting a branch in Wi at row"), std::string::npos) << r.out;
   r = test::run_keller("trace " + wi + " --set parameters.Wi=0.02 -o " + dir + "/fresh.h5");
@@ -321,9 +326,10 @@ TEST(Study, TheConvergenceTableFindsTheOrderAndTheLimit) {
   auto r = test::run_keller("study " + study + " --jobs 2 -o " + dir + "/conv");
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   const std::string script = std::string(KELLER_PYTHON) + " " + test::source_path("runs/scripts/convergence.py") + " " +
-                             dir + "/conv/conv.h5 --mesh bratu.intervals --resolution bratu.intervals --observables "
-                             "event:fold --published event:fold=3.513830719125 --csv " + dir + "/conv.csv --markdown " +
-                             dir + "/conv.md --figure " + dir + "/conv.png > /dev/null";
+                             dir +
+                             "/conv/conv.h5 --mesh bratu.intervals --resolution bratu.intervals --observables "
+                             "event:fold --published event:fold=3.513830719125 --csv " +
+                             dir + "/conv.csv --markdown " + dir + "/conv.md --figure " + dir + "/conv.png > /dev/null";
   ASSERT_EQ(std::system(script.c_str()), 0);
   const auto rows = read_table(dir + "/conv.csv");
   ASSERT_EQ(rows.size(), 4u);

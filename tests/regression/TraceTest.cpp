@@ -86,7 +86,8 @@ TEST(Trace, ScenesMatchTheirReferences) {
     // located rows of this run
     std::vector<int> located;
     for (long i = 0; i < t.rows.rows(); ++i)
-      if (t.rows(i, t.column("kind")) != 0.0 && t.rows(i, t.column("kind")) != 1.0) located.push_back(static_cast<int>(i));
+      if (t.rows(i, t.column("kind")) != 0.0 && t.rows(i, t.column("kind")) != 1.0)
+        located.push_back(static_cast<int>(i));
     ASSERT_EQ(located.size(), ref_rows.size()) << "number of located points changed";
     for (size_t k = 0; k < ref_rows.size(); ++k) {
       const bool fold = ref_rows[k][0] == 4.0;
@@ -153,8 +154,9 @@ TEST(Trace, RestartReproducesTheOriginalRun) {
   // the Newton corrector, whose steps depend only on the stored point: the restart then repeats
   // the original run's arithmetic (a chord on a kept factorisation depends on where that was made,
   // which a restart cannot know: its points agree to the corrector's tolerance instead)
-  const std::string common = " --set bratu.intervals=64 --set continuation.save_every=1"
-                             " --set continuation.corrector=newton --set continuation.bordered=full";
+  const std::string common =
+      " --set bratu.intervals=64 --set continuation.save_every=1"
+      " --set continuation.corrector=newton --set continuation.bordered=full";
   auto r = test::run_keller("trace " + scene + " -o " + dir + "/a.h5" + common);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const int from = 6;
@@ -206,7 +208,7 @@ TEST(Trace, SwitchAtABranchPointFollowsTheBifurcatedBranch) {
     ASSERT_GE(k, 0);
     ASSERT_GE(rows, 2 * k + 2);  // real and imaginary part of each stored eigenvector
     const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> all(data.data(),
-                                                                                                      rows, cols);
+                                                                                                       rows, cols);
     const Eigen::MatrixXd v = all.middleRows(2 * k, 2);
     // sin(pi x_i), up to sign and scale
     Eigen::VectorXd phi = v.row(0).transpose(), sine(phi.size());
@@ -242,10 +244,11 @@ TEST(Trace, SwitchAtABranchPointFollowsTheBifurcatedBranch) {
 // XDMF file per mode that ParaView opens.
 TEST(Trace, CollapsibleEigenmodesAsFields) {
   const std::string dir = test::scratch_dir("trace_modes");
-  auto r = test::run_keller("trace " + test::source_path("runs/scenes/collapsible_oldroyd_b_gamma.toml") + " -o " +
-                            dir + "/c.h5 --set mesh.name=custom --set mesh.nx_upstream=3 --set mesh.nx_deformable=6"
-                            " --set mesh.nx_downstream=3 --set mesh.ny_fluid=3 --set mesh.ny_solid=1"
-                            " --set stability.enabled=true --set continuation.max_steps=1");
+  auto r =
+      test::run_keller("trace " + test::source_path("runs/scenes/collapsible_oldroyd_b_gamma.toml") + " -o " + dir +
+                       "/c.h5 --set mesh.name=custom --set mesh.nx_upstream=3 --set mesh.nx_deformable=6"
+                       " --set mesh.nx_downstream=3 --set mesh.ny_fluid=3 --set mesh.ny_solid=1"
+                       " --set stability.enabled=true --set continuation.max_steps=1");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   ASSERT_TRUE(fs::exists(dir + "/c_mode0.xdmf"));
   H5File f(dir + "/c.h5", H5File::Mode::Read);
@@ -343,7 +346,8 @@ TEST(Trace, BadContinuationInputIsRejectedBeforeAnyOutput) {
     EXPECT_FALSE(fs::exists(dir + "/x.h5")) << c.overrides;
   }
   // a scene without a continuation parameter cannot be traced
-  const auto r = test::run_keller("trace " + test::source_path("runs/scenes/channel_stokes.toml") + " -o " + dir + "/y.h5");
+  const auto r =
+      test::run_keller("trace " + test::source_path("runs/scenes/channel_stokes.toml") + " -o " + dir + "/y.h5");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("a branch needs a parameter to continue in"), std::string::npos) << r.err;
 }
@@ -358,8 +362,8 @@ TEST(Trace, CollapsibleFiguresFromTheBranchFile) {
       " --set mesh.ny_fluid=4 --set mesh.ny_solid=2");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string py = std::string(KELLER_PYTHON) + " ";
-  std::string cmd = py + test::source_path("runs/scripts/plot_collapsible.py") + " " + dir + "/c.h5 -o " + dir +
-                    "/c > /dev/null";
+  std::string cmd =
+      py + test::source_path("runs/scripts/plot_collapsible.py") + " " + dir + "/c.h5 -o " + dir + "/c > /dev/null";
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
   for (const char* f : {"branch", "interface", "path", "wall", "fields"})
     EXPECT_GT(fs::file_size(dir + "/c_" + f + ".png"), 10000u) << f;

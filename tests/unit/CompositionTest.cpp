@@ -102,7 +102,8 @@ TEST(Composition, FieldsInOrderComponentsBuiltInOrderOwnedPositionsPassedOn) {
   const auto extra = std::make_shared<DirichletTerm>("extra", params);
   std::vector<std::string> names;
   for (const auto& t : s.terms({extra})) names.push_back(t->name());
-  EXPECT_EQ(names, (std::vector<std::string>{"first-term", "second-term", "third-term", "fourth-term", "extra", "clamps"}));
+  EXPECT_EQ(names,
+            (std::vector<std::string>{"first-term", "second-term", "third-term", "fourth-term", "extra", "clamps"}));
 
   std::vector<std::string> log2;
   Recorder alone("alone", {{"velocity", Basis::Q2, {"vx", "vy"}, {"fluid"}}}, {}, &log2);

@@ -32,7 +32,8 @@ TEST(ConstitutiveLaw, OldroydBSimpleShear) {
     EXPECT_LT(shear_residual(FluidModel::OldroydB, s, W, 1.0, 0.0, false), 1e-12 * s.xx);  // W = lambda gdot
     // polymer shear stress = (1 - beta) Gamma / Wi * W = (1 - beta) gdot: constant viscosity
     const double beta = 0.59, Gamma = 1.0, Wi = 0.7, gdot = W * Gamma / Wi;
-    const Conformation<double> tp = polymer_stress(Conformation<double>{s.xx, s.xy, s.yy, 1.0}, 1.0, (1 - beta) * Gamma / Wi);
+    const Conformation<double> tp =
+        polymer_stress(Conformation<double>{s.xx, s.xy, s.yy, 1.0}, 1.0, (1 - beta) * Gamma / Wi);
     EXPECT_NEAR(tp.xy, (1 - beta) * gdot, 1e-12 * std::max(1.0, gdot));
     EXPECT_NEAR(tp.xx, 2 * (1 - beta) * Wi / Gamma * gdot * gdot, 1e-12 * std::max(1.0, gdot * gdot));
   }
@@ -90,8 +91,8 @@ TEST(ConstitutiveLaw, PlanarElongation) {
 TEST(ConstitutiveLaw, OwensShearViscosityIsSolventPlusCross) {
   OwensParameters o;
   const double eta0 = o.eta_s + o.eta_p0, beta = o.beta(), Gamma = 4.95e-4, Wi = 1.3;
-  for (double gdot_dim : {0.01, 1.0, 37.0, 1000.0}) {  // 1/s
-    const double gdot = gdot_dim * Gamma / o.rate_scale;       // model units
+  for (double gdot_dim : {0.01, 1.0, 37.0, 1000.0}) {     // 1/s
+    const double gdot = gdot_dim * Gamma / o.rate_scale;  // model units
     const double reg = std::sqrt(gdot_dim * gdot_dim + o.rate_floor * o.rate_floor);
     const double x = std::pow(reg, o.m);
     const double eta_p = o.eta_p0 * (1 + o.theta1() * x) / (1 + o.theta2 * x);
@@ -122,7 +123,8 @@ TEST(ConstitutiveLaw, LogFormHasTheSameSteadyStates) {
       const double lambda = W / gdot;
       const Sym2<double> r = log_conformation_rate(psi, L, f, lambda > 0 ? 1 / lambda : 1e300);
       if (W == 0.0) continue;  // lambda = 0: the relaxation term alone, Psi = 0 satisfies it exactly
-      EXPECT_LT(std::max({std::abs(r.xx), std::abs(r.xy), std::abs(r.yy)}), 1e-12 * s.xx) << to_string(model) << " W = " << W;
+      EXPECT_LT(std::max({std::abs(r.xx), std::abs(r.xy), std::abs(r.yy)}), 1e-12 * s.xx)
+          << to_string(model) << " W = " << W;
     }
   }
 }

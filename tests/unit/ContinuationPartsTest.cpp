@@ -70,7 +70,7 @@ TEST(RenewalPolicy, ACostedChordGoesOnWhileCheaperThanARenewal) {
   p.renewal_cost = 10;  // a renewal costs less than those 13 solves
   EXPECT_TRUE(p.renew(slow));
   p.renewal_cost = 25;
-  EXPECT_TRUE(p.renew(history(16, 1, 1e-6, 2e-6, INFINITY, 1e-10)));  // 16 + 13.3 > 30 - 2
+  EXPECT_TRUE(p.renew(history(16, 1, 1e-6, 2e-6, INFINITY, 1e-10)));   // 16 + 13.3 > 30 - 2
   EXPECT_TRUE(p.renew(history(3, 1, 1e-6, 0.9e-6, INFINITY, 1e-10)));  // growing: never
 }
 
@@ -80,8 +80,8 @@ TEST(RenewalPolicy, ALocatedChordKeepsWhileItReachesItsGoal) {
   RenewalPolicy p;
   p.max_iterations = 30;
   p.reach_goal = true;
-  EXPECT_FALSE(p.renew(history(2, 1, 1e-6, 2e-6, INFINITY, 1e-10)));  // 2 + 13.3 <= 28
-  EXPECT_TRUE(p.renew(history(15, 1, 1e-6, 2e-6, INFINITY, 1e-10)));  // 15 + 13.3 > 28
+  EXPECT_FALSE(p.renew(history(2, 1, 1e-6, 2e-6, INFINITY, 1e-10)));    // 2 + 13.3 <= 28
+  EXPECT_TRUE(p.renew(history(15, 1, 1e-6, 2e-6, INFINITY, 1e-10)));    // 15 + 13.3 > 28
   EXPECT_FALSE(p.renew(history(2, 1, 1e-6, 1.6e-6, INFINITY, 1e-10)));  // 0.63 per iteration: 20 more
 }
 
@@ -96,8 +96,8 @@ TEST(RenewalPolicy, BelowTheFloorLevelASlowFallKeepsTheMatrix) {
 
 namespace {
 
-ConvergenceTest::Iterate iterate(double residual, double previous, double before = INFINITY,
-                                 double update = INFINITY, double contraction = 0.0) {
+ConvergenceTest::Iterate iterate(double residual, double previous, double before = INFINITY, double update = INFINITY,
+                                 double contraction = 0.0) {
   ConvergenceTest::Iterate it;
   it.residual = residual;
   it.previous = previous;
@@ -393,7 +393,8 @@ TEST(BranchPointMonitor, EveryStepSignedNeedsNoProbe) {
   BranchPointMonitor m;
   m.restart(b.at(0, true));
   std::optional<std::pair<BranchPoint, BranchPoint>> change;
-  for (int s = 1; s <= 6 && !change; ++s) change = m.accepted(b.at(s, true), true, [&](BranchPoint& q) { return b.probe(q); });
+  for (int s = 1; s <= 6 && !change; ++s)
+    change = m.accepted(b.at(s, true), true, [&](BranchPoint& q) { return b.probe(q); });
   ASSERT_TRUE(change);
   EXPECT_EQ(change->first.s, 4.0);
   EXPECT_EQ(change->second.s, 5.0);

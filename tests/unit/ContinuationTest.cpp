@@ -117,24 +117,24 @@ void expect_dense_solution(const SparseMatrix& J, const Vector& b, const Vector&
 // its fallback to the whole matrix where J is singular) against a dense solve.
 TEST(BorderedSystem, MatchesDenseSolveIncludingAtAFold) {
   for (auto mode : {BorderedSystem::Mode::Full, BorderedSystem::Mode::Block})
-  for (bool singular : {false, true}) {
-    SCOPED_TRACE(mode == BorderedSystem::Mode::Full ? "full" : "block");
-    const int n = 12;
-    const SparseMatrix J = random_matrix(n, 3, singular);
-    const Vector b = Vector::LinSpaced(n, 1.0, 2.0), c = Vector::LinSpaced(n, -1.0, 0.5), f = Vector::Ones(n);
-    const double d = 0.3, g = -0.7;
-    BorderedSystem bs(J, {}, mode);
-    bs.set(J, b, c, d);
-    ASSERT_TRUE(bs.factorize().is_ok()) << "singular J = " << singular;
-    Vector x;
-    double y = 0;
-    ASSERT_TRUE(bs.solve(f, g, x, y).is_ok());
-    // block elimination cannot use a singular J: that system fell back to the whole matrix
-    if (mode == BorderedSystem::Mode::Block) {
-      EXPECT_EQ(bs.fallbacks(), singular ? 1 : 0);
+    for (bool singular : {false, true}) {
+      SCOPED_TRACE(mode == BorderedSystem::Mode::Full ? "full" : "block");
+      const int n = 12;
+      const SparseMatrix J = random_matrix(n, 3, singular);
+      const Vector b = Vector::LinSpaced(n, 1.0, 2.0), c = Vector::LinSpaced(n, -1.0, 0.5), f = Vector::Ones(n);
+      const double d = 0.3, g = -0.7;
+      BorderedSystem bs(J, {}, mode);
+      bs.set(J, b, c, d);
+      ASSERT_TRUE(bs.factorize().is_ok()) << "singular J = " << singular;
+      Vector x;
+      double y = 0;
+      ASSERT_TRUE(bs.solve(f, g, x, y).is_ok());
+      // block elimination cannot use a singular J: that system fell back to the whole matrix
+      if (mode == BorderedSystem::Mode::Block) {
+        EXPECT_EQ(bs.fallbacks(), singular ? 1 : 0);
+      }
+      expect_dense_solution(J, b, c, d, f, g, x, y, bs.determinant_sign());
     }
-    expect_dense_solution(J, b, c, d, f, g, x, y, bs.determinant_sign());
-  }
 }
 
 // Replacing the border row of a block factorisation (as the chord corrector does when it keeps
@@ -1065,7 +1065,8 @@ TEST(Continuation, ARestartFromALocatedFoldDoesNotLocateItAgain) {
     RecordingObserver rec2;
     p.parameters().set("lambda", folds[0]->lambda);
     ASSERT_EQ(second.resume(*folds[0], rec2).code, StopCode::StopObservable) << rec2.reason;
-    EXPECT_TRUE(rec2.of_kind(PointKind::Fold).empty()) << "fold at lambda = " << rec2.of_kind(PointKind::Fold)[0]->lambda;
+    EXPECT_TRUE(rec2.of_kind(PointKind::Fold).empty())
+        << "fold at lambda = " << rec2.of_kind(PointKind::Fold)[0]->lambda;
     EXPECT_NEAR(rec2.points.back().lambda, rec.points.back().lambda, 1e-8);
   }
 }
@@ -1099,8 +1100,8 @@ TEST(Continuation, TheCorrectorStopsAtTheProblemsRoundingFloor) {
     p.parameters().set("lambda", folds[0]->lambda);
     ASSERT_TRUE(p.jacobian(folds[0]->u, F, J).is_ok());
     const double floor = std::max(kRoundingFloorBand * 1e-12, rounding_floor(J, folds[0]->u));
-    std::cout << rec.points.size() << " rows, " << r.factorisations << " factorisations, fold at "
-              << folds[0]->lambda << "; floor level " << floor << "\n";
+    std::cout << rec.points.size() << " rows, " << r.factorisations << " factorisations, fold at " << folds[0]->lambda
+              << "; floor level " << floor << "\n";
     EXPECT_GT(floor, 1e3 * 1e-12);  // the case this is about
     for (const BranchPoint& q : rec.points) EXPECT_LE(q.residual, floor) << "lambda = " << q.lambda;
   }

@@ -260,9 +260,9 @@ TEST(EigenSolver, MoreWantedThanFiniteEigenvalues) {
   }
   const SparseMatrix J = from_triplets(n, n, j), B = from_triplets(n, n, b);
   const Eigen::MatrixXd Jd(J);
-  const Eigen::MatrixXd S = Jd.topLeftCorner(d, d) - Jd.topRightCorner(d, n - d) *
-                                                         Jd.bottomRightCorner(n - d, n - d).lu().solve(
-                                                             Jd.bottomLeftCorner(n - d, d));
+  const Eigen::MatrixXd S =
+      Jd.topLeftCorner(d, d) -
+      Jd.topRightCorner(d, n - d) * Jd.bottomRightCorner(n - d, n - d).lu().solve(Jd.bottomLeftCorner(n - d, d));
   const Eigen::VectorXcd reference = S.eigenvalues();
   std::vector<Complex> expected(reference.data(), reference.data() + d);
 
@@ -353,7 +353,7 @@ TEST(EigenSolver, RealShiftConjugatePairsWithComplexVectors) {
     EXPECT_LT(std::abs(lower.value - std::conj(upper.value)), 1e-14 * std::abs(upper.value));
     EXPECT_LT(lower.value.imag(), 0.0);
     EXPECT_LT((lower.vector - upper.vector.conjugate()).norm(), 1e-14);
-    EXPECT_GT(upper.vector.imag().norm(), 0.1);  // genuinely complex
+    EXPECT_GT(upper.vector.imag().norm(), 0.1);     // genuinely complex
     EXPECT_GT(upper.vector.tail(10).norm(), 1e-3);  // the algebraic unknowns take part
     for (const auto* p : {&lower, &upper})
       worst_residual = std::max(worst_residual, relative_residual(sys.J, sys.B, p->value, p->vector));
@@ -400,10 +400,10 @@ TEST(EigenSolver, BadInputGivesStatus) {
   Triplets t;
   for (int i = 0; i < n; ++i) t.emplace_back(i, i, 1.0 + i);
   const SparseMatrix J = from_triplets(n, n, t), I = from_triplets(n, n, [] {
-    Triplets e;
-    for (int i = 0; i < 10; ++i) e.emplace_back(i, i, 1.0);
-    return e;
-  }());
+                                                   Triplets e;
+                                                   for (int i = 0; i < 10; ++i) e.emplace_back(i, i, 1.0);
+                                                   return e;
+                                                 }());
   const SparseMatrix small = from_triplets(n - 1, n - 1, {});
   EigenSolver solver;
   EigenResult r;

@@ -98,11 +98,13 @@ TEST(FileSafety, TargetsThatAreNotRegularFilesAreRefused) {
   fs::create_symlink(dir + "/nowhere.csv", dir + "/dangling.csv");
   ASSERT_EQ(::mkfifo((dir + "/fifo.csv").c_str(), 0600), 0);
   fs::create_directory(dir + "/folder.csv");
-  const std::vector<std::pair<std::string, std::string>> cases = {
-      {dir + "/link.csv", "a symbolic link"}, {dir + "/dangling.csv", "a symbolic link"},
-      {dir + "/fifo.csv", "a FIFO"},         {dir + "/folder.csv", "a directory"},
-      {"/dev/null", "a device"},             {"/dev/stdout", "a symbolic link"},
-      {dir + "/missing/x.csv", "does not exist"}};
+  const std::vector<std::pair<std::string, std::string>> cases = {{dir + "/link.csv", "a symbolic link"},
+                                                                  {dir + "/dangling.csv", "a symbolic link"},
+                                                                  {dir + "/fifo.csv", "a FIFO"},
+                                                                  {dir + "/folder.csv", "a directory"},
+                                                                  {"/dev/null", "a device"},
+                                                                  {"/dev/stdout", "a symbolic link"},
+                                                                  {dir + "/missing/x.csv", "does not exist"}};
   for (const auto& [path, what] : cases) {
     RunFiles files;
     files.output("--csv file", path);
@@ -128,7 +130,7 @@ TEST(FileSafety, APendingFileReachesItsTargetOnlyComplete) {
     EXPECT_EQ(p.path(), target + ".part");
     write(p.path(), "new, half");
     EXPECT_EQ(contents(target), "old");  // untouched while the new file is written
-  }  // abandoned: the temporary file goes, the target stays
+  }                                      // abandoned: the temporary file goes, the target stays
   EXPECT_EQ(contents(target), "old");
   EXPECT_FALSE(fs::exists(target + ".part"));
   {

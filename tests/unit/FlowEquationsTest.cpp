@@ -75,9 +75,11 @@ TEST(FlowEquations, KeysTheFluidDoesNotUseAreErrors) {
   EXPECT_NE(error_of("[fluid]\nmodel = \"oldroyd-b\"\n[parameters]\nb = 50.0\n")
                 .find("key 'parameters.b': applies to fluid.model = \"fene-p\" only (got \"oldroyd-b\")"),
             std::string::npos);
-  EXPECT_NE(error_of("[parameters]\nWi = 1.0\n").find("key 'parameters.Wi': has no meaning for fluid.model = \"newtonian\""),
-            std::string::npos);
-  EXPECT_NE(error_of("[fluid]\nmodel = \"fene-p\"\n[parameters]\nb = 1.0\n").find("key 'parameters.b' = 1 is out of range: must be > 1"),
+  EXPECT_NE(
+      error_of("[parameters]\nWi = 1.0\n").find("key 'parameters.Wi': has no meaning for fluid.model = \"newtonian\""),
+      std::string::npos);
+  EXPECT_NE(error_of("[fluid]\nmodel = \"fene-p\"\n[parameters]\nb = 1.0\n")
+                .find("key 'parameters.b' = 1 is out of range: must be > 1"),
             std::string::npos);
   EXPECT_EQ(error_of("[fluid]\nmodel = \"fene-p\"\n[parameters]\nb = 50.0\n"), "");
 }

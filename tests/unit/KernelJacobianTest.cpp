@@ -77,8 +77,8 @@ TEST(KernelJacobian, WholeChannelProblemAndParameterDerivatives) {
   ChannelProblem problem(o, mesh);
   const Vector u = random_state(problem.size(), 11, 1.0);
   const auto c = test::check_problem_jacobian(problem, u);
-  std::cout << "channel problem Jacobian: max relative error " << c.max_relative_error << " at (" << c.worst_row
-            << ", " << c.worst_col << ")\n";
+  std::cout << "channel problem Jacobian: max relative error " << c.max_relative_error << " at (" << c.worst_row << ", "
+            << c.worst_col << ")\n";
   EXPECT_LT(c.max_relative_error, 1e-6);
   for (const char* p : {"Re", "Gamma"}) {
     const double e = test::check_parameter_derivative(problem, problem.parameters().index(p), u);
@@ -118,7 +118,8 @@ TEST(MassMatrix, RowSumsAreBasisIntegrals) {
   for (int e = 0; e < m.num_elements(); ++e) {
     const auto& el = m.element(e);
     const double hx = m.node(el[2])[0] - m.node(el[0])[0], hy = m.node(el[6])[1] - m.node(el[0])[1];
-    for (int c = 0; c < 2; ++c) EXPECT_NEAR(rows[channel.dofs().node_dof(fv, el[4], c)], rho * 4.0 / 9.0 * hx * hy, 1e-12);
+    for (int c = 0; c < 2; ++c)
+      EXPECT_NEAR(rows[channel.dofs().node_dof(fv, el[4], c)], rho * 4.0 / 9.0 * hx * hy, 1e-12);
     EXPECT_EQ(rows[channel.dofs().element_dof(fp, e, 0, 0)], 0.0);
   }
   for (int i = 0; i < channel.size(); ++i)

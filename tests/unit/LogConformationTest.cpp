@@ -133,7 +133,8 @@ TEST(LogConformation, DerivativesAreExactWhereEigenvaluesCoincide) {
       pm[dir] -= h;
       const Sym2<double> tp = log_conformation_stretch(Sym2<double>{pp[0], pp[1], pp[2]}, L);
       const Sym2<double> tm = log_conformation_stretch(Sym2<double>{pm[0], pm[1], pm[2]}, L);
-      const Sym2<double> ep = sym_exp(Sym2<double>{pp[0], pp[1], pp[2]}), em = sym_exp(Sym2<double>{pm[0], pm[1], pm[2]});
+      const Sym2<double> ep = sym_exp(Sym2<double>{pp[0], pp[1], pp[2]}),
+                         em = sym_exp(Sym2<double>{pm[0], pm[1], pm[2]});
       const double fd[6] = {(tp.xx - tm.xx) / (2 * h), (tp.xy - tm.xy) / (2 * h), (tp.yy - tm.yy) / (2 * h),
                             (ep.xx - em.xx) / (2 * h), (ep.xy - em.xy) / (2 * h), (ep.yy - em.yy) / (2 * h)};
       const double ad[6] = {t.xx.derivatives()[dir], t.xy.derivatives()[dir], t.yy.derivatives()[dir],

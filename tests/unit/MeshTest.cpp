@@ -25,7 +25,8 @@ double area(const Mesh& m, int group) {
 
 // model.md's table: M1 400 elements / 1705 nodes, M2 900 / 3757, M3 1600 / 6609.
 TEST(ChannelMesh, ReferenceMeshesHaveThePublishedCounts) {
-  const std::vector<std::tuple<std::string, int, int>> table = {{"M1", 400, 1705}, {"M2", 900, 3757}, {"M3", 1600, 6609}};
+  const std::vector<std::tuple<std::string, int, int>> table = {
+      {"M1", 400, 1705}, {"M2", 900, 3757}, {"M3", 1600, 6609}};
   for (const auto& [name, elements, nodes] : table) {
     const Mesh m = build_channel_mesh({}, ChannelMeshSpec::preset(name), true);
     EXPECT_EQ(m.num_elements(), elements) << name;

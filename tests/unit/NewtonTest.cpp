@@ -210,8 +210,8 @@ TEST(Newton, StopsAtTheRoundingFloor) {
   SparseMatrix J;
   problem.jacobian(w, F, J);
   const double floor = rounding_floor(J, w);
-  std::cout << "tolerance 1e-18: " << far.status.describe() << ", |F| = " << far.residual_norm
-            << ", estimated floor " << floor << "\n";
+  std::cout << "tolerance 1e-18: " << far.status.describe() << ", |F| = " << far.residual_norm << ", estimated floor "
+            << floor << "\n";
   ASSERT_TRUE(far.converged()) << far.status.describe();
   EXPECT_TRUE(far.at_rounding_floor);
   EXPECT_LE(far.residual_norm, floor);
@@ -233,8 +233,9 @@ TEST(Newton, ChordRateSavesFactorisationsInTheFinalPhase) {
   const NewtonResult ra = a.solve(u_newton), rb = b.solve(u_chord);
   ASSERT_TRUE(ra.converged()) << ra.status.describe();
   ASSERT_TRUE(rb.converged()) << rb.status.describe();
-  std::cout << "Newton: " << ra.iterations << " iterations, " << ra.factorisations << " factorisations; chord_rate 0.25: "
-            << rb.iterations << " iterations, " << rb.factorisations << " factorisations\n";
+  std::cout << "Newton: " << ra.iterations << " iterations, " << ra.factorisations
+            << " factorisations; chord_rate 0.25: " << rb.iterations << " iterations, " << rb.factorisations
+            << " factorisations\n";
   EXPECT_EQ(ra.factorisations, ra.iterations);
   EXPECT_LT(rb.factorisations, ra.factorisations);
   EXPECT_LE(rb.residual_norm, 1e-13);

@@ -65,7 +65,8 @@ TEST(Scene, EachKindOfErrorHasItsOwnMessage) {
   EXPECT_EQ(error_of("[mesh]\nn = \"ten\"\n"), "s.toml:2: key 'mesh.n' must be an integer, got a string (\"ten\")");
   EXPECT_EQ(error_of("[mesh]\nn = 2.5\n"), "s.toml:2: key 'mesh.n' must be an integer, got a number (2.5)");
   EXPECT_EQ(error_of("[mesh]\n\nlength = -7\n"), "s.toml:3: key 'mesh.length' = -7 is out of range: must be > 0");
-  EXPECT_EQ(error_of("[mesh]\nkind = \"curved\"\n"), "s.toml:2: key 'mesh.kind' = \"curved\" is not one of: uniform, graded");
+  EXPECT_EQ(error_of("[mesh]\nkind = \"curved\"\n"),
+            "s.toml:2: key 'mesh.kind' = \"curved\" is not one of: uniform, graded");
   EXPECT_EQ(error_of("[meshes]\nn = 3\n"), "s.toml:1: unknown section [meshes]; allowed sections: mesh");
   EXPECT_EQ(error_of("n = 3\n"), "s.toml:1: unknown key 'n' outside any known section; allowed sections: mesh");
   EXPECT_EQ(error_of("[mesh]\nstops = [1, -1]\n"), "s.toml:2: key 'mesh.stops' = -1 is out of range: must be >= 0");
@@ -88,8 +89,8 @@ TEST(Scene, FullChannelSchemaValidatesTheShippedScene) {
 // A resolved scene (as stored in every output file) loads again and resolves to itself: that is
 // how keller export and --restart rebuild a problem from a file.
 TEST(Scene, ResolvedScenesOfShippedScenesReload) {
-  for (const char* s : {"runs/scenes/channel_stokes.toml", "runs/scenes/cylinder_oldroyd_b.toml",
-                        "runs/scenes/bratu2d_fold.toml"}) {
+  for (const char* s :
+       {"runs/scenes/channel_stokes.toml", "runs/scenes/cylinder_oldroyd_b.toml", "runs/scenes/bratu2d_fold.toml"}) {
     SCOPED_TRACE(s);
     const LoadedScene a = load_scene(test::source_path(s), declare_trace_keys);
     const std::string path = test::scratch_dir("resolved") + "/resolved.toml";
@@ -142,13 +143,17 @@ std::string override_error(const std::string& o) {
 // Every number is finite unless its key says otherwise (a key whose default is infinite, such as
 // a bound, takes inf and -inf); NaN never.
 TEST(Scene, NumbersAreFiniteUnlessTheKeyTakesInfinity) {
-  EXPECT_EQ(override_error("mesh.length=inf"), "s.toml (--set): key 'mesh.length' = inf is not a finite number (must be > 0)");
-  EXPECT_EQ(override_error("mesh.length=nan"), "s.toml (--set): key 'mesh.length' = nan is not a finite number (must be > 0)");
-  EXPECT_EQ(override_error("mesh.stops=[1.0, inf]"), "s.toml (--set): key 'mesh.stops' = inf is not a finite number (must be >= 0)");
+  EXPECT_EQ(override_error("mesh.length=inf"),
+            "s.toml (--set): key 'mesh.length' = inf is not a finite number (must be > 0)");
+  EXPECT_EQ(override_error("mesh.length=nan"),
+            "s.toml (--set): key 'mesh.length' = nan is not a finite number (must be > 0)");
+  EXPECT_EQ(override_error("mesh.stops=[1.0, inf]"),
+            "s.toml (--set): key 'mesh.stops' = inf is not a finite number (must be >= 0)");
   EXPECT_EQ(override_error("mesh.bound=inf"), "");
   EXPECT_EQ(override_error("mesh.bound=-inf"), "");
   EXPECT_EQ(override_error("mesh.bound=nan"), "s.toml (--set): key 'mesh.bound' = nan is not a finite number");
-  EXPECT_EQ(error_of("[mesh]\nlength = -inf\n"), "s.toml:2: key 'mesh.length' = -inf is not a finite number (must be > 0)");
+  EXPECT_EQ(error_of("[mesh]\nlength = -inf\n"),
+            "s.toml:2: key 'mesh.length' = -inf is not a finite number (must be > 0)");
 }
 
 // An integer key is read as an int: a value beyond int's range is an out-of-range error before
@@ -163,7 +168,8 @@ TEST(Scene, IntegersAreRangeCheckedBeforeNarrowing) {
 }
 
 TEST(Scene, AnOverrideIsOneValueOnOneLine) {
-  EXPECT_EQ(override_error("mesh.kind=graded\nmesh.n = 3"), "override 'mesh.kind': a value cannot contain a line break");
+  EXPECT_EQ(override_error("mesh.kind=graded\nmesh.n = 3"),
+            "override 'mesh.kind': a value cannot contain a line break");
   EXPECT_EQ(override_error("mesh.n=3\r"), "override 'mesh.n': a value cannot contain a line break");
   EXPECT_EQ(override_error("mesh.kind=graded"), "");  // a bare word is a string
 }
@@ -195,9 +201,8 @@ TEST(Scene, EveryDeclaredKeyObeysTheRules) {
       for (const KeySpec& k : s.keys())  // a problem may keep its parameter in its own section
         if (!key && k.key() == p.name && k.type == KeySpec::Type::Real) key = &k;
       ASSERT_NE(key, nullptr) << "parameter " << p.name << " has no scene key";
-      EXPECT_TRUE(key->range.within(p.range()))
-          << "parameters." << p.name << ": the scene takes " << key->range.describe() << ", the parameter "
-          << p.range().describe();
+      EXPECT_TRUE(key->range.within(p.range())) << "parameters." << p.name << ": the scene takes "
+                                                << key->range.describe() << ", the parameter " << p.range().describe();
     }
   }
 }
@@ -218,12 +223,12 @@ TEST(Scene, CylinderMeshCountsAreCapped) {
   };
   const std::string custom = "mesh.name=custom";
   auto has = [](const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; };
-  EXPECT_TRUE(has(error({custom, "mesh.n_quarter=100000", "mesh.n_radial=8", "mesh.nx_upstream=12",
-                         "mesh.nx_downstream=24"}),
-                  "key 'mesh.n_quarter' = 100000 is out of range: must be in [0, 1000]"));
-  EXPECT_TRUE(has(error({custom, "mesh.n_quarter=8", "mesh.n_radial=8", "mesh.nx_upstream=12",
-                         "mesh.nx_downstream=2001"}),
-                  "key 'mesh.nx_downstream' = 2001 is out of range: must be in [0, 2000]"));
+  EXPECT_TRUE(
+      has(error({custom, "mesh.n_quarter=100000", "mesh.n_radial=8", "mesh.nx_upstream=12", "mesh.nx_downstream=24"}),
+          "key 'mesh.n_quarter' = 100000 is out of range: must be in [0, 1000]"));
+  EXPECT_TRUE(
+      has(error({custom, "mesh.n_quarter=8", "mesh.n_radial=8", "mesh.nx_upstream=12", "mesh.nx_downstream=2001"}),
+          "key 'mesh.nx_downstream' = 2001 is out of range: must be in [0, 2000]"));
   EXPECT_TRUE(has(error({"mesh.n_rear=1001"}), "key 'mesh.n_rear' = 1001 is out of range: must be in [0, 1000]"));
   EXPECT_TRUE(has(error({"mesh.n_rear=32"}), "explicit sizes need mesh.name = \"custom\" (got \"W3\")"));
   EXPECT_EQ(error({custom, "mesh.n_quarter=1000", "mesh.n_radial=1000", "mesh.nx_upstream=2000",

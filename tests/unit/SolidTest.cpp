@@ -45,12 +45,18 @@ TEST(Solid, RigidRotationGivesZeroResidual) {
   WallProblem p(o);
   const double a = 0.7, c = std::cos(a), s = std::sin(a);
   // B = I, so sigma = I - pi I vanishes for pi = 1
-  const Vector u = state(p, [&](std::array<double, 2> X) { return std::array<double, 2>{c * X[0] - s * X[1] + 3.0, s * X[0] + c * X[1] - 2.0}; }, 1.0);
+  const Vector u = state(
+      p,
+      [&](std::array<double, 2> X) {
+        return std::array<double, 2>{c * X[0] - s * X[1] + 3.0, s * X[0] + c * X[1] - 2.0};
+      },
+      1.0);
   Vector F;
   ASSERT_TRUE(p.assembler().weak_residual(u, F).is_ok());
   EXPECT_LT(F.cwiseAbs().maxCoeff(), 1e-13);
   // and the stress-free state needs pi = 1 exactly: another pi gives a residual
-  const Vector u2 = state(p, [&](std::array<double, 2> X) { return X; }, 0.5);
+  const Vector u2 = state(
+      p, [&](std::array<double, 2> X) { return X; }, 0.5);
   ASSERT_TRUE(p.assembler().weak_residual(u2, F).is_ok());
   EXPECT_GT(F.cwiseAbs().maxCoeff(), 1e-3);
 }
@@ -62,7 +68,10 @@ TEST(Solid, HomogeneousStretchGivesTheAnalyticStress) {
   const double lam = 1.3, pi0 = 0.4, X0 = 7.0, t = 0.4;
   // x = lam (X - X0) + X0, y = (Y - 1) / lam + 1: J = 1; sigma_xx = lam^2 - pi0, sigma_yy = lam^-2 - pi0
   const Vector u = state(
-      p, [&](std::array<double, 2> X) { return std::array<double, 2>{lam * (X[0] - X0) + X0, (X[1] - 1.0) / lam + 1.0}; },
+      p,
+      [&](std::array<double, 2> X) {
+        return std::array<double, 2>{lam * (X[0] - X0) + X0, (X[1] - 1.0) / lam + 1.0};
+      },
       pi0);
   Vector F;
   ASSERT_TRUE(p.assembler().weak_residual(u, F).is_ok());
@@ -75,7 +84,8 @@ TEST(Solid, HomogeneousStretchGivesTheAnalyticStress) {
     const double rx = F[p.dofs().node_dof(fx, n, 0)], ry = F[p.dofs().node_dof(fx, n, 1)];
     if (on(right, n)) fright += rx;
     if (on(left, n)) fleft += rx;
-    if (!on(right, n) && !on(left, n) && !on(top, n) && !on(bottom, n)) interior = std::max({interior, std::abs(rx), std::abs(ry)});
+    if (!on(right, n) && !on(left, n) && !on(top, n) && !on(bottom, n))
+      interior = std::max({interior, std::abs(rx), std::abs(ry)});
   }
   // the resultant on a side is sigma_xx times the deformed height t / lam
   const double expected = (lam * lam - pi0) * t / lam;
@@ -105,11 +115,11 @@ TEST(Solid, AreaIsConservedUnderLoadAndTheWallIsSymmetric) {
   std::vector<double> obs;
   ASSERT_TRUE(p.observables(u, obs).is_ok());
   const double dx = obs[0], dy = obs[1], dA = obs[2];
-  std::printf("deflection (%.3e, %.6f), area change %.3e of %.3f, min det F %.4f\n", dx, dy, dA, p.wall().reference_area(),
-              obs[3]);
-  EXPECT_LT(dy, -0.05);                                  // a real, large deflection
+  std::printf("deflection (%.3e, %.6f), area change %.3e of %.3f, min det F %.4f\n", dx, dy, dA,
+              p.wall().reference_area(), obs[3]);
+  EXPECT_LT(dy, -0.05);                                        // a real, large deflection
   EXPECT_LT(std::abs(dA), 1e-10 * p.wall().reference_area());  // exact incompressibility per element
-  EXPECT_LT(std::abs(dx), 1e-8);                           // left-right symmetry of the problem
+  EXPECT_LT(std::abs(dx), 1e-8);                               // left-right symmetry of the problem
   EXPECT_GT(obs[3], 0.0);
 }
 
@@ -122,10 +132,14 @@ TEST(Solid, JacobianAndParameterDerivativesMatchFiniteDifferences) {
   o.Pin = 0.01;
   WallProblem p(o);
   // a smooth large deformation plus noise, and a non-trivial pressure
-  Vector u = state(p, [](std::array<double, 2> X) {
-    const double s = (X[0] - 7.0) / 5.0;
-    return std::array<double, 2>{X[0] + 0.1 * std::sin(3 * s) * (X[1] - 1.0), X[1] - 0.3 * std::sin(M_PI * s) * (1.4 - X[1])};
-  }, 0.2);
+  Vector u = state(
+      p,
+      [](std::array<double, 2> X) {
+        const double s = (X[0] - 7.0) / 5.0;
+        return std::array<double, 2>{X[0] + 0.1 * std::sin(3 * s) * (X[1] - 1.0),
+                                     X[1] - 0.3 * std::sin(M_PI * s) * (1.4 - X[1])};
+      },
+      0.2);
   std::mt19937 gen(3);
   std::uniform_real_distribution<double> d(-0.01, 0.01);
   for (int i = 0; i < u.size(); ++i) u[i] += d(gen);

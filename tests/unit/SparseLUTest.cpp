@@ -101,7 +101,8 @@ TEST(SparseLU, OrderingsAgree) {
   const SparseMatrix A = random_sparse(80, 0.05, 5);
   const Vector b = Vector::Ones(80);
   Vector ref;
-  for (auto o : {SparseLUOptions::Ordering::Amd, SparseLUOptions::Ordering::Metis, SparseLUOptions::Ordering::Cholmod}) {
+  for (auto o :
+       {SparseLUOptions::Ordering::Amd, SparseLUOptions::Ordering::Metis, SparseLUOptions::Ordering::Cholmod}) {
     SparseLUOptions opt;
     opt.ordering = o;
     SparseLU lu(opt);

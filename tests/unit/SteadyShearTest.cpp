@@ -19,16 +19,16 @@
 
 #include <Eigen/Dense>
 
-#include <array>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <vector>
 
 #include "core/AutoDiff.hpp"
+#include "problems/kernels/ViscoelasticFlowKernel.hpp"
 #include "problems/laws/ConstitutiveLaw.hpp"
 #include "problems/laws/LogConformation.hpp"
-#include "problems/kernels/ViscoelasticFlowKernel.hpp"
 
 using namespace keller;
 

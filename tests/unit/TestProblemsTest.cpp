@@ -127,8 +127,8 @@ TEST(Pitchfork1D, TrivialBranchLosesStabilityAtTheDiscreteEigenvalues) {
     Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(dense(J));
     const Vector sigma = es.eigenvalues();  // ascending
     const int k = lambda == l1 ? 0 : 1;     // the zero eigenvalue is the (k+1)-th smallest
-    std::cout << "pitchfork1d n = 50 at lambda_" << k + 1 << " = " << lambda << ": sigma = " << sigma[k]
-              << " (next " << sigma[k + 1] << ")\n";
+    std::cout << "pitchfork1d n = 50 at lambda_" << k + 1 << " = " << lambda << ": sigma = " << sigma[k] << " (next "
+              << sigma[k + 1] << ")\n";
     EXPECT_NEAR(sigma[k], 0.0, 1e-10);
     for (int j = 0; j < k; ++j) EXPECT_LT(sigma[j], -1.0);  // the modes already unstable
     EXPECT_GT(sigma[k + 1], 1.0);
@@ -161,8 +161,9 @@ TEST(Pitchfork1D, ContinuationLocatesTheBranchPointsOfTheTrivialBranch) {
   const auto bps = rec.of_kind(PointKind::BranchPoint);
   ASSERT_EQ(bps.size(), 2u);
   for (int k = 0; k < 2; ++k) {
-    std::cout << std::setprecision(13) << "pitchfork1d: branch point " << k + 1 << " located at lambda = "
-              << bps[k]->lambda << " (exact " << Pitchfork1DProblem::branch_point(k + 1, n) << ")\n";
+    std::cout << std::setprecision(13) << "pitchfork1d: branch point " << k + 1
+              << " located at lambda = " << bps[k]->lambda << " (exact " << Pitchfork1DProblem::branch_point(k + 1, n)
+              << ")\n";
     // located to event_tolerance in the parameter; the bisection's last bracket may be 10x that
     EXPECT_NEAR(bps[k]->lambda, Pitchfork1DProblem::branch_point(k + 1, n), 1e-8);
     EXPECT_LT(bps[k]->u.cwiseAbs().maxCoeff(), 1e-12);  // still on u = 0
@@ -272,9 +273,8 @@ TEST(Brusselator1D, UniformStateHasItsHopfPairAtBEqualOnePlusASquared) {
       std::vector<std::complex<double>> s(sigma.data(), sigma.data() + sigma.size());
       std::sort(s.begin(), s.end(), [](auto x, auto y) { return x.real() < y.real(); });
       std::cout << "brusselator1d a = " << a << (equal_diffusion ? ", D_u = D_v" : ", D_u != D_v")
-                << " at b = 1 + a^2: sigma = " << s[0] << ", " << s[1] << " (|Im| - a: "
-                << std::abs(s[0].imag()) - a << ", " << std::abs(s[1].imag()) - a << "); next Re sigma " << s[2].real()
-                << "\n";
+                << " at b = 1 + a^2: sigma = " << s[0] << ", " << s[1] << " (|Im| - a: " << std::abs(s[0].imag()) - a
+                << ", " << std::abs(s[1].imag()) - a << "); next Re sigma " << s[2].real() << "\n";
       for (int k = 0; k < 2; ++k) {
         EXPECT_NEAR(s[k].real(), 0.0, 1e-10);
         EXPECT_NEAR(std::abs(s[k].imag()), a, 1e-10);

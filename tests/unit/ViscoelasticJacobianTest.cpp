@@ -66,14 +66,16 @@ void check(const Case& c) {
     const int nc = d.num_components(fm);
     for (int k = 0; k < nc; ++k) {
       double v = 0;
-      if (!c.at_identity) v = c.log_form ? 0.4 * U(rng) : (k == 1 ? 0.3 * U(rng) : 1.2 + 0.4 * U(rng));
-      else v = c.log_form ? 0.0 : (k == 1 ? 0.0 : 1.0);
+      if (!c.at_identity)
+        v = c.log_form ? 0.4 * U(rng) : (k == 1 ? 0.3 * U(rng) : 1.2 + 0.4 * U(rng));
+      else
+        v = c.log_form ? 0.0 : (k == 1 ? 0.0 : 1.0);
       u[d.node_dof(fm, n, k)] = v;
     }
   }
   const auto jc = test::check_problem_jacobian(problem, u);
-  std::cout << label(c) << ": Jacobian max relative error " << jc.max_relative_error << " (row " << d.describe(jc.worst_row)
-            << ")\n";
+  std::cout << label(c) << ": Jacobian max relative error " << jc.max_relative_error << " (row "
+            << d.describe(jc.worst_row) << ")\n";
   EXPECT_LT(jc.max_relative_error, 1e-6);
   for (const Parameter& p : problem.parameters().list()) {
     const double e = test::check_parameter_derivative(problem, problem.parameters().index(p.name), u);

@@ -84,7 +84,7 @@ TEST(BratuConvergence, TwoDimensionalQ2ThirdOrderInL2) {
   }
   for (size_t k = 0; k < err.size(); ++k) {
     const double h = 1.0 / sizes[k];
-    std::cout << "  e / h^3 = " << err[k] / (h * h * h) << ", e / (h^3 log(1/h)) = " << err[k] / (h * h * h * std::log(1.0 / h))
-              << "\n";
+    std::cout << "  e / h^3 = " << err[k] / (h * h * h)
+              << ", e / (h^3 log(1/h)) = " << err[k] / (h * h * h * std::log(1.0 / h)) << "\n";
   }
 }

@@ -91,8 +91,10 @@ TEST(BratuFold, ChordCorrectorAndBlockEliminationFindTheSameFold) {
     C corrector;
     bool block;
   };
-  const Variant variants[] = {{"newton", C::Newton, false},     {"chord", C::Chord, false},
-                              {"block", C::Newton, true},       {"chord+block", C::Chord, true},
+  const Variant variants[] = {{"newton", C::Newton, false},
+                              {"chord", C::Chord, false},
+                              {"block", C::Newton, true},
+                              {"chord+block", C::Chord, true},
                               {"chord+block+reuse", C::Chord, true}};
   double fold[5];
   long factorisations[5];
@@ -118,8 +120,8 @@ TEST(BratuFold, ChordCorrectorAndBlockEliminationFindTheSameFold) {
     ASSERT_EQ(folds.size(), 1u) << variants[k].name;
     fold[k] = folds[0]->lambda;
     factorisations[k] = r.factorisations;
-    std::cout << variants[k].name << ": fold at " << std::setprecision(14) << fold[k] << ", " << r.points
-              << " points, " << r.factorisations << " corrector factorisations\n";
+    std::cout << variants[k].name << ": fold at " << std::setprecision(14) << fold[k] << ", " << r.points << " points, "
+              << r.factorisations << " corrector factorisations\n";
     EXPECT_NEAR(fold[k], fold[0], 1e-11) << variants[k].name;
   }
   EXPECT_LT(factorisations[1], factorisations[0]);

@@ -47,8 +47,10 @@ TEST(CollapsibleChannel, FlowRateThroughEveryColumnAndSolidArea) {
     EXPECT_LT(worst, 1e-10);
     EXPECT_LT(std::abs(obs[6]), 1e-10 * s.problem->wall().reference_area());
     EXPECT_GT(s.problem->min_mesh_jacobian(s.u), 0.0);
-    if (Gamma < 1e-4) EXPECT_LT(obs[1], -0.3);  // collapse
-    else EXPECT_GT(obs[1], 0.1);                // bulge
+    if (Gamma < 1e-4)
+      EXPECT_LT(obs[1], -0.3);  // collapse
+    else
+      EXPECT_GT(obs[1], 0.1);  // bulge
   }
 }
 
@@ -60,9 +62,10 @@ TEST(CollapsibleChannel, FluidForceOnTheWallIsTheIntegratedTraction) {
     const auto direct = s.problem->interface_traction_integral(s.u);
     const double scale = std::hypot(weak[0], weak[1]);
     const double diff = std::hypot(weak[0] - direct[0], weak[1] - direct[1]) / scale;
-    std::printf("%s: force of the fluid on the wall: weak reaction (%.8e, %.8e), traction integral (%.8e, %.8e), "
-                "relative difference %.2e\n",
-                mesh, weak[0], weak[1], direct[0], direct[1], diff);
+    std::printf(
+        "%s: force of the fluid on the wall: weak reaction (%.8e, %.8e), traction integral (%.8e, %.8e), "
+        "relative difference %.2e\n",
+        mesh, weak[0], weak[1], direct[0], direct[1], diff);
     // the discrete stress at the boundary converges at about second order (Q2 velocity, P1
     // pressure): 4e-5 on M1, 1.5e-5 on M2 (h ratio 1.5)
     EXPECT_LT(diff, 1e-4);

@@ -102,7 +102,7 @@ TEST(EventCurve, MinimumOverPlacesFollowsItsPlaceAndSwitches) {
     std::vector<double> m;
     ASSERT_TRUE(p.monitors(q.u.head(2), m).is_ok());
     EXPECT_NEAR(m[0], 0.0, 1e-10) << "b = " << b;  // the monitor whose zero the curve is
-    EXPECT_EQ(q.monitors.size(), 1u);  // only the switch margin's stop: the curve's own monitor is left out
+    EXPECT_EQ(q.monitors.size(), 1u);              // only the switch margin's stop: the curve's own monitor is left out
     if (switch_seconds >= 0) {
       EXPECT_GT(q.seconds, switch_seconds);  // the wall time of the whole curve
     }

@@ -18,7 +18,7 @@ namespace fs = std::filesystem;
 
 TEST(FirstState, EveryCollapsibleSceneIsReachedFromItsEasyState) {
   const std::vector<std::string> coarse = {"mesh.name=\"custom\"", "mesh.nx_upstream=5", "mesh.nx_deformable=10",
-                                           "mesh.nx_downstream=5", "mesh.ny_fluid=4", "mesh.ny_solid=2"};
+                                           "mesh.nx_downstream=5", "mesh.ny_fluid=4",    "mesh.ny_solid=2"};
   int scenes = 0;
   for (const auto& entry : fs::directory_iterator(test::source_path("runs/scenes"))) {
     const std::string name = entry.path().filename().string();

@@ -70,7 +70,8 @@ Errors errors_at_section(FluidModel model, bool log_form, int ny) {
     if (!p.mesh().is_vertex(nodes[k])) continue;
     double lam = o.fluid.Wi;
     if (model == FluidModel::Owens) lam *= owens_factor(dudy[k] * dudy[k], 1.0, owens);
-    const SteadyConformation s = steady_shear(model == FluidModel::FeneP ? model : FluidModel::OldroydB, lam * dudy[k], o.fluid.b);
+    const SteadyConformation s =
+        steady_shear(model == FluidModel::FeneP ? model : FluidModel::OldroydB, lam * dudy[k], o.fluid.b);
     double c[3] = {u[d.node_dof(fm, nodes[k], 0)], u[d.node_dof(fm, nodes[k], 1)], u[d.node_dof(fm, nodes[k], 2)]};
     if (log_form) {
       const Sym2<double> M = sym_exp(Sym2<double>{c[0], c[1], c[2]});
@@ -104,7 +105,8 @@ Orders convergence(FluidModel model, bool log_form) {
   for (size_t k = 0; k + 1 < o.errors.size(); ++k) {
     o.velocity.push_back(std::log2(o.errors[k].velocity / o.errors[k + 1].velocity));
     o.conformation.push_back(std::log2(o.errors[k].conformation / o.errors[k + 1].conformation));
-    std::cout << "  observed orders: velocity " << o.velocity.back() << ", conformation " << o.conformation.back() << "\n";
+    std::cout << "  observed orders: velocity " << o.velocity.back() << ", conformation " << o.conformation.back()
+              << "\n";
   }
   return o;
 }

@@ -79,8 +79,8 @@ void check(const Case& c) {
     for (size_t f = 0; f < ref.size(); ++f) {
       const double diff = (s[f] - ref[f]).cwiseAbs().maxCoeff() / ref[f].cwiseAbs().maxCoeff();
       std::printf("%s%s%s Gamma = %.3g field %zu: max relative difference %.2e\n", to_string(c.model),
-                  c.model == FluidModel::Newtonian ? "" : (c.log_form ? " log" : " conf"), c.Re > 0 ? " Re" : "",
-                  Gamma, f, diff);
+                  c.model == FluidModel::Newtonian ? "" : (c.log_form ? " log" : " conf"), c.Re > 0 ? " Re" : "", Gamma,
+                  f, diff);
       EXPECT_LT(diff, 1e-12) << "field " << f << " at Gamma = " << Gamma;
     }
   }

@@ -118,8 +118,7 @@ Study converge(const ManufacturedOptions& base, std::vector<int> meshes = {4, 8,
               label(base).c_str(), base.fluid.log_form ? "Psi" : "M  ");
   for (size_t k = 0; k < st.n.size(); ++k) {
     const Errors& e = st.errors[k];
-    std::printf("  %3d | %.3e %.3e | %.3e %.3e", st.n[k], e.velocity.l2, e.velocity.max, e.pressure.l2,
-                e.pressure.max);
+    std::printf("  %3d | %.3e %.3e | %.3e %.3e", st.n[k], e.velocity.l2, e.velocity.max, e.pressure.l2, e.pressure.max);
     if (ve)
       std::printf(" | %.3e %.3e | %.3e %.3e", e.gradient.l2, e.gradient.max, e.conformation.l2, e.conformation.max);
     std::printf("\n");

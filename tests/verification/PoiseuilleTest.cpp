@@ -53,7 +53,8 @@ TEST(Poiseuille, ExactOnGradedDistortedMeshForStokesAndNavierStokes) {
     ASSERT_GT(mesh.jacobian_range().first, 0.0);
     // the distortion really happened: some element is not a parallelogram
     const auto& el = mesh.element(mesh.block("deformable").element(3, 3));
-    const double skew = std::abs((mesh.node(el[8])[0] - mesh.node(el[6])[0]) - (mesh.node(el[2])[0] - mesh.node(el[0])[0]));
+    const double skew =
+        std::abs((mesh.node(el[8])[0] - mesh.node(el[6])[0]) - (mesh.node(el[2])[0] - mesh.node(el[0])[0]));
     EXPECT_GT(skew, 1e-3);
 
     ChannelProblem stokes(o, mesh);
@@ -87,7 +88,7 @@ TEST(Poiseuille, ExactOnGradedDistortedMeshForStokesAndNavierStokes) {
     std::vector<double> obs;
     stokes.observables(us, obs);
     EXPECT_NEAR(obs[0], 12 * Gamma * 5, 1e-10 * 12 * Gamma * 5);  // dP
-    EXPECT_NEAR(obs[1], Gamma, 1e-12 * Gamma);                     // Q_in
-    EXPECT_NEAR(obs[2], Gamma, 1e-10 * Gamma);                     // Q_out
+    EXPECT_NEAR(obs[1], Gamma, 1e-12 * Gamma);                    // Q_in
+    EXPECT_NEAR(obs[2], Gamma, 1e-10 * Gamma);                    // Q_out
   }
 }

@@ -13,8 +13,8 @@
 #include "core/Newton.hpp"
 #include "problems/analytic/Bratu1DProblem.hpp"
 #include "problems/analytic/Brusselator1DProblem.hpp"
-#include "problems/channel/CollapsibleChannelProblem.hpp"
 #include "problems/analytic/Pitchfork1DProblem.hpp"
+#include "problems/channel/CollapsibleChannelProblem.hpp"
 #include "stability/StabilityAnalysis.hpp"
 #include "support/TestProblems.hpp"
 
@@ -40,8 +40,7 @@ struct Traced {
 
 // Traces from the problem's initial guess (or switches branches at *switch_at) with the spectrum
 // of `count` eigenvalues at every point.
-Traced trace_with_stability(Problem& p, const ContinuationOptions& o, int count,
-                            const BranchPoint* switch_at = nullptr,
+Traced trace_with_stability(Problem& p, const ContinuationOptions& o, int count, const BranchPoint* switch_at = nullptr,
                             std::vector<std::complex<double>> shifts = {0.0}, int every = 1) {
   Continuation cont(p, o);
   StabilityAnalysis analysis(stability(count, std::move(shifts), every));
@@ -135,8 +134,8 @@ TEST(Stability, PitchforkBranchPointsConvergeAndTheSwitchedBranchBifurcates) {
           << bps[k - 1]->label;
     }
     err1.push_back(std::abs(bps[0]->lambda - M_PI * M_PI));
-    std::cout << std::setprecision(12) << "n = " << n << ": branch points " << bps[0]->lambda << ", "
-              << bps[1]->lambda << "; |lambda_1 - pi^2| = " << err1.back() << "\n";
+    std::cout << std::setprecision(12) << "n = " << n << ": branch points " << bps[0]->lambda << ", " << bps[1]->lambda
+              << "; |lambda_1 - pi^2| = " << err1.back() << "\n";
 
     if (n != 64) continue;
     // switching at the first branch point: the new branch leaves u = 0, bends to lambda > lambda_1
@@ -178,8 +177,8 @@ TEST(Stability, BrusselatorHopfLocatedWithItsFrequency) {
     const auto hopf = rec.of_kind(PointKind::Hopf);
     ASSERT_EQ(hopf.size(), 1u) << "a = " << a;
     const BranchPoint& h = *hopf[0];
-    std::cout << std::setprecision(12) << "a = " << a << ": Hopf at b = " << h.lambda << ", omega = "
-              << std::abs(h.critical_imag) << " (" << h.label << ")\n";
+    std::cout << std::setprecision(12) << "a = " << a << ": Hopf at b = " << h.lambda
+              << ", omega = " << std::abs(h.critical_imag) << " (" << h.label << ")\n";
     EXPECT_NEAR(h.lambda, 1.0 + a * a, 1e-8);
     EXPECT_NEAR(std::abs(h.critical_imag), a, 1e-6);
     EXPECT_NE(h.label.find("0 -> 2"), std::string::npos) << h.label;
@@ -207,8 +206,9 @@ TEST(Stability, CollapsibleChannelSpectraOnACoarseMesh) {
     FluidModel model;
     double Re;
   };
-  for (const Case c : {Case{"newtonian Re = 0", FluidModel::Newtonian, 0.0}, Case{"newtonian Re = 1", FluidModel::Newtonian, 1.0},
-                       Case{"oldroyd-b", FluidModel::OldroydB, 0.0}}) {
+  for (const Case c :
+       {Case{"newtonian Re = 0", FluidModel::Newtonian, 0.0}, Case{"newtonian Re = 1", FluidModel::Newtonian, 1.0},
+        Case{"oldroyd-b", FluidModel::OldroydB, 0.0}}) {
     SCOPED_TRACE(c.name);
     CollapsibleOptions o;
     o.mesh.name = "custom";
@@ -264,8 +264,8 @@ TEST(Stability, BrusselatorHopfThroughAComplexShift) {
   const auto hopf = t.rec.of_kind(PointKind::Hopf);
   ASSERT_EQ(hopf.size(), 1u);
   const BranchPoint& h = *hopf[0];
-  std::cout << std::setprecision(12) << "complex shift 1.9i: Hopf at b = " << h.lambda << ", omega = "
-            << std::abs(h.critical_imag) << " (" << h.label << ")\n";
+  std::cout << std::setprecision(12) << "complex shift 1.9i: Hopf at b = " << h.lambda
+            << ", omega = " << std::abs(h.critical_imag) << " (" << h.label << ")\n";
   EXPECT_NEAR(h.lambda, 1.0 + a * a, 1e-8);
   EXPECT_NEAR(std::abs(h.critical_imag), a, 1e-6);
   EXPECT_NE(h.label.find("0 -> 2"), std::string::npos) << h.label;
@@ -292,8 +292,8 @@ TEST(Stability, EveryNthPointStillLocatesByBisection) {
           << bps[k - 1]->label;
     }
     EXPECT_NE(bps[0]->label.find("bisection"), std::string::npos) << bps[0]->label;
-    const long analysed = std::count_if(t.rec.points.begin(), t.rec.points.end(),
-                                        [](const BranchPoint& q) { return q.analysed; });
+    const long analysed =
+        std::count_if(t.rec.points.begin(), t.rec.points.end(), [](const BranchPoint& q) { return q.analysed; });
     std::cout << "pitchfork, every 5: " << analysed << " of " << t.rec.points.size() << " rows analysed\n";
     EXPECT_LT(analysed, static_cast<long>(t.rec.points.size()) / 2);
   }

@@ -116,7 +116,8 @@ TEST(StrongForm, VanishesOnSteadyHomogeneousStates) {
       const double gdot = 3.0, W = fp.Wi / fp.Gamma * gdot, c = 2 * W * W / (3 * b);
       double f = 1 + c;  // Newton on f^2 (f - 1) = c from above
       for (int it = 0; it < 100; ++it) f -= (f * f * (f - 1) - c) / (3 * f * f - 2 * f);
-      const StrongForm<Homogeneous> sf(fp, Homogeneous{{{0, gdot}, {0, 0}}, {(1 + 2 * W * W / (f * f)) / f, W / (f * f), 1 / f, 1 / f}});
+      const StrongForm<Homogeneous> sf(
+          fp, Homogeneous{{{0, gdot}, {0, 0}}, {(1 + 2 * W * W / (f * f)) / f, W / (f * f), 1 / f, 1 / f}});
       double s[4];
       sf.constitutive_source(x, s);
       EXPECT_LT(max_abs(s, dynamic ? 4 : 3), 1e-13) << "b = " << b << (dynamic ? " dynamic zz" : "");

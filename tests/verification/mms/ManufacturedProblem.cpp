@@ -92,9 +92,9 @@ ManufacturedProblem::ManufacturedProblem(const ManufacturedOptions& options)
 
   auto source = std::make_shared<FlowSource>();
   const StrongForm<ManufacturedFields>* sf = &strong_;
-  source->momentum = [sf](const double (&x)[2], double (&f)[2]) { sf->momentum_source(x, f); };
+  source->momentum = [sf](const double(&x)[2], double(&f)[2]) { sf->momentum_source(x, f); };
   if (fl.viscoelastic())
-    source->constitutive = [sf](const double (&x)[2], double (&s)[4]) { sf->constitutive_source(x, s); };
+    source->constitutive = [sf](const double(&x)[2], double(&s)[4]) { sf->constitutive_source(x, s); };
 
   std::vector<std::shared_ptr<const Term>> terms;
   if (!fl.viscoelastic()) {
@@ -186,8 +186,7 @@ Mesh::Point ManufacturedProblem::position(int n) const {
   return p;
 }
 
-void ManufacturedProblem::exact(const double (&x)[2], double (&v)[2], double& P, double (&L)[4],
-                                double (&c)[4]) const {
+void ManufacturedProblem::exact(const double (&x)[2], double (&v)[2], double& P, double (&L)[4], double (&c)[4]) const {
   double K[2][2];
   strong_.velocity_gradient(x, v, K);
   P = strong_.fields().pressure(x);

@@ -31,7 +31,7 @@ enum class SquareMap { Distorted, Collapsed };
 
 struct ManufacturedOptions {
   FluidSpec fluid;
-  int n = 8;                            // elements per side
+  int n = 8;  // elements per side
   SquareMap map = SquareMap::Distorted;
   // positions as unknowns (the Moving kernels) on a mesh of the unit square, held at the map's
   // image of its nodes: the map is then the prescribed mesh motion

@@ -17,9 +17,9 @@
 #pragma once
 
 #include <Eigen/Dense>
-#include <unsupported/Eigen/AutoDiff>
 #include <cmath>
 #include <stdexcept>
+#include <unsupported/Eigen/AutoDiff>
 
 #include "problems/laws/ConstitutiveLaw.hpp"
 
@@ -206,7 +206,7 @@ class StrongForm {
     if (!fluid_.log_form) return;
     // Dexp at Psi, as the 3x3 matrix of directional derivatives on symmetric matrices
     double psi[4];
-    if constexpr (requires(const Fields& fs, double (&p)[4]) { fs.log_conformation(x, p); })
+    if constexpr (requires(const Fields& fs, double(&p)[4]) { fs.log_conformation(x, p); })
       fields_.log_conformation(x, psi);
     else
       throw std::logic_error("StrongForm: the log form needs the fields' log_conformation");
