@@ -44,8 +44,8 @@ void FluidMeshMotion::build(const ComponentBuild& b) {
       fix_y.insert(n);
       if (!options_.sliding_walls) fix_x.insert(n);
     }
-  for (const auto& b : boundaries_.ends)
-    for (int n : mesh_->boundary_nodes(b)) {
+  for (const auto& end : boundaries_.ends)
+    for (int n : mesh_->boundary_nodes(end)) {
       fix_x.insert(n);
       fix_y.insert(n);
     }

@@ -172,9 +172,11 @@ TEST(CurveCommand, LimitingWiCurveOfTheCollapsibleChannelMatchesWiBranches) {
   // the place changes only after a located switch (an event row: the curve's only events)
   const auto switches = rows_of_kind(curve, PointKind::Event);
   EXPECT_GE(switches.size(), 1u);
-  for (long i = 1; i < curve.rows.rows(); ++i)
-    if (curve.rows(i, place) != curve.rows(i - 1, place))
+  for (long i = 1; i < curve.rows.rows(); ++i) {
+    if (curve.rows(i, place) != curve.rows(i - 1, place)) {
       EXPECT_EQ(static_cast<int>(curve.rows(i - 1, curve.column("kind"))), static_cast<int>(PointKind::Event))
           << "row " << i;
+    }
+  }
   EXPECT_EQ(curve.rows(curve.rows.rows() - 1, gamma), 5e-5);
 }
