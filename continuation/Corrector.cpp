@@ -75,7 +75,7 @@ CorrectorResult Corrector::iterate(Vector& u, double& lambda, const Constraint& 
   test.update_tolerance = newton_.update_tolerance;
   test.problem_floor = ev_.rounding_floor();
   test.slow = slow;
-  if (slow) test.goal = std::min(floor, test.floor_level());
+  if (slow) test.aim_at_floor(floor);
 
   RenewalPolicy renewal;
   renewal.chord_rate = co.chord_rate;

@@ -14,10 +14,15 @@ void AndersonMixer::reset() {
 
 Vector AndersonMixer::increment(const Vector& x, const Vector& f) {
   if (depth_ <= 0) return f;
-  if (x_prev_.size() == x.size()) {
+  if (x_prev_.size() != x.size()) {  // a new problem size: the differences of the old one mean nothing
+    dX_.clear();
+    dF_.clear();
+  } else {
     dX_.push_back(x - x_prev_);
     dF_.push_back(f - f_prev_);
-    if (static_cast<int>(dF_.size()) > depth_) {
+    // a least-squares fit over more differences than the dimension has no unique solution (and
+    // R has only as many diagonal entries as rows): small problems keep at most n of them
+    while (static_cast<int>(dF_.size()) > depth_ || static_cast<Eigen::Index>(dF_.size()) > f.size()) {
       dX_.pop_front();
       dF_.pop_front();
     }

@@ -15,6 +15,10 @@ double rounding_floor(const SparseMatrix& J, const Vector& u) {
 
 double ConvergenceTest::floor_level() const { return std::max(kRoundingFloorBand * tolerance, problem_floor); }
 
+void ConvergenceTest::aim_at_floor(double neighbours_floor) {
+  goal = std::min(std::max(neighbours_floor, problem_floor), floor_level());
+}
+
 ConvergenceTest::Verdict ConvergenceTest::judge(const Iterate& it) const {
   if (it.residual <= aim()) return Verdict::Converged;
   // above the floor level a residual is the iteration's, not rounding

@@ -50,6 +50,10 @@ struct ConvergenceTest {
   // kRoundingFloorBand times the tolerance, or the problem's own floor where that is higher.
   double floor_level() const;
   double aim() const { return goal > tolerance ? goal : tolerance; }
+  // Sets the goal of an iteration allowed to stop at rounding (a chord on a kept factorisation) to
+  // the floor its neighbours reached (0: none known), never below the problem's own floor (where
+  // the neighbours happened to land on an exact zero) and never above the floor level.
+  void aim_at_floor(double neighbours_floor);
   Verdict judge(const Iterate& it) const;
 };
 

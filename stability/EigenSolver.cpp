@@ -286,12 +286,31 @@ Status finish(const std::vector<RitzPair>& ritz, Complex s, const ComplexOperato
     if (o.vectors) pair.vector = std::move(phi);
     out.pairs.push_back(std::move(pair));
   }
-  std::sort(out.pairs.begin(), out.pairs.end(), [](const EigenPair& a, const EigenPair& b) {
-    if (a.value.real() != b.value.real()) return a.value.real() < b.value.real();
-    return a.value.imag() < b.value.imag();
-  });
+  order_spectrum(out.pairs);
   return status;
 }
+
+}  // namespace
+
+void order_spectrum(std::vector<EigenPair>& pairs) {
+  std::sort(pairs.begin(), pairs.end(),
+            [](const EigenPair& a, const EigenPair& b) { return a.value.real() < b.value.real(); });
+  // runs of real parts equal to rounding (relative to the values' size), each by imaginary part
+  constexpr double kSameRealPart = 1e-12;
+  auto same = [](const EigenPair& a, const EigenPair& b) {
+    return std::abs(a.value.real() - b.value.real()) <=
+           kSameRealPart * std::max({1.0, std::abs(a.value), std::abs(b.value)});
+  };
+  for (std::size_t i = 0; i < pairs.size();) {
+    std::size_t j = i + 1;
+    while (j < pairs.size() && same(pairs[j - 1], pairs[j])) ++j;
+    std::sort(pairs.begin() + static_cast<std::ptrdiff_t>(i), pairs.begin() + static_cast<std::ptrdiff_t>(j),
+              [](const EigenPair& a, const EigenPair& b) { return a.value.imag() < b.value.imag(); });
+    i = j;
+  }
+}
+
+namespace {
 
 Status invalid(const std::string& what) { return {StatusCode::InvalidState, "eigen solver: " + what}; }
 

@@ -39,6 +39,11 @@ struct EigenPair {
   Eigen::VectorXcd vector;
 };
 
+// Orders a spectrum by Re(sigma) ascending (the most unstable first); values whose real parts
+// agree to rounding (a conjugate pair computed apart, whose real parts may differ in the last
+// bits) by Im(sigma) ascending, so that a pair always reads (x - i omega, x + i omega).
+void order_spectrum(std::vector<EigenPair>& pairs);
+
 struct EigenResult {
   // Finite eigenvalues by Re(sigma) ascending, ties by Im(sigma): the most unstable first. Usually
   // `count` of them; one more when the real solver completes a conjugate pair at the end, fewer

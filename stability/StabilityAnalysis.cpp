@@ -135,10 +135,7 @@ Status StabilityAnalysis::analyse(Problem& problem, const Vector& u, PointAnalys
       if (!duplicate) all.push_back(std::move(p));
     }
   }
-  std::sort(all.begin(), all.end(), [](const EigenPair& a, const EigenPair& b) {
-    if (a.value.real() != b.value.real()) return a.value.real() < b.value.real();
-    return a.value.imag() < b.value.imag();
-  });
+  order_spectrum(all);
   // Two counts: the engine brackets a change by the strict sign of Re sigma (every trial point
   // falls on one side); the table reports eigenvalues on the axis to within neutral_tolerance as
   // neutral, so that the count at a located bifurcation point, whose critical eigenvalue is zero

@@ -104,3 +104,17 @@ TEST(Anderson, ASingularHistoryGivesThePlainUpdate) {
   mixer.reset();
   EXPECT_EQ(mixer.increment(x, f), f);
 }
+
+// A history deeper than the dimension (depth 5 on a 2-unknown problem, as the chord of a
+// one-unknown branch mixes (u, lambda)) keeps at most n differences: the least-squares matrix
+// then has full column rank and the fit reaches the linear problem's solution in n + 1 updates.
+TEST(Anderson, AHistoryDeeperThanTheDimensionKeepsAtMostNDifferences) {
+  Eigen::Matrix2d A, M;
+  A << 3.0, 1.0, -0.5, 2.0;
+  M << 2.0, 0.0, 0.0, 3.0;  // chord iteration I - M^{-1} A has spectral radius 0.51
+  const Eigen::Vector2d b(1.0, 2.0), x_star = A.partialPivLu().solve(b);
+  AndersonMixer mixer(5);
+  Vector x = Vector::Zero(2);
+  for (int k = 0; k < 8; ++k) x += mixer.increment(x, M.partialPivLu().solve(b - A * x));
+  EXPECT_LT((x - x_star).lpNorm<Eigen::Infinity>(), 1e-13);  // n + 1 = 3 updates, then rounding
+}

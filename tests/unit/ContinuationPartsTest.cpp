@@ -119,6 +119,24 @@ TEST(ConvergenceTest, AtTheToleranceOrAtARaisedGoal) {
   EXPECT_EQ(t.judge(iterate(2e-10, 1e-6)), ConvergenceTest::Verdict::Converged);
 }
 
+// The goal of a chord allowed to stop at rounding: the neighbours' floor, but never below the
+// problem's own floor (neighbours that landed on an exact zero by luck, as a linear problem's
+// may, would otherwise ask the chord for the tolerance, below rounding) nor above the floor level.
+TEST(ConvergenceTest, AChordAimsAtTheNeighboursFloorBetweenTheProblemsFloorAndTheFloorLevel) {
+  ConvergenceTest t;
+  t.tolerance = 1e-14;
+  t.problem_floor = 3e-12;
+  t.aim_at_floor(4.4e-12);
+  EXPECT_DOUBLE_EQ(t.aim(), 4.4e-12);
+  t.aim_at_floor(0.0);  // both neighbours at an exact zero
+  EXPECT_DOUBLE_EQ(t.aim(), 3e-12);
+  t.aim_at_floor(1.0);  // a neighbour far above the floor level (1e3 tol = 1e-11)
+  EXPECT_DOUBLE_EQ(t.aim(), 1e-11);
+  t.problem_floor = 0.0;
+  t.aim_at_floor(0.0);  // nothing known: the tolerance
+  EXPECT_DOUBLE_EQ(t.aim(), 1e-14);
+}
+
 // A residual that stops falling (by less than half) is the rounding floor only within the floor
 // level: 1e3 times the tolerance, or the problem's own floor where that is higher (1D Bratu on
 // 20000 intervals stalls at 1.4e-7, eps |J| |u| = 3.6e-7, against a tolerance of 1e-10).

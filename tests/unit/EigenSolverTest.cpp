@@ -464,3 +464,22 @@ TEST(EigenSolver, NonConvergenceIsAStatus) {
   EXPECT_LT(static_cast<int>(r.pairs.size()), o.count);
   std::printf("  %s; %zu pairs returned\n", st.describe().c_str(), r.pairs.size());
 }
+
+// The order of a spectrum does not hang on the last bits of a real part: a conjugate pair whose
+// real parts differ by rounding (computed apart) reads (x - i omega, x + i omega) whichever is
+// above; values with clearly different real parts go by real part whatever their imaginary parts.
+TEST(EigenSolver, ASpectrumIsOrderedByRealPartThenAConjugatePairByImaginaryPart) {
+  const double x = 0.125, above = std::nextafter(x, 1.0), far = std::nextafter(above, 1.0) + 1e-9;
+  auto pair = [](double re, double im) {
+    EigenPair p;
+    p.value = {re, im};
+    return p;
+  };
+  std::vector<EigenPair> s = {pair(far, -5.0), pair(x, 2.0), pair(above, -2.0), pair(-1.0, 3.0)};
+  order_spectrum(s);
+  ASSERT_EQ(s.size(), 4u);
+  EXPECT_EQ(s[0].value, std::complex<double>(-1.0, 3.0));
+  EXPECT_EQ(s[1].value.imag(), -2.0);
+  EXPECT_EQ(s[2].value.imag(), 2.0);
+  EXPECT_EQ(s[3].value, std::complex<double>(far, -5.0));
+}
