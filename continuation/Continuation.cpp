@@ -561,6 +561,9 @@ ContinuationResult Continuation::finish(StopCode code, std::string reason, const
   result_.factorisations = kept_.count();
   result_.tangent_iterations = tangents_.iterations();
   result_.renewal_cost = corrector_.renewal_cost();
+  const SparseLU::Statistics& lu = kept_.system().lu().statistics();
+  result_.nnz_lu = lu.nnz_lu;
+  result_.lu_peak_bytes = lu.peak_memory_bytes;
   ContinuationTimings t = ev_.timings();
   t.factorisation = kept_.system().factor_seconds();
   t.solve = kept_.system().solve_seconds() - shared_solve_seconds_;

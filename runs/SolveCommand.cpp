@@ -153,6 +153,11 @@ int run_solve(const SolveArguments& args, RunSummary* out_summary) {
   summary.unknowns = problem->size();
   summary.factorisations = res.factorisations;
   summary.seconds = res.seconds;
+  summary.solves = lu.solves;
+  summary.nnz_lu = lu.nnz_lu;
+  summary.lu_peak_mb = lu.peak_memory_bytes / kBytesPerMb;
+  summary.factor_seconds = res.factor_seconds;
+  summary.solve_seconds = res.solve_seconds;
   return summary.exit_code;
 }
 

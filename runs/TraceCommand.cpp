@@ -449,6 +449,11 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
   summary.rejected = result.rejected;
   summary.factorisations = result.factorisations;
   summary.seconds = result.timings.total;
+  summary.solves = result.timings.solves;
+  summary.nnz_lu = result.nnz_lu;
+  summary.lu_peak_mb = result.lu_peak_bytes / kBytesPerMb;
+  summary.factor_seconds = result.timings.factorisation;
+  summary.solve_seconds = result.timings.solve;
   signal_point("traced");
 
   // 4. the branch takes its name: an interrupted one stays where it is, to be continued; a

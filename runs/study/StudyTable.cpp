@@ -133,6 +133,11 @@ StudyRow StudyTable::row(const Study& study, const StudyTask& task) {
   row.number["rejected"] = s.rejected;
   row.number["factorisations"] = static_cast<double>(s.factorisations);
   row.number["seconds"] = s.seconds;
+  row.number["solves"] = static_cast<double>(s.solves);
+  row.number["nnz_lu"] = s.nnz_lu;
+  row.number["lu_peak_mb"] = s.lu_peak_mb;
+  row.number["factor_seconds"] = s.factor_seconds;
+  row.number["solve_seconds"] = s.solve_seconds;
   row.number["attempts"] = record->attempts;
   row.number["process_seconds"] = record->process_seconds;
   row.number["peak_mb"] = record->peak_mb;
@@ -180,8 +185,8 @@ StudyTable StudyTable::collect(const Study& study) {
   t.number_columns_ = {"exit_code"};
   for (const auto* group : {&events, &stops, &end})
     t.number_columns_.insert(t.number_columns_.end(), group->begin(), group->end());
-  for (const char* c :
-       {"unknowns", "points", "rejected", "factorisations", "seconds", "process_seconds", "peak_mb", "attempts"})
+  for (const char* c : {"unknowns", "points", "rejected", "factorisations", "seconds", "solves", "nnz_lu", "lu_peak_mb",
+                        "factor_seconds", "solve_seconds", "process_seconds", "peak_mb", "attempts"})
     t.number_columns_.push_back(c);
   return t;
 }
