@@ -164,7 +164,7 @@ bool StartSolver::by_parameters(const Vector& guess, Vector& u, StartResult& r) 
   std::vector<Problem::Homotopy> used;  // set to their easy values, in order
   std::vector<double> targets;
   Vector easy = guess;
-  bool solved = false;
+  bool solved = false, remade = false;
   for (const Problem::Homotopy& h : declared) {
     if (!ps.has(h.parameter) || ps.get(h.parameter) == h.easy_value) continue;
     used.push_back(h);
@@ -173,6 +173,13 @@ bool StartSolver::by_parameters(const Vector& guess, Vector& u, StartResult& r) 
     easy = guess;
     if (newton(easy, r)) {
       solved = true;
+      break;
+    }
+    // the problem's own guess at the easy values, where it depends on them (a guess made for the
+    // scene's load or flow may be further from the easy state than one made for it)
+    easy = problem_.initial_guess();
+    if (easy.size() == guess.size() && easy != guess && newton(easy, r)) {
+      solved = remade = true;
       break;
     }
   }
@@ -199,7 +206,7 @@ bool StartSolver::by_parameters(const Vector& guess, Vector& u, StartResult& r) 
   if (!newton(easy, r)) return false;
   u = std::move(easy);
   r.by_continuation = true;
-  r.path = "continuation in " + path;
+  r.path = "continuation in " + path + (remade ? " (from the initial guess made at the easy values)" : "");
   return true;
 }
 

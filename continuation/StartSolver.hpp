@@ -1,7 +1,8 @@
 // The first steady state of a run, found by itself: Newton from the problem's initial guess, and
 // where that fails, continuation from a state Newton can solve. First along the problem's declared
 // homotopy parameters (Problem::homotopies(): the first set to its easy value, and more of them as
-// long as Newton fails there), continued back to their set values one after the other; then, or
+// long as Newton fails there, from the scene's initial guess and from the problem's guess made at
+// the easy values), continued back to their set values one after the other; then, or
 // where the problem declares none, along the residual homotopy F(u) - (1 - s) F(u_guess) = 0 from
 // s = 0 (the guess itself) to s = 1. Each stage is an ordinary branch of the continuation engine
 // that ends exactly on its target value; a final Newton solve polishes the state. It says which path

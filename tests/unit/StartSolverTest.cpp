@@ -40,7 +40,74 @@ class DeclaredCubic final : public Problem {
   test::CubicProblem inner_;
 };
 
+// atan(u - lambda) = 0 (the root u = lambda) with a guess that depends on the parameter, u0 =
+// lambda^2 / 2: Newton (5 iterations allowed, no chord) converges from within about 1 of the root
+// and not from tens away (atan's Newton steps overshoot beyond 1.39 and the line search creeps).
+// At lambda = 10 the guess 50 fails; at the easy value lambda = 1 that same guess still fails,
+// while the guess made there (0.5) converges.
+class GuessOfItsParameter final : public Problem {
+ public:
+  GuessOfItsParameter() {
+    params_.add("lambda", 10.0, "the root");
+    pattern_.resize(1, 1);
+    pattern_.insert(0, 0) = 1.0;
+    pattern_.makeCompressed();
+  }
+  std::string name() const override { return "guess-of-its-parameter"; }
+  int size() const override { return 1; }
+  ParameterSet& parameters() override { return params_; }
+  const ParameterSet& parameters() const override { return params_; }
+  const SparseMatrix& jacobian_pattern() const override { return pattern_; }
+  Status residual(const Vector& u, Vector& F) override {
+    F = Vector::Constant(1, std::atan(u[0] - params_.get("lambda")));
+    return {};
+  }
+  Status jacobian(const Vector& u, Vector& F, SparseMatrix& J) override {
+    residual(u, F);
+    J = pattern_;
+    const double d = u[0] - params_.get("lambda");
+    J.coeffRef(0, 0) = 1.0 / (1.0 + d * d);
+    return {};
+  }
+  Vector initial_guess() override {
+    const double lambda = params_.get("lambda");
+    return Vector::Constant(1, 0.5 * lambda * lambda);
+  }
+  std::vector<Homotopy> homotopies() const override { return {{"lambda", 1.0}}; }
+  SolutionFields fields(const Vector&) const override { return {}; }
+
+ private:
+  ParameterSet params_;
+  SparseMatrix pattern_;
+};
+
 }  // namespace
+
+TEST(StartSolver, AStageAlsoTriesTheGuessMadeAtItsEasyValues) {
+  GuessOfItsParameter p;
+  NewtonOptions few;
+  few.max_iterations = 5;
+  few.chord_rate = 0.0;  // Newton proper: its reach from each guess is what the case is built on
+  const Vector scene_guess = p.initial_guess();
+  Vector u = scene_guess;
+  EXPECT_FALSE(NewtonSolver(p, few).solve(u).converged());  // at lambda = 10
+  p.parameters().set("lambda", 1.0);
+  u = scene_guess;
+  EXPECT_FALSE(NewtonSolver(p, few).solve(u).converged());  // the scene's guess at the easy value
+  p.parameters().set("lambda", 10.0);
+
+  StartOptions by_parameters;
+  by_parameters.path = StartOptions::Path::Parameters;
+  StartSolver start(p, few, {}, by_parameters);
+  u = scene_guess;
+  const StartResult r = start.solve(u);
+  ASSERT_TRUE(r.status.is_ok()) << r.status.describe();
+  EXPECT_NE(r.path.find("lambda from 1 to 10 (from the initial guess made at the easy values)"), std::string::npos)
+      << r.path;
+  // |F| = |atan(u - 10)| <= the tolerance 1e-10 and atan' = 1 at the root
+  EXPECT_NEAR(u[0], 10.0, 1e-10);
+  EXPECT_DOUBLE_EQ(p.parameters().get("lambda"), 10.0);
+}
 
 TEST(StartSolver, NewtonFromTheGuessFailsAndTheDeclaredHomotopyReachesTheState) {
   DeclaredCubic p;
