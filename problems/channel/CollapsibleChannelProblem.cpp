@@ -155,31 +155,35 @@ std::vector<double> CollapsibleChannelProblem::column_flow_rates(const Vector& u
   return out;
 }
 
+double CollapsibleChannelProblem::line_pressure(const Vector& u, const MeshBlock& b, int column, int edge) const {
+  double pint = 0, len = 0;
+  for (int j = 0; j < b.ny; ++j) {
+    const int e = b.element(column, j);
+    double xy[9][2];
+    element_positions(u, e, xy);
+    std::array<EdgeQpGeometry<double>, ref::kEdgeQp> eg;
+    if (!map_edge(xy, edge, eg)) return std::numeric_limits<double>::quiet_NaN();
+    for (const auto& g : eg) {
+      pint += fluid_pressure(u, e, xy, g.x) * g.wds;
+      len += g.wds;
+    }
+  }
+  return pint / len;
+}
+
 double CollapsibleChannelProblem::section_pressure(const Vector& u, int end) const {
+  // the pressure is discontinuous between elements: the mean of the two element columns that
+  // meet at the line (edge 1 is an element's right side, edge 3 its left)
   const MeshBlock& def = mesh_.block("deformable");
   const MeshBlock& other = mesh_.block(end == 0 ? "upstream" : "downstream");
-  // (block, column, edge) of the two element columns meeting at the line
-  const std::array<std::tuple<const MeshBlock*, int, int>, 2> sides = {
-      end == 0 ? std::make_tuple(&other, other.nx - 1, 1) : std::make_tuple(&def, def.nx - 1, 1),
-      end == 0 ? std::make_tuple(&def, 0, 3) : std::make_tuple(&other, 0, 3)};
-  double mean = 0;
-  for (const auto& [b, i, edge] : sides) {
-    double pint = 0, len = 0;
-    for (int j = 0; j < b->ny; ++j) {
-      const int e = b->element(i, j);
-      double xy[9][2];
-      element_positions(u, e, xy);
-      std::array<EdgeQpGeometry<double>, ref::kEdgeQp> eg;
-      if (!map_edge(xy, edge, eg)) return std::numeric_limits<double>::quiet_NaN();
-      for (const auto& g : eg) {
-        const double p = fluid_pressure(u, e, xy, g.x);
-        pint += p * g.wds;
-        len += g.wds;
-      }
-    }
-    mean += 0.5 * pint / len;
-  }
-  return mean;
+  if (end == 0) return 0.5 * (line_pressure(u, other, other.nx - 1, 1) + line_pressure(u, def, 0, 3));
+  return 0.5 * (line_pressure(u, def, def.nx - 1, 1) + line_pressure(u, other, 0, 3));
+}
+
+double CollapsibleChannelProblem::inlet_outlet_pressure_drop(const Vector& u) const {
+  const MeshBlock& up = mesh_.block("upstream");
+  const MeshBlock& down = mesh_.block("downstream");
+  return line_pressure(u, up, 0, 3) - line_pressure(u, down, down.nx - 1, 1);
 }
 
 std::array<double, 2> CollapsibleChannelProblem::fluid_force_on_wall(const Vector& u) const {
@@ -284,6 +288,7 @@ void CollapsibleChannelProblem::declare_quantities() {
     return gap;
   });
   o.add("dP", [this](const Vector& u) { return section_pressure(u, 0) - section_pressure(u, 1); });
+  o.add("dP_inlet_outlet", [this](const Vector& u) { return inlet_outlet_pressure_drop(u); });
   o.add("Q_in", [this](const Vector& u) { return column_flow_rates(u).front(); });
   o.add("Q_out", [this](const Vector& u) { return column_flow_rates(u).back(); });
   o.add("area_change", [this](const Vector& u) { return wall_->area(u) - wall_->reference_area(); });

@@ -95,6 +95,12 @@ class CollapsibleChannelProblem final : public Problem {
   // (end = 1) end of the deformable section (the one-sided values of the two element columns
   // that meet there averaged).
   double section_pressure(const Vector& u, int end) const;
+  // The mean fluid pressure over the inlet (x = 0) minus that over the outlet (x = Lu + L + Ld):
+  // the pressure drop of the whole channel, which the reference study plots (dP is that of the
+  // deformable section alone).
+  double inlet_outlet_pressure_drop(const Vector& u) const;
+  // Mean fluid pressure along one side (edge) of a column of elements of block b.
+  double line_pressure(const Vector& u, const MeshBlock& b, int column, int edge) const;
   // The force the solid receives from the fluid: the sum of the fluid's weak momentum
   // residuals at the interface nodes that are not clamped, which the coupling adds to the
   // solid's rows; it is -int (sum of their test functions) T n_f ds (n_f: the fluid's outward
