@@ -83,10 +83,13 @@ double CollapsibleChannelProblem::residual_scale() const { return params_.value(
 std::vector<Problem::Homotopy> CollapsibleChannelProblem::homotopies() const {
   // Without external pressure the undeformed channel is nearly the solution; where the flow's own
   // load still deforms a thin wall too far (Owens, t = 0.2, Gamma = 4.95e-4 on M2), the smallest
-  // Gamma of the reference range (a tenth of the load) is solved from the guess and continued up.
+  // Gamma of the reference range (a tenth of the load) is solved from the guess and continued up;
+  // where even that wall is too thin (Owens, t = 0.1 on M2), the reference thickness, whose wall
+  // the unloaded flow barely moves, is solved and thinned.
   std::vector<Homotopy> h{{"Pe", 0.0}};
   if (params_.has("Wi")) h.push_back({"Wi", 0.01});
   h.push_back({"Gamma", 4.95e-5});
+  h.push_back({"t", ChannelGeometry{}.thickness});
   return h;
 }
 

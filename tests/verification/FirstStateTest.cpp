@@ -8,7 +8,9 @@
 #include <filesystem>
 #include <iostream>
 
+#include "continuation/BranchFile.hpp"
 #include "continuation/StartSolver.hpp"
+#include "core/H5File.hpp"
 #include "runs/SceneLoader.hpp"
 #include "runs/TraceCommand.hpp"
 #include "support/TestSupport.hpp"
@@ -58,4 +60,32 @@ TEST(FirstState, EveryCollapsibleSceneIsReachedFromItsEasyState) {
               << " factorisations; observables agree to " << worst << "\n";
   }
   EXPECT_EQ(scenes, 21);  // 15 branch scenes and 6 limiting-Wi curves (docs/two_parameter.md)
+}
+
+// The thinnest wall of the range with the Owens fluid (t = 0.1, Gamma = 4.95e-4): Newton fails
+// from the guess, and at no load (Pe = 0) and at the smallest Gamma the flow's own load still
+// deforms the thin wall too far; the start solves the reference thickness t = 0.4 there and thins
+// the wall. The state it reaches is the end of the scene's own thickness branch (t from 0.4 to 0.1
+// at the scene's load, landed exactly on the bound): two paths through different parameters to
+// one state, whose observables agree to 1e-8 as above.
+TEST(FirstState, TheThinnestOwensWallIsReachedFromTheReferenceThickness) {
+  const std::string coarse =
+      " --set mesh.name=custom --set mesh.nx_upstream=5 --set mesh.nx_deformable=10 --set mesh.nx_downstream=5"
+      " --set mesh.ny_fluid=4 --set mesh.ny_solid=2 --set output.xdmf=false";
+  const std::string dir = test::scratch_dir("first_state_thin_owens");
+  const std::string scene = test::source_path("runs/scenes/collapsible_owens_thickness.toml");
+  auto branch = test::run_keller("trace " + scene + coarse + " -o " + dir + "/branch.h5");
+  ASSERT_EQ(branch.exit_code, 0) << branch.out << branch.err;
+  auto solved = test::run_keller("solve " + scene + coarse + " --set parameters.t=0.1 -o " + dir + "/thin.h5");
+  ASSERT_EQ(solved.exit_code, 0) << solved.out << solved.err;
+  EXPECT_NE(solved.out.find("t from 0.4 to 0.1"), std::string::npos) << solved.out;
+  const BranchTable b = read_branch_table(dir + "/branch.h5");
+  ASSERT_GT(b.rows.rows(), 1);
+  const auto at_end = [&](const std::string& name) { return b.rows(b.rows.rows() - 1, b.column(name)); };
+  H5File s(dir + "/thin.h5", H5File::Mode::Read);
+  EXPECT_DOUBLE_EQ(at_end("t"), 0.1);
+  for (const char* name : {"dy_max", "dx_max", "gap_min", "dP", "min_m1", "max_m3"}) {
+    const double want = at_end(name), got = s.read_double_attribute("/solution/observables", name);
+    EXPECT_LT(std::abs(got - want) / std::max(1.0, std::abs(want)), 1e-8) << name << ": " << got << " against " << want;
+  }
 }
