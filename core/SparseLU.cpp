@@ -30,10 +30,21 @@ SparseLUOptions::Ordering ordering_from_string(const std::string& s) {
   throw std::invalid_argument("unknown ordering '" + s + "' (amd, metis, cholmod, best)");
 }
 
+SparseLUOptions::Strategy strategy_from_string(const std::string& s) {
+  if (s == "auto") return SparseLUOptions::Strategy::Auto;
+  if (s == "unsymmetric") return SparseLUOptions::Strategy::Unsymmetric;
+  if (s == "symmetric") return SparseLUOptions::Strategy::Symmetric;
+  throw std::invalid_argument("unknown strategy '" + s + "' (auto, unsymmetric, symmetric)");
+}
+
 void declare_linear_solver_keys(SceneSchema& s) {
   s.section("linear_solver", "UMFPACK sparse LU");
   s.string("linear_solver.ordering", "amd", "fill-reducing ordering", {"amd", "metis", "cholmod", "best"});
   s.string("linear_solver.scaling", "sum", "row scaling before factorisation", {"none", "sum", "max"});
+  s.string("linear_solver.strategy", "auto",
+           "UMFPACK's strategy: unsymmetric (column ordering, row pivoting), symmetric (ordering of A + A^T, "
+           "diagonal pivots preferred), auto (UMFPACK chooses from the pattern)",
+           {"auto", "unsymmetric", "symmetric"});
   s.real("linear_solver.pivot_tolerance", 0.1, "threshold partial pivoting tolerance", Range::between(0.0, 1.0));
   s.integer("linear_solver.refinement_steps", 2, "iterative refinement steps per solve (each costs about two solves)",
             Range::at_least(0));
@@ -45,6 +56,7 @@ SparseLUOptions sparse_lu_options_from(const Scene& scene) {
   const std::string sc = scene.string("linear_solver.scaling");
   o.scaling = sc == "none" ? SparseLUOptions::Scaling::None
                            : (sc == "max" ? SparseLUOptions::Scaling::Max : SparseLUOptions::Scaling::Sum);
+  o.strategy = strategy_from_string(scene.string("linear_solver.strategy"));
   o.pivot_tolerance = scene.real("linear_solver.pivot_tolerance");
   o.refinement_steps = static_cast<int>(scene.integer("linear_solver.refinement_steps"));
   return o;

@@ -34,6 +34,7 @@ const char* to_string(SparseLUOptions::Ordering o);
 void declare_linear_solver_keys(SceneSchema& schema);
 SparseLUOptions sparse_lu_options_from(const Scene& scene);
 SparseLUOptions::Ordering ordering_from_string(const std::string& s);  // throws on unknown
+SparseLUOptions::Strategy strategy_from_string(const std::string& s);  // throws on unknown
 
 class SparseLU {
  public:

@@ -44,12 +44,9 @@ int main(int argc, char** argv) {
       meshes = split(next());
     else if (a == "--ordering")
       lu_opt.ordering = ordering_from_string(next());
-    else if (a == "--strategy") {
-      const std::string s = next();
-      lu_opt.strategy = s == "symmetric"     ? SparseLUOptions::Strategy::Symmetric
-                        : s == "unsymmetric" ? SparseLUOptions::Strategy::Unsymmetric
-                                             : SparseLUOptions::Strategy::Auto;
-    } else if (a == "--repeat")
+    else if (a == "--strategy")
+      lu_opt.strategy = strategy_from_string(next());
+    else if (a == "--repeat")
       repeat = std::stoi(next());
     else if (a == "--re")
       Re = std::stod(next());

@@ -3,7 +3,8 @@
 // exact Jacobian of the DEVSS-TG/SUPG equations), numeric factorisation and solve. Goal:
 // assembly <= 30% of factorisation.
 //
-// Usage: bench_cylinder [--meshes C1,C2,C3,C4] [--log] [--repeat N] [--ordering amd|metis|cholmod]
+// Usage: bench_cylinder [--meshes C1,C2,C3,C4] [--log] [--repeat N] [--ordering amd|metis|cholmod|best]
+//                       [--strategy auto|unsymmetric|symmetric]
 #include <fmt/format.h>
 
 #include <sstream>
@@ -37,6 +38,8 @@ int main(int argc, char** argv) {
       repeat = std::stoi(next());
     } else if (a == "--ordering") {
       lu_opt.ordering = ordering_from_string(next());
+    } else if (a == "--strategy") {
+      lu_opt.strategy = strategy_from_string(next());
     } else {
       fmt::print(stderr, "unknown argument {}\n", a);
       return 2;
