@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include <unsupported/Eigen/SparseExtra>
+
 #include "core/Problem.hpp"
 #include "core/SparseLU.hpp"
 
@@ -24,6 +26,14 @@ struct StepTiming {
   double lu_mb = 0, rss_mb = 0;
   double gflop = 0;  // of one numeric factorisation
 };
+
+// Writes J at u as a Matrix Market file (coordinate, real, general), for factorising the same
+// matrix with another sparse direct solver; false where J cannot be evaluated or written.
+inline bool dump_jacobian(Problem& p, const Vector& u, const std::string& path) {
+  Vector F;
+  SparseMatrix J = p.jacobian_pattern();
+  return p.jacobian(u, F, J).is_ok() && Eigen::saveMarket(J, path);
+}
 
 template <class F>
 double median_time(int repeat, F&& f) {

@@ -7,6 +7,9 @@
 // Usage: bench_collapsible [--meshes M1,M2,M3] [--fluid newtonian|oldroyd-b|fene-p|owens]
 //                          [--ordering amd|metis|cholmod|best] [--repeat N]
 //                          [--strategy auto|symmetric|unsymmetric] [--pivot-tolerance T]
+//                          [--dump-matrix PREFIX]
+// --dump-matrix writes each mesh's Jacobian at the converged state as PREFIX_<mesh>.mtx (Matrix
+// Market), for factorising it with another sparse direct solver.
 #include <fmt/format.h>
 
 #include <sstream>
@@ -25,6 +28,7 @@ int main(int argc, char** argv) {
   int repeat = 3;
   SparseLUOptions lu_opt;
   lu_opt.ordering = ordering_from_string("best");  // as in the collapsible scenes
+  std::string dump;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto next = [&]() -> std::string {
@@ -43,15 +47,9 @@ int main(int argc, char** argv) {
     } else if (a == "--ordering") {
       lu_opt.ordering = ordering_from_string(next());
     } else if (a == "--strategy") {
-      const std::string v = next();
-      if (v == "auto")
-        lu_opt.strategy = SparseLUOptions::Strategy::Auto;
-      else if (v == "symmetric")
-        lu_opt.strategy = SparseLUOptions::Strategy::Symmetric;
-      else if (v == "unsymmetric")
-        lu_opt.strategy = SparseLUOptions::Strategy::Unsymmetric;
-      else
-        throw std::invalid_argument("--strategy auto|symmetric|unsymmetric");
+      lu_opt.strategy = strategy_from_string(next());
+    } else if (a == "--dump-matrix") {
+      dump = next();
     } else if (a == "--pivot-tolerance") {
       lu_opt.pivot_tolerance = std::stod(next());
     } else {
@@ -75,6 +73,10 @@ int main(int argc, char** argv) {
     const NewtonResult r = newton.solve(u);
     if (!r.converged()) {
       fmt::print(stderr, "{}: Newton did not converge ({})\n", name, r.status.describe());
+      return 1;
+    }
+    if (!dump.empty() && !bench::dump_jacobian(p, u, dump + "_" + name + ".mtx")) {
+      fmt::print(stderr, "cannot write the Jacobian of {} to {}_{}.mtx\n", name, dump, name);
       return 1;
     }
     bench::print_row(name, p.mesh().num_elements(), bench::time_newton_step(p, u, lu_opt, repeat));

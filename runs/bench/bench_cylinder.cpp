@@ -4,7 +4,9 @@
 // assembly <= 30% of factorisation.
 //
 // Usage: bench_cylinder [--meshes C1,C2,C3,C4] [--log] [--repeat N] [--ordering amd|metis|cholmod|best]
-//                       [--strategy auto|unsymmetric|symmetric]
+//                       [--strategy auto|unsymmetric|symmetric] [--dump-matrix PREFIX]
+// --dump-matrix writes each mesh's Jacobian at the start of the step as PREFIX_<mesh>.mtx
+// (Matrix Market), for factorising it with another sparse direct solver.
 #include <fmt/format.h>
 
 #include <sstream>
@@ -21,6 +23,7 @@ int main(int argc, char** argv) {
   bool log_form = false;
   int repeat = 3;
   SparseLUOptions lu_opt;
+  std::string dump;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto next = [&]() -> std::string {
@@ -40,6 +43,8 @@ int main(int argc, char** argv) {
       lu_opt.ordering = ordering_from_string(next());
     } else if (a == "--strategy") {
       lu_opt.strategy = strategy_from_string(next());
+    } else if (a == "--dump-matrix") {
+      dump = next();
     } else {
       fmt::print(stderr, "unknown argument {}\n", a);
       return 2;
@@ -56,6 +61,12 @@ int main(int argc, char** argv) {
     o.fluid.beta = 0.59;
     o.fluid.Wi = 0.3;
     CylinderProblem p(o);
+    if (!dump.empty()) {
+      if (!bench::dump_jacobian(p, p.initial_guess(), dump + "_" + name + ".mtx")) {
+        fmt::print(stderr, "cannot write the Jacobian of {} to {}_{}.mtx\n", name, dump, name);
+        return 1;
+      }
+    }
     bench::print_row(name, p.mesh().num_elements(), bench::time_newton_step(p, p.initial_guess(), lu_opt, repeat));
   }
   return 0;
