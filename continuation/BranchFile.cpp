@@ -286,6 +286,21 @@ BranchSeed read_branch_seed(const std::string& path) {
   return seed;
 }
 
+std::optional<StoredMode> read_branch_mode(const std::string& path, int row) {
+  H5File f(path, H5File::Mode::Read);
+  const Eigen::MatrixXd rows = read_rows(f, "/branch/eigenvector_rows"), vectors = read_rows(f, "/branch/eigenvectors");
+  for (long k = 0; k < rows.rows() && 2 * k + 1 < vectors.rows(); ++k)
+    if (static_cast<int>(rows(k, 0)) == row) {
+      StoredMode m;
+      m.re = vectors.row(2 * k).transpose();
+      m.im = vectors.row(2 * k + 1).transpose();
+      m.sigma_re = rows(k, 2);
+      m.sigma_im = rows(k, 3);
+      return m;
+    }
+  return std::nullopt;
+}
+
 bool write_branch_fields(const std::string& branch_path, const std::string& fields_path, const std::string& xdmf_path,
                          const std::string& h5_name,
                          const std::function<SolutionFields(const Vector& u, double lambda)>& fields,
