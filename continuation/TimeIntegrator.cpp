@@ -92,9 +92,9 @@ class TimeIntegrator::StepProblem final : public Problem {
 
   Status residual(const Vector& u, Vector& G) override {
     Status st = inner_.residual(u, G);
-    if (st.is_ok()) st = inner_.mass_matrix(u, B_);
+    if (st.is_ok()) st = inner_.time_residual(u, coefficient_ * u + w_, R_);
     if (!st.is_ok()) return st;
-    G += B_ * (coefficient_ * u + w_);
+    G += R_;
     return {};
   }
   Status jacobian(const Vector& u, Vector& G, SparseMatrix& M) override {
@@ -118,7 +118,7 @@ class TimeIntegrator::StepProblem final : public Problem {
  private:
   Problem& inner_;
   double coefficient_ = 0.0;
-  Vector w_;
+  Vector w_, R_;
   SparseMatrix B_;
 };
 
