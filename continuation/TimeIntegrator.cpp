@@ -138,10 +138,25 @@ TimeIntegrator::TimeIntegrator(Problem& problem, TimeOptions options, NewtonOpti
 
 TimeIntegrator::~TimeIntegrator() = default;
 
-double TimeIntegrator::error_norm(const Vector& e, const Vector& a, const Vector& b, double rtol, double atol) {
-  if (e.size() == 0) return 0.0;
-  const Vector w = (atol + rtol * a.cwiseAbs().cwiseMax(b.cwiseAbs()).array()).matrix();
-  return std::sqrt((e.cwiseQuotient(w)).squaredNorm() / static_cast<double>(e.size()));
+double TimeIntegrator::error_norm(const Vector& e, const Vector& a, const Vector& b, double rtol, double atol,
+                                  const std::vector<char>& counted) {
+  double sum = 0.0;
+  long n = 0;
+  for (long i = 0; i < e.size(); ++i) {
+    if (!counted.empty() && !counted[static_cast<size_t>(i)]) continue;
+    const double w = atol + rtol * std::max(std::abs(a[i]), std::abs(b[i]));
+    sum += (e[i] / w) * (e[i] / w);
+    ++n;
+  }
+  return n > 0 ? std::sqrt(sum / static_cast<double>(n)) : 0.0;
+}
+
+std::vector<char> TimeIntegrator::differential_unknowns(const SparseMatrix& B) {
+  std::vector<char> out(static_cast<size_t>(B.cols()), 0);
+  for (int c = 0; c < B.outerSize(); ++c)
+    for (SparseMatrix::InnerIterator it(B, c); it; ++it)
+      if (it.value() != 0.0) out[static_cast<size_t>(c)] = 1;
+  return out;
 }
 
 bool TimeIntegrator::solve_step(const std::array<double, 3>& c, double h, const Vector& u_n, const Vector* u_prev,
@@ -190,13 +205,18 @@ TimeResult TimeIntegrator::integrate(TimeHistory history, TimeObserver& observer
   const double floor = options_.step_floor();
   const double rtol = options_.relative_tolerance, atol = options_.absolute_tolerance;
   const bool relative_to_reference = reference_.size() == problem_.size();
+  {
+    SparseMatrix B;
+    const Status st = problem_.mass_matrix(back.front().u, B);
+    counted_ = st.is_ok() ? differential_unknowns(B) : std::vector<char>{};
+  }
   auto error_of = [&](const Vector& e, const Vector& a, const Vector& b) {
-    if (!relative_to_reference) return error_norm(e, a, b, rtol, atol);
+    if (!relative_to_reference) return error_norm(e, a, b, rtol, atol, counted_);
     // the size of the deviation as a whole: its entries pass through zero as it turns
     const double size =
         std::max((a - reference_).lpNorm<Eigen::Infinity>(), (b - reference_).lpNorm<Eigen::Infinity>());
     const Vector scale = Vector::Constant(e.size(), size);
-    return error_norm(e, scale, scale, rtol, atol);
+    return error_norm(e, scale, scale, rtol, atol, counted_);
   };
   double h = options_.fixed_step ? options_.initial_step : std::clamp(history.next_step, floor, options_.max_step);
   int rejected = 0, factorisations = 0;  // of the step under way
