@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "core/PendingFile.hpp"
+#include "core/RunFiles.hpp"
 #include "core/SignalPoint.hpp"
 #include "core/SolutionWriter.hpp"
 
@@ -239,13 +240,17 @@ TimeSeed read_time_seed(const std::string& path) {
   return seed;
 }
 
-bool write_time_fields(const std::string& fields_path, const std::string& xdmf_path, const std::string& h5_name,
-                       const std::function<SolutionFields(const Vector& u)>& fields,
+bool write_time_fields(const std::string& series_path, const std::string& fields_path, const std::string& xdmf_path,
+                       const std::string& h5_name, const std::function<SolutionFields(const Vector& u)>& fields,
                        const std::function<bool()>& stop) {
-  H5File out(fields_path, H5File::Mode::ReadWrite);
   long r = 0, c = 0, n = 0, sol = 0;
-  const auto saved = out.read_matrix("/evolve/saved", &r, &c);
-  const auto U = out.read_matrix("/evolve/solutions", &sol, &n);
+  std::vector<double> saved, U;
+  {
+    H5File in(series_path, H5File::Mode::Read);
+    saved = in.read_matrix("/evolve/saved", &r, &c);
+    U = in.read_matrix("/evolve/solutions", &sol, &n);
+  }
+  H5File out(fields_path, same_file(series_path, fields_path) ? H5File::Mode::ReadWrite : H5File::Mode::Create);
   std::vector<XdmfSolution> steps;
   SolutionFields layout;
   for (long i = 0; i < std::min(r, sol); ++i) {
@@ -256,9 +261,11 @@ bool write_time_fields(const std::string& fields_path, const std::string& xdmf_p
     const Vector u = Eigen::Map<const Vector>(&U[static_cast<size_t>(i * n)], n);
     SolutionFields sf = fields(u);
     const std::string group = fmt::format("/evolve/fields/{}", i);
-    write_fields(out, group, sf);
-    out.set_attribute(group, "step", static_cast<long>(step));
-    out.set_attribute(group, "t", t);
+    if (!out.exists(group)) {  // written by an earlier run of this function: keep it
+      write_fields(out, group, sf);
+      out.set_attribute(group, "step", static_cast<long>(step));
+      out.set_attribute(group, "t", t);
+    }
     if (sf.mesh) {
       if (!out.exists("/mesh")) write_mesh(out, "/mesh", *sf.mesh);
       steps.push_back({group.substr(1), fmt::format("step {} (t = {:.6g})", step, t), t});

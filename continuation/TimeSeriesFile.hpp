@@ -77,11 +77,12 @@ struct TimeTable {
 };
 TimeTable read_time_table(const std::string& path);
 
-// Writes the fields of every stored state into /evolve/fields/<slot> of the file at `fields_path`
-// (opened for writing) and an XDMF temporal collection (time = t) at xdmf_path naming the HDF5 file
-// `h5_name`. `stop` is asked before each state: true stops it (returns false).
-bool write_time_fields(const std::string& fields_path, const std::string& xdmf_path, const std::string& h5_name,
-                       const std::function<SolutionFields(const Vector& u)>& fields,
+// Writes the fields of every stored state of the time-series file `series_path` into
+// /evolve/fields/<slot> of `fields_path` (the series file itself, opened for writing, when the two
+// are the same; otherwise a new file) and an XDMF temporal collection (time = t) at xdmf_path
+// naming the HDF5 file `h5_name`. `stop` is asked before each state: true stops it (returns false).
+bool write_time_fields(const std::string& series_path, const std::string& fields_path, const std::string& xdmf_path,
+                       const std::string& h5_name, const std::function<SolutionFields(const Vector& u)>& fields,
                        const std::function<bool()>& stop = {});
 
 }  // namespace keller

@@ -441,7 +441,7 @@ int run_evolve(const EvolveArguments& args, RunSummary* out_summary) {
         [&](const std::string& staged, const std::string& xdmf_pending, const std::string& h5_name,
             const std::string&) -> std::optional<std::vector<std::string>> {
           if (!write_time_fields(
-                  staged, xdmf_pending, h5_name, [&](const Vector& u) { return problem->fields(u); },
+                  staged, staged, xdmf_pending, h5_name, [&](const Vector& u) { return problem->fields(u); },
                   &InterruptGuard::requested))
             return std::nullopt;
           return std::vector<std::string>{};

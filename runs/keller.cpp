@@ -82,7 +82,8 @@ int run(int argc, char** argv) {  // argc and argv go on to MPI_Init under mpiru
 
   keller::ExportArguments exp;
   CLI::App* cmd_export = app.add_subcommand("export", "export a branch file: table as CSV, fields as XDMF");
-  cmd_export->add_option("branch", exp.input, "branch file written by keller trace")->required();
+  cmd_export->add_option("branch", exp.input, "branch file written by keller trace (or time series by keller evolve)")
+      ->required();
   cmd_export->add_option("--csv", exp.csv, "write the branch table as CSV to this file ('-': the standard output)");
   cmd_export->add_flag("--xdmf", exp.xdmf, "write the fields of the stored solutions and an XDMF file for ParaView");
   cmd_export->footer(keller::exit_code::help);

@@ -33,6 +33,22 @@ def read_branch(path):
         return _attr(b, "parameter"), {c: table[:, i] for i, c in enumerate(columns)}, status.rstrip("\x00")
 
 
+def read_time_series(path):
+    """Returns ({column: array}, status, mode) of a time-series file written by `keller evolve`;
+    mode is None or (sigma_re, sigma_im) of the eigenvector the run was perturbed along."""
+    with open_h5(path) as f:
+        e = f["evolve"]
+        columns = _attr(e, "columns").split(",")
+        table = np.array(e["table"][()], dtype=float).reshape(-1, len(columns))
+        status = e["status"][()]
+        status = status.decode() if isinstance(status, bytes) else str(status)
+        mode = None
+        if "evolve_start" in f and "mode" in f["evolve_start"]:
+            m = f["evolve_start"]["mode"]
+            mode = (float(m.attrs["sigma_re"]), float(m.attrs["sigma_im"]))
+        return {c: table[:, i] for i, c in enumerate(columns)}, status.rstrip("\x00"), mode
+
+
 class OutputError(Exception):
     """An output path that keller's rules refuse (it would overwrite an input, or is not a file)."""
 
