@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 
 #include "continuation/TimeStepControl.hpp"
@@ -237,6 +238,41 @@ TimeResult TimeIntegrator::integrate(TimeHistory history, TimeObserver& observer
     at_floor = tried <= floor;
     h = next;
   };
+  // a try's cost; a failed one is rejected and retried with a shorter step
+  auto tried = [&](bool ok, const Attempt& attempt, double t_next, double tried_step) {
+    factorisations += attempt.factorisations;
+    result.factorisations += attempt.factorisations;
+    result.newton_iterations += attempt.iterations;
+    if (!ok) reject(t_next, tried_step, "Newton: " + attempt.status.describe(), kNewtonFailureShrink * tried_step);
+    return ok;
+  };
+  // the error test of a step of the given order from its local error e (between states a and b):
+  // the next step, or nothing where the step is rejected (and retried shorter); without error
+  // control the same step again
+  auto judged = [&](const Vector& e, const Vector& a, const Vector& b, int order, double t_next, double tried_step,
+                    double& error) -> std::optional<double> {
+    error = std::numeric_limits<double>::quiet_NaN();
+    if (options_.fixed_step) return options_.initial_step;
+    error = error_of(e, a, b);
+    const StepDecision d = decide_step(error, tried_step, order, floor, options_.max_step);
+    if (!d.accept) {
+      reject(t_next, tried_step, fmt::format("error estimate {:.3g}{}", error, order == 1 ? " of the start" : ""),
+             d.next);
+      return std::nullopt;
+    }
+    return d.next;
+  };
+  auto point = [](double t, double step, double next, double error, int order, int iterations, Vector u) {
+    TimePoint p;
+    p.t = t;
+    p.h = step;
+    p.next_step = next;
+    p.error = error;
+    p.order = order;
+    p.iterations = iterations;
+    p.u = std::move(u);
+    return p;
+  };
   auto accept = [&](TimePoint p) {
     p.step = back.front().step + 1;
     p.rejected = rejected;
@@ -281,41 +317,14 @@ TimeResult TimeIntegrator::integrate(TimeHistory history, TimeObserver& observer
         ok = solve_step(bdf_coefficients(1, half, half), half, ua, nullptr, ub, attempt);
       }
       if (ok && !options_.fixed_step) ok = solve_step(bdf_coefficients(1, h, h), h, origin.u, nullptr, uf, attempt);
-      factorisations += attempt.factorisations;
-      result.factorisations += attempt.factorisations;
-      result.newton_iterations += attempt.iterations;
-      if (!ok) {
-        reject(t_next, h, "Newton: " + attempt.status.describe(), kNewtonFailureShrink * h);
-        continue;
-      }
-      double error = std::numeric_limits<double>::quiet_NaN();
-      double next = h;
-      if (!options_.fixed_step) {
-        error = error_of(kStartErrorFactor * (ub - uf), origin.u, ub);
-        const StepDecision d = decide_step(error, h, 1, floor, options_.max_step);
-        if (!d.accept) {
-          reject(t_next, h, fmt::format("error estimate {:.3g} of the start", error), d.next);
-          continue;
-        }
-        next = d.next;
-      }
-      TimePoint a;
-      a.t = origin.t + half;
-      a.h = half;
-      a.next_step = half;
-      a.order = 1;
-      a.iterations = attempt.iterations;
-      a.u = std::move(ua);
-      accept(std::move(a));
-      TimePoint b;
-      b.t = t_next;
-      b.h = t_next - (origin.t + half);
-      b.next_step = next;
-      b.error = error;
-      b.order = 1;
-      b.u = std::move(ub);
-      accept(std::move(b));
-      h = next;
+      if (!tried(ok, attempt, t_next, h)) continue;
+      double error = 0.0;
+      const std::optional<double> next = judged(kStartErrorFactor * (ub - uf), origin.u, ub, 1, t_next, h, error);
+      if (!next) continue;
+      accept(point(origin.t + half, half, half, std::numeric_limits<double>::quiet_NaN(), 1, attempt.iterations,
+                   std::move(ua)));
+      accept(point(t_next, t_next - (origin.t + half), *next, error, 1, 0, std::move(ub)));
+      h = *next;
       continue;
     }
 
@@ -324,37 +333,13 @@ TimeResult TimeIntegrator::integrate(TimeHistory history, TimeObserver& observer
     const std::array<double, 3> x = extrapolation_weights(3, h, h1, h2);
     const Vector predicted = x[0] * now.u + x[1] * back[1].u + x[2] * back[2].u;
     Vector u = predicted;
-    const bool ok = solve_step(bdf_coefficients(2, h, h1), h, now.u, &back[1].u, u, attempt);
-    factorisations += attempt.factorisations;
-    result.factorisations += attempt.factorisations;
-    result.newton_iterations += attempt.iterations;
-    if (!ok) {
-      reject(t_next, h, "Newton: " + attempt.status.describe(), kNewtonFailureShrink * h);
-      continue;
-    }
-    double error = std::numeric_limits<double>::quiet_NaN();
-    double next = h;
-    if (!options_.fixed_step) {
-      error = error_of(bdf2_error_factor(h, h1, h2) * (u - predicted), now.u, u);
-      const StepDecision d = decide_step(error, h, 2, floor, options_.max_step);
-      if (!d.accept) {
-        reject(t_next, h, fmt::format("error estimate {:.3g}", error), d.next);
-        continue;
-      }
-      next = d.next;
-    } else if (lands) {
-      next = options_.initial_step;
-    }
-    TimePoint p;
-    p.t = t_next;
-    p.h = t_next - now.t;
-    p.next_step = next;
-    p.error = error;
-    p.order = 2;
-    p.iterations = attempt.iterations;
-    p.u = std::move(u);
-    accept(std::move(p));
-    h = next;
+    if (!tried(solve_step(bdf_coefficients(2, h, h1), h, now.u, &back[1].u, u, attempt), attempt, t_next, h)) continue;
+    double error = 0.0;
+    const std::optional<double> next =
+        judged(bdf2_error_factor(h, h1, h2) * (u - predicted), now.u, u, 2, t_next, h, error);
+    if (!next) continue;
+    accept(point(t_next, t_next - now.t, *next, error, 2, attempt.iterations, std::move(u)));
+    h = *next;
   }
 }
 

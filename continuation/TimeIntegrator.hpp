@@ -107,7 +107,7 @@ class TimeIntegrator {
                            const std::vector<char>& counted = {});
   // The unknowns the error test counts: those whose column of B(u) has a nonzero entry, whose time
   // derivative appears in some row. The algebraic ones (no time derivative anywhere: a pressure,
-  // the solid's positions) follow the others; an index-2 one (the pressure of incompressible flow
+  // the positions of a quasi-static part) follow the others; an index-2 one (the pressure of incompressible flow
   // with inertia) errs by O(1/h) times the start's inconsistency, which no step size cures, so they
   // are left out of the test as DASPK's and IDA's option suppresses them.
   static std::vector<char> differential_unknowns(const SparseMatrix& B);

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "continuation/TableRows.hpp"
 #include "core/PendingFile.hpp"
 #include "core/RunFiles.hpp"
 #include "core/SignalPoint.hpp"
@@ -20,38 +21,7 @@ namespace {
 // being rewritten, so a kill in the middle of that write never touches the three a restart reads.
 constexpr long kRing = 4;
 
-std::string join(const std::vector<std::string>& v) {
-  std::string s;
-  for (const auto& x : v) s += (s.empty() ? "" : ",") + x;
-  return s;
-}
-
-std::vector<std::string> split(const std::string& s) {
-  std::vector<std::string> out;
-  if (s.empty()) return out;
-  size_t start = 0;
-  for (;;) {
-    const size_t pos = s.find(',', start);
-    out.push_back(s.substr(start, pos - start));
-    if (pos == std::string::npos) return out;
-    start = pos + 1;
-  }
-}
-
 using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-
-Eigen::MatrixXd read_rows(const H5File& f, const std::string& dataset) {
-  if (!f.exists(dataset)) return {};
-  long r = 0, c = 0;
-  const auto data = f.read_matrix(dataset, &r, &c);
-  return Eigen::Map<const RowMajor>(data.data(), r, c);
-}
-
-void append_matrix(H5File& f, const std::string& dataset, const Eigen::MatrixXd& m) {
-  if (m.rows() == 0) return;
-  const RowMajor r = m;
-  f.append_rows(dataset, r.data(), r.rows());
-}
 
 // The columns every table has, before the observables and the extra columns.
 const std::vector<std::string> kLeading = {"step",           "t",        "h",         "order",  "error", "iterations",
@@ -82,8 +52,8 @@ TimeSeriesFile::TimeSeriesFile(const std::string& path, Problem& problem, TimeCo
   file_ = std::make_unique<H5File>(part, H5File::Mode::Create);
   if (header) header(*file_);
   file_->create_group("/evolve");
-  file_->set_attribute("/evolve", "columns", join(columns_));
-  file_->set_attribute("/evolve", "observables", join(problem.observable_names()));
+  file_->set_attribute("/evolve", "columns", join_names(columns_));
+  file_->set_attribute("/evolve", "observables", join_names(problem.observable_names()));
   file_->set_attribute("/evolve", "save_every", static_cast<long>(save_every_));
   file_->create_appendable("/evolve/table", static_cast<long>(columns_.size()));
   file_->create_appendable("/evolve/history", n_, 1);
@@ -100,12 +70,13 @@ TimeSeriesFile::TimeSeriesFile(const std::string& path, Problem& problem, TimeCo
   file_->write_fixed_string("/evolve/status", "running");
   if (seed) {
     if (seed->columns != columns_)
-      throw std::runtime_error("the unfinished run has other columns than this run's (" + join(seed->columns) + ")");
+      throw std::runtime_error("the unfinished run has other columns than this run's (" + join_names(seed->columns) +
+                               ")");
     if (seed->solutions.rows() > 0 && seed->solutions.cols() != n_)
       throw std::runtime_error("the unfinished run has another number of unknowns");
-    append_matrix(*file_, "/evolve/table", seed->table);
-    append_matrix(*file_, "/evolve/saved", seed->saved);
-    append_matrix(*file_, "/evolve/solutions", seed->solutions);
+    append_table_rows(*file_, "/evolve/table", seed->table);
+    append_table_rows(*file_, "/evolve/saved", seed->saved);
+    append_table_rows(*file_, "/evolve/solutions", seed->solutions);
     for (auto it = seed->history.back.rbegin(); it != seed->history.back.rend(); ++it)
       write_history(it->step, it->t, it->u);
     saved_ = static_cast<int>(seed->saved.rows());
@@ -190,9 +161,9 @@ TimeTable read_time_table(const std::string& path) {
   H5File f(path, H5File::Mode::Read);
   if (!f.exists("/evolve/table")) throw std::runtime_error("'" + path + "' is not a time-series file (no /evolve)");
   TimeTable t;
-  t.columns = split(f.read_string_attribute("/evolve", "columns"));
-  t.observables = split(f.read_string_attribute("/evolve", "observables"));
-  t.rows = read_rows(f, "/evolve/table");
+  t.columns = split_names(f.read_string_attribute("/evolve", "columns"));
+  t.observables = split_names(f.read_string_attribute("/evolve", "observables"));
+  t.rows = read_table_rows(f, "/evolve/table");
   if (f.exists("/evolve/status")) t.status = f.read_string("/evolve/status");
   return t;
 }
@@ -201,9 +172,10 @@ TimeSeed read_time_seed(const std::string& path) {
   H5File f(path, H5File::Mode::Read);
   if (!f.exists("/evolve/table")) throw std::runtime_error("'" + path + "' is not a time-series file");
   TimeSeed seed;
-  seed.columns = split(f.read_string_attribute("/evolve", "columns"));
-  const Eigen::MatrixXd table = read_rows(f, "/evolve/table");
-  const Eigen::MatrixXd ring = read_rows(f, "/evolve/history"), index = read_rows(f, "/evolve/history_index");
+  seed.columns = split_names(f.read_string_attribute("/evolve", "columns"));
+  const Eigen::MatrixXd table = read_table_rows(f, "/evolve/table");
+  const Eigen::MatrixXd ring = read_table_rows(f, "/evolve/history"),
+                        index = read_table_rows(f, "/evolve/history_index");
   if (table.rows() == 0) throw std::runtime_error("'" + path + "' holds no step to continue from");
   const int c_step = column_of(seed.columns, "step"), c_t = column_of(seed.columns, "t"),
             c_h = column_of(seed.columns, "h"), c_next = column_of(seed.columns, "next_step"),
@@ -228,7 +200,8 @@ TimeSeed read_time_seed(const std::string& path) {
   }
   seed.history.next_step = table(last, c_next);
   seed.table = table.topRows(last + 1);
-  const Eigen::MatrixXd saved = read_rows(f, "/evolve/saved"), solutions = read_rows(f, "/evolve/solutions");
+  const Eigen::MatrixXd saved = read_table_rows(f, "/evolve/saved"),
+                        solutions = read_table_rows(f, "/evolve/solutions");
   long slots = 0;
   while (slots < std::min(saved.rows(), solutions.rows()) && saved(slots, 0) <= k) ++slots;
   seed.saved = saved.topRows(slots);
@@ -250,32 +223,21 @@ bool write_time_fields(const std::string& series_path, const std::string& fields
     saved = in.read_matrix("/evolve/saved", &r, &c);
     U = in.read_matrix("/evolve/solutions", &sol, &n);
   }
-  H5File out(fields_path, same_file(series_path, fields_path) ? H5File::Mode::ReadWrite : H5File::Mode::Create);
-  std::vector<XdmfSolution> steps;
-  SolutionFields layout;
-  for (long i = 0; i < std::min(r, sol); ++i) {
-    if (stop && stop()) return false;
-    signal_point("fields");
-    const int step = static_cast<int>(saved[static_cast<size_t>(i * c)]);
-    const double t = saved[static_cast<size_t>(i * c + 1)];
-    const Vector u = Eigen::Map<const Vector>(&U[static_cast<size_t>(i * n)], n);
-    SolutionFields sf = fields(u);
-    const std::string group = fmt::format("/evolve/fields/{}", i);
-    if (!out.exists(group)) {  // written by an earlier run of this function: keep it
-      write_fields(out, group, sf);
-      out.set_attribute(group, "step", static_cast<long>(step));
-      out.set_attribute(group, "t", t);
-    }
-    if (sf.mesh) {
-      if (!out.exists("/mesh")) write_mesh(out, "/mesh", *sf.mesh);
-      steps.push_back({group.substr(1), fmt::format("step {} (t = {:.6g})", step, t), t});
-      layout = sf;
-    }
-  }
-  out.close();
-  if (stop && stop()) return false;
-  if (!steps.empty() && layout.mesh) write_xdmf(xdmf_path, h5_name, "mesh", *layout.mesh, steps, layout);
-  return true;
+  return write_state_fields(
+      fields_path, same_file(series_path, fields_path), std::min(r, sol),
+      [&](long i) {
+        const long step = static_cast<long>(saved[static_cast<size_t>(i * c)]);
+        const double t = saved[static_cast<size_t>(i * c + 1)];
+        return StoredState{Eigen::Map<const Vector>(&U[static_cast<size_t>(i * n)], n),
+                           fmt::format("/evolve/fields/{}", i),
+                           fmt::format("step {} (t = {:.6g})", step, t),
+                           t,
+                           "step",
+                           step,
+                           "t",
+                           t};
+      },
+      [&](const StoredState& s) { return fields(s.u); }, xdmf_path, h5_name, stop);
 }
 
 }  // namespace keller

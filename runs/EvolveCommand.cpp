@@ -174,34 +174,13 @@ class TimeObservers final : public TimeObserver {
   std::vector<TimeObserver*> list_;
 };
 
-// The unfinished run of this very command at `work`, to be continued; nothing when there is none
-// (or `fresh`). Throws std::invalid_argument if `work` holds the unfinished run of another command.
+// The unfinished run of this very command at `work`, to be continued (continues_unfinished).
 std::optional<TimeSeed> unfinished_run(const std::string& work, const std::string& record, bool fresh) {
-  if (!fs::exists(work)) return {};
-  TimeTable t;
-  std::string stored;
-  try {
-    t = read_time_table(work);
-    H5File f(work, H5File::Mode::Read);
-    if (f.exists("/problem/run")) stored = f.read_string("/problem/run");
-  } catch (const std::exception&) {
-    fmt::print("note: '{}' is not a readable time-series file; this run replaces it\n", work);
+  if (!continues_unfinished(work, record, fresh, "time series", "steps", [](const std::string& path) {
+        const TimeTable t = read_time_table(path);
+        return std::pair<long, std::string>(t.rows.rows(), t.status);
+      }))
     return {};
-  }
-  if (t.status != "running" && t.status.rfind("interrupted", 0) != 0) {
-    fmt::print("note: '{}' holds a run that ended ({}); this run replaces it\n", work, t.status);
-    return {};
-  }
-  if (fresh) {
-    fmt::print("note: --fresh: the unfinished run in '{}' ({} steps) is discarded\n", work, t.rows.rows());
-    return {};
-  }
-  if (stored != record)
-    throw std::invalid_argument(fmt::format(
-        "'{}' holds the unfinished run ({} steps) of another command ({}); move it away to keep it, or pass --fresh "
-        "to discard it",
-        work, t.rows.rows(),
-        stored.empty() ? "no record of its run" : "it differs in: " + record_difference(stored, record)));
   return read_time_seed(work);
 }
 
@@ -232,12 +211,7 @@ int run_evolve(const EvolveArguments& args, RunSummary* out_summary) {
   RunSummary local;
   RunSummary& summary = out_summary ? *out_summary : local;
   summary = {};
-  auto fail = [&](int code, const std::string& message) {
-    fmt::print(stderr, "keller: error: {}\n", message);
-    summary.exit_code = code;
-    summary.reason = message;
-    return code;
-  };
+  auto fail = [&](int code, const std::string& message) { return fail_run(summary, code, message); };
   // 1. the scene, its options and the files of the run: nothing is written before all are right
   LoadedScene loaded;
   TimeOptions topt;
@@ -265,10 +239,7 @@ int run_evolve(const EvolveArguments& args, RunSummary* out_summary) {
       from->force = args.force;
       files.input("--restart file", from->file);
     }
-    files.output("time-series file", out);
-    files.output("unfinished time-series file", work);
-    files.output("time-series file's copy with fields", out + ".fields.part");
-    if (with_fields) files.output("XDMF file", xdmf_path_for(out));
+    declare_run_outputs(files, out, "time-series file", with_fields);
     files.check();
   } catch (const std::exception& e) {
     return fail(exit_code::usage, e.what());
@@ -276,11 +247,9 @@ int run_evolve(const EvolveArguments& args, RunSummary* out_summary) {
   fmt::print("{}\n", loaded.scene.resolved_toml());
   std::unique_ptr<Problem> problem;
   try {
-    problem = loaded.type->build(loaded.scene);
+    problem = build_problem(loaded, args.scene);
   } catch (const SceneError& e) {
     return fail(exit_code::usage, e.what());
-  } catch (const std::exception& e) {
-    return fail(exit_code::usage, fmt::format("{}: {}", args.scene, e.what()));
   }
 
   // 2. where the run starts: an unfinished run of this command, a stored point, or a steady state
@@ -421,19 +390,10 @@ int run_evolve(const EvolveArguments& args, RunSummary* out_summary) {
 
   // 4. the file takes its name: an interrupted run stays where it is, to be continued; a failed one
   // never replaces an existing file
-  if (result.code == TimeStop::Interrupted) {
-    fmt::print("interrupted: the run so far is in {}; run the same command again to continue it\n", work);
-    summary.output = work;
-    summary.exit_code = exit_code::interrupted;
-    return summary.exit_code;
-  }
-  const int code = result.code == TimeStop::StepFloor ? exit_code::numerical_failure : exit_code::ok;
-  if (code != exit_code::ok && fs::exists(out)) {
-    fmt::print("the run ended before t_end; {} is kept as it was, this run's steps are in {}\n", out, work);
-    summary.output = work;
-    summary.exit_code = code;
-    return code;
-  }
+  if (const auto stays = stays_unfinished(result.code == TimeStop::Interrupted, result.code == TimeStop::StepFloor,
+                                          work, out, "time series", "before t_end", summary))
+    return *stays;
+  const int code = summary.exit_code;
   PublishedBranch published;
   try {
     published = publish_output(

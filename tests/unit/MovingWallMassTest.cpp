@@ -31,12 +31,7 @@ const Fluid kFluids[] = {{FluidModel::Newtonian, false, false, "newtonian"},
 
 CollapsibleOptions coarse(const Fluid& f, bool moving_wall) {
   CollapsibleOptions o;
-  o.mesh.name = "custom";
-  o.mesh.nx_upstream = 1;
-  o.mesh.nx_deformable = 3;
-  o.mesh.nx_downstream = 1;
-  o.mesh.ny_fluid = 2;
-  o.mesh.ny_solid = 1;
+  o.mesh = test::custom_channel_mesh(1, 3, 1, 2, 1);  // CollapsibleJacobianTest's mesh
   o.Gamma = 0.05;
   o.Pe = 0.3;
   o.fluid.model = f.model;
