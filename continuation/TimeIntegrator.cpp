@@ -38,7 +38,7 @@ void TimeOptions::declare(SceneSchema& s) {
             "every step is initial_step and no error is estimated (for convergence studies)");
   s.real("evolve.relative_tolerance", d.relative_tolerance,
          "local error per step: weighted RMS with weights absolute_tolerance + relative_tolerance |u| (with a "
-         "perturbation: + relative_tolerance max |u - u_steady|, the size of the deviation)",
+         "perturbation: relative_tolerance times the size of the deviation, max |u - u_steady|, instead of |u|)",
          Range{0.0, 1.0, true, true});
   s.real("evolve.absolute_tolerance", d.absolute_tolerance,
          "absolute part of the error weights (below the size of the dynamics to be followed)", Range::positive());
