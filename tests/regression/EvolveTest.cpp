@@ -151,7 +151,7 @@ TEST(Evolve, TheCollapsibleSceneDecaysAtItsEigenvalueAndExports) {
   const std::string coarse =
       " --set mesh.name=\\\"custom\\\" --set mesh.nx_upstream=5 --set mesh.nx_deformable=10 --set mesh.nx_downstream=5"
       " --set mesh.ny_fluid=4 --set mesh.ny_solid=2";
-  auto r = test::run_keller("evolve " + test::source_path("runs/scenes/collapsible_newtonian_evolve.toml") + coarse +
+  auto r = test::run_keller("evolve " + test::source_path("runs/scenes/evolve_collapsible_newtonian.toml") + coarse +
                             " -o " + out);
   ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
   const TimeTable t = read_time_table(out);
