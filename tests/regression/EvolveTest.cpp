@@ -90,6 +90,21 @@ TEST(Evolve, AKilledRunKeepsEveryStepAndTheSameCommandFinishesIt) {
   }
 }
 
+// SIGTERM (as SIGINT) stops the run after its current step: exit 130, the file keeps every step
+// with the status "interrupted at t = ...", and the same command finishes it.
+TEST(Evolve, AStoppedRunSaysSoAndTheSameCommandFinishesIt) {
+  const std::string dir = test::scratch_dir("evolve_term");
+  const std::string out = dir + "/run.h5", command = "evolve " + evolve_scene() + kShort + " -o " + out;
+  auto r = test::run_keller(command, "KELLER_SIGNAL_AT=step:300 KELLER_SIGNAL=TERM");
+  EXPECT_EQ(r.exit_code, 130) << r.err << r.out;
+  const TimeTable stopped = read_time_table(out + ".part");
+  EXPECT_EQ(stopped.status.rfind("interrupted at t = ", 0), 0u) << stopped.status;
+  EXPECT_GE(stopped.rows.rows(), 300);
+  r = test::run_keller(command);
+  ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
+  EXPECT_EQ(read_time_table(out).status, "reached t_end");
+}
+
 // A branch traced with [stability] stores the critical eigenvector with its stops: evolve from the
 // stop at b = 5.5, perturbed along it, grows at -Re sigma of the stored eigenvalue (BDF2's error
 // at the scene's tolerance: within 1e-3 relative, as in DynamicsTest).
