@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "continuation/TableRows.hpp"
 #include "core/PendingFile.hpp"
 #include "core/RunFiles.hpp"
 #include "core/SignalPoint.hpp"
@@ -15,25 +16,6 @@
 namespace keller {
 
 namespace {
-
-std::string join(const std::vector<std::string>& v) {
-  std::string s;
-  for (const auto& x : v) s += (s.empty() ? "" : ",") + x;
-  return s;
-}
-
-std::vector<std::string> split(const std::string& s) {
-  std::vector<std::string> out;
-  if (s.empty()) return out;
-  size_t start = 0;
-  while (true) {
-    const size_t pos = s.find(',', start);
-    out.push_back(s.substr(start, pos - start));
-    if (pos == std::string::npos) break;
-    start = pos + 1;
-  }
-  return out;
-}
 
 constexpr const char* kKinds = "0 point, 1 start, 2 requested, 3 event, 4 fold, 5 branch-point, 6 end, 7 hopf";
 
@@ -57,9 +39,9 @@ BranchFile::BranchFile(const std::string& path, const Problem& problem, const Co
   for (const char* c : {"iterations", "step", "seconds", "det_sign", "tangent_parameter", "saved_slot"})
     columns_.push_back(c);
   file_->set_attribute("/branch", "parameter", options.parameter);
-  file_->set_attribute("/branch", "columns", join(columns_));
-  file_->set_attribute("/branch", "observables", join(problem.observable_names()));
-  file_->set_attribute("/branch", "monitors", join(monitor_names));
+  file_->set_attribute("/branch", "columns", join_names(columns_));
+  file_->set_attribute("/branch", "observables", join_names(problem.observable_names()));
+  file_->set_attribute("/branch", "monitors", join_names(monitor_names));
   file_->set_attribute("/branch", "kinds", std::string(kKinds));
   file_->set_attribute("/branch", "state_scale", state_scale);
   file_->set_attribute("/branch", "theta", options.theta);
@@ -85,26 +67,19 @@ BranchFile::BranchFile(const std::string& path, const Problem& problem, const Co
   std::filesystem::rename(part, path);
 }
 
-namespace {
-void append_matrix(H5File& f, const std::string& dataset, const Eigen::MatrixXd& m) {
-  if (m.rows() == 0) return;
-  const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> r = m;
-  f.append_rows(dataset, r.data(), r.rows());
-}
-}  // namespace
-
 void BranchFile::write_seed(const BranchSeed& seed) {
   if (seed.columns != columns_)
-    throw std::runtime_error("the unfinished branch has other columns than this run's (" + join(seed.columns) + ")");
+    throw std::runtime_error("the unfinished branch has other columns than this run's (" + join_names(seed.columns) +
+                             ")");
   if (seed.solutions.cols() != n_) throw std::runtime_error("the unfinished branch has another number of unknowns");
-  append_matrix(*file_, "/branch/table", seed.table);
-  append_matrix(*file_, "/branch/saved", seed.saved);
-  append_matrix(*file_, "/branch/solutions", seed.solutions);
-  append_matrix(*file_, "/branch/tangents", seed.tangents);
-  append_matrix(*file_, "/branch/events", seed.events);
+  append_table_rows(*file_, "/branch/table", seed.table);
+  append_table_rows(*file_, "/branch/saved", seed.saved);
+  append_table_rows(*file_, "/branch/solutions", seed.solutions);
+  append_table_rows(*file_, "/branch/tangents", seed.tangents);
+  append_table_rows(*file_, "/branch/events", seed.events);
   if (n_analysis_) {
-    append_matrix(*file_, "/branch/eigenvectors", seed.eigenvectors);
-    append_matrix(*file_, "/branch/eigenvector_rows", seed.eigenvector_rows);
+    append_table_rows(*file_, "/branch/eigenvectors", seed.eigenvectors);
+    append_table_rows(*file_, "/branch/eigenvector_rows", seed.eigenvector_rows);
     if (seed.eigenvector_rows.rows() > 0)
       last_mode_row_ = static_cast<int>(seed.eigenvector_rows(seed.eigenvector_rows.rows() - 1, 0));
   }
@@ -145,7 +120,7 @@ void BranchFile::on_point(const BranchPoint& p) {
   if (p.kind != PointKind::Regular && p.kind != PointKind::Start) {
     double monitor = -1;  // an event's monitor, and an end's when a monitor's threshold ended the branch
     if (p.kind == PointKind::Event || p.kind == PointKind::End) {
-      const auto names = split(file_->read_string_attribute("/branch", "monitors"));
+      const auto names = split_names(file_->read_string_attribute("/branch", "monitors"));
       auto it = std::find(names.begin(), names.end(), p.label);
       if (it != names.end()) monitor = static_cast<double>(it - names.begin());
     }
@@ -188,9 +163,9 @@ BranchTable read_branch_table(const std::string& path) {
   if (!f.exists("/branch/table")) throw std::runtime_error("'" + path + "' is not a branch file (no /branch/table)");
   BranchTable t;
   t.parameter = f.read_string_attribute("/branch", "parameter");
-  t.columns = split(f.read_string_attribute("/branch", "columns"));
-  t.observables = split(f.read_string_attribute("/branch", "observables"));
-  t.monitors = split(f.read_string_attribute("/branch", "monitors"));
+  t.columns = split_names(f.read_string_attribute("/branch", "columns"));
+  t.observables = split_names(f.read_string_attribute("/branch", "observables"));
+  t.monitors = split_names(f.read_string_attribute("/branch", "monitors"));
   t.state_scale = f.read_double_attribute("/branch", "state_scale");
   t.theta = f.read_double_attribute("/branch", "theta");
   t.status = f.read_string("/branch/status");
@@ -244,13 +219,6 @@ BranchPoint read_branch_point(const std::string& path, int row) {
 }
 
 namespace {
-using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-Eigen::MatrixXd read_rows(const H5File& f, const std::string& dataset) {
-  if (!f.exists(dataset)) return {};
-  long r = 0, c = 0;
-  const auto data = f.read_matrix(dataset, &r, &c);
-  return Eigen::Map<const RowMajor>(data.data(), r, c);
-}
 // The rows of m whose first column (a table row) is at most `row`; m is ordered by that column.
 Eigen::MatrixXd rows_up_to(const Eigen::MatrixXd& m, int row) {
   long n = 0;
@@ -263,9 +231,10 @@ BranchSeed read_branch_seed(const std::string& path) {
   H5File f(path, H5File::Mode::Read);
   if (!f.exists("/branch/table")) throw std::runtime_error("'" + path + "' is not a branch file");
   BranchSeed seed;
-  seed.columns = split(f.read_string_attribute("/branch", "columns"));
-  const Eigen::MatrixXd table = read_rows(f, "/branch/table"), saved = read_rows(f, "/branch/saved");
-  const Eigen::MatrixXd solutions = read_rows(f, "/branch/solutions"), tangents = read_rows(f, "/branch/tangents");
+  seed.columns = split_names(f.read_string_attribute("/branch", "columns"));
+  const Eigen::MatrixXd table = read_table_rows(f, "/branch/table"), saved = read_table_rows(f, "/branch/saved");
+  const Eigen::MatrixXd solutions = read_table_rows(f, "/branch/solutions"),
+                        tangents = read_table_rows(f, "/branch/tangents");
   // a killed writer may have stored a solution whose table row never came, or half of a pair
   const long usable = std::min({saved.rows(), solutions.rows(), tangents.rows()});
   long slots = 0;
@@ -276,14 +245,30 @@ BranchSeed read_branch_seed(const std::string& path) {
   seed.saved = saved.topRows(slots);
   seed.solutions = solutions.topRows(slots);
   seed.tangents = tangents.topRows(slots);
-  seed.events = rows_up_to(read_rows(f, "/branch/events"), seed.row);
-  const Eigen::MatrixXd modes = read_rows(f, "/branch/eigenvector_rows"),
-                        vectors = read_rows(f, "/branch/eigenvectors");
+  seed.events = rows_up_to(read_table_rows(f, "/branch/events"), seed.row);
+  const Eigen::MatrixXd modes = read_table_rows(f, "/branch/eigenvector_rows"),
+                        vectors = read_table_rows(f, "/branch/eigenvectors");
   long m = rows_up_to(modes, seed.row).rows();
   m = std::min(m, vectors.rows() / 2);
   seed.eigenvector_rows = modes.topRows(m);
   seed.eigenvectors = vectors.topRows(2 * m);
   return seed;
+}
+
+std::optional<StoredMode> read_branch_mode(const std::string& path, int row) {
+  H5File f(path, H5File::Mode::Read);
+  const Eigen::MatrixXd rows = read_table_rows(f, "/branch/eigenvector_rows"),
+                        vectors = read_table_rows(f, "/branch/eigenvectors");
+  for (long k = 0; k < rows.rows() && 2 * k + 1 < vectors.rows(); ++k)
+    if (static_cast<int>(rows(k, 0)) == row) {
+      StoredMode m;
+      m.re = vectors.row(2 * k).transpose();
+      m.im = vectors.row(2 * k + 1).transpose();
+      m.sigma_re = rows(k, 2);
+      m.sigma_im = rows(k, 3);
+      return m;
+    }
+  return std::nullopt;
 }
 
 bool write_branch_fields(const std::string& branch_path, const std::string& fields_path, const std::string& xdmf_path,
@@ -296,35 +281,22 @@ bool write_branch_fields(const std::string& branch_path, const std::string& fiel
   const auto U = f.read_matrix("/branch/solutions", &sol, &n);
   const std::string parameter = f.read_string_attribute("/branch", "parameter");
   f.close();
-  const bool in_place = same_file(fields_path, branch_path);
-  H5File out(fields_path, in_place ? H5File::Mode::ReadWrite : H5File::Mode::Create);
-  std::vector<XdmfSolution> steps;
-  SolutionFields layout;
-  for (long i = 0; i < std::min(r, sol); ++i) {
-    if (stop && stop()) return false;
-    signal_point("fields");
-    const double lambda = saved[static_cast<size_t>(i * c + 2)];
-    const int row = static_cast<int>(saved[static_cast<size_t>(i * c)]);
-    const Vector u = Eigen::Map<const Vector>(&U[static_cast<size_t>(i * n)], n);
-    SolutionFields sf = fields(u, lambda);
-    const std::string group = fmt::format("/branch/fields/{}", i);
-    if (!out.exists(group)) {  // written by an earlier run of this function: keep it
-      write_fields(out, group, sf);
-      out.set_attribute(group, "row", static_cast<long>(row));
-      out.set_attribute(group, parameter, lambda);
-    }
-    if (sf.mesh) {
-      if (!out.exists("/mesh")) write_mesh(out, "/mesh", *sf.mesh);
-      // time = table row: the parameter need not be monotone along a branch with folds
-      steps.push_back(
-          {group.substr(1), fmt::format("row {} ({} = {:.6g})", row, parameter, lambda), static_cast<double>(row)});
-      layout = sf;
-    }
-  }
-  out.close();
-  if (stop && stop()) return false;
-  if (!steps.empty() && layout.mesh) write_xdmf(xdmf_path, h5_name, "mesh", *layout.mesh, steps, layout);
-  return true;
+  return write_state_fields(
+      fields_path, same_file(fields_path, branch_path), std::min(r, sol),
+      [&](long i) {
+        const long row = static_cast<long>(saved[static_cast<size_t>(i * c)]);
+        const double lambda = saved[static_cast<size_t>(i * c + 2)];
+        // time = table row: the parameter need not be monotone along a branch with folds
+        return StoredState{Eigen::Map<const Vector>(&U[static_cast<size_t>(i * n)], n),
+                           fmt::format("/branch/fields/{}", i),
+                           fmt::format("row {} ({} = {:.6g})", row, parameter, lambda),
+                           static_cast<double>(row),
+                           "row",
+                           row,
+                           parameter,
+                           lambda};
+      },
+      [&](const StoredState& s) { return fields(s.u, s.value); }, xdmf_path, h5_name, stop);
 }
 
 }  // namespace keller

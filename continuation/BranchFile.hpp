@@ -15,6 +15,7 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -89,6 +90,14 @@ BranchTable read_branch_table(const std::string& path);
 // A stored point (solution, tangent, step, arclength). Throws std::invalid_argument listing the
 // stored rows if `row` has no stored solution; row = -1 means the last stored one.
 BranchPoint read_branch_point(const std::string& path, int row);
+
+// The critical eigenvector stored with a row of a branch file (/branch/eigenvectors): phi = re + i im
+// with its eigenvalue sigma. Nothing when the row has none (no [stability], or not a stored row).
+struct StoredMode {
+  Vector re, im;
+  double sigma_re = 0.0, sigma_im = 0.0;
+};
+std::optional<StoredMode> read_branch_mode(const std::string& path, int row);
 
 // Writes the fields of every stored solution into /branch/fields/<slot> of `fields_path` (the
 // branch file itself, opened for writing, when the two paths are equal; otherwise a new file)

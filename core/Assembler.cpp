@@ -247,6 +247,37 @@ Status Assembler::mass_matrix(const Vector& u, SparseMatrix& B) const {
   return {};
 }
 
+Status Assembler::time_residual(const Vector& u, const Vector& udot, Vector& R) const {
+  R.setZero(n_);
+  std::vector<int> dofs;
+  std::vector<double> ul, vl, rl;
+  for (const auto& tp : terms_) {
+    const Term& t = *tp;
+    if (!t.has_mass()) continue;
+    const int m = t.local_size(), k = t.local_rows();
+    dofs.resize(m);
+    ul.resize(m);
+    vl.resize(m);
+    rl.resize(k);
+    for (int item = 0; item < t.num_items(); ++item) {
+      t.item_dofs(item, dofs.data());
+      for (int j = 0; j < m; ++j) {
+        ul[j] = u[dofs[j]];
+        vl[j] = udot[dofs[j]];
+      }
+      Status st = t.rate(item, ul.data(), vl.data(), rl.data());
+      if (!st.is_ok()) return item_failure(t, item, st);
+      for (int i = 0; i < k; ++i) {
+        const int r = destination(t, dofs[i]);
+        if (r >= 0) R[r] += rl[i];
+      }
+    }
+  }
+  if (auto bad = non_finite_entries(R, 1); !bad.empty())
+    return {StatusCode::NotFinite, fmt::format("time terms not finite in row {}", bad[0])};
+  return {};
+}
+
 Status Assembler::parameter_derivative(int p, const Vector& u, Vector& dF) const {
   const auto t0 = std::chrono::steady_clock::now();
   Status st = assemble_vector(u, dF, [p](const Term& t, int item, const double* ul, double* rl) {

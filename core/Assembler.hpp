@@ -44,8 +44,12 @@ class Assembler {
   // The weak (integrated) terms alone, each row kept where it was assembled (no strong rows,
   // no redirects): at a Dirichlet row this is the reaction, the consistent boundary traction.
   Status weak_residual(const Vector& u, Vector& F) const;
-  // Mass matrix B of B du/dt = -F (structure of pattern()); rows owned by strong terms are zero.
+  // Mass matrix B of B du/dt = -F (structure of pattern()); rows owned by strong terms are zero
+  // unless the term itself has time terms.
   Status mass_matrix(const Vector& u, SparseMatrix& B) const;
+  // The time terms B(u) udot, assembled like the residual (redirects included) from each term's
+  // rate(): no matrix is formed.
+  Status time_residual(const Vector& u, const Vector& udot, Vector& R) const;
 
   const Timing& timing() const { return timing_; }
   void reset_timing() { timing_ = {}; }

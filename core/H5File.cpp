@@ -330,6 +330,22 @@ void H5File::append_rows(const std::string& dataset, const double* data, long ro
   if (H5Dflush(ds) < 0) fail(path_, "cannot flush " + dataset);
 }
 
+void H5File::write_rows(const std::string& dataset, long first, const double* data, long rows) {
+  Handle ds(H5Dopen2(file_, dataset.c_str(), H5P_DEFAULT), H5Dclose);
+  if (ds < 0) fail(path_, "no dataset " + dataset);
+  Handle fspace(H5Dget_space(ds), H5Sclose);
+  hsize_t dims[2] = {0, 0};
+  H5Sget_simple_extent_dims(fspace, dims, nullptr);
+  if (first < 0 || static_cast<hsize_t>(first + rows) > dims[0])
+    fail(path_, fmt::format("rows {} to {} are outside {} ({} rows)", first, first + rows - 1, dataset, dims[0]));
+  const hsize_t start[2] = {static_cast<hsize_t>(first), 0};
+  const hsize_t count[2] = {static_cast<hsize_t>(rows), dims[1]};
+  H5Sselect_hyperslab(fspace, H5S_SELECT_SET, start, nullptr, count, nullptr);
+  Handle mspace(H5Screate_simple(2, count, nullptr), H5Sclose);
+  if (H5Dwrite(ds, H5T_NATIVE_DOUBLE, mspace, fspace, H5P_DEFAULT, data) < 0) fail(path_, "cannot write " + dataset);
+  if (H5Dflush(ds) < 0) fail(path_, "cannot flush " + dataset);
+}
+
 void H5File::create_fixed_string(const std::string& dataset, long capacity) {
   Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
   H5Tset_size(type, static_cast<size_t>(capacity));

@@ -55,6 +55,9 @@ class H5File {
   void create_appendable(const std::string& dataset, long cols, long chunk_rows = 64);
   void append_rows(const std::string& dataset, const double* data, long rows);
   long num_rows(const std::string& dataset) const;
+  // Overwrites `rows` rows from `first` on of an existing 2D dataset (allowed in SWMR mode, unlike
+  // creating or extending: a ring of states rewritten in place).
+  void write_rows(const std::string& dataset, long first, const double* data, long rows);
   // Overwrite a fixed-size string dataset created with create_fixed_string.
   void create_fixed_string(const std::string& dataset, long capacity);
   void write_fixed_string(const std::string& dataset, const std::string& value);

@@ -11,9 +11,12 @@
 //   template <class T, class P>
 //   Status evaluate(int item, const T* u, const P* params, T* r) const;
 // where T is the scalar of the unknowns and residual and P that of the parameter values.
-// A kernel whose equations carry time derivatives also provides
+// A kernel whose equations carry time derivatives also provides their time terms, written once
+// and templated on the scalar of the rates,
+//   template <class W> Status rate(int item, const double* u, const W* udot, const double* params, W* r) const;
+// r = B(u) udot (kRows), from which the local block of B in B du/dt = -F (row-major kRows x kSize)
+// is taken exactly by dual numbers (Dual<kSize>, the rates the variables); or the block itself,
 //   Status mass(int item, const double* u, const double* params, double* B) const;
-// the local block of B in B du/dt = -F (row-major kSize x kSize).
 // evaluate is instantiated with (double, double) for residuals, (Dual<kSize>, double) for the
 // Jacobian and (Dual<1>, Dual<1>) for dF/dp, so kernels must only mix T with P and double in
 // ways that give T.
@@ -80,14 +83,31 @@ class KernelTerm final : public Term {
     return st;
   }
 
-  bool has_mass() const override {
-    return requires(const Kernel& k, const double* x, double* y) { k.mass(0, x, x, y); };
-  }
+  static constexpr bool kHasRate = requires(const Kernel& k, const double* x, double* y) { k.rate(0, x, x, x, y); };
+  static constexpr bool kHasMass = requires(const Kernel& k, const double* x, double* y) { k.mass(0, x, x, y); };
+
+  bool has_mass() const override { return kHasRate || kHasMass; }
   Status mass(int item, const double* u, double* B) const override {
-    if constexpr (requires(const Kernel& k, const double* x, double* y) { k.mass(0, x, x, y); })
+    if constexpr (kHasRate) {
+      // the rates as the variables: r is linear in them, its derivatives are B's rows
+      std::array<JacobianScalar, N> udot;
+      std::array<JacobianScalar, R> rd;
+      for (int j = 0; j < N; ++j) udot[j] = make_variable<N>(0.0, j);
+      Status st = kernel_.template rate<JacobianScalar>(item, u, udot.data(), params_->values(), rd.data());
+      for (int i = 0; i < R; ++i)
+        for (int j = 0; j < N; ++j) B[i * N + j] = rd[i].derivatives()[j];
+      return st;
+    } else if constexpr (kHasMass) {
       return kernel_.mass(item, u, params_->values(), B);
-    else
+    } else {
       return {};
+    }
+  }
+  Status rate(int item, const double* u, const double* udot, double* r) const override {
+    if constexpr (kHasRate)
+      return kernel_.template rate<double>(item, u, udot, params_->values(), r);
+    else
+      return Term::rate(item, u, udot, r);
   }
 
   const Kernel& kernel() const { return kernel_; }

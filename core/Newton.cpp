@@ -22,7 +22,7 @@ NewtonSolver::NewtonSolver(Problem& problem, NewtonOptions options, SparseLUOpti
       lu_(std::make_shared<SparseLU>(lu_options)),
       J_(problem.jacobian_pattern()) {}
 
-NewtonResult NewtonSolver::solve(Vector& u, const Observer& observer) {
+NewtonResult NewtonSolver::solve(Vector& u, const Observer& observer, bool on_kept) {
   NewtonResult res;
   const auto t_start = Clock::now();
   ConvergenceTest test;
@@ -43,7 +43,9 @@ NewtonResult NewtonSolver::solve(Vector& u, const Observer& observer) {
   double previous = INFINITY;  // |F| one iteration before normF
   double contraction = 0.0;    // the fall of the last iteration, the chord's rate on a kept factorisation
   int on_this_matrix = 0;      // iterations made with the present factorisation
-  bool reuse = false;          // the next iteration solves with the last factorisation (RenewalPolicy)
+  // the next iteration solves with the last factorisation (RenewalPolicy)
+  bool reuse = on_kept && lu_->factorized();
+  if (reuse) test.problem_floor = floor_;
   for (int k = 0;; ++k) {
     if (normF <= test.tolerance) break;
     if (k >= options_.max_iterations) {
@@ -66,7 +68,8 @@ NewtonResult NewtonSolver::solve(Vector& u, const Observer& observer) {
         res.status = {st.code(), "Jacobian: " + st.message()};
         break;
       }
-      test.problem_floor = rounding_floor(J_, u);
+      floor_ = rounding_floor(J_, u);
+      test.problem_floor = floor_;
       t0 = Clock::now();
       st = lu_->factorize(J_);
       it.factor_seconds = since(t0);

@@ -59,8 +59,11 @@ class NewtonSolver {
   using Observer = std::function<void(const NewtonIteration&)>;
 
   NewtonSolver(Problem& problem, NewtonOptions options = {}, SparseLUOptions lu_options = {});
-  // Solves F(u) = 0 from the given u; on failure u holds the last accepted iterate.
-  NewtonResult solve(Vector& u, const Observer& observer = {});
+  // Solves F(u) = 0 from the given u; on failure u holds the last accepted iterate. With
+  // `on_kept`, the first iteration solves with the factorisation kept from the last solve (of a
+  // nearby problem, such as the previous time step's matrix), renewed by the renewal policy like
+  // any chord; without one (or without `on_kept`) it starts with a new Jacobian.
+  NewtonResult solve(Vector& u, const Observer& observer = {}, bool on_kept = false);
   SparseLU& lu() { return *lu_; }
   // The last factorisation of J (shared: a continuation from the solution may keep it), the
   // Jacobian it factorises and the iterate where that was assembled.
@@ -75,6 +78,7 @@ class NewtonSolver {
   std::shared_ptr<SparseLU> lu_;
   SparseMatrix J_;
   Vector J_at_;
+  double floor_ = 0.0;  // rounding_floor() at the last assembled Jacobian
 };
 
 // Scene keys of [newton] and reading them back.

@@ -45,6 +45,14 @@ Status Problem::mass_matrix(const Vector&, SparseMatrix&) {
   throw std::logic_error("problem '" + name() + "' has no mass matrix (no time-dependent form)");
 }
 
+Status Problem::time_residual(const Vector& u, const Vector& udot, Vector& R) {
+  SparseMatrix B;
+  Status st = mass_matrix(u, B);
+  if (!st.is_ok()) return st;
+  R = B * udot;
+  return {};
+}
+
 Status Problem::observables(const Vector&, std::vector<double>& values) {
   values.clear();
   return {};

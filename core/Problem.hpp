@@ -38,6 +38,10 @@ class Problem {
   // Mass matrix B of B du/dt = -F (structure of jacobian_pattern(); rows without a time
   // derivative are zero). The default throws: a problem without dynamics has no B.
   virtual Status mass_matrix(const Vector& u, SparseMatrix& B);
+  // The time terms of the time-dependent residual B(u) du/dt + F(u): R = B(u) udot. The default
+  // forms B; problems assembled from terms evaluate them directly (a time step needs them at
+  // every residual, B only with the Jacobian).
+  virtual Status time_residual(const Vector& u, const Vector& udot, Vector& R);
 
   // A starting guess consistent with the boundary conditions.
   virtual Vector initial_guess() = 0;

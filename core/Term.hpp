@@ -33,6 +33,10 @@ class Term {
   // Whether the item's equations carry time derivatives: B du/dt = -F (B row-major like J).
   virtual bool has_mass() const { return false; }
   virtual Status mass(int item, const double* u, double* B) const { return {}; }
+  // The time terms of the item's rows, r = B(u) udot (local_rows()): the part of the
+  // time-dependent residual B du/dt + F that holds the time derivatives. The default multiplies
+  // mass() out; a term that writes them directly (KernelTerm) evaluates them without forming B.
+  virtual Status rate(int item, const double* u, const double* udot, double* r) const;
 };
 
 }  // namespace keller

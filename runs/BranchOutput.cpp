@@ -41,26 +41,21 @@ struct Scratch {
 
 }  // namespace
 
-PublishedBranch publish_branch(const std::string& work, const std::string& target, const std::string& xdmf,
-                               bool with_fields, const FieldsAt& fields, const std::function<bool()>& stop) {
+PublishedBranch publish_output(const std::string& work, const std::string& target, const std::string& xdmf,
+                               bool with_fields, const AddFields& add, const std::function<bool()>& stop) {
   PublishedBranch out;
   const bool in_place = same_file(work, target);
   if (with_fields) {
     const std::string h5_name = fs::path(target).filename().string();
-    const std::string stem = fs::path(xdmf).replace_extension().string();
     const std::string staged = target + ".fields.part";
     Scratch scratch;
     scratch.paths = {staged, xdmf + pending_suffix};
     std::error_code ec;
     fs::remove(staged, ec);
     fs::copy_file(work, staged);
-    bool complete = write_branch_fields(staged, staged, xdmf + pending_suffix, h5_name, fields, stop);
-    std::vector<std::string> modes;
-    if (complete) {
-      modes = write_branch_modes(staged, h5_name, stem, pending_suffix, fields, stop);
-      scratch.paths.insert(scratch.paths.end(), modes.begin(), modes.end());
-      complete = !(stop && stop());
-    }
+    const std::optional<std::vector<std::string>> more = add(staged, xdmf + pending_suffix, h5_name, pending_suffix);
+    if (more) scratch.paths.insert(scratch.paths.end(), more->begin(), more->end());
+    const bool complete = more && !(stop && stop());
     signal_point("fields-written");
     if (complete) {
       sync_file(staged);
@@ -70,7 +65,7 @@ PublishedBranch publish_branch(const std::string& work, const std::string& targe
       for (const std::string& p : scratch.paths)
         if (p != staged && fs::exists(p)) move_file(p, p.substr(0, p.size() - std::string(pending_suffix).size()));
       out.fields = true;
-      out.modes = static_cast<int>(modes.size());
+      out.modes = static_cast<int>(more->size());
       if (!in_place) fs::remove(work, ec);
       return out;
     }
@@ -81,6 +76,19 @@ PublishedBranch publish_branch(const std::string& work, const std::string& targe
     signal_point("published");
   }
   return out;
+}
+
+PublishedBranch publish_branch(const std::string& work, const std::string& target, const std::string& xdmf,
+                               bool with_fields, const FieldsAt& fields, const std::function<bool()>& stop) {
+  const std::string stem = fs::path(xdmf).replace_extension().string();
+  return publish_output(
+      work, target, xdmf, with_fields,
+      [&](const std::string& staged, const std::string& xdmf_pending, const std::string& h5_name,
+          const std::string& suffix) -> std::optional<std::vector<std::string>> {
+        if (!write_branch_fields(staged, staged, xdmf_pending, h5_name, fields, stop)) return std::nullopt;
+        return write_branch_modes(staged, h5_name, stem, suffix, fields, stop);
+      },
+      stop);
 }
 
 }  // namespace keller

@@ -6,12 +6,15 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <optional>
 
 #include "continuation/BranchFile.hpp"
+#include "continuation/TimeSeriesFile.hpp"
 #include "core/H5File.hpp"
 #include "core/PendingFile.hpp"
 #include "core/RunFiles.hpp"
 #include "runs/BranchOutput.hpp"
+#include "runs/EvolveCommand.hpp"
 #include "runs/ExitCode.hpp"
 #include "runs/Interrupts.hpp"
 #include "runs/OutputFile.hpp"
@@ -24,7 +27,39 @@ namespace fs = std::filesystem;
 
 namespace {
 
-void write_csv(std::ostream& o, const BranchTable& t) {
+// The table of a branch file or of a time-series file (keller evolve), as the file holds it.
+struct Table {
+  std::vector<std::string> columns;
+  Eigen::MatrixXd rows;
+  std::string status;
+  bool time_series = false;
+  std::string parameter;  // a branch's
+};
+
+Table read_table(const std::string& path) {
+  bool series = false;
+  {
+    H5File f(path, H5File::Mode::Read);
+    series = f.exists("/evolve/table");
+  }
+  Table t;
+  t.time_series = series;
+  if (series) {
+    TimeTable s = read_time_table(path);
+    t.columns = std::move(s.columns);
+    t.rows = std::move(s.rows);
+    t.status = std::move(s.status);
+  } else {
+    BranchTable b = read_branch_table(path);
+    t.columns = std::move(b.columns);
+    t.rows = std::move(b.rows);
+    t.status = std::move(b.status);
+    t.parameter = std::move(b.parameter);
+  }
+  return t;
+}
+
+void write_csv(std::ostream& o, const Table& t) {
   for (size_t j = 0; j < t.columns.size(); ++j) o << (j ? "," : "") << t.columns[j];
   o << "\n";
   for (long i = 0; i < t.rows.rows(); ++i) {
@@ -60,7 +95,7 @@ int run_export(const ExportArguments& args) {
   const bool to_stdout = args.csv == "-";
   try {
     RunFiles files;
-    files.input("branch file", args.input);
+    files.input("branch or time-series file", args.input);
     if (!args.csv.empty() && !to_stdout) {
       files.output("--csv file", args.csv);
       files.output("--csv file's temporary", PendingFile::temporary_for(args.csv));
@@ -76,7 +111,7 @@ int run_export(const ExportArguments& args) {
   }
   InterruptGuard interrupts;
   try {
-    const BranchTable t = read_branch_table(args.input);
+    const Table t = read_table(args.input);
     if (to_stdout) {
       write_csv(std::cout, t);
       std::cout.flush();
@@ -97,17 +132,34 @@ int run_export(const ExportArguments& args) {
         H5File f(args.input, H5File::Mode::Read);
         scene_text = f.read_string("/scene");
       }
-      LoadedScene loaded = load_scene_text(scene_text, args.input + ":/scene", declare_trace_keys);
+      LoadedScene loaded =
+          load_scene_text(scene_text, args.input + ":/scene", t.time_series ? declare_evolve_keys : declare_trace_keys);
       auto problem = loaded.type->build(loaded.scene);
-      const int p = problem->parameters().index(t.parameter);
+      if (t.time_series) {  // the parameters the run used (the scene's, or those of the point it started from)
+        H5File f(args.input, H5File::Mode::Read);
+        for (const auto& [name, value] : read_run_header(f).parameters)
+          if (problem->parameters().has(name)) problem->parameters().set(name, value);
+      }
+      const int p = t.time_series ? -1 : problem->parameters().index(t.parameter);
       const FieldsAt fields_at = [&](const Vector& u, double lambda) {
-        problem->parameters().set(p, lambda);
+        if (p >= 0) problem->parameters().set(p, lambda);
         return problem->fields(u);
       };
+      const auto fields_of = [&](const Vector& u) { return problem->fields(u); };
       const std::string xdmf = xdmf_path_for(args.input);
       if (closed_cleanly(args.input)) {
         const PublishedBranch b =
-            publish_branch(args.input, args.input, xdmf, true, fields_at, &InterruptGuard::requested);
+            t.time_series
+                ? publish_output(
+                      args.input, args.input, xdmf, true,
+                      [&](const std::string& staged, const std::string& pending, const std::string& h5_name,
+                          const std::string&) -> std::optional<std::vector<std::string>> {
+                        if (!write_time_fields(staged, staged, pending, h5_name, fields_of, &InterruptGuard::requested))
+                          return std::nullopt;
+                        return std::vector<std::string>{};
+                      },
+                      &InterruptGuard::requested)
+                : publish_branch(args.input, args.input, xdmf, true, fields_at, &InterruptGuard::requested);
         if (!b.fields) {
           fmt::print("interrupted: {} is as it was\n", args.input);
           return exit_code::interrupted;
@@ -117,8 +169,12 @@ int run_export(const ExportArguments& args) {
         // a file whose writer runs or was killed takes no datasets: the fields go beside it
         const std::string companion = companion_for(args.input);
         PendingFile fields(companion);
-        if (!write_branch_fields(args.input, fields.path(), xdmf + ".pending", fs::path(companion).filename().string(),
-                                 fields_at, &InterruptGuard::requested)) {
+        const std::string name = fs::path(companion).filename().string();
+        const bool complete = t.time_series ? write_time_fields(args.input, fields.path(), xdmf + ".pending", name,
+                                                                fields_of, &InterruptGuard::requested)
+                                            : write_branch_fields(args.input, fields.path(), xdmf + ".pending", name,
+                                                                  fields_at, &InterruptGuard::requested);
+        if (!complete) {
           fmt::print("interrupted: nothing written\n");
           return exit_code::interrupted;
         }

@@ -1,5 +1,6 @@
-// `keller export BRANCH.h5 [--csv FILE|-] [--xdmf]`: the branch table as CSV (to a file or the
-// standard output), and the fields of the stored solutions with an XDMF file for ParaView.
+// `keller export BRANCH.h5 [--csv FILE|-] [--xdmf]`: the branch table (or the time table of a
+// `keller evolve` run) as CSV (to a file or the standard output), and the fields of the stored
+// solutions (states) with an XDMF file for ParaView.
 #pragma once
 
 #include <string>

@@ -5,7 +5,9 @@
 #include <cstdint>
 #include <filesystem>
 #include <sstream>
+#include <tuple>
 
+#include "core/PendingFile.hpp"
 #include "core/SolutionWriter.hpp"
 
 namespace keller {
@@ -52,6 +54,43 @@ std::string record_difference(const std::string& stored, const std::string& now)
   for (const auto& [key, value] : b)
     if (!a.count(key)) add(fmt::format("{} = {} in this scene, not in the file", key, value));
   return out;
+}
+
+void declare_run_outputs(RunFiles& files, const std::string& out, const std::string& what, bool with_fields) {
+  files.output(what, out);
+  files.output("unfinished " + what, PendingFile::temporary_for(out));
+  files.output(what + "'s copy with fields", out + ".fields.part");
+  if (with_fields) files.output("XDMF file", xdmf_path_for(out));
+}
+
+bool continues_unfinished(const std::string& work, const std::string& record, bool fresh, const std::string& what,
+                          const std::string& unit, const UnfinishedTable& table) {
+  if (!std::filesystem::exists(work)) return false;
+  long rows = 0;
+  std::string status, stored;
+  try {
+    std::tie(rows, status) = table(work);
+    H5File f(work, H5File::Mode::Read);
+    if (f.exists("/problem/run")) stored = f.read_string("/problem/run");
+  } catch (const std::exception&) {
+    fmt::print("note: '{}' is not a readable {} file; this run replaces it\n", work, what);
+    return false;
+  }
+  if (status != "running" && status.rfind("interrupted", 0) != 0) {
+    fmt::print("note: '{}' holds a {} that ended ({}); this run replaces it\n", work, what, status);
+    return false;
+  }
+  if (fresh) {
+    fmt::print("note: --fresh: the unfinished {} in '{}' ({} {}) is discarded\n", what, work, rows, unit);
+    return false;
+  }
+  if (stored != record)
+    throw std::invalid_argument(fmt::format(
+        "'{}' holds the unfinished {} ({} {}) of another run ({}); move it away to keep it, or pass --fresh to "
+        "discard it",
+        work, what, rows, unit,
+        stored.empty() ? "no record of its run" : "it differs in: " + record_difference(stored, record)));
+  return true;
 }
 
 void write_run_header(H5File& file, const LoadedScene& loaded, const Problem& problem) {

@@ -4,12 +4,14 @@
 // them back to check that a stored state belongs to the scene at hand.
 #pragma once
 
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
 
 #include "core/H5File.hpp"
 #include "core/Problem.hpp"
+#include "core/RunFiles.hpp"
 #include "runs/SceneLoader.hpp"
 
 namespace keller {
@@ -23,6 +25,21 @@ std::string text_hash(const std::string& text);
 // What differs between two records of "key = value" lines (Scene::canonical_values), e.g.
 // 'fluid.model = "fene-p" in the file, "oldroyd-b" in this scene'; empty when they agree.
 std::string record_difference(const std::string& stored, const std::string& now);
+
+// The outputs of a run written to OUT.part and renamed to OUT when complete, with its fields added
+// to OUT.fields.part first and an XDMF file beside it (`with_fields`); `what` names OUT in messages
+// ("branch file").
+void declare_run_outputs(RunFiles& files, const std::string& out, const std::string& what, bool with_fields);
+
+// Whether `work` (OUT.part) holds the unfinished run of this very command, to be continued: false
+// (saying why on the terminal) where there is no file, it cannot be read, its run ended by itself,
+// or `fresh` discards it. `table` reads its rows and status ("running" while a writer ran;
+// "interrupted ..." for a stopped run), and `what` and `unit` name them ("branch", "rows"). The
+// record of its run (/problem/run) must be `record`: else std::invalid_argument, an unfinished run
+// of another command is never overwritten.
+using UnfinishedTable = std::function<std::pair<long, std::string>(const std::string& path)>;
+bool continues_unfinished(const std::string& work, const std::string& record, bool fresh, const std::string& what,
+                          const std::string& unit, const UnfinishedTable& table);
 
 // Writes /scene (resolved TOML), /problem (attributes name, summary, unknowns, physics_hash),
 // /problem/physics (LoadedScene::physics()) and /problem/parameters (an attribute per parameter).

@@ -2,6 +2,7 @@
 // task.
 #pragma once
 
+#include <optional>
 #include <string>
 
 namespace keller {
@@ -22,5 +23,17 @@ struct RunSummary {
   double nnz_lu = 0, lu_peak_mb = 0;
   double factor_seconds = 0, solve_seconds = 0;
 };
+
+// Reports a run that stops on an error ("keller: error: ..." on stderr) with its exit code, kept in
+// `summary`; returns the code.
+int fail_run(RunSummary& summary, int code, const std::string& message);
+
+// The end of a run written to `work` (OUT.part) that takes the name `out` once complete: an
+// interrupted run stays in `work`, to be continued by the same command (exit 130), and a failed one
+// (exit 1) never replaces an existing `out`. Returns the exit code where the file stays in `work`
+// (saying so, `what` naming the content: "branch", "time series"; `short_of` why it ended early),
+// nothing where it is to take its name; `summary` gets the code and the file.
+std::optional<int> stays_unfinished(bool interrupted, bool failed, const std::string& work, const std::string& out,
+                                    const std::string& what, const std::string& short_of, RunSummary& summary);
 
 }  // namespace keller

@@ -65,6 +65,16 @@ LoadedScene load_scene_text(const std::string& text, const std::string& source,
                 [&](const SceneSchema& schema) { return Scene::parse(text, source, schema); });
 }
 
+std::unique_ptr<Problem> build_problem(const LoadedScene& loaded, const std::string& file) {
+  try {
+    return loaded.type->build(loaded.scene);
+  } catch (const SceneError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw SceneError(fmt::format("{}: {}", file, e.what()));
+  }
+}
+
 std::string scene_help(const std::function<void(SceneSchema&)>& extra) {
   std::string out = "Keys common to every scene:\n\n";
   SceneSchema common;

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -35,6 +36,10 @@ LoadedScene load_scene(const std::string& file, const std::function<void(SceneSc
 // in messages.
 LoadedScene load_scene_text(const std::string& text, const std::string& source,
                             const std::function<void(SceneSchema&)>& extra = {});
+
+// Builds the scene's problem. Throws SceneError: the scene's own errors as they are, a problem's
+// refusal of its options (std::exception) prefixed with the scene file `file`.
+std::unique_ptr<Problem> build_problem(const LoadedScene& loaded, const std::string& file);
 
 // The full listing of every key of every problem type, for --help-scene.
 std::string scene_help(const std::function<void(SceneSchema&)>& extra = {});

@@ -45,45 +45,20 @@ std::string trace_run_record(const LoadedScene& loaded, const TraceArguments& a)
 
 namespace {
 
-// A branch whose run did not end by itself: killed (its status still "running") or stopped by
-// SIGINT or SIGTERM (the engine's reason then begins with "interrupted").
-bool unfinished_status(const std::string& status) { return status == "running" || status.rfind("interrupted", 0) == 0; }
-
 struct Unfinished {
   BranchSeed seed;
   BranchPoint point;
   double state_scale = 0, theta = 0;
 };
 
-// The unfinished run of this very command at `work`, to be continued. Nothing when there is no
-// file, a finished one or an unreadable one (the new run replaces it, saying so) or when `fresh`.
-// Throws std::invalid_argument if `work` holds the unfinished run of another command.
+// The unfinished run of this very command at `work`, to be continued (continues_unfinished).
 std::optional<Unfinished> unfinished_run(const std::string& work, const std::string& record, bool fresh) {
-  if (!fs::exists(work)) return {};
   BranchTable t;
-  std::string stored;
-  try {
-    t = read_branch_table(work);
-    H5File f(work, H5File::Mode::Read);
-    if (f.exists("/problem/run")) stored = f.read_string("/problem/run");
-  } catch (const std::exception&) {
-    fmt::print("note: '{}' is not a readable branch file; this run replaces it\n", work);
-    return {};
-  }
-  if (!unfinished_status(t.status)) {
-    fmt::print("note: '{}' holds a branch that ended ({}); this run replaces it\n", work, t.status);
-    return {};
-  }
-  if (fresh) {
-    fmt::print("note: --fresh: the unfinished branch in '{}' ({} rows) is discarded\n", work, t.rows.rows());
-    return {};
-  }
-  if (stored != record)
-    throw std::invalid_argument(fmt::format(
-        "'{}' holds the unfinished branch ({} rows) of another run ({}); move it away to keep it, or pass --fresh to "
-        "discard it",
-        work, t.rows.rows(),
-        stored.empty() ? "no record of its run" : "it differs in: " + record_difference(stored, record)));
+  const bool continues = continues_unfinished(work, record, fresh, "branch", "rows", [&](const std::string& path) {
+    t = read_branch_table(path);
+    return std::pair<long, std::string>(t.rows.rows(), t.status);
+  });
+  if (!continues) return {};
   Unfinished u;
   u.seed = read_branch_seed(work);
   u.point = read_branch_point(work, u.seed.row);
@@ -186,10 +161,7 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
       from->force = args.force;
       files.input(from->flag + " file", from->file);
     }
-    files.output("branch file", out);
-    files.output("unfinished branch file", work);
-    files.output("branch file's copy with fields", out + ".fields.part");
-    if (with_fields) files.output("XDMF file", xdmf_path_for(out));
+    declare_run_outputs(files, out, "branch file", with_fields);
     files.check();
   } catch (const std::exception& e) {
     return fail(exit_code::usage, e.what());
@@ -458,19 +430,10 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
 
   // 4. the branch takes its name: an interrupted one stays where it is, to be continued; a
   // failed one never replaces an existing file
-  if (result.code == StopCode::Interrupted) {
-    fmt::print("interrupted: the branch so far is in {}; run the same command again to continue it\n", work);
-    summary.output = work;
-    summary.exit_code = exit_code::interrupted;
-    return summary.exit_code;
-  }
-  const int code = result.code == StopCode::StepFloor ? exit_code::numerical_failure : exit_code::ok;
-  if (code != exit_code::ok && fs::exists(out)) {
-    fmt::print("the branch ended before its range; {} is kept as it was, this run's branch is in {}\n", out, work);
-    summary.output = work;
-    summary.exit_code = code;
-    return code;
-  }
+  if (const auto stays = stays_unfinished(result.code == StopCode::Interrupted, result.code == StopCode::StepFloor,
+                                          work, out, "branch", "before its range", summary))
+    return *stays;
+  const int code = summary.exit_code;
   const int p = problem->parameters().index(copt.parameter);
   const FieldsAt fields_at = [&](const Vector& u, double lambda) {
     problem->parameters().set(p, lambda);

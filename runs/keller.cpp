@@ -5,6 +5,7 @@
 #include <new>
 
 #include "continuation/ContinuationOptions.hpp"
+#include "runs/EvolveCommand.hpp"
 #include "runs/ExitCode.hpp"
 #include "runs/ExportCommand.hpp"
 #include "runs/SceneLoader.hpp"
@@ -62,9 +63,27 @@ int run(int argc, char** argv) {  // argc and argv go on to MPI_Init under mpiru
   cmd_trace->add_flag("--help-scene", trace_help_scene, "list every scene key with its default, range and doc");
   cmd_trace->footer(keller::exit_code::help);
 
+  keller::EvolveArguments evolve;
+  bool evolve_help_scene = false;
+  CLI::App* cmd_evolve = app.add_subcommand(
+      "evolve", "integrate B du/dt = -F in time from a steady state or a stored branch point (adaptive BDF2)");
+  cmd_evolve->add_option("scene", evolve.scene, "scene file (TOML); [evolve] sets the time span and the perturbation");
+  cmd_evolve->add_option("-o,--output", evolve.output,
+                         "time-series file (HDF5; default: <scene name>.h5 here); written as OUT.h5.part until the "
+                         "run reaches t_end");
+  cmd_evolve->add_option("--restart", evolve.restart,
+                         "start from a point stored in a branch file: FILE.h5:ROW (ROW a number or 'last')");
+  cmd_evolve->add_flag("--force", evolve.force,
+                       "start from a stored point that another problem, physics or parameter value made");
+  cmd_evolve->add_flag("--fresh", evolve.fresh, "discard an unfinished OUT.h5.part instead of continuing it");
+  cmd_evolve->add_option("--set", evolve.overrides, "override a scene key: section.key=value (repeatable)");
+  cmd_evolve->add_flag("--help-scene", evolve_help_scene, "list every scene key with its default, range and doc");
+  cmd_evolve->footer(keller::exit_code::help);
+
   keller::ExportArguments exp;
   CLI::App* cmd_export = app.add_subcommand("export", "export a branch file: table as CSV, fields as XDMF");
-  cmd_export->add_option("branch", exp.input, "branch file written by keller trace")->required();
+  cmd_export->add_option("branch", exp.input, "branch file written by keller trace (or time series by keller evolve)")
+      ->required();
   cmd_export->add_option("--csv", exp.csv, "write the branch table as CSV to this file ('-': the standard output)");
   cmd_export->add_flag("--xdmf", exp.xdmf, "write the fields of the stored solutions and an XDMF file for ParaView");
   cmd_export->footer(keller::exit_code::help);
@@ -122,6 +141,17 @@ int run(int argc, char** argv) {  // argc and argv go on to MPI_Init under mpiru
       return keller::exit_code::usage;
     }
     return keller::run_trace(trace);
+  }
+  if (cmd_evolve->parsed()) {
+    if (evolve_help_scene) {
+      fmt::print("{}", keller::scene_help(keller::declare_evolve_keys));
+      return keller::exit_code::ok;
+    }
+    if (evolve.scene.empty()) {
+      fmt::print(stderr, "keller: error: evolve needs a scene file (keller evolve SCENE.toml -o OUT.h5)\n");
+      return keller::exit_code::usage;
+    }
+    return keller::run_evolve(evolve);
   }
   if (cmd_export->parsed()) return keller::run_export(exp);
   if (cmd_study->parsed()) {

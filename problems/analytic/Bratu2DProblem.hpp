@@ -32,6 +32,9 @@ class Bratu2DProblem final : public Problem {
     return assembler_->parameter_derivative(p, u, dF);
   }
   Status mass_matrix(const Vector& u, SparseMatrix& B) override { return assembler_->mass_matrix(u, B); }
+  Status time_residual(const Vector& u, const Vector& udot, Vector& R) override {
+    return assembler_->time_residual(u, udot, R);
+  }
   Vector initial_guess() override { return Vector::Zero(size()); }
   std::vector<std::string> observable_names() const override { return {"u_max", "u_centre"}; }
   Status observables(const Vector& u, std::vector<double>& values) override;

@@ -49,6 +49,9 @@ class ChannelProblem final : public Problem {
   Status jacobian(const Vector& u, Vector& F, SparseMatrix& J) override;
   Status parameter_derivative(int p, const Vector& u, Vector& dF) override;
   Status mass_matrix(const Vector& u, SparseMatrix& B) override { return assembler_->mass_matrix(u, B); }
+  Status time_residual(const Vector& u, const Vector& udot, Vector& R) override {
+    return assembler_->time_residual(u, udot, R);
+  }
   Vector initial_guess() override;
   double residual_scale() const override;
   std::vector<std::string> observable_names() const override { return observables_.names(); }

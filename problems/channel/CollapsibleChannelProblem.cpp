@@ -26,6 +26,12 @@ void CollapsibleOptions::declare(SceneSchema& s) {
   s.real("parameters.t", 0.4, "wall thickness t (units of W)",
          Range::between(SolidWall::min_thickness, SolidWall::max_thickness));
   s.real("parameters.Pe", 0.04, "external pressure on the top of the wall (units of G)");
+  s.section("dynamics", "the time-dependent form B du/dt = -F (stability, keller evolve): docs/dynamics.md");
+  s.string("dynamics.mass_matrix", "fixed-wall",
+           "fixed-wall: time derivatives of the flow fields at the nodes, v = 0 on the interface (the wall follows "
+           "quasi-statically, no kinematics); moving-wall: the physical form, time derivatives at fixed points (ALE) "
+           "and v = dx/dt on the interface",
+           {"fixed-wall", "moving-wall"});
 }
 
 CollapsibleOptions CollapsibleOptions::from_scene(const Scene& scene) {
@@ -37,6 +43,7 @@ CollapsibleOptions CollapsibleOptions::from_scene(const Scene& scene) {
   o.motion = MeshMotionOptions::from_scene(scene);
   o.Gamma = scene.real("parameters.Gamma");
   o.Pe = scene.real("parameters.Pe");
+  o.moving_wall_dynamics = scene.string("dynamics.mass_matrix") == "moving-wall";
   return o;
 }
 
@@ -46,8 +53,14 @@ CollapsibleChannelProblem::CollapsibleChannelProblem(const CollapsibleOptions& o
   iGamma_ =
       params_.add("Gamma", options_.Gamma, "wall elasticity parameter (the mean inflow velocity)", Range::positive());
   FlowBoundaries bc;
-  bc.walls = {"bottom_wall", "top_wall", "interface"};
-  flow_ = std::make_unique<FlowEquations>(mesh_, "fluid", options_.fluid, bc, params_, iGamma_);
+  bc.walls = {"bottom_wall", "top_wall"};
+  if (options_.moving_wall_dynamics)
+    bc.moving_walls = {"interface"};
+  else
+    bc.walls.push_back("interface");
+  FluidOptions fluid = options_.fluid;
+  fluid.kernel.ale = options_.moving_wall_dynamics;
+  flow_ = std::make_unique<FlowEquations>(mesh_, "fluid", fluid, bc, params_, iGamma_);
   wall_ =
       std::make_unique<SolidWall>(mesh_, WallGeometry{g.upstream_length, g.upstream_length + g.deformable_length, 1.0},
                                   g.thickness, options_.Pe, params_);

@@ -3,7 +3,8 @@
 // solid of thickness t under the external pressure Pe. Unknowns: the flow fields on the fluid
 // elements, the node positions of fluid and solid ("position": elliptic mesh equations in the
 // fluid, solid equilibrium in the solid, shared at the interface), and the solid pressure.
-// Coupling (method.md): no slip on the deformed interface (v = 0), and the fluid momentum
+// Coupling (method.md): no slip on the deformed interface (v = 0; in the time-dependent form with
+// dynamics.mass_matrix = "moving-wall", v = dx/dt: docs/dynamics.md), and the fluid momentum
 // residual of each interface node (the consistent reaction) added to the solid's position row
 // of that node, so force balance holds without a boundary derivative of the velocity. The
 // fluid kernels take their geometry from the position unknowns: the Jacobian holds the shape
@@ -40,6 +41,11 @@ struct CollapsibleOptions {
   MeshMotionOptions motion;
   double Gamma = 4.95e-4;
   double Pe = 0.04;
+  // The time-dependent form (B of B du/dt = -F). false: the time derivatives of the flow fields at
+  // the nodes and no slip (v = 0) on the interface, the wall adjusting quasi-statically without
+  // kinematics; true: the physical form, time derivatives at fixed points of space (ALE: the nodal
+  // rate minus xdot . grad) and the kinematic condition v = dx/dt on the interface.
+  bool moving_wall_dynamics = false;
 
   static void declare(SceneSchema& schema);
   static CollapsibleOptions from_scene(const Scene& scene);
@@ -62,6 +68,9 @@ class CollapsibleChannelProblem final : public Problem {
     return assembler_->parameter_derivative(p, u, dF);
   }
   Status mass_matrix(const Vector& u, SparseMatrix& B) override { return assembler_->mass_matrix(u, B); }
+  Status time_residual(const Vector& u, const Vector& udot, Vector& R) override {
+    return assembler_->time_residual(u, udot, R);
+  }
   Vector initial_guess() override;
   double residual_scale() const override;
   // Pe from 0 (no external load: the initial guess is then nearly the solution), then, for a

@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "core/KernelTerm.hpp"
+#include "core/RateConstraintTerm.hpp"
 #include "problems/kernels/NewtonianFlowKernel.hpp"
 #include "problems/kernels/OutflowTractionKernel.hpp"
 #include "problems/laws/LogConformation.hpp"
@@ -163,7 +164,7 @@ void FlowEquations::add_kernels(const DofMap& dofs) {
   if (!options_.viscoelastic()) {
     terms_.push_back(std::make_shared<KernelTerm<NewtonianFlowKernel<Moving>>>(
         NewtonianFlowKernel<Moving>(*mesh_, dofs, elements_, &geometry_, index_, options_.inertia,
-                                    options_.kernel.source),
+                                    options_.kernel.source, options_.kernel.ale),
         params));
   } else if (options_.conformation_components() == 3) {
     terms_.push_back(std::make_shared<KernelTerm<ViscoelasticFlowKernel<3, Moving>>>(
@@ -207,12 +208,29 @@ void FlowEquations::build(const ComponentBuild& b) {
   for (int n : mesh_->boundary_nodes(boundaries_.outflow)) zeros.insert(dofs.node_dof(fv, n, 1));
   for (const std::string& s : boundaries_.symmetry)
     for (int n : mesh_->boundary_nodes(s)) zeros.insert(dofs.node_dof(fv, n, 1));
+  std::set<int> rigid;
   for (const std::string& w : boundaries_.walls)
-    for (int n : mesh_->boundary_nodes(w))
+    for (int n : mesh_->boundary_nodes(w)) {
+      rigid.insert(n);
       for (int c = 0; c < 2; ++c) {
         values.erase(dofs.node_dof(fv, n, c));
         zeros.insert(dofs.node_dof(fv, n, c));
       }
+    }
+  auto kinematic = std::make_shared<RateConstraintTerm>("kinematic");
+  for (const std::string& w : boundaries_.moving_walls)
+    for (int n : mesh_->boundary_nodes(w))
+      for (int c = 0; c < 2; ++c) {
+        const int dof = dofs.node_dof(fv, n, c);
+        values.erase(dof);
+        if (b.moving_mesh && !rigid.count(n)) {
+          zeros.erase(dof);
+          kinematic->add(dof, dofs.node_dof(dofs.field_index("position"), n, c));
+        } else {
+          zeros.insert(dof);
+        }
+      }
+  if (kinematic->num_items() > 0) terms_.push_back(kinematic);
   for (auto& [dof, g] : values) dirichlet.add(dof, g);
   for (int dof : zeros) dirichlet.add(dof, 0.0);
 }

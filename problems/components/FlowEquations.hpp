@@ -57,7 +57,11 @@ struct FluidOptions {
 struct FlowBoundaries {
   std::string inflow = "inflow";
   std::string outflow = "outflow";
-  std::vector<std::string> walls;             // no slip
+  std::vector<std::string> walls;  // no slip
+  // No slip on walls that move with the mesh (on a moving mesh): the time-dependent form's
+  // kinematic condition v = dx/dt (core/RateConstraintTerm), v = 0 at steady states; nodes also on a
+  // wall above keep v = 0.
+  std::vector<std::string> moving_walls;
   std::vector<std::string> symmetry;          // v_y = 0, tangential traction free
   double channel_lo = 0.0, channel_hi = 1.0;  // the walls of the channel the inflow profile is in
 };

@@ -6,7 +6,9 @@
 //   zz (FENE-P)   R = v . grad M_zz + (f M_zz - 1) / lambda_eff,  log: - (exp(-psi_zz) - f)
 // with lambda_eff = lambda eta_p(gdot(L)) / eta_p0 for Owens, lambda otherwise. The rows are
 // SUPG-weighted (Supg.hpp): int (chi + tau v . grad chi) [R - s] with an optional constitutive
-// source s (manufactured solutions). Local rows: component c at Q1 node k is row 4 c + k.
+// source s (manufactured solutions). Local rows: component c at Q1 node k is row 4 c + k. The
+// time-dependent form adds the same weight times dM/dt at a fixed point of space (ALE on a moving
+// mesh); the weight keeps the fluid velocity v, a Petrov-Galerkin choice consistent for any weight.
 #pragma once
 
 #include <cmath>
@@ -117,16 +119,23 @@ void add_conformation_rows(int q, const QpGeometry<G>& g, const T& tau, const T 
   }
 }
 
-// The conformation rows' mass block int (chi_k + tau v . grad chi_k) chi_l of the time-dependent
-// form (B: row-major with the given stride, starting at the first conformation row and column).
-template <int NC>
-void add_conformation_mass(int q, const QpGeometry<double>& g, double tau, const double (&v)[2], int stride,
-                           double* B) {
+// The conformation rows' time terms at Gauss point q (r: the first conformation row),
+// int (chi_k + tau v . grad chi_k) dM_c/dt with dM_c/dt at a fixed point of space: the Q1
+// interpolant of the nodal rates mdot (component c at node l: mdot[4 c + l]) minus xdot . grad M_c
+// on a mesh moving at xdot (ALE; null: a fixed mesh). The same for the log form's Psi.
+template <int NC, class W>
+void add_conformation_rate(int q, const QpGeometry<double>& g, double tau, const double (&v)[2], const W* mdot,
+                           const ConformationAt<NC, double, double>& c, const W* xdot, W* r) {
   const ref::Tables& tb = ref::tables();
+  W rate[NC];
+  for (int m = 0; m < NC; ++m) {
+    rate[m] = 0.0;
+    for (int l = 0; l < 4; ++l) rate[m] += tb.N1[q][l] * mdot[4 * m + l];
+    if (xdot) rate[m] -= xdot[0] * c.dm[m][0] + xdot[1] * c.dm[m][1];
+  }
   for (int k = 0; k < 4; ++k) {
     const double wk = supg_weight(q, k, g, tau, v);
-    for (int l = 0; l < 4; ++l)
-      for (int c = 0; c < NC; ++c) B[(4 * c + k) * stride + 4 * c + l] += wk * tb.N1[q][l];
+    for (int m = 0; m < NC; ++m) r[4 * m + k] += wk * rate[m];
   }
 }
 

@@ -6,7 +6,9 @@
 //   momentum    R_ai = int [ phi_a (rho (v . grad v)_i - f_i) + dphi_a/dx_j T_ij ] dA
 //   continuity  R_k  = - int psi_k div v dA
 // with rho = Re / Gamma, a body force f (FlowSource.hpp, manufactured solutions only) and the
-// total stress T = -P I + beta (K + K^T) + the fluid's extra terms (DEVSS, tau_p).
+// total stress T = -P I + beta (K + K^T) + the fluid's extra terms (DEVSS, tau_p). The
+// time-dependent form adds rho int phi_a dv_i/dt, the rate at a fixed point of space: on a mesh
+// whose nodes move at xdot (ALE) that is the nodal rate minus xdot . grad v_i.
 // Local rows: v_x at nodes 0..8, v_y at nodes 0..8, then the 3 pressure coefficients.
 #pragma once
 
@@ -113,16 +115,44 @@ void add_momentum_continuity(int q, const QpGeometry<G>& g, const G (&psi)[3], c
   for (int k = 0; k < 3; ++k) r[18 + k] -= (w * psi[k]) * div;
 }
 
-// The velocity rows' mass block rho int phi_a phi_b of the time-dependent form (B: kRows x
-// stride, row-major).
-inline void add_velocity_mass(int q, double rho_wdetJ, int stride, double* B) {
+// The rate of a Q2 field component (nodal rates fdot, 9 entries) at Gauss point q as seen at a
+// fixed point of space: sum N_a fdot_a - xdot . grad f, where the mesh moves at xdot (ALE; null:
+// a fixed mesh) and grad f is the field's gradient there.
+template <class W>
+W q2_rate(int q, const W* fdot, const double (&grad)[2], const W* xdot) {
   const ref::Tables& tb = ref::tables();
-  for (int a = 0; a < 9; ++a)
-    for (int b = 0; b < 9; ++b) {
-      const double m = rho_wdetJ * tb.N2[q][a] * tb.N2[q][b];
-      B[a * stride + b] += m;
-      B[(9 + a) * stride + 9 + b] += m;
-    }
+  W rate = 0.0;
+  for (int a = 0; a < 9; ++a) rate += tb.N2[q][a] * fdot[a];
+  if (xdot) rate -= xdot[0] * grad[0] + xdot[1] * grad[1];
+  return rate;
+}
+
+// The mesh velocity at Gauss point q from the nodal rates of the Q2 positions (x of nodes 0..8,
+// then y), interpolated like the geometry.
+template <class W>
+void mesh_velocity(int q, const W* xdot_nodes, W (&xdot)[2]) {
+  const ref::Tables& tb = ref::tables();
+  xdot[0] = 0.0;
+  xdot[1] = 0.0;
+  for (int a = 0; a < 9; ++a) {
+    xdot[0] += tb.N2[q][a] * xdot_nodes[a];
+    xdot[1] += tb.N2[q][a] * xdot_nodes[9 + a];
+  }
+}
+
+// The velocity rows' time terms rho int phi_a dv_i/dt at Gauss point q (r[0..17]), with
+// dv_i/dt at a fixed point = q2_rate (the velocity's rates vdot: x of nodes 0..8, then y; the
+// mesh velocity xdot at q, or null on a fixed mesh; K the velocity gradient there).
+template <class W>
+void add_velocity_rate(int q, double rho_wdetJ, const W* vdot, const double (&K)[2][2], const W* xdot, W* r) {
+  const ref::Tables& tb = ref::tables();
+  const double gx[2] = {K[0][0], K[0][1]}, gy[2] = {K[1][0], K[1][1]};
+  const W ax = q2_rate(q, vdot, gx, xdot), ay = q2_rate(q, vdot + 9, gy, xdot);
+  for (int a = 0; a < 9; ++a) {
+    const double m = rho_wdetJ * tb.N2[q][a];
+    r[a] += m * ax;
+    r[9 + a] += m * ay;
+  }
 }
 
 }  // namespace keller

@@ -9,8 +9,10 @@
 //
 // Local unknowns (21): v_x at nodes 0..8, v_y at nodes 0..8, P coefficients 0..2; on a moving
 // mesh then x and y of nodes 0..8 (39), whose rows this kernel does not write (kRows = 21).
-// Time-dependent form: (Re/Gamma) dv/dt adds the mass block (Re/Gamma) int phi_a phi_b to the
-// velocity rows; continuity has no time derivative. With Re = 0 the mass matrix is zero.
+// Time-dependent form: (Re/Gamma) dv/dt adds (Re/Gamma) int phi_a dv/dt to the velocity rows
+// (rate(); the mass block from it), dv/dt the rate at a fixed point of space: on a moving mesh
+// with `ale` the nodal rate minus xdot . grad v (the nodes move at the rates xdot of the position
+// unknowns); continuity has no time derivative. With Re = 0 the mass matrix is zero.
 // An optional body force (FlowSource.hpp, manufactured solutions) subtracts int phi_a f_i dA.
 #pragma once
 
@@ -38,15 +40,18 @@ class NewtonianFlowKernel {
   static constexpr int kSize = Moving ? 39 : 21;
 
   // elements: the fluid elements; geometry: their cached Gauss-point geometry (same order);
-  // params: Re (with inertia), Gamma (-1: 1) and beta (-1: 1); source: a body force, or null.
+  // params: Re (with inertia), Gamma (-1: 1) and beta (-1: 1); source: a body force, or null;
+  // ale: the time derivative at a fixed point of a moving mesh (Moving only).
   NewtonianFlowKernel(const Mesh& mesh, const DofMap& dofs, std::vector<int> elements,
                       const std::vector<std::array<QpGeometry<double>, ref::kQp>>* geometry,
-                      FlowParameterIndices params, bool inertia, std::shared_ptr<const FlowSource> source = nullptr)
+                      FlowParameterIndices params, bool inertia, std::shared_ptr<const FlowSource> source = nullptr,
+                      bool ale = false)
       : mesh_(&mesh),
         geometry_(geometry),
         elements_(std::move(elements)),
         p_(params),
         inertia_(inertia),
+        ale_(Moving && ale),
         force_(source && source->momentum ? source : nullptr) {
     const int fv = dofs.field_index("velocity"), fp = dofs.field_index("pressure");
     dofs_.resize(elements_.size() * kSize);
@@ -61,16 +66,24 @@ class NewtonianFlowKernel {
   int num_items() const { return static_cast<int>(elements_.size()); }
   void item_dofs(int item, int* out) const { std::copy_n(&dofs_[static_cast<size_t>(item) * kSize], kSize, out); }
 
-  Status mass(int item, const double* u, const double* params, double* B) const {
+  // The time terms r = B(u) udot of the rows (udot: the rates of the local unknowns).
+  template <class W>
+  Status rate(int item, const double* u, const W* udot, const double* params, W* r) const {
     const double rho = flow_density(p_, params, inertia_);
-    std::fill(B, B + kRows * kSize, 0.0);
+    for (int i = 0; i < kRows; ++i) r[i] = 0.0;
     std::array<QpGeometry<double>, ref::kQp> moved;
     if constexpr (Moving) {
       double xy[9][2];
       if (!moving_geometry(u + kRows, xy, moved)) return inverted(item);
     }
     const auto& geo = Moving ? moved : (*geometry_)[item];
-    for (int q = 0; q < ref::kQp; ++q) add_velocity_mass(q, rho * geo[q].wdetJ, kSize, B);
+    for (int q = 0; q < ref::kQp; ++q) {
+      const VelocityAt<double> s = velocity_at(u, u + 9, q, geo[q]);
+      W xdot[2];
+      if constexpr (Moving)
+        if (ale_) mesh_velocity(q, udot + kRows, xdot);
+      add_velocity_rate(q, rho * geo[q].wdetJ, udot, s.K, ale_ ? xdot : nullptr, r);
+    }
     return {};
   }
 
@@ -125,6 +138,7 @@ class NewtonianFlowKernel {
   std::vector<int> dofs_;
   FlowParameterIndices p_;
   bool inertia_;
+  bool ale_;
   std::shared_ptr<const FlowSource> force_;  // null unless a body force is given
 };
 

@@ -49,6 +49,8 @@ struct ViscoelasticKernelOptions {
   SupgOptions supg;
   OwensParameters owens;
   std::shared_ptr<const FlowSource> source;  // volume sources; null in every physical problem
+  // On a moving mesh: the time derivatives at fixed points of space (ALE), not at the moving nodes.
+  bool ale = false;
 };
 
 // Number of conformation unknowns per node: 3, or 4 for FENE-P with a dynamic M_zz.
@@ -101,9 +103,12 @@ class ViscoelasticFlowKernel {
     }
   }
 
-  // Mass matrix of the time-dependent form: (Re/Gamma) int phi phi on velocity rows and the
-  // SUPG-weighted int (chi + tau v . grad chi) chi on conformation rows.
-  Status mass(int item, const double* u, const double* params, double* B) const {
+  // The time terms r = B(u) udot of the time-dependent form: (Re/Gamma) int phi dv/dt on velocity
+  // rows and the SUPG-weighted int (chi + tau v . grad chi) dM/dt on conformation rows, the rates
+  // at fixed points of space (on a moving mesh with options.ale: the nodal rates minus xdot . grad,
+  // xdot the rates of the position unknowns).
+  template <class W>
+  Status rate(int item, const double* u, const W* udot, const double* params, W* r) const {
     std::array<QpGeometry<double>, ref::kQp> moved;
     double h = 0;
     if constexpr (Moving) {
@@ -116,13 +121,18 @@ class ViscoelasticFlowKernel {
     const auto& geo = Moving ? moved : (*geometry_)[item];
     const double Gamma = velocity_scale(p_, params);
     const double rho = flow_density(p_, params, o_.inertia);
-    std::fill(B, B + kRows * kSize, 0.0);
+    const bool ale = Moving && o_.ale;
+    for (int i = 0; i < kRows; ++i) r[i] = 0.0;
     for (int q = 0; q < ref::kQp; ++q) {
       const QpGeometry<double>& g = geo[q];
       const VelocityAt<double> s = velocity_at(u, u + 9, q, g);
       const double tau = supg_time_scale(o_.supg, h, s.v, Gamma);
-      add_velocity_mass(q, rho * g.wdetJ, kSize, B);
-      add_conformation_mass<NC>(q, g, tau, s.v, kSize, B + kConf * kSize + kConf);
+      W xdot[2];
+      if constexpr (Moving)
+        if (ale) mesh_velocity(q, udot + kRows, xdot);
+      add_velocity_rate(q, rho * g.wdetJ, udot, s.K, ale ? xdot : nullptr, r);
+      const ConformationAt<NC, double, double> mq(u + kConf, q, g);
+      add_conformation_rate<NC>(q, g, tau, s.v, udot + kConf, mq, ale ? xdot : nullptr, r + kConf);
     }
     return {};
   }

@@ -22,15 +22,32 @@ def _attr(obj, name):
     return v.decode() if isinstance(v, bytes) else str(v)
 
 
+def _table(group):
+    """({column: array}, status) of a group holding a table (its columns attribute) and a status."""
+    columns = _attr(group, "columns").split(",")
+    table = np.array(group["table"][()], dtype=float).reshape(-1, len(columns))
+    status = group["status"][()]
+    status = status.decode() if isinstance(status, bytes) else str(status)
+    return {c: table[:, i] for i, c in enumerate(columns)}, status.rstrip("\x00")
+
+
 def read_branch(path):
     """Returns (parameter name, {column: array}, status) of a branch file."""
     with open_h5(path) as f:
-        b = f["branch"]
-        columns = _attr(b, "columns").split(",")
-        table = np.array(b["table"][()], dtype=float).reshape(-1, len(columns))
-        status = b["status"][()]
-        status = status.decode() if isinstance(status, bytes) else str(status)
-        return _attr(b, "parameter"), {c: table[:, i] for i, c in enumerate(columns)}, status.rstrip("\x00")
+        columns, status = _table(f["branch"])
+        return _attr(f["branch"], "parameter"), columns, status
+
+
+def read_time_series(path):
+    """Returns ({column: array}, status, mode) of a time-series file written by `keller evolve`;
+    mode is None or (sigma_re, sigma_im) of the eigenvector the run was perturbed along."""
+    with open_h5(path) as f:
+        columns, status = _table(f["evolve"])
+        mode = None
+        if "evolve_start" in f and "mode" in f["evolve_start"]:
+            m = f["evolve_start"]["mode"]
+            mode = (float(m.attrs["sigma_re"]), float(m.attrs["sigma_im"]))
+        return columns, status, mode
 
 
 class OutputError(Exception):

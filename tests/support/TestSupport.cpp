@@ -125,6 +125,17 @@ void distort_bilinear(Mesh& mesh, double amplitude, unsigned seed) {
   }
 }
 
+ChannelMeshSpec custom_channel_mesh(int upstream, int deformable, int downstream, int fluid_rows, int solid_rows) {
+  ChannelMeshSpec m;
+  m.name = "custom";
+  m.nx_upstream = upstream;
+  m.nx_deformable = deformable;
+  m.nx_downstream = downstream;
+  m.ny_fluid = fluid_rows;
+  m.ny_solid = solid_rows;
+  return m;
+}
+
 CommandResult run_keller(const std::string& args, const std::string& env) {
   const std::string err_file = std::filesystem::temp_directory_path() / fmt::format("keller_err_{}.txt", ::getpid());
   // exec: the shell becomes keller, so a signal that ends keller is what pclose reports

@@ -9,6 +9,7 @@
 #include "core/Mesh.hpp"
 #include "core/Problem.hpp"
 #include "core/Term.hpp"
+#include "problems/channel/ChannelMesh.hpp"
 
 namespace keller::test {
 
@@ -28,6 +29,10 @@ double check_parameter_derivative(Problem& problem, int p, const Vector& u, doub
 // (vertices on straight boundaries slide along them), then puts mid-side and centre nodes at
 // the bilinear positions, so every element stays a general (non-parallelogram) bilinear quad.
 void distort_bilinear(Mesh& mesh, double amplitude, unsigned seed);
+
+// A custom channel mesh with these fluid columns upstream, on the deformable section and downstream,
+// fluid rows and solid rows (the coarse meshes of the collapsible-channel tests).
+ChannelMeshSpec custom_channel_mesh(int upstream, int deformable, int downstream, int fluid_rows, int solid_rows);
 
 struct CommandResult {
   int exit_code = -1;

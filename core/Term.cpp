@@ -1,0 +1,19 @@
+#include "core/Term.hpp"
+
+#include <vector>
+
+namespace keller {
+
+Status Term::rate(int item, const double* u, const double* udot, double* r) const {
+  const int m = local_size(), k = local_rows();
+  for (int i = 0; i < k; ++i) r[i] = 0.0;
+  if (!has_mass()) return {};
+  std::vector<double> B(static_cast<size_t>(k) * m);
+  Status st = mass(item, u, B.data());
+  if (!st.is_ok()) return st;
+  for (int i = 0; i < k; ++i)
+    for (int j = 0; j < m; ++j) r[i] += B[static_cast<size_t>(i) * m + j] * udot[j];
+  return {};
+}
+
+}  // namespace keller

@@ -1,0 +1,423 @@
+#include "runs/EvolveCommand.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <filesystem>
+#include <optional>
+
+#include "continuation/BranchFile.hpp"
+#include "continuation/StartSolver.hpp"
+#include "continuation/TimeIntegrator.hpp"
+#include "continuation/TimeSeriesFile.hpp"
+#include "core/PendingFile.hpp"
+#include "core/RunFiles.hpp"
+#include "core/SignalPoint.hpp"
+#include "core/SolutionWriter.hpp"
+#include "runs/BranchOutput.hpp"
+#include "runs/ExitCode.hpp"
+#include "runs/Interrupts.hpp"
+#include "runs/OutputFile.hpp"
+#include "runs/SceneLoader.hpp"
+#include "runs/StoredStart.hpp"
+#include "stability/EigenSolver.hpp"
+
+namespace keller {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// What a run perturbs its start with, and how.
+struct PerturbationOptions {
+  std::string kind = "none";  // none, computed, stored
+  double amplitude = 1e-4;    // the perturbation's largest entry over max(|u_start|_inf, 1)
+  double shift_re = 0.0, shift_im = 0.0;
+  int eigenvalues = 6;
+  int save_every = 10, print_every = 10;
+};
+
+PerturbationOptions perturbation_options_from(const Scene& scene) {
+  PerturbationOptions o;
+  o.kind = scene.string("evolve.perturbation");
+  o.amplitude = scene.real("evolve.amplitude");
+  o.shift_re = scene.real("evolve.shift_re");
+  o.shift_im = scene.real("evolve.shift_im");
+  o.eigenvalues = scene.integer("evolve.eigenvalues");
+  o.save_every = scene.integer("evolve.save_every");
+  o.print_every = scene.integer("evolve.print_every");
+  return o;
+}
+
+// The state the run starts from (the steady state it is perturbed from: deviations are measured
+// from it) and the mode it is perturbed along.
+struct Reference {
+  Vector state;
+  std::optional<StoredMode> mode;
+};
+
+// The deviation from the reference, and with a mode its components along Re phi and Im phi (least
+// squares: d ~ a Re phi + b Im phi, so that z = a - i b evolves as exp(-sigma t) in the linear regime).
+TimeColumns reference_columns(const Reference& ref) {
+  TimeColumns c;
+  c.names = {"deviation"};
+  if (ref.mode) c.names.insert(c.names.end(), {"mode_re", "mode_im", "mode_amplitude"});
+  c.values = [&ref](const Vector& u) {
+    const Vector d = u - ref.state;
+    std::vector<double> v = {d.lpNorm<Eigen::Infinity>()};
+    if (!ref.mode) return v;
+    const Vector& p = ref.mode->re;
+    const Vector& q = ref.mode->im;
+    const double pp = p.squaredNorm(), pq = p.dot(q), qq = q.squaredNorm(), pd = p.dot(d), qd = q.dot(d);
+    const double det = pp * qq - pq * pq;
+    double a = pp > 0.0 ? pd / pp : 0.0, b = 0.0;
+    if (qq > 0.0 && det > 1e-12 * pp * qq) {  // a real mode (Im phi = 0 or parallel to Re phi): a alone
+      a = (qq * pd - pq * qd) / det;
+      b = (pp * qd - pq * pd) / det;
+    }
+    v.insert(v.end(), {a, b, std::hypot(a, b)});
+    return v;
+  };
+  return c;
+}
+
+void write_reference(H5File& f, const Reference& ref) {
+  f.write_vector("/evolve_start/state", std::vector<double>(ref.state.data(), ref.state.data() + ref.state.size()));
+  if (!ref.mode) return;
+  const long n = ref.state.size();
+  std::vector<double> m(ref.mode->re.data(), ref.mode->re.data() + n);
+  m.insert(m.end(), ref.mode->im.data(), ref.mode->im.data() + n);
+  f.write_matrix("/evolve_start/mode", m.data(), 2, n);
+  f.set_attribute("/evolve_start/mode", "sigma_re", ref.mode->sigma_re);
+  f.set_attribute("/evolve_start/mode", "sigma_im", ref.mode->sigma_im);
+}
+
+Reference read_reference(const std::string& path) {
+  H5File f(path, H5File::Mode::Read);
+  Reference ref;
+  long r = 0, c = 0;
+  const std::vector<double> s = f.read_matrix("/evolve_start/state", &r, &c);
+  ref.state = Eigen::Map<const Vector>(s.data(), static_cast<long>(s.size()));
+  if (f.exists("/evolve_start/mode")) {
+    const std::vector<double> m = f.read_matrix("/evolve_start/mode", &r, &c);
+    StoredMode mode;
+    mode.re = Eigen::Map<const Vector>(m.data(), c);
+    mode.im = Eigen::Map<const Vector>(m.data() + c, c);
+    mode.sigma_re = f.read_double_attribute("/evolve_start/mode", "sigma_re");
+    mode.sigma_im = f.read_double_attribute("/evolve_start/mode", "sigma_im");
+    ref.mode = mode;
+  }
+  return ref;
+}
+
+// The eigenvector of the most unstable eigenvalue (smallest Re sigma) among those nearest the
+// shift, at the state u.
+Status computed_mode(Problem& problem, const Vector& u, const PerturbationOptions& o, const SparseLUOptions& lu,
+                     StoredMode& mode) {
+  SparseMatrix J = problem.jacobian_pattern(), B;
+  Vector F;
+  Status st = problem.jacobian(u, F, J);
+  if (st.is_ok()) st = problem.mass_matrix(u, B);
+  if (!st.is_ok()) return st;
+  EigenOptions eo;
+  eo.count = std::min(o.eigenvalues, static_cast<int>(u.size()) - 2);
+  eo.shift = {o.shift_re, o.shift_im};
+  eo.vectors = true;
+  EigenSolver solver(lu);
+  EigenResult res;
+  st = solver.solve(J, B, eo, res);
+  if (res.pairs.empty()) return st.is_ok() ? Status{StatusCode::NotConverged, "no finite eigenvalue"} : st;
+  const EigenPair& p = res.pairs.front();  // ordered by Re sigma ascending: the most unstable first
+  mode.re = p.vector.real();
+  mode.im = p.vector.imag();
+  mode.sigma_re = p.value.real();
+  mode.sigma_im = p.value.imag();
+  return {};
+}
+
+// One line every N steps, and every rejection.
+class TimePrinter final : public TimeObserver {
+ public:
+  TimePrinter(int every, const TimeColumns& columns) : every_(std::max(every, 1)), columns_(columns) {}
+  void on_step(const TimePoint& p) override {
+    if (p.step % every_ != 0) return;
+    const std::vector<double> v = columns_.values(p.u);
+    std::string extra;
+    for (size_t i = 0; i < v.size(); ++i) extra += fmt::format("  {} {:.4e}", columns_.names[i], v[i]);
+    fmt::print("step {:>6}  t = {:<13.6e} h = {:<10.3e} error {:<8.3g} it {:>2}  f {:>1}  r {:>1}{}  {:.1f} s\n",
+               p.step, p.t, p.h, p.error, p.iterations, p.factorisations, p.rejected, extra, p.seconds);
+    std::fflush(stdout);
+  }
+  void on_rejected(double t, double h, const std::string& why) override {
+    fmt::print("  rejected the step to t = {:.6e} (h = {:.3e}): {}\n", t, h, why);
+  }
+
+ private:
+  int every_;
+  const TimeColumns& columns_;
+};
+
+class TimeObservers final : public TimeObserver {
+ public:
+  explicit TimeObservers(std::vector<TimeObserver*> list) : list_(std::move(list)) {}
+  void on_step(const TimePoint& p) override {
+    for (auto* o : list_) o->on_step(p);
+  }
+  void on_rejected(double t, double h, const std::string& why) override {
+    for (auto* o : list_) o->on_rejected(t, h, why);
+  }
+  void on_finish(const std::string& reason, const TimePoint& last) override {
+    for (auto* o : list_) o->on_finish(reason, last);
+  }
+
+ private:
+  std::vector<TimeObserver*> list_;
+};
+
+// The unfinished run of this very command at `work`, to be continued (continues_unfinished).
+std::optional<TimeSeed> unfinished_run(const std::string& work, const std::string& record, bool fresh) {
+  if (!continues_unfinished(work, record, fresh, "time series", "steps", [](const std::string& path) {
+        const TimeTable t = read_time_table(path);
+        return std::pair<long, std::string>(t.rows.rows(), t.status);
+      }))
+    return {};
+  return read_time_seed(work);
+}
+
+}  // namespace
+
+void declare_evolve_keys(SceneSchema& s) {
+  TimeOptions::declare(s);
+  const PerturbationOptions d;
+  s.string("evolve.perturbation", d.kind,
+           "perturb the start along an eigenvector of J phi = sigma B phi: computed at the start (the most unstable "
+           "of those nearest the shift) or stored with the --restart row (keller trace with [stability])",
+           {"none", "computed", "stored"});
+  s.real("evolve.amplitude", d.amplitude,
+         "the perturbation's largest entry, relative to max(|u_start|_inf, 1) (small: the linear regime)",
+         Range::positive());
+  s.real("evolve.shift_re", d.shift_re, "perturbation = computed: real part of the shift the eigenvalues are nearest");
+  s.real("evolve.shift_im", d.shift_im,
+         "perturbation = computed: imaginary part of the shift (near the frequency of a Hopf pair)");
+  s.integer("evolve.eigenvalues", d.eigenvalues,
+            "perturbation = computed: eigenvalues computed nearest the shift (the most unstable is taken)",
+            Range::at_least(1));
+  s.integer("evolve.save_every", d.save_every, "store the state of every N-th step (with the start and the end)",
+            Range::at_least(1));
+  s.integer("evolve.print_every", d.print_every, "a progress line every N-th step", Range::at_least(1));
+}
+
+int run_evolve(const EvolveArguments& args, RunSummary* out_summary) {
+  RunSummary local;
+  RunSummary& summary = out_summary ? *out_summary : local;
+  summary = {};
+  auto fail = [&](int code, const std::string& message) { return fail_run(summary, code, message); };
+  // 1. the scene, its options and the files of the run: nothing is written before all are right
+  LoadedScene loaded;
+  TimeOptions topt;
+  PerturbationOptions popt;
+  std::optional<StoredStart> from;
+  try {
+    loaded = load_scene(args.scene, declare_evolve_keys, args.overrides);
+    topt = TimeOptions::from_scene(loaded.scene);
+    popt = perturbation_options_from(loaded.scene);
+    if (popt.kind == "stored" && args.restart.empty())
+      throw loaded.scene.error("evolve.perturbation",
+                               "'stored' takes the eigenvector stored with the --restart row; there is no --restart");
+  } catch (const SceneError& e) {
+    return fail(exit_code::usage, e.what());
+  }
+  const std::string out = args.output.empty() ? fs::path(args.scene).stem().string() + ".h5" : args.output;
+  const std::string work = PendingFile::temporary_for(out);
+  const bool with_fields = loaded.scene.boolean("output.xdmf");
+  try {
+    if (args.force && args.restart.empty()) throw std::invalid_argument("--force applies to a start from --restart");
+    RunFiles files;
+    files.input("scene file", args.scene);
+    if (!args.restart.empty()) {
+      from = parse_stored_start("--restart", args.restart);
+      from->force = args.force;
+      files.input("--restart file", from->file);
+    }
+    declare_run_outputs(files, out, "time-series file", with_fields);
+    files.check();
+  } catch (const std::exception& e) {
+    return fail(exit_code::usage, e.what());
+  }
+  fmt::print("{}\n", loaded.scene.resolved_toml());
+  std::unique_ptr<Problem> problem;
+  try {
+    problem = build_problem(loaded, args.scene);
+  } catch (const SceneError& e) {
+    return fail(exit_code::usage, e.what());
+  }
+
+  // 2. where the run starts: an unfinished run of this command, a stored point, or a steady state
+  const std::string record =
+      loaded.scene.canonical_values() + fmt::format("start = {}\n", from ? "restart " + args.restart : "steady state");
+  std::optional<TimeSeed> seed;
+  Reference ref;
+  std::vector<std::string> warnings;
+  try {
+    seed = unfinished_run(work, record, args.fresh);
+    if (seed) {
+      ref = read_reference(work);
+    } else if (from) {
+      const std::string parameter = read_branch_table(from->file).parameter;
+      const StoredPoint stored = read_stored_start(*from, loaded, *problem, parameter, warnings);
+      for (const Parameter& q : problem->parameters().list())
+        if (const auto v = stored.value_of(q.name)) problem->parameters().set(q.name, *v);
+      ref.state = stored.point.u;
+      if (popt.kind == "stored") {
+        ref.mode = read_branch_mode(from->file, stored.point.index);
+        if (!ref.mode)
+          throw std::invalid_argument(fmt::format(
+              "--restart '{}': row {} has no stored eigenvector (trace with [stability] enabled = true; rows with a "
+              "stored solution keep theirs); perturbation = \"computed\" computes one",
+              from->file, stored.point.index));
+      }
+      fmt::print("starting from row {} of {} ({} = {:.10g})\n", stored.point.index, from->file, parameter,
+                 stored.point.lambda);
+    }
+  } catch (const std::exception& e) {
+    return fail(exit_code::usage, e.what());
+  }
+  for (const std::string& w : warnings) fmt::print(stderr, "keller: warning: {}\n", w);
+  const Scene& scene = loaded.scene;
+  fmt::print("problem: {}\n", problem->summary());
+  const NewtonOptions nopt = newton_options_from(scene);
+  const SparseLUOptions lopt = sparse_lu_options_from(scene);
+  if (seed) {
+    // the parameters the unfinished run used: the scene's, or its stored start's
+    H5File f(work, H5File::Mode::Read);
+    const RunHeader header = read_run_header(f);
+    for (const auto& [name, value] : header.parameters)
+      if (problem->parameters().has(name)) problem->parameters().set(name, value);
+  } else if (!from) {
+    StartSolver start_solver(*problem, nopt, lopt, StartOptions::from_scene(scene),
+                             [](const std::string& line) { fmt::print("{}\n", line); });
+    ref.state = problem->initial_guess();
+    fmt::print("steady state to start from\n");
+    print_newton_header();
+    const StartResult r = start_solver.solve(ref.state, print_newton_row);
+    if (!r.status.is_ok()) {
+      fmt::print(stderr, "keller: the steady state failed: {}; no output written\n", r.status.describe());
+      summary.reason = "the steady state failed: " + r.status.describe();
+      summary.exit_code = exit_code::numerical_failure;
+      return summary.exit_code;
+    }
+    fmt::print("steady state: {}, {} Newton iterations\n", r.path, r.newton_iterations);
+  }
+  {
+    SparseMatrix B;
+    try {
+      const Status st = problem->mass_matrix(ref.state, B);
+      if (!st.is_ok()) return fail(exit_code::numerical_failure, "the mass matrix at the start: " + st.describe());
+    } catch (const std::exception& e) {
+      return fail(exit_code::usage, fmt::format("{}: problem '{}' has no time-dependent form ({})", args.scene,
+                                                problem->name(), e.what()));
+    }
+    if (B.nonZeros() == 0 || B.coeffs().cwiseAbs().maxCoeff() == 0.0)
+      fmt::print("note: B = 0 (no row carries a time derivative): every step is the steady state\n");
+  }
+  if (!seed && popt.kind == "computed") {
+    StoredMode mode;
+    const Status st = computed_mode(*problem, ref.state, popt, lopt, mode);
+    if (!st.is_ok() && mode.re.size() == 0) {
+      fmt::print(stderr, "keller: no eigenvector to perturb along: {}; no output written\n", st.describe());
+      summary.reason = "no eigenvector to perturb along: " + st.describe();
+      summary.exit_code = exit_code::numerical_failure;
+      return summary.exit_code;
+    }
+    ref.mode = mode;
+  }
+  if (ref.mode)
+    fmt::print("perturbation along the eigenvector of sigma = {:.10g} {:+.10g} i (growth rate {:.10g}), amplitude {}\n",
+               ref.mode->sigma_re, ref.mode->sigma_im, -ref.mode->sigma_re, popt.amplitude);
+  Vector u0 = ref.state;
+  if (ref.mode && !seed) {
+    const double biggest = ref.mode->re.lpNorm<Eigen::Infinity>();
+    if (!(biggest > 0.0)) return fail(exit_code::numerical_failure, "the eigenvector's real part is zero");
+    u0 += (popt.amplitude * std::max(ref.state.lpNorm<Eigen::Infinity>(), 1.0) / biggest) * ref.mode->re;
+  }
+
+  // 3. the run, written to `work` step by step
+  const TimeColumns columns = reference_columns(ref);
+  TimeIntegrator integrator(*problem, topt, nopt, lopt);
+  if (ref.mode) integrator.set_error_reference(ref.state);
+  InterruptGuard interrupts;
+  TimeResult result;
+  {
+    std::unique_ptr<TimeSeriesFile> file;
+    try {
+      file = std::make_unique<TimeSeriesFile>(
+          work, *problem, columns, popt.save_every,
+          [&](H5File& f) {
+            write_run_header(f, loaded, *problem);
+            f.write_string("/problem/run", record);
+            if (from) f.set_attribute("/problem", "restarted_from", args.restart);
+            write_reference(f, ref);
+            const SolutionFields sf = problem->fields(ref.state);
+            if (sf.mesh) write_mesh(f, "/mesh", *sf.mesh);
+          },
+          seed ? &*seed : nullptr);
+    } catch (const std::exception& e) {
+      return fail(exit_code::usage, e.what());
+    }
+    TimePrinter printer(popt.print_every, columns);
+    TimeObservers observers({file.get(), &printer});
+    const auto stop = [] { return InterruptGuard::requested(); };
+    if (seed) {
+      fmt::print("continuing the unfinished run in {} from its step {} (t = {:.10g}; --fresh starts over)\n", work,
+                 seed->step(), seed->history.back.front().t);
+      result = integrator.resume(seed->history, observers, stop);
+    } else {
+      result = integrator.run(u0, 0.0, observers, stop);
+    }
+    file->close();
+  }
+  fmt::print("{} steps, {} rejected, {} factorisations ({:.2f} per step), {} Newton iterations, {:.2f} s; {}\n",
+             result.steps, result.rejected, result.factorisations,
+             result.steps > 0 ? static_cast<double>(result.factorisations) / result.steps : 0.0,
+             result.newton_iterations, result.seconds, result.reason);
+  summary.reason = result.reason;
+  summary.unknowns = problem->size();
+  summary.points = result.steps;
+  summary.rejected = result.rejected;
+  summary.factorisations = result.factorisations;
+  summary.seconds = result.seconds;
+  signal_point("evolved");
+
+  // 4. the file takes its name: an interrupted run stays where it is, to be continued; a failed one
+  // never replaces an existing file
+  if (const auto stays = stays_unfinished(result.code == TimeStop::Interrupted, result.code == TimeStop::StepFloor,
+                                          work, out, "time series", "before t_end", summary))
+    return *stays;
+  const int code = summary.exit_code;
+  PublishedBranch published;
+  try {
+    published = publish_output(
+        work, out, xdmf_path_for(out), with_fields,
+        [&](const std::string& staged, const std::string& xdmf_pending, const std::string& h5_name,
+            const std::string&) -> std::optional<std::vector<std::string>> {
+          if (!write_time_fields(
+                  staged, staged, xdmf_pending, h5_name, [&](const Vector& u) { return problem->fields(u); },
+                  &InterruptGuard::requested))
+            return std::nullopt;
+          return std::vector<std::string>{};
+        },
+        &InterruptGuard::requested);
+  } catch (const std::exception& e) {
+    return fail(exit_code::usage, fmt::format("the run stays in {}: {}", work, e.what()));
+  }
+  fmt::print("wrote {}\n", out);
+  summary.output = out;
+  summary.exit_code = code;
+  if (with_fields && !published.fields) {
+    fmt::print("interrupted while writing the fields: the run is complete in {} without them\n", out);
+    summary.exit_code = exit_code::interrupted;
+  }
+  return summary.exit_code;
+}
+
+}  // namespace keller

@@ -1,0 +1,35 @@
+#include "runs/RunSummary.hpp"
+
+#include <fmt/format.h>
+
+#include <filesystem>
+
+#include "runs/ExitCode.hpp"
+
+namespace keller {
+
+int fail_run(RunSummary& summary, int code, const std::string& message) {
+  fmt::print(stderr, "keller: error: {}\n", message);
+  summary.exit_code = code;
+  summary.reason = message;
+  return code;
+}
+
+std::optional<int> stays_unfinished(bool interrupted, bool failed, const std::string& work, const std::string& out,
+                                    const std::string& what, const std::string& short_of, RunSummary& summary) {
+  if (interrupted) {
+    fmt::print("interrupted: the {} so far is in {}; run the same command again to continue it\n", what, work);
+    summary.output = work;
+    summary.exit_code = exit_code::interrupted;
+    return summary.exit_code;
+  }
+  summary.exit_code = failed ? exit_code::numerical_failure : exit_code::ok;
+  if (failed && std::filesystem::exists(out)) {
+    fmt::print("the {} ended {}; {} is kept as it was, this run's {} is in {}\n", what, short_of, out, what, work);
+    summary.output = work;
+    return summary.exit_code;
+  }
+  return std::nullopt;
+}
+
+}  // namespace keller
