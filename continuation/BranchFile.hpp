@@ -89,6 +89,10 @@ BranchTable read_branch_table(const std::string& path);
 // A stored point (solution, tangent, step, arclength). Throws std::invalid_argument listing the
 // stored rows if `row` has no stored solution; row = -1 means the last stored one.
 BranchPoint read_branch_point(const std::string& path, int row);
+// The critical eigenvector stored with a located row (a fold, branch point or Hopf point of a
+// branch traced with its stability): its real and imaginary parts and the imaginary part of its
+// eigenvalue (a Hopf point's frequency). False where the row has none.
+bool read_critical_mode(const std::string& path, int row, Vector& re, Vector& im, double& imag);
 
 // Writes the fields of every stored solution into /branch/fields/<slot> of `fields_path` (the
 // branch file itself, opened for writing, when the two paths are equal; otherwise a new file)

@@ -8,6 +8,8 @@
 #include <optional>
 #include <stdexcept>
 
+#include "continuation/FixedParameterSolve.hpp"
+
 namespace keller {
 
 namespace {
@@ -80,53 +82,16 @@ class Pieces final : public BranchObserver {
 
 EventCurveProblem::EventCurveProblem(Problem& inner, const std::string& event_parameter, const std::string& monitor)
     : inner_(inner),
+      unknowns_(inner, event_parameter, 1, "event curve"),
       n_(inner.size()),
-      p1_(inner.parameters().index(event_parameter)),
-      monitor_(index_of(inner.monitor_names(), monitor, "monitor")) {
-  if (inner_.parameters().size() < 2)
-    throw std::invalid_argument("event curve of '" + inner_.name() + "': the problem has only one parameter");
-  pattern_ = bordered(inner_.jacobian_pattern(), Vector::Zero(n_), Vector::Zero(n_), 0.0);
-}
+      monitor_(index_of(inner.monitor_names(), monitor, "monitor")) {}
 
-SparseMatrix EventCurveProblem::bordered(const SparseMatrix& A, const Vector& col, const Vector& row,
-                                         double corner) const {
-  std::vector<Eigen::Triplet<double, int>> t;
-  t.reserve(A.nonZeros() + 2 * n_ + 1);
-  for (int j = 0; j < A.outerSize(); ++j)
-    for (SparseMatrix::InnerIterator it(A, j); it; ++it) t.emplace_back(it.row(), j, it.value());
-  for (int i = 0; i < n_; ++i) {
-    t.emplace_back(i, n_, col[i]);
-    t.emplace_back(n_, i, row[i]);
-  }
-  t.emplace_back(n_, n_, corner);
-  SparseMatrix M(n_ + 1, n_ + 1);
-  M.setFromTriplets(t.begin(), t.end());
-  M.makeCompressed();
-  return M;
-}
-
-Vector EventCurveProblem::state(const Vector& u, double p1) const {
-  Vector U(n_ + 1);
-  U.head(n_) = u;
-  U[n_] = p1;
-  return U;
-}
-
-Vector EventCurveProblem::initial_guess() { return state(inner_.initial_guess(), inner_.parameters().value(p1_)); }
-
-Status EventCurveProblem::set_p1(const Vector& U) {
-  if (U.size() != n_ + 1) throw std::invalid_argument("event curve: state of the wrong size");
-  if (!std::isfinite(U[n_]))
-    return {StatusCode::NotFinite, "event curve: " + event_parameter_name() + " is not finite"};
-  if (!inner_.parameters().admissible(p1_, U[n_]))
-    return {StatusCode::InvalidState,
-            fmt::format("event curve: {} = {} is outside its range", event_parameter_name(), U[n_])};
-  inner_.parameters().set(p1_, U[n_]);
-  return {};
+Vector EventCurveProblem::initial_guess() {
+  return state(inner_.initial_guess(), inner_.parameters().value(unknowns_.p1()));
 }
 
 Status EventCurveProblem::place_values(const Vector& U, std::vector<double>& values) {
-  Status st = set_p1(U);
+  Status st = unknowns_.set_p1(U);
   if (!st.is_ok()) return st;
   st = inner_.monitor_places(monitor_, U.head(n_), values);
   if (!st.is_ok()) return st;
@@ -156,65 +121,72 @@ Status EventCurveProblem::residual(const Vector& U, Vector& F) {
   return {};
 }
 
+Status EventCurveProblem::place_parameter_derivative(int p, const Vector& u, double& derivative) {
+  Vector d;
+  const Status st = unknowns_.parameter_difference(
+      p,
+      [&](Vector& value) {
+        std::vector<double> v;
+        const Status s = inner_.monitor_places(monitor_, u, v);
+        if (s.is_ok()) value = Vector::Constant(1, v[static_cast<size_t>(place_)]);
+        return s;
+      },
+      d);
+  if (st.is_ok()) derivative = d[0];
+  return st;
+}
+
 Status EventCurveProblem::parameter_derivative(int p, const Vector& U, Vector& dF) {
-  if (p == p1_)
+  if (p == unknowns_.p1())
     throw std::invalid_argument("event curve: " + event_parameter_name() +
                                 " is an unknown of the curve, not the parameter it is continued in");
-  Status st = set_p1(U);
+  Status st = unknowns_.set_p1(U);
   if (!st.is_ok()) return st;
   const Vector u = U.head(n_);
   Vector Fp;
   st = inner_.parameter_derivative(p, u, Fp);
   if (!st.is_ok()) return st;
-  // the followed value's derivative by central differences in the parameter
-  ParameterSet& ps = inner_.parameters();
-  const double v = ps.value(p), h = 1e-6 * std::max(1.0, std::abs(v));
-  const double hi = std::min(v + h, ps.info(p).upper), lo = std::max(v - h, ps.info(p).lower);
-  std::vector<double> vhi, vlo;
-  ps.set(p, hi);
-  st = inner_.monitor_places(monitor_, u, vhi);
-  ps.set(p, lo);
-  if (st.is_ok()) st = inner_.monitor_places(monitor_, u, vlo);
-  ps.set(p, v);
+  double mp = 0.0;
+  st = place_parameter_derivative(p, u, mp);
   if (!st.is_ok()) return st;
   dF.resize(n_ + 1);
   dF.head(n_) = Fp;
-  dF[n_] = (vhi[static_cast<size_t>(place_)] - vlo[static_cast<size_t>(place_)]) / (hi - lo);
+  dF[n_] = mp;
+  return {};
+}
+
+Status EventCurveProblem::bordered_jacobian(const Vector& U, Vector& F, BorderedJacobian& J) {
+  std::vector<double> v;
+  Status st = place_values(U, v);
+  if (!st.is_ok()) return st;
+  const Vector u = U.head(n_);
+  Vector f, Fp1, gu;
+  if (J.border_size() != 1 || J.inner_size() != n_) J = unknowns_.blocks();
+  st = inner_.jacobian(u, f, J.K);
+  if (!st.is_ok()) return st;
+  F.resize(n_ + 1);
+  F.head(n_) = f;
+  F[n_] = v[static_cast<size_t>(place_)];
+  st = inner_.parameter_derivative(unknowns_.p1(), u, Fp1);
+  if (st.is_ok()) st = inner_.monitor_place_gradient(monitor_, place_, u, gu);
+  double gp1 = 0.0;
+  if (st.is_ok()) st = place_parameter_derivative(unknowns_.p1(), u, gp1);
+  if (!st.is_ok()) return st;
+  J.B.col(0) = Fp1;
+  J.C.col(0) = gu;
+  J.D(0, 0) = gp1;
   return {};
 }
 
 Status EventCurveProblem::jacobian(const Vector& U, Vector& F, SparseMatrix& J) {
-  Status st = residual(U, F);
-  if (!st.is_ok()) return st;
-  const Vector u = U.head(n_);
-  Vector f, Fp1, gu;
-  SparseMatrix Ju;
-  st = inner_.jacobian(u, f, Ju);
-  if (st.is_ok()) st = inner_.parameter_derivative(p1_, u, Fp1);
-  if (st.is_ok()) st = inner_.monitor_place_gradient(monitor_, place_, u, gu);
-  if (!st.is_ok()) return st;
-  // d m_k / d p1 by central differences in p1
-  ParameterSet& ps = inner_.parameters();
-  const double v = U[n_], h = 1e-6 * std::max(1.0, std::abs(v));
-  const double hi = std::min(v + h, ps.info(p1_).upper), lo = std::max(v - h, ps.info(p1_).lower);
-  std::vector<double> vhi, vlo;
-  ps.set(p1_, hi);
-  st = inner_.monitor_places(monitor_, u, vhi);
-  ps.set(p1_, lo);
-  if (st.is_ok()) st = inner_.monitor_places(monitor_, u, vlo);
-  ps.set(p1_, v);
-  if (!st.is_ok()) return st;
-  const double gp1 = (vhi[static_cast<size_t>(place_)] - vlo[static_cast<size_t>(place_)]) / (hi - lo);
-  J = bordered(Ju, Fp1, gu, gp1);
-  return {};
+  BorderedJacobian B = unknowns_.blocks();
+  const Status st = bordered_jacobian(U, F, B);
+  if (st.is_ok()) J = B.assembled();
+  return st;
 }
 
 std::vector<std::string> EventCurveProblem::observable_names() const {
-  std::vector<std::string> names = inner_.observable_names();
-  names.push_back(event_parameter_name());
-  names.push_back("place");
-  names.push_back(kMargin);
-  return names;
+  return unknowns_.observable_names({"place", kMargin});
 }
 
 Status EventCurveProblem::observables(const Vector& U, std::vector<double>& values) {
@@ -241,7 +213,7 @@ std::vector<std::string> EventCurveProblem::monitor_names() const {
 }
 
 Status EventCurveProblem::monitors(const Vector& U, std::vector<double>& values) {
-  Status st = set_p1(U);
+  Status st = unknowns_.set_p1(U);
   if (!st.is_ok()) return st;
   st = inner_.monitors(U.head(n_), values);
   if (!st.is_ok()) return st;
@@ -254,14 +226,19 @@ std::string EventCurveProblem::summary() const {
                      event_parameter_name(), inner_.summary());
 }
 
+Status EventCurveProblem::solve_here(Vector& U, const NewtonOptions& newton, const SparseLUOptions& lu) {
+  // any parameter but p1 is fixed (all are): the first other one
+  const int p = unknowns_.p1() == 0 ? 1 : 0;
+  return solve_at_fixed_parameter(*this, inner_.parameters().info(p).name, U, newton, lu).status;
+}
+
 Status EventCurveProblem::start(Vector& U, const NewtonOptions& newton, SparseLUOptions lu) {
   Status st = argmin(U, place_);
   if (!st.is_ok()) return st;
-  NewtonSolver solver(*this, newton, lu);
-  const NewtonResult r = solver.solve(U);
-  if (!r.converged())
+  st = solve_here(U, newton, lu);
+  if (!st.is_ok())
     return {StatusCode::NotConverged,
-            "event curve: Newton from the located event did not converge (" + r.status.describe() + ")"};
+            "event curve: Newton from the located event did not converge (" + st.describe() + ")"};
   return {};
 }
 
@@ -320,8 +297,7 @@ ContinuationResult EventCurveProblem::trace(ContinuationOptions o, const NewtonO
     observer.on_note(fmt::format("after row {}: the minimum moves from place {} to place {} at {} = {:.10g}", sw.index,
                                  place_, next, o.parameter, sw.lambda));
     place_ = next;
-    NewtonSolver solver(*this, newton, lu);
-    if (!solver.solve(U).converged()) {
+    if (!solve_here(U, newton, lu).is_ok()) {
       total.reason = "event curve: no solution on the new place's piece at the switch";
       total.code = StopCode::StepFloor;
       break;

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "continuation/Continuation.hpp"
+#include "continuation/CurveUnknowns.hpp"
 #include "core/Newton.hpp"
 #include "core/Problem.hpp"
 #include "core/SparseLU.hpp"
@@ -27,12 +28,17 @@ class EventCurveProblem final : public Problem {
   EventCurveProblem(Problem& inner, const std::string& event_parameter, const std::string& monitor);
 
   std::string name() const override { return inner_.name() + "-event-curve"; }
-  int size() const override { return n_ + 1; }
+  int size() const override { return unknowns_.size(); }
   ParameterSet& parameters() override { return inner_.parameters(); }
   const ParameterSet& parameters() const override { return inner_.parameters(); }
-  const SparseMatrix& jacobian_pattern() const override { return pattern_; }
+  const SparseMatrix& jacobian_pattern() const override { return unknowns_.pattern(); }
   Status residual(const Vector& U, Vector& F) override;
   Status jacobian(const Vector& U, Vector& F, SparseMatrix& J) override;
+  // [J F_p1; m_k,u^T m_k,p1]: the inner J bordered by one column and row.
+  int border_size() const override { return 1; }
+  const SparseMatrix& inner_pattern() const override { return inner_.jacobian_pattern(); }
+  Status bordered_jacobian(const Vector& U, Vector& F, BorderedJacobian& J) override;
+  std::vector<NamedUnknown> turning_unknowns() const override { return unknowns_.turning_unknowns(); }
   Status parameter_derivative(int p, const Vector& U, Vector& dF) override;
   Vector initial_guess() override;
   double residual_scale() const override { return inner_.residual_scale(); }
@@ -43,9 +49,9 @@ class EventCurveProblem final : public Problem {
   SolutionFields fields(const Vector& U) const override { return inner_.fields(U.head(n_)); }
   std::string summary() const override;
 
-  int event_parameter() const { return p1_; }
-  const std::string& event_parameter_name() const { return inner_.parameters().info(p1_).name; }
-  Vector state(const Vector& u, double p1) const;
+  int event_parameter() const { return unknowns_.p1(); }
+  const std::string& event_parameter_name() const { return unknowns_.p1_name(); }
+  Vector state(const Vector& u, double p1) const { return unknowns_.state(u, p1); }
   // The place followed, and the place where the minimum sits at U (the inner problem's
   // parameters set from U and the present p2).
   int place() const { return place_; }
@@ -62,17 +68,17 @@ class EventCurveProblem final : public Problem {
   static constexpr const char* kMargin = "switch margin";
 
  private:
-  // Sets p1 from U; a failure status where it is out of range.
-  Status set_p1(const Vector& U);
   Status place_values(const Vector& U, std::vector<double>& values);
-  SparseMatrix bordered(const SparseMatrix& A, const Vector& col, const Vector& row, double corner) const;
+  // d m_k / d p at U (p1 set from U) by central differences in the parameter p.
+  Status place_parameter_derivative(int p, const Vector& u, double& derivative);
+  // Newton at the present parameters by block elimination (FixedParameterSolve).
+  Status solve_here(Vector& U, const NewtonOptions& newton, const SparseLUOptions& lu);
 
   Problem& inner_;
+  CurveUnknowns unknowns_;
   int n_;
-  int p1_;
   int monitor_;
   int place_ = 0;
-  SparseMatrix pattern_;
   // the state of a switch the curve restarts from: its margin is zero there (not a new crossing)
   Vector switched_at_;
 };

@@ -2,8 +2,9 @@
 
 namespace keller {
 
-KeptFactorisation::KeptFactorisation(const SparseMatrix& pattern, SparseLUOptions lu, bool block_elimination)
-    : system_(pattern, lu, block_elimination ? BorderedSystem::Mode::Block : BorderedSystem::Mode::Full) {}
+KeptFactorisation::KeptFactorisation(const Problem& problem, SparseLUOptions lu, bool block_elimination)
+    : system_(problem.inner_pattern(), problem.border_size(), lu,
+              block_elimination ? BorderedSystem::Mode::Block : BorderedSystem::Mode::Full) {}
 
 Status KeptFactorisation::factorise_at(Evaluator& ev, const Vector& u, double lambda, const Constraint& c) {
   Status st = ev.set_parameter(lambda);
@@ -15,7 +16,10 @@ Status KeptFactorisation::factorise_at(Evaluator& ev, const Vector& u, double la
 
 Status KeptFactorisation::factorise_assembled(const Evaluator& ev, const Vector& u, double lambda,
                                               const Constraint& c) {
-  system_.set(ev.jacobian_matrix(), ev.parameter_derivative_vector(), c.cu, c.cl);
+  if (ev.bordered())
+    system_.set(ev.bordered_jacobian(), ev.parameter_derivative_vector(), c.cu, c.cl);
+  else
+    system_.set(ev.jacobian_matrix(), ev.parameter_derivative_vector(), c.cu, c.cl);
   return factorise(u, lambda);
 }
 

@@ -15,7 +15,8 @@ namespace keller {
 
 class KeptFactorisation {
  public:
-  KeptFactorisation(const SparseMatrix& jacobian_pattern, SparseLUOptions lu, bool block_elimination);
+  // For the problem's Jacobian pattern, or its inner pattern and border (Problem::border_size()).
+  KeptFactorisation(const Problem& problem, SparseLUOptions lu, bool block_elimination);
 
   // Assembles J and F_p at (u, lambda) (the parameter set there), sets the border row c and
   // factorises; remembers the point.

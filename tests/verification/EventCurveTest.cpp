@@ -67,7 +67,81 @@ class TwoPlaceProblem final : public Problem {
   SparseMatrix pattern_;
 };
 
+// F = u + u^3 / 3 + b^2 - a with the monitor "u": its zero is the event curve a = b^2, which
+// turns in a (the unknown p1 of the curve) at b = 0, a minimum.
+class ParabolaProblem final : public Problem {
+ public:
+  ParabolaProblem(double a, double b) : pattern_(1, 1) {
+    params_.add("a", a, "load");
+    params_.add("b", b, "shift");
+    pattern_.insert(0, 0) = 0.0;
+    pattern_.makeCompressed();
+  }
+  std::string name() const override { return "parabola"; }
+  int size() const override { return 1; }
+  ParameterSet& parameters() override { return params_; }
+  const ParameterSet& parameters() const override { return params_; }
+  const SparseMatrix& jacobian_pattern() const override { return pattern_; }
+  Status residual(const Vector& u, Vector& F) override {
+    const double b = params_.value(1);
+    F = Vector::Constant(1, u[0] + u[0] * u[0] * u[0] / 3.0 + b * b - params_.value(0));
+    return {};
+  }
+  Status jacobian(const Vector& u, Vector& F, SparseMatrix& J) override {
+    residual(u, F);
+    J = pattern_;
+    J.valuePtr()[0] = 1.0 + u[0] * u[0];
+    return {};
+  }
+  Status parameter_derivative(int p, const Vector&, Vector& dF) override {
+    dF = Vector::Constant(1, p == 0 ? -1.0 : 2.0 * params_.value(1));
+    return {};
+  }
+  Vector initial_guess() override { return Vector::Zero(1); }
+  std::vector<std::string> monitor_names() const override { return {"u"}; }
+  Status monitors(const Vector& u, std::vector<double>& v) override {
+    v = {u[0]};
+    return {};
+  }
+  SolutionFields fields(const Vector&) const override { return {}; }
+
+ private:
+  ParameterSet params_;
+  SparseMatrix pattern_;
+};
+
 }  // namespace
+
+// The event curve a = b^2 from b = -0.5 to 0.5: every point on it to 1e-10, and its turn in a
+// (the unknown p1: the tangent's a part changes sign) located at b = 0 to 1e-10 and labelled
+// "a min", with a = b^2 = 0 there; no switch (one place).
+TEST(EventCurve, TurnsInTheUnknownParameterAreLocated) {
+  ParabolaProblem p(0.25, -0.5);
+  EventCurveProblem curve(p, "a", "u");
+  Vector U = curve.state(Vector::Constant(1, 1e-3), 0.25 + 1e-3);
+  NewtonOptions tight;
+  tight.residual_tolerance = 1e-12;  // two orders below what the curve is checked to
+  ASSERT_TRUE(curve.start(U, tight).is_ok());
+  ContinuationOptions o;
+  o.parameter = "b";
+  o.stop.upper = 0.5;
+  o.step.initial = 0.05;
+  o.step.max = 0.1;
+  o.events.tolerance = 1e-10;
+  test::RecordingObserver rec;
+  const ContinuationResult r = curve.trace(o, tight, {}, U, rec);
+  ASSERT_EQ(r.code, StopCode::UpperBound) << r.reason;
+  for (const BranchPoint& q : rec.points) EXPECT_NEAR(q.u[1], q.lambda * q.lambda, 1e-10) << "b = " << q.lambda;
+  std::vector<const BranchPoint*> turns;
+  for (const BranchPoint* e : rec.of_kind(PointKind::Event)) {
+    EXPECT_NE(e->label, "switch");
+    if (e->label == "a min") turns.push_back(e);
+  }
+  ASSERT_EQ(turns.size(), 1u);
+  EXPECT_NEAR(turns[0]->lambda, 0.0, 1e-10);
+  EXPECT_NEAR(turns[0]->u[1], 0.0, 1e-10);
+  EXPECT_TRUE(rec.of_kind(PointKind::Fold).empty());  // the curve does not turn in b
+}
 
 // From the event at b = -0.5 (a = 0.5, u0 = 0) to b = 0.5: every point on a = 1 - |b| to 1e-10
 // with the followed value the minimum (margin >= 0) and the monitor zero; one switch, at b = 0 to

@@ -1,0 +1,296 @@
+#include "continuation/HopfCurveProblem.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <stdexcept>
+
+#include "continuation/FixedParameterSolve.hpp"
+
+namespace keller {
+
+namespace {
+
+using Complex = std::complex<double>;
+const Complex kI(0.0, 1.0);
+
+std::vector<double> parameter_values(const ParameterSet& ps) { return {ps.values(), ps.values() + ps.size()}; }
+
+// Bordered solves that refine borders set from a guess (inverse iteration with the shift
+// i omega: each multiplies the error by the ratio of the two eigenvalues nearest it).
+constexpr int kBorderRefinements = 3;
+
+// A deterministic generic vector (no special structure, no zero entries): borders where no
+// better guess is known.
+Vector generic_vector(int n) {
+  Vector g(n);
+  for (int i = 0; i < n; ++i) g[i] = std::sin(1.0 + 0.7 * i);
+  return g;
+}
+
+}  // namespace
+
+HopfCurveProblem::HopfCurveProblem(Problem& inner, const std::string& hopf_parameter, SparseLUOptions lu)
+    : inner_(inner),
+      unknowns_(inner, hopf_parameter, 2, "Hopf curve"),
+      n_(inner.size()),
+      b_(ComplexVector::Zero(inner.size())),
+      c_(ComplexVector::Zero(inner.size())),
+      lu_(lu),
+      fold_(inner.size(), lu) {}
+
+Vector HopfCurveProblem::state(const Vector& u, double p1, double omega) const {
+  return unknowns_.state(u, p1, Vector::Constant(1, omega));
+}
+
+Vector HopfCurveProblem::initial_guess() {
+  return state(inner_.initial_guess(), inner_.parameters().value(unknowns_.p1()), 0.0);
+}
+
+SparseMatrix HopfCurveProblem::real_form(const SparseMatrix& J, const SparseMatrix& B, double omega) const {
+  // unknowns (Re v, Im v, Re g, Im g), equations (Re, Im of the first block row; Re, Im of c^H v = 1):
+  //   [ J      omega B   Re b  -Im b ]
+  //   [ -omega B   J     Im b   Re b ]
+  //   [ Re c^T  Im c^T    0      0   ]
+  //   [ -Im c^T Re c^T    0      0   ]
+  const int n = n_;
+  std::vector<Eigen::Triplet<double, int>> t;
+  t.reserve(2 * static_cast<size_t>(J.nonZeros() + B.nonZeros()) + 8 * static_cast<size_t>(n));
+  for (int j = 0; j < n; ++j) {
+    for (SparseMatrix::InnerIterator it(J, j); it; ++it) {
+      t.emplace_back(it.row(), j, it.value());
+      t.emplace_back(n + it.row(), n + j, it.value());
+    }
+    for (SparseMatrix::InnerIterator it(B, j); it; ++it) {
+      t.emplace_back(it.row(), n + j, omega * it.value());
+      t.emplace_back(n + it.row(), j, -omega * it.value());
+    }
+  }
+  for (int i = 0; i < n; ++i) {
+    t.emplace_back(i, 2 * n, b_[i].real());
+    t.emplace_back(n + i, 2 * n, b_[i].imag());
+    t.emplace_back(i, 2 * n + 1, -b_[i].imag());
+    t.emplace_back(n + i, 2 * n + 1, b_[i].real());
+    t.emplace_back(2 * n, i, c_[i].real());
+    t.emplace_back(2 * n, n + i, c_[i].imag());
+    t.emplace_back(2 * n + 1, i, -c_[i].imag());
+    t.emplace_back(2 * n + 1, n + i, c_[i].real());
+  }
+  t.emplace_back(2 * n, 2 * n, 0.0);
+  t.emplace_back(2 * n + 1, 2 * n + 1, 0.0);
+  SparseMatrix M(2 * n + 2, 2 * n + 2);
+  M.setFromTriplets(t.begin(), t.end());
+  M.makeCompressed();
+  return M;
+}
+
+Status HopfCurveProblem::analyse(const Vector& U) {
+  Status st = unknowns_.set_p1(U);
+  if (!st.is_ok()) return st;
+  const double omega = U[n_ + 1];
+  if (!std::isfinite(omega)) return {StatusCode::NotFinite, "Hopf curve: omega is not finite"};
+  const ParameterSet& ps = inner_.parameters();
+  if (analysed_.size() == U.size() && analysed_ == U && analysed_params_ == parameter_values(ps))
+    return analysed_status_;
+  analysed_ = U;
+  analysed_params_ = parameter_values(ps);
+  analysed_status_ = [&]() -> Status {
+    const Vector u = U.head(n_);
+    Status s = inner_.jacobian(u, F_, J_);
+    if (s.is_ok()) s = inner_.mass_matrix(u, B_);
+    if (s.is_ok()) s = lu_.factorize(real_form(J_, B_, omega));
+    if (!s.is_ok()) return s;
+    const int n = n_;
+    Vector rhs = Vector::Zero(2 * n + 2), x, y;
+    rhs[2 * n] = 1.0;
+    s = lu_.solve(rhs, x);
+    if (s.is_ok()) s = lu_.solve(rhs, y, true);
+    if (!s.is_ok()) return s;
+    v_ = x.head(n).cast<Complex>() + kI * x.segment(n, n).cast<Complex>();
+    g_ = Complex(x[2 * n], x[2 * n + 1]);
+    w_ = y.head(n).cast<Complex>() + kI * y.segment(n, n).cast<Complex>();
+    if (!v_.allFinite() || !w_.allFinite() || !std::isfinite(g_.real()) || !std::isfinite(g_.imag()))
+      return {StatusCode::NotFinite, "Hopf curve: the bordered solve for the test function is not finite"};
+    return {};
+  }();
+  return analysed_status_;
+}
+
+Status HopfCurveProblem::residual(const Vector& U, Vector& F) {
+  Status st = analyse(U);
+  if (!st.is_ok()) return st;
+  F.resize(n_ + 2);
+  F.head(n_) = F_;
+  F[n_] = g_.real();
+  F[n_ + 1] = g_.imag();
+  return {};
+}
+
+Status HopfCurveProblem::parameter_term(int p, const Vector& u, double omega, Complex& gp) {
+  // (J - i omega B)_p v = F_pu Re v + i F_pu Im v - i omega B_p v
+  Vector Dr, Di;
+  Status st = unknowns_.parameter_derivative_along(p, u, v_.real(), Dr);
+  if (st.is_ok()) st = unknowns_.parameter_derivative_along(p, u, v_.imag(), Di);
+  // w^H B_p v by central differences of w^H B v in p (B may depend on the parameters)
+  Vector wBv_p;
+  if (st.is_ok())
+    st = unknowns_.parameter_difference(
+        p,
+        [&](Vector& value) {
+          SparseMatrix B;
+          const Status s = inner_.mass_matrix(u, B);
+          const Complex wBv = w_.dot(B.cast<Complex>() * v_);
+          value.resize(2);
+          value << wBv.real(), wBv.imag();
+          return s;
+        },
+        wBv_p);
+  if (!st.is_ok()) return st;
+  const ComplexVector Jp_v = Dr.cast<Complex>() + kI * Di.cast<Complex>();
+  gp = -w_.dot(Jp_v) + kI * omega * Complex(wBv_p[0], wBv_p[1]);
+  return {};
+}
+
+Status HopfCurveProblem::bordered_jacobian(const Vector& U, Vector& F, BorderedJacobian& J) {
+  Status st = residual(U, F);
+  if (!st.is_ok()) return st;
+  const Vector u = U.head(n_);
+  const double omega = U[n_ + 1];
+  if (J.border_size() != 2 || J.inner_size() != n_) J = unknowns_.blocks();
+  J.K = J_;
+  // g_u = -(D_{Re v} J + i D_{Im v} J)^T conj(w) (F_uu symmetric in its two arguments)
+  SparseMatrix Dr, Di;
+  st = unknowns_.jacobian_along(u, v_.real(), Dr);
+  if (st.is_ok()) st = unknowns_.jacobian_along(u, v_.imag(), Di);
+  Vector Fp1;
+  if (st.is_ok()) st = inner_.parameter_derivative(unknowns_.p1(), u, Fp1);
+  Complex gp1;
+  if (st.is_ok()) st = parameter_term(unknowns_.p1(), u, omega, gp1);
+  if (!st.is_ok()) return st;
+  const Vector wr = w_.real(), wi = w_.imag();
+  J.B.col(0) = Fp1;
+  J.B.col(1).setZero();
+  J.C.col(0) = -(Dr.transpose() * wr + Di.transpose() * wi);
+  J.C.col(1) = -(Di.transpose() * wr - Dr.transpose() * wi);
+  // g_omega = i w^H B v
+  const Complex gw = kI * w_.dot(B_.cast<Complex>() * v_);
+  J.D << gp1.real(), gw.real(), gp1.imag(), gw.imag();
+  return {};
+}
+
+Status HopfCurveProblem::jacobian(const Vector& U, Vector& F, SparseMatrix& J) {
+  BorderedJacobian A = unknowns_.blocks();
+  const Status st = bordered_jacobian(U, F, A);
+  if (st.is_ok()) J = A.assembled();
+  return st;
+}
+
+Status HopfCurveProblem::parameter_derivative(int p, const Vector& U, Vector& dF) {
+  if (p == unknowns_.p1())
+    throw std::invalid_argument("Hopf curve: " + hopf_parameter_name() +
+                                " is an unknown of the curve, not the parameter it is continued in");
+  Status st = analyse(U);
+  if (!st.is_ok()) return st;
+  const Vector u = U.head(n_);
+  Vector Fp;
+  st = inner_.parameter_derivative(p, u, Fp);
+  if (!st.is_ok()) return st;
+  Complex gp;
+  st = parameter_term(p, u, U[n_ + 1], gp);
+  if (!st.is_ok()) return st;
+  dF.resize(n_ + 2);
+  dF.head(n_) = Fp;
+  dF[n_] = gp.real();
+  dF[n_ + 1] = gp.imag();
+  return {};
+}
+
+Status HopfCurveProblem::null_vectors(const Vector& U, ComplexVector& v, ComplexVector& w, Complex& g) {
+  Status st = analyse(U);
+  if (!st.is_ok()) return st;
+  v = v_;
+  w = w_;
+  g = g_;
+  return {};
+}
+
+Status HopfCurveProblem::update_borders(const Vector& U) {
+  Status st = analyse(U);
+  if (!st.is_ok()) return st;
+  const double vn = v_.norm(), wn = w_.norm();
+  if (!(vn > 0.0) || !(wn > 0.0)) return {StatusCode::SingularMatrix, "Hopf curve: a null vector vanished"};
+  c_ = v_ / vn;
+  b_ = w_ / wn;
+  st = fold_.evaluate(J_);
+  if (st.is_ok()) st = fold_.update_borders();
+  analysed_.resize(0);  // the borders changed: g and the null vectors with them
+  return st;
+}
+
+Status HopfCurveProblem::set_borders(const Vector& U, const ComplexVector& mode_guess) {
+  if (mode_guess.size() && mode_guess.size() != n_)
+    throw std::invalid_argument("Hopf curve: eigenvector guess of the wrong size");
+  const ComplexVector guess =
+      mode_guess.size() && mode_guess.norm() > 0
+          ? mode_guess
+          : ComplexVector(generic_vector(n_).cast<Complex>() + kI * generic_vector(n_).reverse());
+  c_ = guess / guess.norm();
+  b_ = c_;
+  fold_.set_borders(generic_vector(n_));
+  analysed_.resize(0);
+  for (int k = 0; k < kBorderRefinements; ++k) {
+    Status st = update_borders(U);
+    if (!st.is_ok()) return st;
+  }
+  return {};
+}
+
+Status HopfCurveProblem::start(Vector& U, const ComplexVector& mode_guess, const NewtonOptions& newton,
+                               SparseLUOptions lu) {
+  Status st = set_borders(U, mode_guess);
+  if (!st.is_ok()) return st;
+  // any parameter but p1 is fixed (all are): the first other one
+  const int p = unknowns_.p1() == 0 ? 1 : 0;
+  const FixedParameterResult r = solve_at_fixed_parameter(*this, inner_.parameters().info(p).name, U, newton, lu);
+  if (!r.status.is_ok())
+    return {StatusCode::NotConverged,
+            "Hopf curve: Newton from the located Hopf point did not converge (" + r.status.describe() + ")"};
+  return update_borders(U);
+}
+
+std::vector<std::string> HopfCurveProblem::observable_names() const { return unknowns_.observable_names({"omega"}); }
+
+Status HopfCurveProblem::observables(const Vector& U, std::vector<double>& values) {
+  Status st = analyse(U);
+  if (!st.is_ok()) return st;
+  st = inner_.observables(U.head(n_), values);
+  if (!st.is_ok()) return st;
+  values.push_back(U[n_]);
+  values.push_back(U[n_ + 1]);
+  return {};
+}
+
+std::vector<std::string> HopfCurveProblem::monitor_names() const {
+  std::vector<std::string> names = inner_.monitor_names();
+  names.push_back("bogdanov-takens");
+  names.push_back("fold-hopf");
+  return names;
+}
+
+Status HopfCurveProblem::monitors(const Vector& U, std::vector<double>& values) {
+  Status st = analyse(U);
+  if (!st.is_ok()) return st;
+  st = inner_.monitors(U.head(n_), values);
+  if (st.is_ok()) st = fold_.evaluate(J_);
+  if (!st.is_ok()) return st;
+  values.push_back(U[n_ + 1]);
+  values.push_back(fold_.g());
+  return {};
+}
+
+std::string HopfCurveProblem::summary() const {
+  return fmt::format("Hopf curve (minimally augmented, unknowns the state, {} and omega) of {}", hopf_parameter_name(),
+                     inner_.summary());
+}
+
+}  // namespace keller
