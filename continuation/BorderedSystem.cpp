@@ -95,6 +95,12 @@ void BorderedSystem::set(const BorderedJacobian& J, const Vector& b, const Vecto
   Ct_.leftCols(m) = J.C;
   Dt_.topLeftCorner(m, m) = J.D;
   Dt_.col(m).head(m) = b.tail(m);
+  set_last_row(c, d);
+  fill();
+}
+
+void BorderedSystem::set_last_row(const Vector& c, double d) {
+  const int nk = nk_, m = m_;
   if (c.size()) {
     Ct_.col(m) = c.head(nk);
     Dt_.row(m).head(m) = c.tail(m).transpose();
@@ -103,7 +109,6 @@ void BorderedSystem::set(const BorderedJacobian& J, const Vector& b, const Vecto
     Dt_.row(m).head(m).setZero();
   }
   Dt_(m, m) = d;
-  fill();
 }
 
 bool BorderedSystem::schur() {
@@ -122,14 +127,31 @@ Status BorderedSystem::adopt(std::shared_ptr<SparseLU> lu, const SparseMatrix& J
   if (m_ != 0) return {StatusCode::InvalidState, "the problem has a border: J's factorisation is not its inner one"};
   if (!lu || !lu->factorized()) return {StatusCode::InvalidState, "no factorisation to adopt"};
   set(J, b, c, d);
+  return adopt_inner(std::move(lu));
+}
+
+Status BorderedSystem::adopt(std::shared_ptr<SparseLU> lu, const BorderedJacobian& J, const Vector& b, const Vector& c,
+                             double d) {
+  if (mode_ != Mode::Block) return {StatusCode::InvalidState, "full bordered mode: nothing to adopt"};
+  if (!lu || !lu->factorized()) return {StatusCode::InvalidState, "no factorisation to adopt"};
+  set(J, b, c, d);
+  return adopt_inner(std::move(lu));
+}
+
+Status BorderedSystem::adopt_inner(std::shared_ptr<SparseLU> lu) {
   release_adopted();
-  lu_j_ = std::move(lu);
-  adopted_base_ = lu_j_->statistics();
+  if (lu != own_j_) {
+    lu_j_ = std::move(lu);
+    adopted_base_ = lu_j_->statistics();
+  }
   block_ok_ = false;
-  Vector x;
-  Status st = lu_j_->solve(Bt_.col(0), x);
-  if (!st.is_ok()) return st;
-  X_ = x;
+  X_.resize(nk_, m_ + 1);
+  for (int b = 0; b <= m_; ++b) {
+    Vector x;
+    const Status st = lu_j_->solve(Bt_.col(b), x);
+    if (!st.is_ok()) return st;
+    X_.col(b) = x;
+  }
   if (!schur()) return {StatusCode::SingularMatrix, "Schur complement of the adopted factorisation vanishes"};
   block_ok_ = true;
   return {};
@@ -185,14 +207,7 @@ int BorderedSystem::determinant_sign() const {
 Status BorderedSystem::set_row(const Vector& c, double d) {
   const int nk = nk_, m = m_;
   if (c.size() && c.size() != n_) throw std::invalid_argument("BorderedSystem::set_row: size mismatch");
-  if (c.size()) {
-    Ct_.col(m) = c.head(nk);
-    Dt_.row(m).head(m) = c.tail(m).transpose();
-  } else {
-    Ct_.col(m).setZero();
-    Dt_.row(m).head(m).setZero();
-  }
-  Dt_(m, m) = d;
+  set_last_row(c, d);
   // in A_: the last entry of each inner column, and row N of each border column
   double* v = A_.valuePtr();
   const int* ao = A_.outerIndexPtr();

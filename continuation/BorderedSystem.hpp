@@ -51,6 +51,12 @@ class BorderedSystem {
   // Newton solve that found the start) with border b, c, d; no numeric factorisation. A non-ok
   // status where it cannot be used (full mode, a problem border, a vanishing Schur complement).
   Status adopt(std::shared_ptr<SparseLU> lu, const SparseMatrix& J, const Vector& b, const Vector& c, double d);
+  // The same for a problem with a border: lu factorises J.K (another point's inner matrix, kept
+  // as the system's), the border J.B, J.C, J.D is the new point's.
+  Status adopt(std::shared_ptr<SparseLU> lu, const BorderedJacobian& J, const Vector& b, const Vector& c, double d);
+  // The inner matrix's factorisation in use and the matrix (block mode; for another system to adopt).
+  std::shared_ptr<SparseLU> inner_lu() const { return lu_j_; }
+  const SparseMatrix& inner_matrix() const { return K_; }
   // Replaces the border row and corner (c, d) of the factorised system without refactorising J:
   // block mode only (the Schur complement is k dot products away); returns a non-ok status when
   // the system must be refactorised instead (full mode, no factorisation, vanishing Schur
@@ -90,8 +96,12 @@ class BorderedSystem {
  private:
   // A_'s values from K_, Bt_, Ct_, Dt_.
   void fill();
+  // The continuation's row (c, d) into Ct_ and Dt_ (c empty: zero).
+  void set_last_row(const Vector& c, double d);
   // The Schur complement from X_ and its LU; false where it vanishes (block elimination unusable).
   bool schur();
+  // Takes lu as the inner factorisation (the values set already) and eliminates the borders on it.
+  Status adopt_inner(std::shared_ptr<SparseLU> lu);
   Status solve_block(const Vector& f, double g, Vector& x, double& y);
   // Back to J's own factorisation object (its adopted statistics kept).
   void release_adopted();

@@ -114,9 +114,17 @@ ContinuationResult Continuation::run(const Vector& u0, BranchObserver& observer,
     st = ev_.set_parameter(start.lambda);
     if (st.is_ok()) st = ev_.parameter_derivative(start.u);
     const Constraint row = Constraint::parameter(0.0);
-    if (st.is_ok())
+    if (st.is_ok() && ev_.bordered()) {
+      // the border at the start on the factorised inner matrix
+      st = ev_.jacobian(start.u);
+      BorderedJacobian J = ev_.bordered_jacobian();
+      J.K = factorised.jacobian;
+      if (st.is_ok())
+        st = kept_.adopt(factorised.lu, J, factorised.at, start.lambda, ev_.parameter_derivative_vector(), row);
+    } else if (st.is_ok()) {
       st = kept_.adopt(factorised.lu, factorised.jacobian, factorised.at, start.lambda,
                        ev_.parameter_derivative_vector(), row);
+    }
     if (st.is_ok()) st = tangents_.at_point(start, row, Vector(), 0.0, false, t);
     if (st.is_ok() && t.tl * options_.direction < 0) {
       t.tu = -t.tu;

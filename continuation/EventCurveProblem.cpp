@@ -81,17 +81,11 @@ class Pieces final : public BranchObserver {
 }  // namespace
 
 EventCurveProblem::EventCurveProblem(Problem& inner, const std::string& event_parameter, const std::string& monitor)
-    : inner_(inner),
-      unknowns_(inner, event_parameter, 1, "event curve"),
-      n_(inner.size()),
+    : CurveProblem(inner, event_parameter, 1, "event curve"),
       monitor_(index_of(inner.monitor_names(), monitor, "monitor")) {}
 
-Vector EventCurveProblem::initial_guess() {
-  return state(inner_.initial_guess(), inner_.parameters().value(unknowns_.p1()));
-}
-
 Status EventCurveProblem::place_values(const Vector& U, std::vector<double>& values) {
-  Status st = unknowns_.set_p1(U);
+  Status st = set_p1(U);
   if (!st.is_ok()) return st;
   st = inner_.monitor_places(monitor_, U.head(n_), values);
   if (!st.is_ok()) return st;
@@ -123,7 +117,7 @@ Status EventCurveProblem::residual(const Vector& U, Vector& F) {
 
 Status EventCurveProblem::place_parameter_derivative(int p, const Vector& u, double& derivative) {
   Vector d;
-  const Status st = unknowns_.parameter_difference(
+  const Status st = parameter_difference(
       p,
       [&](Vector& value) {
         std::vector<double> v;
@@ -137,10 +131,8 @@ Status EventCurveProblem::place_parameter_derivative(int p, const Vector& u, dou
 }
 
 Status EventCurveProblem::parameter_derivative(int p, const Vector& U, Vector& dF) {
-  if (p == unknowns_.p1())
-    throw std::invalid_argument("event curve: " + event_parameter_name() +
-                                " is an unknown of the curve, not the parameter it is continued in");
-  Status st = unknowns_.set_p1(U);
+  check_continued_in(p);
+  Status st = set_p1(U);
   if (!st.is_ok()) return st;
   const Vector u = U.head(n_);
   Vector Fp;
@@ -161,32 +153,21 @@ Status EventCurveProblem::bordered_jacobian(const Vector& U, Vector& F, Bordered
   if (!st.is_ok()) return st;
   const Vector u = U.head(n_);
   Vector f, Fp1, gu;
-  if (J.border_size() != 1 || J.inner_size() != n_) J = unknowns_.blocks();
+  if (J.border_size() != 1 || J.inner_size() != n_) J = blocks();
   st = inner_.jacobian(u, f, J.K);
   if (!st.is_ok()) return st;
   F.resize(n_ + 1);
   F.head(n_) = f;
   F[n_] = v[static_cast<size_t>(place_)];
-  st = inner_.parameter_derivative(unknowns_.p1(), u, Fp1);
+  st = inner_.parameter_derivative(p1(), u, Fp1);
   if (st.is_ok()) st = inner_.monitor_place_gradient(monitor_, place_, u, gu);
   double gp1 = 0.0;
-  if (st.is_ok()) st = place_parameter_derivative(unknowns_.p1(), u, gp1);
+  if (st.is_ok()) st = place_parameter_derivative(p1(), u, gp1);
   if (!st.is_ok()) return st;
   J.B.col(0) = Fp1;
   J.C.col(0) = gu;
   J.D(0, 0) = gp1;
   return {};
-}
-
-Status EventCurveProblem::jacobian(const Vector& U, Vector& F, SparseMatrix& J) {
-  BorderedJacobian B = unknowns_.blocks();
-  const Status st = bordered_jacobian(U, F, B);
-  if (st.is_ok()) J = B.assembled();
-  return st;
-}
-
-std::vector<std::string> EventCurveProblem::observable_names() const {
-  return unknowns_.observable_names({"place", kMargin});
 }
 
 Status EventCurveProblem::observables(const Vector& U, std::vector<double>& values) {
@@ -195,11 +176,15 @@ Status EventCurveProblem::observables(const Vector& U, std::vector<double>& valu
   if (!st.is_ok()) return st;
   st = inner_.observables(U.head(n_), values);
   if (!st.is_ok()) return st;
+  // At the switch a piece starts from, the place it left is level with the followed one (not a new
+  // crossing): the margin there is that of the other places, so that a third one overtaking within
+  // the piece's first step is still a crossing.
+  const bool at_switch = switched_at_.size() == U.size() && switched_at_ == U;
   double other = std::numeric_limits<double>::infinity();
   for (size_t j = 0; j < v.size(); ++j)
-    if (static_cast<int>(j) != place_) other = std::min(other, v[j]);
-  double margin = std::isfinite(other) ? other - v[static_cast<size_t>(place_)] : 1.0;
-  if (switched_at_.size() == U.size() && switched_at_ == U) margin = 0.0;  // the switch itself, not a new one
+    if (static_cast<int>(j) != place_ && !(at_switch && static_cast<int>(j) == switched_from_))
+      other = std::min(other, v[j]);
+  const double margin = std::isfinite(other) ? other - v[static_cast<size_t>(place_)] : 1.0;
   values.push_back(U[n_]);
   values.push_back(place_);
   values.push_back(margin);
@@ -213,7 +198,7 @@ std::vector<std::string> EventCurveProblem::monitor_names() const {
 }
 
 Status EventCurveProblem::monitors(const Vector& U, std::vector<double>& values) {
-  Status st = unknowns_.set_p1(U);
+  Status st = set_p1(U);
   if (!st.is_ok()) return st;
   st = inner_.monitors(U.head(n_), values);
   if (!st.is_ok()) return st;
@@ -223,18 +208,23 @@ Status EventCurveProblem::monitors(const Vector& U, std::vector<double>& values)
 
 std::string EventCurveProblem::summary() const {
   return fmt::format("event curve of {} = 0 (unknowns the state and {}) of {}", inner_.monitor_names()[monitor_],
-                     event_parameter_name(), inner_.summary());
+                     p1_name(), inner_.summary());
 }
 
 Status EventCurveProblem::solve_here(Vector& U, const NewtonOptions& newton, const SparseLUOptions& lu) {
-  // any parameter but p1 is fixed (all are): the first other one
-  const int p = unknowns_.p1() == 0 ? 1 : 0;
-  return solve_at_fixed_parameter(*this, inner_.parameters().info(p).name, U, newton, lu).status;
+  // any parameter but p1 is fixed (all are): the first other one; on the factorisation kept from
+  // the last solve or piece where there is one
+  const int p = p1() == 0 ? 1 : 0;
+  FixedParameterResult r = solve_at_fixed_parameter(*this, inner_.parameters().info(p).name, U, newton, lu, kept_);
+  kept_ = std::move(r.factorisation);
+  solve_seconds_ += r.seconds;
+  return r.status;
 }
 
 Status EventCurveProblem::start(Vector& U, const NewtonOptions& newton, SparseLUOptions lu) {
   Status st = argmin(U, place_);
   if (!st.is_ok()) return st;
+  kept_ = {};
   st = solve_here(U, newton, lu);
   if (!st.is_ok())
     return {StatusCode::NotConverged,
@@ -253,6 +243,7 @@ ContinuationResult EventCurveProblem::trace(ContinuationOptions o, const NewtonO
   o.stop.below = 0.0;
   o.stop.above = std::numeric_limits<double>::infinity();
   switched_at_.resize(0);
+  const double solves_before = solve_seconds_;
   Pieces pieces(observer);
   pieces.begin_piece(true, 0.0);
   Vector U = U0;
@@ -261,8 +252,9 @@ ContinuationResult EventCurveProblem::trace(ContinuationOptions o, const NewtonO
   for (bool first = true;; first = false) {
     Continuation run(*this, o, newton, lu);
     if (each_run) each_run(&run);
-    const ContinuationResult r = run.run(U, pieces);
+    const ContinuationResult r = run.run(U, pieces, kept_);
     if (each_run) each_run(nullptr);
+    kept_ = run.factorisation();
     total.points += first ? r.points : r.points - 1;
     total.rejected += r.rejected;
     total.factorisations += r.factorisations;
@@ -296,6 +288,7 @@ ContinuationResult EventCurveProblem::trace(ContinuationOptions o, const NewtonO
     }
     observer.on_note(fmt::format("after row {}: the minimum moves from place {} to place {} at {} = {:.10g}", sw.index,
                                  place_, next, o.parameter, sw.lambda));
+    const int from = place_;
     place_ = next;
     if (!solve_here(U, newton, lu).is_ok()) {
       total.reason = "event curve: no solution on the new place's piece at the switch";
@@ -303,11 +296,14 @@ ContinuationResult EventCurveProblem::trace(ContinuationOptions o, const NewtonO
       break;
     }
     switched_at_ = U;
+    switched_from_ = from;
     o.state_scale = run.state_scale();
     o.direction = sw.tlambda >= 0 ? +1 : -1;
+    o.step.initial = sw.step;  // the step the curve had reached, not a new start's
     o.stop.max_steps = steps_left;
     pieces.begin_piece(false, sw.s);
   }
+  total.timings.total += solve_seconds_ - solves_before;  // the solves at the switches, between the pieces
   pieces.finish();
   return total;
 }

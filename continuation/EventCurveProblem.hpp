@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "continuation/Continuation.hpp"
-#include "continuation/CurveUnknowns.hpp"
+#include "continuation/CurveProblem.hpp"
 #include "core/Newton.hpp"
 #include "core/Problem.hpp"
 #include "core/SparseLU.hpp"
@@ -21,37 +21,24 @@ namespace keller {
 // Observables: the inner problem's, then p1, "place" (the followed place's index) and
 // "switch margin" (the smallest value elsewhere minus the followed one: >= 0 while the
 // minimum sits at the followed place). Monitors: the inner problem's but the curve's own.
-class EventCurveProblem final : public Problem {
+class EventCurveProblem final : public CurveProblem {
  public:
   // inner at the event's parameter values; event_parameter: p1 (the parameter of the branch the
   // event was located on, an unknown of the curve); monitor: the inner problem's monitor.
   EventCurveProblem(Problem& inner, const std::string& event_parameter, const std::string& monitor);
 
   std::string name() const override { return inner_.name() + "-event-curve"; }
-  int size() const override { return unknowns_.size(); }
-  ParameterSet& parameters() override { return inner_.parameters(); }
-  const ParameterSet& parameters() const override { return inner_.parameters(); }
-  const SparseMatrix& jacobian_pattern() const override { return unknowns_.pattern(); }
   Status residual(const Vector& U, Vector& F) override;
-  Status jacobian(const Vector& U, Vector& F, SparseMatrix& J) override;
   // [J F_p1; m_k,u^T m_k,p1]: the inner J bordered by one column and row.
   int border_size() const override { return 1; }
-  const SparseMatrix& inner_pattern() const override { return inner_.jacobian_pattern(); }
   Status bordered_jacobian(const Vector& U, Vector& F, BorderedJacobian& J) override;
-  std::vector<NamedUnknown> turning_unknowns() const override { return unknowns_.turning_unknowns(); }
   Status parameter_derivative(int p, const Vector& U, Vector& dF) override;
-  Vector initial_guess() override;
-  double residual_scale() const override { return inner_.residual_scale(); }
-  std::vector<std::string> observable_names() const override;
+  std::vector<std::string> observable_names() const override { return curve_observable_names({"place", kMargin}); }
   Status observables(const Vector& U, std::vector<double>& values) override;
   std::vector<std::string> monitor_names() const override;
   Status monitors(const Vector& U, std::vector<double>& values) override;
-  SolutionFields fields(const Vector& U) const override { return inner_.fields(U.head(n_)); }
   std::string summary() const override;
 
-  int event_parameter() const { return unknowns_.p1(); }
-  const std::string& event_parameter_name() const { return unknowns_.p1_name(); }
-  Vector state(const Vector& u, double p1) const { return unknowns_.state(u, p1); }
   // The place followed, and the place where the minimum sits at U (the inner problem's
   // parameters set from U and the present p2).
   int place() const { return place_; }
@@ -71,16 +58,18 @@ class EventCurveProblem final : public Problem {
   Status place_values(const Vector& U, std::vector<double>& values);
   // d m_k / d p at U (p1 set from U) by central differences in the parameter p.
   Status place_parameter_derivative(int p, const Vector& u, double& derivative);
-  // Newton at the present parameters by block elimination (FixedParameterSolve).
+  // Newton at the present parameters by block elimination (FixedParameterSolve), the chord on
+  // kept_ where there is one; kept_ becomes the factorisation it ended with.
   Status solve_here(Vector& U, const NewtonOptions& newton, const SparseLUOptions& lu);
 
-  Problem& inner_;
-  CurveUnknowns unknowns_;
-  int n_;
   int monitor_;
   int place_ = 0;
-  // the state of a switch the curve restarts from: its margin is zero there (not a new crossing)
+  // the state of the switch a piece starts from, and the place it left there
   Vector switched_at_;
+  int switched_from_ = -1;
+  // the inner J's factorisation the last solve or piece ended with: the next one starts on it
+  StartFactorisation kept_;
+  double solve_seconds_ = 0.0;  // in solves at switches (outside the pieces' own timings)
 };
 
 }  // namespace keller

@@ -9,8 +9,6 @@ namespace keller {
 
 namespace {
 
-std::vector<double> parameter_values(const ParameterSet& ps) { return {ps.values(), ps.values() + ps.size()}; }
-
 // Bordered solves that refine borders set from a guess of the null vector (inverse iteration:
 // each multiplies the error by the ratio of the two eigenvalues nearest zero).
 constexpr int kBorderRefinements = 3;
@@ -18,20 +16,12 @@ constexpr int kBorderRefinements = 3;
 }  // namespace
 
 FoldCurveProblem::FoldCurveProblem(Problem& inner, const std::string& fold_parameter, SparseLUOptions lu)
-    : inner_(inner), unknowns_(inner, fold_parameter, 1, "fold curve"), n_(inner.size()), test_(inner.size(), lu) {}
-
-Vector FoldCurveProblem::initial_guess() {
-  return state(inner_.initial_guess(), inner_.parameters().value(unknowns_.p1()));
-}
+    : CurveProblem(inner, fold_parameter, 1, "fold curve"), test_(inner.size(), lu) {}
 
 Status FoldCurveProblem::analyse(const Vector& U) {
-  Status st = unknowns_.set_p1(U);
+  Status st = set_p1(U);
   if (!st.is_ok()) return st;
-  const ParameterSet& ps = inner_.parameters();
-  if (analysed_.size() == U.size() && analysed_ == U && analysed_params_ == parameter_values(ps))
-    return analysed_status_;
-  analysed_ = U;
-  analysed_params_ = parameter_values(ps);
+  if (analysed_at(U)) return analysed_status_;
   analysed_status_ = inner_.jacobian(U.head(n_), F_, J_);
   if (analysed_status_.is_ok()) analysed_status_ = test_.evaluate(J_);
   return analysed_status_;
@@ -48,41 +38,37 @@ Status FoldCurveProblem::residual(const Vector& U, Vector& F) {
 
 Status FoldCurveProblem::parameter_term(int p, const Vector& u, double& gp) {
   Vector D;
-  const Status st = unknowns_.parameter_derivative_along(p, u, test_.v(), D);
+  const Status st = parameter_derivative_along(p, u, test_.v(), D);
   if (st.is_ok()) gp = -test_.w().dot(D);
   return st;
 }
 
-Status FoldCurveProblem::jacobian(const Vector& U, Vector& F, SparseMatrix& J) {
+Status FoldCurveProblem::bordered_jacobian(const Vector& U, Vector& F, BorderedJacobian& J) {
   Status st = residual(U, F);
   if (!st.is_ok()) return st;
   const Vector u = U.head(n_);
   const Vector v = test_.v(), w = test_.w();
   const SparseMatrix J0 = J_;
   SparseMatrix D;
-  st = unknowns_.jacobian_along(u, v, D);
+  st = jacobian_along(u, v, D);
   if (!st.is_ok()) return st;
   // g_u = -(w^T J_u v)^T = -(dJ/dv)^T w (F_uu symmetric in its two arguments)
   const Vector gu = -(D.transpose() * w);
   Vector Fp1;
-  st = inner_.parameter_derivative(unknowns_.p1(), u, Fp1);
+  st = inner_.parameter_derivative(p1(), u, Fp1);
   if (!st.is_ok()) return st;
   double gp1 = 0.0;
-  st = parameter_term(unknowns_.p1(), u, gp1);
+  st = parameter_term(p1(), u, gp1);
   if (!st.is_ok()) return st;
-  BorderedJacobian A;
-  A.K = J0;
-  A.B = Fp1;
-  A.C = gu;
-  A.D = Matrix::Constant(1, 1, gp1);
-  J = A.assembled();
+  J.K = J0;
+  J.B = Fp1;
+  J.C = gu;
+  J.D = Matrix::Constant(1, 1, gp1);
   return {};
 }
 
 Status FoldCurveProblem::parameter_derivative(int p, const Vector& U, Vector& dF) {
-  if (p == unknowns_.p1())
-    throw std::invalid_argument("fold curve: " + fold_parameter_name() +
-                                " is an unknown of the curve, not the parameter it is continued in");
+  check_continued_in(p);
   Status st = analyse(U);
   if (!st.is_ok()) return st;
   const Vector u = U.head(n_);
@@ -112,7 +98,7 @@ Status FoldCurveProblem::quadratic_coefficient(const Vector& U, double& a) {
   if (!st.is_ok()) return st;
   const Vector v = test_.v(), w = test_.w();
   SparseMatrix D;
-  st = unknowns_.jacobian_along(U.head(n_), v, D);
+  st = jacobian_along(U.head(n_), v, D);
   if (st.is_ok()) a = w.dot(D * v);
   return st;
 }
@@ -121,13 +107,13 @@ Status FoldCurveProblem::update_borders(const Vector& U) {
   Status st = analyse(U);
   if (st.is_ok()) st = test_.update_borders();
   if (!st.is_ok()) return {st.code(), "fold curve: " + st.message()};
-  analysed_.resize(0);  // the borders changed: g and the null vectors with them
+  forget_analysis();  // the borders changed: g and the null vectors with them
   return {};
 }
 
 Status FoldCurveProblem::set_borders(const Vector& U, const Vector& null_guess) {
   test_.set_borders(null_guess);
-  analysed_.resize(0);
+  forget_analysis();
   for (int k = 0; k < kBorderRefinements; ++k) {
     Status st = update_borders(U);
     if (!st.is_ok()) return st;
@@ -145,8 +131,6 @@ Status FoldCurveProblem::start(Vector& U, const Vector& null_guess, const Newton
             "fold curve: Newton from the located fold did not converge (" + r.status.describe() + ")"};
   return update_borders(U);
 }
-
-std::vector<std::string> FoldCurveProblem::observable_names() const { return unknowns_.observable_names(); }
 
 Status FoldCurveProblem::observables(const Vector& U, std::vector<double>& values) {
   Status st = analyse(U);
@@ -176,8 +160,7 @@ Status FoldCurveProblem::monitors(const Vector& U, std::vector<double>& values) 
 }
 
 std::string FoldCurveProblem::summary() const {
-  return fmt::format("fold curve (minimally augmented, unknowns the state and {}) of {}", fold_parameter_name(),
-                     inner_.summary());
+  return fmt::format("fold curve (minimally augmented, unknowns the state and {}) of {}", p1_name(), inner_.summary());
 }
 
 }  // namespace keller

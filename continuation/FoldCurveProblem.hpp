@@ -10,7 +10,7 @@
 
 #include "continuation/Continuation.hpp"
 #include "continuation/CurveBorderUpdate.hpp"
-#include "continuation/CurveUnknowns.hpp"
+#include "continuation/CurveProblem.hpp"
 #include "continuation/FoldTestFunction.hpp"
 #include "core/Newton.hpp"
 #include "core/Problem.hpp"
@@ -26,36 +26,24 @@ namespace keller {
 // keeps the bordered matrix regular; g's zero set does not depend on them.
 // Observables: the inner problem's, then p1. Monitors: the inner problem's, then "cusp", the
 // quadratic coefficient w^T F_uu[v, v] of the fold, whose zero is a cusp point of the curve.
-class FoldCurveProblem final : public Problem {
+class FoldCurveProblem final : public CurveProblem {
  public:
   // inner at the fold's parameter values; fold_parameter: p1, the parameter of the branch the fold
   // was located on (it becomes an unknown).
   FoldCurveProblem(Problem& inner, const std::string& fold_parameter, SparseLUOptions lu = {});
 
   std::string name() const override { return inner_.name() + "-fold-curve"; }
-  int size() const override { return unknowns_.size(); }
-  ParameterSet& parameters() override { return inner_.parameters(); }
-  const ParameterSet& parameters() const override { return inner_.parameters(); }
-  // J is singular all along a fold curve: the augmented Jacobian is factorised whole (no border
-  // for block elimination on J).
-  const SparseMatrix& jacobian_pattern() const override { return unknowns_.pattern(); }
-  std::vector<NamedUnknown> turning_unknowns() const override { return unknowns_.turning_unknowns(); }
   Status residual(const Vector& U, Vector& F) override;
-  Status jacobian(const Vector& U, Vector& F, SparseMatrix& J) override;
+  // [J F_p1; g_u^T g_p1]. J is singular all along a fold curve: no border for block elimination on
+  // it (border_size() 0), the augmented Jacobian is factorised whole.
+  Status bordered_jacobian(const Vector& U, Vector& F, BorderedJacobian& J) override;
   Status parameter_derivative(int p, const Vector& U, Vector& dF) override;
-  Vector initial_guess() override;
-  double residual_scale() const override { return inner_.residual_scale(); }
-  std::vector<std::string> observable_names() const override;
+  std::vector<std::string> observable_names() const override { return curve_observable_names(); }
   Status observables(const Vector& U, std::vector<double>& values) override;
   std::vector<std::string> monitor_names() const override;
   Status monitors(const Vector& U, std::vector<double>& values) override;
-  SolutionFields fields(const Vector& U) const override { return inner_.fields(U.head(n_)); }
   std::string summary() const override;
 
-  int fold_parameter() const { return unknowns_.p1(); }
-  const std::string& fold_parameter_name() const { return unknowns_.p1_name(); }
-  // (u, p1) as the augmented state.
-  Vector state(const Vector& u, double p1) const { return unknowns_.state(u, p1); }
   // Borders from a guess of the null vector (a fold's tangent: its state part; b = c = the guess),
   // refined at U by three bordered solves.
   Status set_borders(const Vector& U, const Vector& null_guess);
@@ -78,14 +66,8 @@ class FoldCurveProblem final : public Problem {
   // -w^T (dF/dp)_u v by central differences of dF/dp along v.
   Status parameter_term(int p, const Vector& u, double& gp);
 
-  Problem& inner_;
-  CurveUnknowns unknowns_;
-  int n_;
   FoldTestFunction test_;
-  // the analysis at analysed_ (state) and analysed_params_
-  Vector analysed_;
-  std::vector<double> analysed_params_;
-  Status analysed_status_;
+  Status analysed_status_;  // of the analysis at CurveProblem::analysed_at
   Vector F_;
   SparseMatrix J_;
 };

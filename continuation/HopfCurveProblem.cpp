@@ -14,8 +14,6 @@ namespace {
 using Complex = std::complex<double>;
 const Complex kI(0.0, 1.0);
 
-std::vector<double> parameter_values(const ParameterSet& ps) { return {ps.values(), ps.values() + ps.size()}; }
-
 // Bordered solves that refine borders set from a guess (inverse iteration with the shift
 // i omega: each multiplies the error by the ratio of the two eigenvalues nearest it).
 constexpr int kBorderRefinements = 3;
@@ -31,20 +29,14 @@ Vector generic_vector(int n) {
 }  // namespace
 
 HopfCurveProblem::HopfCurveProblem(Problem& inner, const std::string& hopf_parameter, SparseLUOptions lu)
-    : inner_(inner),
-      unknowns_(inner, hopf_parameter, 2, "Hopf curve"),
-      n_(inner.size()),
+    : CurveProblem(inner, hopf_parameter, 2, "Hopf curve"),
       b_(ComplexVector::Zero(inner.size())),
       c_(ComplexVector::Zero(inner.size())),
       lu_(lu),
       fold_(inner.size(), lu) {}
 
 Vector HopfCurveProblem::state(const Vector& u, double p1, double omega) const {
-  return unknowns_.state(u, p1, Vector::Constant(1, omega));
-}
-
-Vector HopfCurveProblem::initial_guess() {
-  return state(inner_.initial_guess(), inner_.parameters().value(unknowns_.p1()), 0.0);
+  return CurveProblem::state(u, p1, Vector::Constant(1, omega));
 }
 
 SparseMatrix HopfCurveProblem::real_form(const SparseMatrix& J, const SparseMatrix& B, double omega) const {
@@ -85,15 +77,11 @@ SparseMatrix HopfCurveProblem::real_form(const SparseMatrix& J, const SparseMatr
 }
 
 Status HopfCurveProblem::analyse(const Vector& U) {
-  Status st = unknowns_.set_p1(U);
+  Status st = set_p1(U);
   if (!st.is_ok()) return st;
   const double omega = U[n_ + 1];
   if (!std::isfinite(omega)) return {StatusCode::NotFinite, "Hopf curve: omega is not finite"};
-  const ParameterSet& ps = inner_.parameters();
-  if (analysed_.size() == U.size() && analysed_ == U && analysed_params_ == parameter_values(ps))
-    return analysed_status_;
-  analysed_ = U;
-  analysed_params_ = parameter_values(ps);
+  if (analysed_at(U)) return analysed_status_;
   analysed_status_ = [&]() -> Status {
     const Vector u = U.head(n_);
     Status s = inner_.jacobian(u, F_, J_);
@@ -129,12 +117,12 @@ Status HopfCurveProblem::residual(const Vector& U, Vector& F) {
 Status HopfCurveProblem::parameter_term(int p, const Vector& u, double omega, Complex& gp) {
   // (J - i omega B)_p v = F_pu Re v + i F_pu Im v - i omega B_p v
   Vector Dr, Di;
-  Status st = unknowns_.parameter_derivative_along(p, u, v_.real(), Dr);
-  if (st.is_ok()) st = unknowns_.parameter_derivative_along(p, u, v_.imag(), Di);
+  Status st = parameter_derivative_along(p, u, v_.real(), Dr);
+  if (st.is_ok()) st = parameter_derivative_along(p, u, v_.imag(), Di);
   // w^H B_p v by central differences of w^H B v in p (B may depend on the parameters)
   Vector wBv_p;
   if (st.is_ok())
-    st = unknowns_.parameter_difference(
+    st = parameter_difference(
         p,
         [&](Vector& value) {
           SparseMatrix B;
@@ -156,16 +144,16 @@ Status HopfCurveProblem::bordered_jacobian(const Vector& U, Vector& F, BorderedJ
   if (!st.is_ok()) return st;
   const Vector u = U.head(n_);
   const double omega = U[n_ + 1];
-  if (J.border_size() != 2 || J.inner_size() != n_) J = unknowns_.blocks();
+  if (J.border_size() != 2 || J.inner_size() != n_) J = blocks();
   J.K = J_;
   // g_u = -(D_{Re v} J + i D_{Im v} J)^T conj(w) (F_uu symmetric in its two arguments)
   SparseMatrix Dr, Di;
-  st = unknowns_.jacobian_along(u, v_.real(), Dr);
-  if (st.is_ok()) st = unknowns_.jacobian_along(u, v_.imag(), Di);
+  st = jacobian_along(u, v_.real(), Dr);
+  if (st.is_ok()) st = jacobian_along(u, v_.imag(), Di);
   Vector Fp1;
-  if (st.is_ok()) st = inner_.parameter_derivative(unknowns_.p1(), u, Fp1);
+  if (st.is_ok()) st = inner_.parameter_derivative(p1(), u, Fp1);
   Complex gp1;
-  if (st.is_ok()) st = parameter_term(unknowns_.p1(), u, omega, gp1);
+  if (st.is_ok()) st = parameter_term(p1(), u, omega, gp1);
   if (!st.is_ok()) return st;
   const Vector wr = w_.real(), wi = w_.imag();
   J.B.col(0) = Fp1;
@@ -178,17 +166,8 @@ Status HopfCurveProblem::bordered_jacobian(const Vector& U, Vector& F, BorderedJ
   return {};
 }
 
-Status HopfCurveProblem::jacobian(const Vector& U, Vector& F, SparseMatrix& J) {
-  BorderedJacobian A = unknowns_.blocks();
-  const Status st = bordered_jacobian(U, F, A);
-  if (st.is_ok()) J = A.assembled();
-  return st;
-}
-
 Status HopfCurveProblem::parameter_derivative(int p, const Vector& U, Vector& dF) {
-  if (p == unknowns_.p1())
-    throw std::invalid_argument("Hopf curve: " + hopf_parameter_name() +
-                                " is an unknown of the curve, not the parameter it is continued in");
+  check_continued_in(p);
   Status st = analyse(U);
   if (!st.is_ok()) return st;
   const Vector u = U.head(n_);
@@ -223,7 +202,7 @@ Status HopfCurveProblem::update_borders(const Vector& U) {
   b_ = w_ / wn;
   st = fold_.evaluate(J_);
   if (st.is_ok()) st = fold_.update_borders();
-  analysed_.resize(0);  // the borders changed: g and the null vectors with them
+  forget_analysis();  // the borders changed: g and the null vectors with them
   return st;
 }
 
@@ -237,7 +216,7 @@ Status HopfCurveProblem::set_borders(const Vector& U, const ComplexVector& mode_
   c_ = guess / guess.norm();
   b_ = c_;
   fold_.set_borders(generic_vector(n_));
-  analysed_.resize(0);
+  forget_analysis();
   for (int k = 0; k < kBorderRefinements; ++k) {
     Status st = update_borders(U);
     if (!st.is_ok()) return st;
@@ -250,15 +229,13 @@ Status HopfCurveProblem::start(Vector& U, const ComplexVector& mode_guess, const
   Status st = set_borders(U, mode_guess);
   if (!st.is_ok()) return st;
   // any parameter but p1 is fixed (all are): the first other one
-  const int p = unknowns_.p1() == 0 ? 1 : 0;
+  const int p = p1() == 0 ? 1 : 0;
   const FixedParameterResult r = solve_at_fixed_parameter(*this, inner_.parameters().info(p).name, U, newton, lu);
   if (!r.status.is_ok())
     return {StatusCode::NotConverged,
             "Hopf curve: Newton from the located Hopf point did not converge (" + r.status.describe() + ")"};
   return update_borders(U);
 }
-
-std::vector<std::string> HopfCurveProblem::observable_names() const { return unknowns_.observable_names({"omega"}); }
 
 Status HopfCurveProblem::observables(const Vector& U, std::vector<double>& values) {
   Status st = analyse(U);
@@ -289,7 +266,7 @@ Status HopfCurveProblem::monitors(const Vector& U, std::vector<double>& values) 
 }
 
 std::string HopfCurveProblem::summary() const {
-  return fmt::format("Hopf curve (minimally augmented, unknowns the state, {} and omega) of {}", hopf_parameter_name(),
+  return fmt::format("Hopf curve (minimally augmented, unknowns the state, {} and omega) of {}", p1_name(),
                      inner_.summary());
 }
 

@@ -15,7 +15,7 @@
 
 #include "continuation/Continuation.hpp"
 #include "continuation/CurveBorderUpdate.hpp"
-#include "continuation/CurveUnknowns.hpp"
+#include "continuation/CurveProblem.hpp"
 #include "continuation/FoldTestFunction.hpp"
 #include "core/Newton.hpp"
 #include "core/Problem.hpp"
@@ -36,37 +36,25 @@ using ComplexVector = Eigen::VectorXcd;
 // codimension-two test functions "bogdanov-takens" (omega itself: the pair meets at zero, where the
 // Hopf curve ends on a fold curve) and "fold-hopf" (the fold test function of J, whose zero is a
 // real eigenvalue through zero while the pair sits on the imaginary axis).
-class HopfCurveProblem final : public Problem {
+class HopfCurveProblem final : public CurveProblem {
  public:
   // inner at the Hopf point's parameter values; hopf_parameter: p1, the parameter of the branch the
   // Hopf point was located on (it becomes an unknown). The inner problem needs a mass matrix.
   HopfCurveProblem(Problem& inner, const std::string& hopf_parameter, SparseLUOptions lu = {});
 
   std::string name() const override { return inner_.name() + "-hopf-curve"; }
-  int size() const override { return unknowns_.size(); }
-  ParameterSet& parameters() override { return inner_.parameters(); }
-  const ParameterSet& parameters() const override { return inner_.parameters(); }
-  const SparseMatrix& jacobian_pattern() const override { return unknowns_.pattern(); }
   Status residual(const Vector& U, Vector& F) override;
-  Status jacobian(const Vector& U, Vector& F, SparseMatrix& J) override;
   // [J F_p1 0; Re g_u^T Re g_p1 Re g_omega; Im g_u^T Im g_p1 Im g_omega]: J bordered by two columns
   // and rows.
   int border_size() const override { return 2; }
-  const SparseMatrix& inner_pattern() const override { return inner_.jacobian_pattern(); }
   Status bordered_jacobian(const Vector& U, Vector& F, BorderedJacobian& J) override;
-  std::vector<NamedUnknown> turning_unknowns() const override { return unknowns_.turning_unknowns(); }
   Status parameter_derivative(int p, const Vector& U, Vector& dF) override;
-  Vector initial_guess() override;
-  double residual_scale() const override { return inner_.residual_scale(); }
-  std::vector<std::string> observable_names() const override;
+  std::vector<std::string> observable_names() const override { return curve_observable_names({"omega"}); }
   Status observables(const Vector& U, std::vector<double>& values) override;
   std::vector<std::string> monitor_names() const override;
   Status monitors(const Vector& U, std::vector<double>& values) override;
-  SolutionFields fields(const Vector& U) const override { return inner_.fields(U.head(n_)); }
   std::string summary() const override;
 
-  int hopf_parameter() const { return unknowns_.p1(); }
-  const std::string& hopf_parameter_name() const { return unknowns_.p1_name(); }
   // (u, p1, omega) as the augmented state.
   Vector state(const Vector& u, double p1, double omega) const;
   // Borders from a guess of the critical eigenvector (a Hopf point's mode; b = c = the guess, or a
@@ -91,16 +79,10 @@ class HopfCurveProblem final : public Problem {
   // -w^H (J - i omega B)_p v by central differences of dF/dp along v and of B in p.
   Status parameter_term(int p, const Vector& u, double omega, std::complex<double>& gp);
 
-  Problem& inner_;
-  CurveUnknowns unknowns_;
-  int n_;
   ComplexVector b_, c_;
   SparseLU lu_;
   FoldTestFunction fold_;
-  // the analysis at analysed_ (state) and analysed_params_
-  Vector analysed_;
-  std::vector<double> analysed_params_;
-  Status analysed_status_;
+  Status analysed_status_;  // of the analysis at CurveProblem::analysed_at
   Vector F_;
   SparseMatrix J_, B_;
   ComplexVector v_, w_;

@@ -46,6 +46,22 @@ Status KeptFactorisation::adopt(std::shared_ptr<SparseLU> lu, const SparseMatrix
   return {};
 }
 
+Status KeptFactorisation::adopt(std::shared_ptr<SparseLU> lu, const BorderedJacobian& J, const Vector& u_j,
+                                double lambda, const Vector& Fp, const Constraint& c) {
+  known_ = false;
+  const Status st = system_.adopt(std::move(lu), J, Fp, c.cu, c.cl);
+  if (!st.is_ok()) return st;
+  u_ = u_j;
+  lambda_ = lambda;
+  known_ = true;
+  return {};
+}
+
+StartFactorisation KeptFactorisation::inner_factorisation() const {
+  if (!known_ || !system_.block_factorised()) return {};
+  return {system_.inner_lu(), system_.inner_matrix(), u_};
+}
+
 bool KeptFactorisation::made_at(const Vector& u, double lambda) const {
   return known_ && lambda_ == lambda && u_.size() == u.size() && u_ == u;
 }

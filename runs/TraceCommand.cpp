@@ -138,6 +138,13 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
     summary.reason = message;
     return code;
   };
+  // a numerical failure before anything is written: what failed and why
+  auto failed = [&](const std::string& what, const Status& st) {
+    fmt::print(stderr, "keller: {}: {}; no output written\n", what, st.describe());
+    summary.reason = what + ": " + st.describe();
+    summary.exit_code = exit_code::numerical_failure;
+    return summary.exit_code;
+  };
   LoadedScene loaded;
   std::unique_ptr<Problem> problem;
   ContinuationOptions copt;
@@ -290,10 +297,7 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
     }
     const Status st = event_curve->start(U, nopt, lopt);
     if (!st.is_ok()) {
-      fmt::print(stderr, "keller: the event curve's first point failed: {}; no output written\n", st.describe());
-      summary.reason = "the event curve's first point failed: " + st.describe();
-      summary.exit_code = exit_code::numerical_failure;
-      return summary.exit_code;
+      return failed("the event curve's first point failed", st);
     }
     fmt::print(
         "event curve of {} = 0 in ({}, {}) from row {} of {} ({} = {:.10g}, {} = {:.10g}), the minimum at place "
@@ -328,10 +332,7 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
       if (st.is_ok()) st = hopf_curve->set_borders(start->u, v);
     }
     if (!st.is_ok()) {
-      fmt::print(stderr, "keller: the Hopf curve's first point failed: {}; no output written\n", st.describe());
-      summary.reason = "the Hopf curve's first point failed: " + st.describe();
-      summary.exit_code = exit_code::numerical_failure;
-      return summary.exit_code;
+      return failed("the Hopf curve's first point failed", st);
     }
     fmt::print(
         "Hopf curve in ({}, {}) from the Hopf point at row {} of {} ({} = {:.10g}, omega = {:.10g}, {} = {:.10g})\n",
@@ -352,10 +353,7 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
     Vector U = curve->state(fold.u, fold.lambda);
     const Status st = curve->start(U, fold.tu, nopt, lopt);
     if (!st.is_ok()) {
-      fmt::print(stderr, "keller: the fold curve's first point failed: {}; no output written\n", st.describe());
-      summary.reason = "the fold curve's first point failed: " + st.describe();
-      summary.exit_code = exit_code::numerical_failure;
-      return summary.exit_code;
+      return failed("the fold curve's first point failed", st);
     }
     fmt::print("fold curve in ({}, {}) from the fold at row {} of {} ({} = {:.10g}, {} = {:.10g})\n", copt.parameter,
                stored->table.parameter, fold.index, from->file, stored->table.parameter, U[U.size() - 1],
@@ -368,10 +366,7 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
       problem->parameters().set(copt.parameter, start->lambda);
       if (b.is_ok()) b = curve->set_borders(start->u, v);
       if (!b.is_ok()) {
-        fmt::print(stderr, "keller: the unfinished fold curve cannot be continued: {}\n", b.describe());
-        summary.reason = "the unfinished fold curve cannot be continued: " + b.describe();
-        summary.exit_code = exit_code::numerical_failure;
-        return summary.exit_code;
+        return failed("the unfinished fold curve cannot be continued", b);
       }
       fmt::print("continuing the unfinished curve in {} from its row {} ({} = {:.10g}; --fresh starts over)\n", work,
                  unfinished->seed.row, copt.parameter, start->lambda);
@@ -407,10 +402,7 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
     print_newton_header();
     const StartResult r = start_solver.solve(u0, print_newton_row);
     if (!r.status.is_ok()) {
-      fmt::print(stderr, "keller: the first steady state failed: {}; no output written\n", r.status.describe());
-      summary.reason = "the first steady state failed: " + r.status.describe();
-      summary.exit_code = exit_code::numerical_failure;
-      return summary.exit_code;
+      return failed("the first steady state failed", r.status);
     }
     fmt::print("first steady state: {}, {} Newton iterations, {} factorisations, {:.2f} s\n", r.path,
                r.newton_iterations, r.factorisations, r.seconds);
@@ -418,10 +410,11 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
   }
 
   // 3. the branch, written to `work` point by point
-  Problem& traced = curve         ? static_cast<Problem&>(*curve)
-                    : event_curve ? static_cast<Problem&>(*event_curve)
-                    : hopf_curve  ? static_cast<Problem&>(*hopf_curve)
-                                  : *problem;
+  CurveProblem* traced_curve = curve         ? static_cast<CurveProblem*>(curve.get())
+                               : event_curve ? static_cast<CurveProblem*>(event_curve.get())
+                               : hopf_curve  ? static_cast<CurveProblem*>(hopf_curve.get())
+                                             : nullptr;
+  Problem& traced = traced_curve ? *traced_curve : *problem;
   ContinuationOptions fixed = copt;
   if (event_curve) {  // each piece of the curve ends where the minimum's place moves
     fixed.stop.observable = EventCurveProblem::kMargin;
@@ -515,9 +508,7 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
   const int p = problem->parameters().index(copt.parameter);
   const FieldsAt fields_at = [&](const Vector& u, double lambda) {
     problem->parameters().set(p, lambda);
-    if (curve) problem->parameters().set(curve->fold_parameter(), u[u.size() - 1]);
-    if (event_curve) problem->parameters().set(event_curve->event_parameter(), u[u.size() - 1]);
-    if (hopf_curve) problem->parameters().set(hopf_curve->hopf_parameter(), u[u.size() - 2]);
+    if (traced_curve) problem->parameters().set(traced_curve->p1(), u[problem->size()]);
     return traced.fields(u);
   };
   PublishedBranch published;

@@ -4,8 +4,10 @@
 
 1. the Wi branch at Gamma = 4.95e-5 to its limiting Wi (the zero of min m1), and from its end
    the limiting-Wi curve in Gamma up to 6.6e-4 (the event curve, stored at the study's Gamma
-   values): the cost of a curve point against a branch point (the continuation's own time over
-   its rows, the first state's solve and the output left out);
+   values), one after the other: the cost of a curve point against a branch point (the
+   continuation's own time over its rows, the first state's solve and the output left out), against
+   the first branch's and against all the branches' points (the curve crosses their whole range,
+   where a factorisation costs up to three times what it costs at the first);
 2. the Wi branches at the ten Gamma values of runs/studies/limiting_wi_gamma.toml (the one at
    4.95e-5 is that of 1.), each a whole `keller trace` from its first state, against the whole
    curve (`keller trace --from ... --curve event`, its start included), by wall clock; and the
@@ -23,30 +25,19 @@ that of the N, said so in the output).
 import argparse
 import csv
 import os
-import platform
 import re
 import subprocess
 import sys
 import tempfile
 import time
 
+from bench_study import machine  # (its line also states the load at the start)
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
 SCENES = os.path.join(ROOT, "runs", "scenes")
 # the Gamma values of runs/studies/limiting_wi_gamma.toml
 GAMMAS = [4.95e-5, 1.0e-4, 1.5e-4, 1.98e-4, 2.5e-4, 3.0e-4, 3.96e-4, 4.95e-4, 5.5e-4, 6.6e-4]
-
-
-def machine():
-    model = platform.processor() or "?"
-    try:
-        for line in open("/proc/cpuinfo"):
-            if line.startswith("model name"):
-                model = line.split(":", 1)[1].strip()
-                break
-    except OSError:
-        pass
-    return f"{model}, {os.cpu_count()} cores"
 
 
 def load():
@@ -81,13 +72,22 @@ class Run:
         return self.seconds / max(self.points, 1)
 
 
-def curve_values(keller, h5, work):
-    """Gamma -> Wi of the curve's rows (the located stops among them)."""
-    out = os.path.join(work, "curve.csv")
+def table(keller, h5, work):
+    """The branch table of a file as a list of rows (dicts of floats)."""
+    out = os.path.join(work, os.path.basename(h5) + ".csv")
     subprocess.run([keller, "export", h5, "--csv", out], check=True, stdout=subprocess.DEVNULL)
     with open(out) as f:
-        rows = list(csv.DictReader(f))
-    return {float(r["Gamma"]): float(r["Wi"]) for r in rows}
+        return [{k: float(v) for k, v in r.items() if v not in ("", None)} for r in csv.DictReader(f)]
+
+
+REGULAR = 0  # PointKind::Regular: a row an ordinary step reached (continuation/BranchPoint.hpp)
+
+
+def plain_steps(rows):
+    """Wall times of the steps that reached an ordinary row (not a located one) after an ordinary
+    row or the start: the cost of a step alone, without locating anything."""
+    return [b["seconds"] - a["seconds"] for a, b in zip(rows, rows[1:])
+            if b["kind"] == REGULAR and a["kind"] in (REGULAR, 1)]
 
 
 def main():
@@ -100,37 +100,51 @@ def main():
     common = ["--set", f"mesh.name={a.mesh}", "--set", "output.xdmf=false"]
     branch_scene = os.path.join(SCENES, "collapsible_oldroyd_b_wi_low_gamma.toml")
     curve_scene = os.path.join(SCENES, "collapsible_oldroyd_b_wi_limit_gamma.toml")
-    print(f"machine: {machine()}; load average {load():.2f} at the start; files in {work}")
+    print(f"machine: {machine()}; files in {work}")
 
-    branches = []
-    for i, g in enumerate(GAMMAS[: a.branches]):
+    def branch(i):
         out = os.path.join(work, f"wi_{i}.h5")
-        cmd = [a.keller, "trace", branch_scene, *common, "--set", f"parameters.Gamma={g}", "-o", out]
-        branches.append(Run(f"Wi branch at Gamma = {g:g}", cmd, out + ".log"))
-        b = branches[-1]
+        cmd = [a.keller, "trace", branch_scene, *common, "--set", f"parameters.Gamma={GAMMAS[i]}", "-o", out]
+        b = Run(f"Wi branch at Gamma = {GAMMAS[i]:g}", cmd, out + ".log")
         print(f"  {b.name}: {b.wall:.1f} s wall, {b.points} points, continuation {b.seconds:.1f} s "
               f"({b.per_point():.2f} s a point), limiting Wi {b.limiting_wi}, load {b.load:.2f}", flush=True)
-    first = os.path.join(work, "wi_0.h5")
+        return b
+
+    # the first branch, then the curve from its end (side by side), then the other branches
+    branches = [branch(0)]
     curve_h5 = os.path.join(work, "curve.h5")
-    cmd = [a.keller, "trace", curve_scene, *common, "--from", first + ":last", "--curve", "event", "-o", curve_h5]
+    stops = "[" + ",".join(f"{g:g}" for g in GAMMAS[1:-1]) + "]"  # the branches' Gamma values
+    cmd = [a.keller, "trace", curve_scene, *common, "--from", os.path.join(work, "wi_0.h5") + ":last", "--curve",
+           "event", "--set", f"continuation.stops={stops}", "-o", curve_h5]
     curve = Run("limiting-Wi curve", cmd, curve_h5 + ".log")
     print(f"  {curve.name}: {curve.wall:.1f} s wall, {curve.points} points, {curve.factorisations} factorisations, "
           f"continuation {curve.seconds:.1f} s ({curve.per_point():.2f} s a point), load {curve.load:.2f}", flush=True)
+    branches += [branch(i) for i in range(1, a.branches)]
 
-    values = curve_values(a.keller, curve_h5, work)
+    curve_rows = table(a.keller, curve_h5, work)
+    values = {r["Gamma"]: r["Wi"] for r in curve_rows}
     print("\nlimiting Wi: branch end against the curve at the same Gamma")
     for g, b in zip(GAMMAS, branches):
         near = min(values, key=lambda x: abs(x - g))
-        mark = f"{values[near]:.6f}" if abs(near - g) <= 1e-12 * g + 1e-15 else f"(nearest row Gamma = {near:g})"
-        print(f"  Gamma = {g:<8g} branch {b.limiting_wi}  curve {mark}")
+        mark = f"{values[near]:.10f}" if abs(near - g) <= 1e-9 * g else f"(nearest row Gamma = {near:g})"
+        print(f"  Gamma = {g:<8g} branch {b.limiting_wi:.10f}  curve {mark}")
 
     b0 = branches[0]
+    mean = sum(b.seconds for b in branches) / sum(b.points for b in branches)
     print("\ncost of a point (continuation time over rows):")
     print(f"  Wi branch at Gamma = 4.95e-5: {b0.per_point():.2f} s ({b0.points} points, "
           f"{b0.factorisations} factorisations, {b0.factor_seconds / max(b0.factorisations, 1):.2f} s each)")
+    print(f"  the Wi branches timed, all their points: {mean:.2f} s")
     print(f"  limiting-Wi curve:            {curve.per_point():.2f} s ({curve.points} points, "
           f"{curve.factorisations} factorisations, {curve.factor_seconds / max(curve.factorisations, 1):.2f} s each)")
-    print(f"  ratio {curve.per_point() / b0.per_point():.2f} (goal: at most 2)")
+    print(f"  ratio {curve.per_point() / b0.per_point():.2f} to the first branch's, {curve.per_point() / mean:.2f} to "
+          f"the branches' (goal: at most 2)")
+    curve_steps = plain_steps(curve_rows)
+    branch_steps = [t for i in range(len(branches)) for t in plain_steps(table(a.keller, os.path.join(work, f"wi_{i}.h5"), work))]
+    if curve_steps and branch_steps:
+        cs, bs = sum(curve_steps) / len(curve_steps), sum(branch_steps) / len(branch_steps)
+        print(f"  a plain step (to an ordinary row from an ordinary one): curve {cs:.2f} s ({len(curve_steps)} steps), "
+              f"branches {bs:.2f} s ({len(branch_steps)} steps), ratio {cs / bs:.2f}")
     total = sum(b.wall for b in branches)
     told = "the ten branches" if len(branches) == len(GAMMAS) else f"the first {len(branches)} of the ten branches only"
     print(f"\nwhole runs (wall clock): {told}: {total:.1f} s; the curve: {curve.wall:.1f} s, "

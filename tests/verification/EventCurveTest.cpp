@@ -69,46 +69,17 @@ class TwoPlaceProblem final : public Problem {
 
 // F = u + u^3 / 3 + b^2 - a with the monitor "u": its zero is the event curve a = b^2, which
 // turns in a (the unknown p1 of the curve) at b = 0, a minimum.
-class ParabolaProblem final : public Problem {
- public:
-  ParabolaProblem(double a, double b) : pattern_(1, 1) {
-    params_.add("a", a, "load");
-    params_.add("b", b, "shift");
-    pattern_.insert(0, 0) = 0.0;
-    pattern_.makeCompressed();
-  }
-  std::string name() const override { return "parabola"; }
-  int size() const override { return 1; }
-  ParameterSet& parameters() override { return params_; }
-  const ParameterSet& parameters() const override { return params_; }
-  const SparseMatrix& jacobian_pattern() const override { return pattern_; }
-  Status residual(const Vector& u, Vector& F) override {
-    const double b = params_.value(1);
-    F = Vector::Constant(1, u[0] + u[0] * u[0] * u[0] / 3.0 + b * b - params_.value(0));
-    return {};
-  }
-  Status jacobian(const Vector& u, Vector& F, SparseMatrix& J) override {
-    residual(u, F);
-    J = pattern_;
-    J.valuePtr()[0] = 1.0 + u[0] * u[0];
-    return {};
-  }
-  Status parameter_derivative(int p, const Vector&, Vector& dF) override {
-    dF = Vector::Constant(1, p == 0 ? -1.0 : 2.0 * params_.value(1));
-    return {};
-  }
-  Vector initial_guess() override { return Vector::Zero(1); }
-  std::vector<std::string> monitor_names() const override { return {"u"}; }
-  Status monitors(const Vector& u, std::vector<double>& v) override {
-    v = {u[0]};
-    return {};
-  }
-  SolutionFields fields(const Vector&) const override { return {}; }
-
- private:
-  ParameterSet params_;
-  SparseMatrix pattern_;
-};
+test::FunctionProblem parabola(double a, double b) {
+  test::FunctionProblem p(
+      "parabola", 1, {{"a", a}, {"b", b}},
+      [](const Vector& u, const Vector& q) {
+        return Vector::Constant(1, u[0] + u[0] * u[0] * u[0] / 3.0 + q[1] * q[1] - q[0]);
+      },
+      [](const Vector& u, const Vector&) { return Eigen::MatrixXd::Constant(1, 1, 1.0 + u[0] * u[0]); },
+      [](int k, const Vector&, const Vector& q) { return Vector::Constant(1, k == 0 ? -1.0 : 2.0 * q[1]); });
+  p.set_monitors({"u"}, [](const Vector& u) { return std::vector<double>{u[0]}; });
+  return p;
+}
 
 }  // namespace
 
@@ -116,7 +87,7 @@ class ParabolaProblem final : public Problem {
 // (the unknown p1: the tangent's a part changes sign) located at b = 0 to 1e-10 and labelled
 // "a min", with a = b^2 = 0 there; no switch (one place).
 TEST(EventCurve, TurnsInTheUnknownParameterAreLocated) {
-  ParabolaProblem p(0.25, -0.5);
+  test::FunctionProblem p = parabola(0.25, -0.5);
   EventCurveProblem curve(p, "a", "u");
   Vector U = curve.state(Vector::Constant(1, 1e-3), 0.25 + 1e-3);
   NewtonOptions tight;

@@ -24,90 +24,76 @@ NewtonOptions tight() {
   return n;
 }
 
-// A small ODE system B du/dt = -F(u) with B = I, written once for the two normal forms below
-// (each with its exact Jacobian: the Hopf condition is that of the J it is given).
-class OdeProblem : public Problem {
- public:
-  OdeProblem(int n, std::vector<std::pair<std::string, double>> parameters) : n_(n), pattern_(n, n) {
-    for (const auto& [name, value] : parameters) params_.add(name, value, "unfolding");
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) pattern_.insert(i, j) = 0.0;
-    pattern_.makeCompressed();
-  }
-  int size() const override { return n_; }
-  ParameterSet& parameters() override { return params_; }
-  const ParameterSet& parameters() const override { return params_; }
-  const SparseMatrix& jacobian_pattern() const override { return pattern_; }
-  Status mass_matrix(const Vector&, SparseMatrix& B) override {
-    B = pattern_;
-    for (int i = 0; i < n_; ++i) B.coeffRef(i, i) = 1.0;
-    return {};
-  }
-  Vector initial_guess() override { return Vector::Zero(n_); }
-  SolutionFields fields(const Vector&) const override { return {}; }
-
- protected:
-  int n_;
-  ParameterSet params_;
-  SparseMatrix pattern_;
-};
-
-// The Bogdanov-Takens normal form x' = y, y' = beta1 + beta2 x + x^2 - x y (F = -rhs). Equilibria
-// (x, 0) with x^2 + beta2 x + beta1 = 0; the Jacobian of the right-hand side [0 1; beta2 + 2x, -x]
-// has trace -x and determinant -(beta2 + 2x): Hopf points where x = 0, so beta1 = 0, with
-// omega^2 = -beta2 (beta2 < 0); folds on beta1 = beta2^2 / 4; both meet at the Bogdanov-Takens
-// point beta1 = beta2 = 0, where omega = 0.
-class BogdanovTakensProblem final : public OdeProblem {
- public:
-  BogdanovTakensProblem(double beta1, double beta2) : OdeProblem(2, {{"beta1", beta1}, {"beta2", beta2}}) {}
-  std::string name() const override { return "bogdanov-takens"; }
-  Status residual(const Vector& u, Vector& F) override {
-    const double x = u[0], y = u[1], b1 = params_.value(0), b2 = params_.value(1);
-    F.resize(2);
-    F << -y, -(b1 + b2 * x + x * x - x * y);
-    return {};
-  }
-  Status jacobian(const Vector& u, Vector& F, SparseMatrix& J) override {
-    residual(u, F);
-    const double x = u[0], y = u[1], b2 = params_.value(1);
-    J = pattern_;
-    J.coeffRef(0, 1) = -1.0;
-    J.coeffRef(1, 0) = -(b2 + 2.0 * x - y);
-    J.coeffRef(1, 1) = x;
-    return {};
-  }
-};
+// The Bogdanov-Takens normal form x' = y, y' = beta1 + beta2 x + x^2 - x y (F = -rhs, B = I).
+// Equilibria (x, 0) with x^2 + beta2 x + beta1 = 0; the Jacobian of the right-hand side
+// [0 1; beta2 + 2x, -x] has trace -x and determinant -(beta2 + 2x): Hopf points where x = 0, so
+// beta1 = 0, with omega^2 = -beta2 (beta2 < 0); folds on beta1 = beta2^2 / 4; both meet at the
+// Bogdanov-Takens point beta1 = beta2 = 0, where omega = 0. (Exact Jacobians: the Hopf condition is
+// that of the J it is given.)
+test::FunctionProblem bogdanov_takens(double beta1, double beta2) {
+  return test::FunctionProblem(
+      "bogdanov-takens", 2, {{"beta1", beta1}, {"beta2", beta2}},
+      [](const Vector& u, const Vector& p) {
+        const double x = u[0], y = u[1];
+        return Vector(Eigen::Vector2d(-y, -(p[0] + p[1] * x + x * x - x * y)));
+      },
+      [](const Vector& u, const Vector& p) {
+        Eigen::Matrix2d J;
+        J << 0.0, -1.0, -(p[1] + 2.0 * u[0] - u[1]), u[0];
+        return Eigen::MatrixXd(J);
+      },
+      [](int k, const Vector& u, const Vector&) { return Vector(Eigen::Vector2d(0.0, k == 0 ? -1.0 : -u[0])); });
+}
 
 // The fold-Hopf (zero-Hopf) normal form x' = beta1 + x^2, (y, z)' = R (y, z) with
-// R = [beta2 + x, -omega0; omega0, beta2 + x] (F = -rhs). Equilibria (x, 0, 0) with x^2 = -beta1;
-// the pair beta2 + x +- i omega0 crosses the imaginary axis where beta2 = -x, with omega = omega0;
-// the real eigenvalue 2x crosses zero at x = 0. The Hopf curve beta1 = -beta2^2 (x = -beta2)
-// passes through the fold-Hopf point beta1 = beta2 = 0, where det J changes sign.
-class FoldHopfProblem final : public OdeProblem {
- public:
-  static constexpr double kOmega0 = 2.0;
-  FoldHopfProblem(double beta1, double beta2) : OdeProblem(3, {{"beta1", beta1}, {"beta2", beta2}}) {}
-  std::string name() const override { return "fold-hopf"; }
-  Status residual(const Vector& u, Vector& F) override {
-    const double x = u[0], y = u[1], z = u[2], b1 = params_.value(0), b2 = params_.value(1);
-    F.resize(3);
-    F << -(b1 + x * x), -((b2 + x) * y - kOmega0 * z), -(kOmega0 * y + (b2 + x) * z);
-    return {};
-  }
-  Status jacobian(const Vector& u, Vector& F, SparseMatrix& J) override {
-    residual(u, F);
-    const double x = u[0], y = u[1], z = u[2], b2 = params_.value(1);
-    J = pattern_;
-    J.coeffRef(0, 0) = -2.0 * x;
-    J.coeffRef(1, 0) = -y;
-    J.coeffRef(1, 1) = -(b2 + x);
-    J.coeffRef(1, 2) = kOmega0;
-    J.coeffRef(2, 0) = -z;
-    J.coeffRef(2, 1) = -kOmega0;
-    J.coeffRef(2, 2) = -(b2 + x);
-    return {};
-  }
+// R = [beta2 + x, -omega0; omega0, beta2 + x] (F = -rhs, B = I). Equilibria (x, 0, 0) with
+// x^2 = -beta1; the pair beta2 + x +- i omega0 crosses the imaginary axis where beta2 = -x, with
+// omega = omega0; the real eigenvalue 2x crosses zero at x = 0. The Hopf curve beta1 = -beta2^2
+// (x = -beta2) passes through the fold-Hopf point beta1 = beta2 = 0, where det J changes sign.
+constexpr double kOmega0 = 2.0;
+test::FunctionProblem fold_hopf(double beta1, double beta2) {
+  return test::FunctionProblem(
+      "fold-hopf", 3, {{"beta1", beta1}, {"beta2", beta2}},
+      [](const Vector& u, const Vector& p) {
+        const double x = u[0], y = u[1], z = u[2], r = p[1] + x;
+        return Vector(Eigen::Vector3d(-(p[0] + x * x), -(r * y - kOmega0 * z), -(kOmega0 * y + r * z)));
+      },
+      [](const Vector& u, const Vector& p) {
+        const double x = u[0], y = u[1], z = u[2], r = p[1] + x;
+        Eigen::Matrix3d J;
+        J << -2.0 * x, 0.0, 0.0, -y, -r, kOmega0, -z, -kOmega0, -r;
+        return Eigen::MatrixXd(J);
+      },
+      [](int k, const Vector& u, const Vector&) {
+        return Vector(k == 0 ? Eigen::Vector3d(-1.0, 0.0, 0.0) : Eigen::Vector3d(0.0, -u[1], -u[2]));
+      });
+}
+
+// A Hopf curve traced from U (start() done) in o.parameter, with its borders following it.
+struct Traced {
+  ContinuationResult result;
+  test::RecordingObserver rec;
 };
+Traced trace(HopfCurveProblem& curve, const Vector& U, const ContinuationOptions& o) {
+  Continuation cont(curve, o, tight());
+  Traced t;
+  HopfCurveProblem::BorderUpdate borders(curve, t.rec);
+  t.result = cont.run(U, borders);
+  return t;
+}
+
+// Options for a curve in `parameter` from `lower` to `upper` with short steps (a few points between
+// its codimension-two points) and events located to 1e-8.
+ContinuationOptions curve_options(const std::string& parameter, double lower, double upper) {
+  ContinuationOptions o;
+  o.parameter = parameter;
+  o.stop.lower = lower;
+  o.stop.upper = upper;
+  o.step.initial = 0.05;
+  o.step.max = 0.1;
+  o.events.tolerance = 1e-8;
+  return o;
+}
 
 // The located points of a kind with a label.
 std::vector<const BranchPoint*> labelled(const test::RecordingObserver& rec, PointKind kind, const std::string& label) {
@@ -134,16 +120,10 @@ TEST(HopfCurve, BrusselatorHopfCurveIsBEqualsOnePlusASquared) {
   ASSERT_TRUE(curve.start(U, ComplexVector(), tight()).is_ok());
   EXPECT_NEAR(U[n], 5.0, 1e-10);
   EXPECT_NEAR(U[n + 1], 2.0, 1e-10);
-  ContinuationOptions o;
-  o.parameter = "a";
-  o.stop.upper = 3.0;
-  o.step.initial = 0.05;
+  ContinuationOptions o = curve_options("a", 2.0, 3.0);
   o.step.max = 0.2;
   o.events.stops = {2.5};
-  Continuation cont(curve, o, tight());
-  test::RecordingObserver rec;
-  HopfCurveProblem::BorderUpdate borders(curve, rec);
-  const ContinuationResult r = cont.run(U, borders);
+  const auto [r, rec] = trace(curve, U, o);
   ASSERT_EQ(r.code, StopCode::UpperBound) << r.reason;
   ASSERT_GT(rec.points.size(), 5u);
   double worst_b = 0.0, worst_omega = 0.0;
@@ -202,22 +182,12 @@ TEST(HopfCurve, AugmentedJacobianMatchesDifferencesOfItsResidual) {
 // omega^2 = -beta2 to 1e-10; the point located where omega changes sign at beta2 = 0 to 1e-8
 // (beta2 = -omega^2 there, so omega to 1e-4, the square root), beta1 = 0.
 TEST(HopfCurve, BogdanovTakensWhereOmegaVanishes) {
-  BogdanovTakensProblem p(0.0, -1.0);
+  test::FunctionProblem p = bogdanov_takens(0.0, -1.0);
   HopfCurveProblem curve(p, "beta1");
   Vector U = curve.state(Eigen::Vector2d(1e-3, -1e-3), 1e-3, 1.0 + 1e-3);
   ASSERT_TRUE(curve.start(U, ComplexVector(), tight()).is_ok());
   EXPECT_NEAR(U[3], 1.0, 1e-10);
-  ContinuationOptions o;
-  o.parameter = "beta2";
-  o.stop.lower = -1.0;
-  o.stop.upper = 0.5;
-  o.step.initial = 0.05;
-  o.step.max = 0.1;
-  o.events.tolerance = 1e-8;
-  Continuation cont(curve, o, tight());
-  test::RecordingObserver rec;
-  HopfCurveProblem::BorderUpdate borders(curve, rec);
-  const ContinuationResult r = cont.run(U, borders);
+  const auto [r, rec] = trace(curve, U, curve_options("beta2", -1.0, 0.5));
   ASSERT_EQ(r.code, StopCode::LowerBound) << r.reason;
   for (const BranchPoint& q : rec.points) {
     EXPECT_NEAR(q.u[2], 0.0, 1e-10) << "beta2 = " << q.lambda;
@@ -244,26 +214,17 @@ TEST(HopfCurve, BogdanovTakensWhereOmegaVanishes) {
 // of J changes sign at beta2 = 0 to 1e-8, beta1 = 0 to 1e-10, omega = omega0. (J is singular
 // there: the block elimination falls back to the whole matrix.)
 TEST(HopfCurve, FoldHopfWhereDetJChangesSign) {
-  FoldHopfProblem p(-0.25, -0.5);
+  test::FunctionProblem p = fold_hopf(-0.25, -0.5);
   HopfCurveProblem curve(p, "beta1");
-  Vector U = curve.state(Eigen::Vector3d(0.5 + 1e-3, 1e-3, -1e-3), -0.25 + 1e-3, FoldHopfProblem::kOmega0 + 1e-3);
+  Vector U = curve.state(Eigen::Vector3d(0.5 + 1e-3, 1e-3, -1e-3), -0.25 + 1e-3, kOmega0 + 1e-3);
   ASSERT_TRUE(curve.start(U, ComplexVector(), tight()).is_ok());
-  ContinuationOptions o;
-  o.parameter = "beta2";
-  o.stop.upper = 0.5;
-  o.step.initial = 0.05;
-  o.step.max = 0.1;
-  o.events.tolerance = 1e-8;
-  Continuation cont(curve, o, tight());
-  test::RecordingObserver rec;
-  HopfCurveProblem::BorderUpdate borders(curve, rec);
-  const ContinuationResult r = cont.run(U, borders);
+  const auto [r, rec] = trace(curve, U, curve_options("beta2", -0.5, 0.5));
   ASSERT_EQ(r.code, StopCode::UpperBound) << r.reason;
   for (const BranchPoint& q : rec.points) {
     const double b2 = q.lambda;
     EXPECT_NEAR(q.u[0], -b2, 1e-10) << "beta2 = " << b2;
     EXPECT_NEAR(q.u[3], -b2 * b2, 1e-10) << "beta2 = " << b2;
-    EXPECT_NEAR(q.u[4], FoldHopfProblem::kOmega0, 1e-10) << "beta2 = " << b2;
+    EXPECT_NEAR(q.u[4], kOmega0, 1e-10) << "beta2 = " << b2;
   }
   const auto zh = labelled(rec, PointKind::Event, "fold-hopf");
   ASSERT_EQ(zh.size(), 1u) << r.reason;
@@ -271,6 +232,6 @@ TEST(HopfCurve, FoldHopfWhereDetJChangesSign) {
             << ", omega = " << zh[0]->u[4] << "\n";
   EXPECT_NEAR(zh[0]->lambda, 0.0, 1e-8);
   EXPECT_NEAR(zh[0]->u[3], 0.0, 1e-10);
-  EXPECT_NEAR(zh[0]->u[4], FoldHopfProblem::kOmega0, 1e-10);
+  EXPECT_NEAR(zh[0]->u[4], kOmega0, 1e-10);
   EXPECT_TRUE(labelled(rec, PointKind::Event, "bogdanov-takens").empty());
 }

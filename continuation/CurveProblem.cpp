@@ -1,4 +1,4 @@
-#include "continuation/CurveUnknowns.hpp"
+#include "continuation/CurveProblem.hpp"
 
 #include <fmt/format.h>
 
@@ -19,27 +19,40 @@ double direction_step(const Vector& u, const Vector& d) {
   const double dn = d.lpNorm<Eigen::Infinity>();
   return dn > 0 ? kDirectionStep * std::max(1.0, u.lpNorm<Eigen::Infinity>()) / dn : 1.0;
 }
+
+std::vector<double> parameter_values(const ParameterSet& ps) { return {ps.values(), ps.values() + ps.size()}; }
 }  // namespace
 
-CurveUnknowns::CurveUnknowns(Problem& inner, const std::string& p1, int border, std::string what)
-    : inner_(inner), n_(inner.size()), border_(border), p1_(inner.parameters().index(p1)), what_(std::move(what)) {
+CurveProblem::CurveProblem(Problem& inner, const std::string& p1, int tail, std::string what)
+    : inner_(inner), n_(inner.size()), tail_(tail), p1_(inner.parameters().index(p1)), what_(std::move(what)) {
   if (inner_.parameters().size() < 2)
     throw std::invalid_argument(what_ + " of '" + inner_.name() + "': the problem has only one parameter");
-  if (border < 1) throw std::invalid_argument(what_ + ": a curve has at least p1 as an unknown");
+  if (tail < 1) throw std::invalid_argument(what_ + ": a curve has at least p1 as an unknown");
   pattern_ = blocks().assembled();
 }
 
-BorderedJacobian CurveUnknowns::blocks() const {
+const SparseMatrix& CurveProblem::inner_pattern() const {
+  return border_size() > 0 ? inner_.jacobian_pattern() : pattern_;
+}
+
+Status CurveProblem::jacobian(const Vector& U, Vector& F, SparseMatrix& J) {
+  BorderedJacobian A = blocks();
+  const Status st = bordered_jacobian(U, F, A);
+  if (st.is_ok()) J = A.assembled();
+  return st;
+}
+
+BorderedJacobian CurveProblem::blocks() const {
   BorderedJacobian J;
   J.K = inner_.jacobian_pattern();
-  J.B = Matrix::Zero(n_, border_);
-  J.C = Matrix::Zero(n_, border_);
-  J.D = Matrix::Zero(border_, border_);
+  J.B = Matrix::Zero(n_, tail_);
+  J.C = Matrix::Zero(n_, tail_);
+  J.D = Matrix::Zero(tail_, tail_);
   return J;
 }
 
-Vector CurveUnknowns::state(const Vector& u, double p1, const Vector& extra) const {
-  if (u.size() != n_ || extra.size() > border_ - 1) throw std::invalid_argument(what_ + ": a state of the wrong size");
+Vector CurveProblem::state(const Vector& u, double p1, const Vector& extra) const {
+  if (u.size() != n_ || extra.size() > tail_ - 1) throw std::invalid_argument(what_ + ": a state of the wrong size");
   Vector U = Vector::Zero(size());
   U.head(n_) = u;
   U[n_] = p1;
@@ -47,7 +60,7 @@ Vector CurveUnknowns::state(const Vector& u, double p1, const Vector& extra) con
   return U;
 }
 
-Status CurveUnknowns::set_p1(const Vector& U) const {
+Status CurveProblem::set_p1(const Vector& U) const {
   if (U.size() != size()) throw std::invalid_argument(what_ + ": state of the wrong size");
   const double v = U[n_];
   if (!std::isfinite(v)) return {StatusCode::NotFinite, what_ + ": " + p1_name() + " is not finite"};
@@ -57,8 +70,22 @@ Status CurveUnknowns::set_p1(const Vector& U) const {
   return {};
 }
 
-Status CurveUnknowns::parameter_difference(int p, const std::function<Status(Vector&)>& value,
-                                           Vector& derivative) const {
+void CurveProblem::check_continued_in(int p) const {
+  if (p == p1_)
+    throw std::invalid_argument(what_ + ": " + p1_name() +
+                                " is an unknown of the curve, not the parameter it is continued in");
+}
+
+bool CurveProblem::analysed_at(const Vector& U) {
+  const std::vector<double> values = parameter_values(inner_.parameters());
+  if (analysed_.size() == U.size() && analysed_ == U && analysed_params_ == values) return true;
+  analysed_ = U;
+  analysed_params_ = values;
+  return false;
+}
+
+Status CurveProblem::parameter_difference(int p, const std::function<Status(Vector&)>& value,
+                                          Vector& derivative) const {
   ParameterSet& ps = inner_.parameters();
   const double v = ps.value(p), h = kParameterStep * std::max(1.0, std::abs(v));
   const double hi = std::min(v + h, ps.info(p).upper), lo = std::max(v - h, ps.info(p).lower);
@@ -73,7 +100,7 @@ Status CurveUnknowns::parameter_difference(int p, const std::function<Status(Vec
   return {};
 }
 
-Status CurveUnknowns::jacobian_along(const Vector& u, const Vector& d, SparseMatrix& D) const {
+Status CurveProblem::jacobian_along(const Vector& u, const Vector& d, SparseMatrix& D) const {
   const double h = direction_step(u, d);
   Vector scratch;
   SparseMatrix Jp, Jm;
@@ -84,7 +111,7 @@ Status CurveUnknowns::jacobian_along(const Vector& u, const Vector& d, SparseMat
   return {};
 }
 
-Status CurveUnknowns::parameter_derivative_along(int p, const Vector& u, const Vector& d, Vector& D) const {
+Status CurveProblem::parameter_derivative_along(int p, const Vector& u, const Vector& d, Vector& D) const {
   const double h = direction_step(u, d);
   Vector Fp, Fm;
   Status st = inner_.parameter_derivative(p, u + h * d, Fp);
@@ -94,7 +121,7 @@ Status CurveUnknowns::parameter_derivative_along(int p, const Vector& u, const V
   return {};
 }
 
-std::vector<std::string> CurveUnknowns::observable_names(const std::vector<std::string>& extra) const {
+std::vector<std::string> CurveProblem::curve_observable_names(const std::vector<std::string>& extra) const {
   std::vector<std::string> names = inner_.observable_names();
   names.push_back(p1_name());
   names.insert(names.end(), extra.begin(), extra.end());
