@@ -70,10 +70,18 @@ Status CurveProblem::set_p1(const Vector& U) const {
   return {};
 }
 
-void CurveProblem::check_continued_in(int p) const {
+Status CurveProblem::parameter_derivative(int p, const Vector& U, Vector& dF) {
   if (p == p1_)
     throw std::invalid_argument(what_ + ": " + p1_name() +
                                 " is an unknown of the curve, not the parameter it is continued in");
+  Vector d, Fp;
+  Status st = equations_parameter_derivative(p, U, d);
+  if (st.is_ok()) st = inner_.parameter_derivative(p, U.head(n_), Fp);
+  if (!st.is_ok()) return st;
+  dF.resize(size());
+  dF.head(n_) = Fp;
+  dF.tail(tail_) = d;
+  return {};
 }
 
 bool CurveProblem::analysed_at(const Vector& U) {

@@ -27,6 +27,8 @@ class CurveProblem : public Problem {
   const SparseMatrix& inner_pattern() const override;
   // The whole augmented Jacobian, assembled from bordered_jacobian().
   Status jacobian(const Vector& U, Vector& F, SparseMatrix& J) override;
+  // (dF/dp, the curve's equations' derivative in p) at U for p2 (throws for p1).
+  Status parameter_derivative(int p, const Vector& U, Vector& dF) override;
   // The curve turns in p1 where the tangent's p1 part changes sign.
   std::vector<NamedUnknown> turning_unknowns() const override { return {{n_, p1_name()}}; }
   // The inner problem's guess at p1's present value (extra unknowns 0).
@@ -47,8 +49,9 @@ class CurveProblem : public Problem {
 
   // Sets p1 in the inner problem from U; a failure status where it is not finite or out of range.
   Status set_p1(const Vector& U) const;
-  // Throws where p is p1 (an unknown of the curve, not a parameter to continue in).
-  void check_continued_in(int p) const;
+  // The derivative in the parameter p of the curve's own equations (those after F = 0) at U; sets
+  // p1 from U (parameter_derivative adds dF/dp at the same values).
+  virtual Status equations_parameter_derivative(int p, const Vector& U, Vector& d) = 0;
   // An empty bordered Jacobian of the curve's structure (K the inner pattern, border `tail`).
   BorderedJacobian blocks() const;
   // d value / d parameter p by central differences (relative step kParameterStep, kept within

@@ -130,21 +130,12 @@ Status EventCurveProblem::place_parameter_derivative(int p, const Vector& u, dou
   return st;
 }
 
-Status EventCurveProblem::parameter_derivative(int p, const Vector& U, Vector& dF) {
-  check_continued_in(p);
-  Status st = set_p1(U);
-  if (!st.is_ok()) return st;
-  const Vector u = U.head(n_);
-  Vector Fp;
-  st = inner_.parameter_derivative(p, u, Fp);
-  if (!st.is_ok()) return st;
+Status EventCurveProblem::equations_parameter_derivative(int p, const Vector& U, Vector& d) {
   double mp = 0.0;
-  st = place_parameter_derivative(p, u, mp);
-  if (!st.is_ok()) return st;
-  dF.resize(n_ + 1);
-  dF.head(n_) = Fp;
-  dF[n_] = mp;
-  return {};
+  Status st = set_p1(U);
+  if (st.is_ok()) st = place_parameter_derivative(p, U.head(n_), mp);
+  d = Vector::Constant(1, mp);
+  return st;
 }
 
 Status EventCurveProblem::bordered_jacobian(const Vector& U, Vector& F, BorderedJacobian& J) {

@@ -32,7 +32,6 @@ class EventCurveProblem final : public CurveProblem {
   // [J F_p1; m_k,u^T m_k,p1]: the inner J bordered by one column and row.
   int border_size() const override { return 1; }
   Status bordered_jacobian(const Vector& U, Vector& F, BorderedJacobian& J) override;
-  Status parameter_derivative(int p, const Vector& U, Vector& dF) override;
   std::vector<std::string> observable_names() const override { return curve_observable_names({"place", kMargin}); }
   Status observables(const Vector& U, std::vector<double>& values) override;
   std::vector<std::string> monitor_names() const override;
@@ -55,6 +54,7 @@ class EventCurveProblem final : public CurveProblem {
   static constexpr const char* kMargin = "switch margin";
 
  private:
+  Status equations_parameter_derivative(int p, const Vector& U, Vector& d) override;
   Status place_values(const Vector& U, std::vector<double>& values);
   // d m_k / d p at U (p1 set from U) by central differences in the parameter p.
   Status place_parameter_derivative(int p, const Vector& u, double& derivative);

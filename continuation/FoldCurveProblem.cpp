@@ -67,21 +67,12 @@ Status FoldCurveProblem::bordered_jacobian(const Vector& U, Vector& F, BorderedJ
   return {};
 }
 
-Status FoldCurveProblem::parameter_derivative(int p, const Vector& U, Vector& dF) {
-  check_continued_in(p);
-  Status st = analyse(U);
-  if (!st.is_ok()) return st;
-  const Vector u = U.head(n_);
-  Vector Fp;
-  st = inner_.parameter_derivative(p, u, Fp);
-  if (!st.is_ok()) return st;
+Status FoldCurveProblem::equations_parameter_derivative(int p, const Vector& U, Vector& d) {
   double gp = 0.0;
-  st = parameter_term(p, u, gp);
-  if (!st.is_ok()) return st;
-  dF.resize(n_ + 1);
-  dF.head(n_) = Fp;
-  dF[n_] = gp;
-  return {};
+  Status st = analyse(U);
+  if (st.is_ok()) st = parameter_term(p, U.head(n_), gp);
+  d = Vector::Constant(1, gp);
+  return st;
 }
 
 Status FoldCurveProblem::null_vectors(const Vector& U, Vector& v, Vector& w, double& g) {

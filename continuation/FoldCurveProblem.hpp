@@ -37,7 +37,6 @@ class FoldCurveProblem final : public CurveProblem {
   // [J F_p1; g_u^T g_p1]. J is singular all along a fold curve: no border for block elimination on
   // it (border_size() 0), the augmented Jacobian is factorised whole.
   Status bordered_jacobian(const Vector& U, Vector& F, BorderedJacobian& J) override;
-  Status parameter_derivative(int p, const Vector& U, Vector& dF) override;
   std::vector<std::string> observable_names() const override { return curve_observable_names(); }
   Status observables(const Vector& U, std::vector<double>& values) override;
   std::vector<std::string> monitor_names() const override;
@@ -61,6 +60,7 @@ class FoldCurveProblem final : public CurveProblem {
   using BorderUpdate = CurveBorderUpdate<FoldCurveProblem>;
 
  private:
+  Status equations_parameter_derivative(int p, const Vector& U, Vector& d) override;
   // F, J, v, w and g at U, computed once per state and parameter values.
   Status analyse(const Vector& U);
   // -w^T (dF/dp)_u v by central differences of dF/dp along v.

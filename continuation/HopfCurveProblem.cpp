@@ -166,22 +166,13 @@ Status HopfCurveProblem::bordered_jacobian(const Vector& U, Vector& F, BorderedJ
   return {};
 }
 
-Status HopfCurveProblem::parameter_derivative(int p, const Vector& U, Vector& dF) {
-  check_continued_in(p);
-  Status st = analyse(U);
-  if (!st.is_ok()) return st;
-  const Vector u = U.head(n_);
-  Vector Fp;
-  st = inner_.parameter_derivative(p, u, Fp);
-  if (!st.is_ok()) return st;
+Status HopfCurveProblem::equations_parameter_derivative(int p, const Vector& U, Vector& d) {
   Complex gp;
-  st = parameter_term(p, u, U[n_ + 1], gp);
-  if (!st.is_ok()) return st;
-  dF.resize(n_ + 2);
-  dF.head(n_) = Fp;
-  dF[n_] = gp.real();
-  dF[n_ + 1] = gp.imag();
-  return {};
+  Status st = analyse(U);
+  if (st.is_ok()) st = parameter_term(p, U.head(n_), U[n_ + 1], gp);
+  d.resize(2);
+  d << gp.real(), gp.imag();
+  return st;
 }
 
 Status HopfCurveProblem::null_vectors(const Vector& U, ComplexVector& v, ComplexVector& w, Complex& g) {

@@ -48,7 +48,6 @@ class HopfCurveProblem final : public CurveProblem {
   // and rows.
   int border_size() const override { return 2; }
   Status bordered_jacobian(const Vector& U, Vector& F, BorderedJacobian& J) override;
-  Status parameter_derivative(int p, const Vector& U, Vector& dF) override;
   std::vector<std::string> observable_names() const override { return curve_observable_names({"omega"}); }
   Status observables(const Vector& U, std::vector<double>& values) override;
   std::vector<std::string> monitor_names() const override;
@@ -72,6 +71,7 @@ class HopfCurveProblem final : public CurveProblem {
   using BorderUpdate = CurveBorderUpdate<HopfCurveProblem>;
 
  private:
+  Status equations_parameter_derivative(int p, const Vector& U, Vector& d) override;
   // F, J, B, v, w and g at U, computed once per state and parameter values.
   Status analyse(const Vector& U);
   // The real form of [J - i omega B, b; c^H, 0] (size 2n + 2).

@@ -24,37 +24,27 @@ Status KeptFactorisation::factorise_assembled(const Evaluator& ev, const Vector&
 }
 
 Status KeptFactorisation::factorise(const Vector& u, double lambda) {
-  known_ = false;
   ++count_;
-  const Status st = system_.factorize();
-  if (st.is_ok()) {
-    u_ = u;
-    lambda_ = lambda;
-    known_ = true;
-  }
-  return st;
+  return remember(system_.factorize(), u, lambda);
 }
 
 Status KeptFactorisation::adopt(std::shared_ptr<SparseLU> lu, const SparseMatrix& J, const Vector& u_j, double lambda,
                                 const Vector& Fp, const Constraint& c) {
-  known_ = false;
-  const Status st = system_.adopt(std::move(lu), J, Fp, c.cu, c.cl);
-  if (!st.is_ok()) return st;
-  u_ = u_j;
-  lambda_ = lambda;
-  known_ = true;
-  return {};
+  return remember(system_.adopt(std::move(lu), J, Fp, c.cu, c.cl), u_j, lambda);
 }
 
 Status KeptFactorisation::adopt(std::shared_ptr<SparseLU> lu, const BorderedJacobian& J, const Vector& u_j,
                                 double lambda, const Vector& Fp, const Constraint& c) {
-  known_ = false;
-  const Status st = system_.adopt(std::move(lu), J, Fp, c.cu, c.cl);
-  if (!st.is_ok()) return st;
-  u_ = u_j;
-  lambda_ = lambda;
-  known_ = true;
-  return {};
+  return remember(system_.adopt(std::move(lu), J, Fp, c.cu, c.cl), u_j, lambda);
+}
+
+Status KeptFactorisation::remember(const Status& st, const Vector& u, double lambda) {
+  known_ = st.is_ok();
+  if (known_) {
+    u_ = u;
+    lambda_ = lambda;
+  }
+  return st;
 }
 
 StartFactorisation KeptFactorisation::inner_factorisation() const {

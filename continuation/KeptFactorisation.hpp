@@ -73,6 +73,8 @@ class KeptFactorisation {
 
  private:
   Status factorise(const Vector& u, double lambda);
+  // Where J was factorised (u, lambda) after a factorisation or adoption that returned st.
+  Status remember(const Status& st, const Vector& u, double lambda);
   BorderedSystem system_;
   Vector u_;
   double lambda_ = 0.0;

@@ -81,6 +81,17 @@ test::FunctionProblem parabola(double a, double b) {
   return p;
 }
 
+// The curves below in b up to 0.5, with short steps and events located to 1e-10.
+ContinuationOptions in_b_to_half() {
+  ContinuationOptions o;
+  o.parameter = "b";
+  o.stop.upper = 0.5;
+  o.step.initial = 0.05;
+  o.step.max = 0.1;
+  o.events.tolerance = 1e-10;
+  return o;
+}
+
 }  // namespace
 
 // The event curve a = b^2 from b = -0.5 to 0.5: every point on it to 1e-10, and its turn in a
@@ -93,12 +104,7 @@ TEST(EventCurve, TurnsInTheUnknownParameterAreLocated) {
   NewtonOptions tight;
   tight.residual_tolerance = 1e-12;  // two orders below what the curve is checked to
   ASSERT_TRUE(curve.start(U, tight).is_ok());
-  ContinuationOptions o;
-  o.parameter = "b";
-  o.stop.upper = 0.5;
-  o.step.initial = 0.05;
-  o.step.max = 0.1;
-  o.events.tolerance = 1e-10;
+  const ContinuationOptions o = in_b_to_half();
   test::RecordingObserver rec;
   const ContinuationResult r = curve.trace(o, tight, {}, U, rec);
   ASSERT_EQ(r.code, StopCode::UpperBound) << r.reason;
@@ -126,12 +132,7 @@ TEST(EventCurve, MinimumOverPlacesFollowsItsPlaceAndSwitches) {
   ASSERT_TRUE(curve.start(U, tight).is_ok());
   EXPECT_EQ(curve.place(), 0);
   EXPECT_NEAR(U[2], 0.5, 1e-12);
-  ContinuationOptions o;
-  o.parameter = "b";
-  o.stop.upper = 0.5;
-  o.step.initial = 0.05;
-  o.step.max = 0.1;
-  o.events.tolerance = 1e-10;
+  const ContinuationOptions o = in_b_to_half();
   test::RecordingObserver rec;
   const ContinuationResult r = curve.trace(o, tight, {}, U, rec);
   ASSERT_EQ(r.code, StopCode::UpperBound) << r.reason;

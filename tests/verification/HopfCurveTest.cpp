@@ -69,6 +69,16 @@ test::FunctionProblem fold_hopf(double beta1, double beta2) {
       });
 }
 
+// The Brusselator's options: intervals, a, b and D_v (D_u = 1).
+Brusselator1DOptions brusselator(int intervals, double a, double b, double D_v = 1.0) {
+  Brusselator1DOptions o;
+  o.intervals = intervals;
+  o.a = a;
+  o.b = b;
+  o.D_v = D_v;
+  return o;
+}
+
 // A Hopf curve traced from U (start() done) in o.parameter, with its borders following it.
 struct Traced {
   ContinuationResult result;
@@ -109,11 +119,7 @@ std::vector<const BranchPoint*> labelled(const test::RecordingObserver& rec, Poi
 // perturbed start at a = 2 continued in a to 3: every point on b = 1 + a^2 and omega = a to 1e-8
 // (the curve is exact on the grid; Newton's tolerance 1e-12), the state uniform (a, b / a).
 TEST(HopfCurve, BrusselatorHopfCurveIsBEqualsOnePlusASquared) {
-  Brusselator1DOptions bo;
-  bo.intervals = 32;
-  bo.a = 2.0;
-  bo.b = 5.0;
-  Brusselator1DProblem p(bo);
+  Brusselator1DProblem p(brusselator(32, 2.0, 5.0));
   HopfCurveProblem curve(p, "b");
   const int n = p.size();
   Vector U = curve.state(p.initial_guess() + Vector::Constant(n, 1e-3), 5.0 + 1e-3, 2.0 + 1e-3);
@@ -151,12 +157,7 @@ TEST(HopfCurve, BrusselatorHopfCurveIsBEqualsOnePlusASquared) {
 // off their Hopf values), to 1e-6 of the largest entry of each row (differences of differences,
 // steps 1e-5 and 1e-7).
 TEST(HopfCurve, AugmentedJacobianMatchesDifferencesOfItsResidual) {
-  Brusselator1DOptions bo;
-  bo.intervals = 8;
-  bo.a = 1.5;
-  bo.b = 3.2;
-  bo.D_v = 0.7;
-  Brusselator1DProblem p(bo);
+  Brusselator1DProblem p(brusselator(8, 1.5, 3.2, 0.7));
   HopfCurveProblem curve(p, "b");
   const int n = p.size();
   Vector u = p.initial_guess();
