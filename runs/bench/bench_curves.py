@@ -4,10 +4,11 @@
 
 1. the Wi branch at Gamma = 4.95e-5 to its limiting Wi (the zero of min m1), and from its end
    the limiting-Wi curve in Gamma up to 6.6e-4 (the event curve, stored at the study's Gamma
-   values), one after the other: the cost of a curve point against a branch point (the
-   continuation's own time over its rows, the first state's solve and the output left out), against
-   the first branch's and against all the branches' points (the curve crosses their whole range,
-   where a factorisation costs up to three times what it costs at the first);
+   values, or with --scene-stops at its scene's), one after the other: the cost of a curve point
+   against a branch point (the continuation's own time over its rows, the first state's solve and
+   the output left out), against the first branch's and against all the branches' points (the
+   curve crosses their whole range), and of a plain step (to an ordinary row from an ordinary
+   one: no location in it) of each;
 2. the Wi branches at the ten Gamma values of runs/studies/limiting_wi_gamma.toml (the one at
    4.95e-5 is that of 1.), each a whole `keller trace` from its first state, against the whole
    curve (`keller trace --from ... --curve event`, its start included), by wall clock; and the
@@ -16,7 +17,7 @@
 Prints the machine, each run's time, points and factorisations, and the two ratios (goals: a curve
 point at most 2 branch points; the curve at least 5 times faster than the branches).
 
-    python3 runs/bench/bench_curves.py [--keller build/bin/keller] [--mesh M2] [--branches 10]
+    python3 runs/bench/bench_curves.py [--keller build/bin/keller] [--mesh M2] [--branches 10] [--scene-stops]
 
 --branches N times the first N of the ten branches only (the rest are not run; the total is then
 that of the N, said so in the output).
@@ -95,6 +96,8 @@ def main():
     ap.add_argument("--keller", default=os.path.join(ROOT, "build", "bin", "keller"))
     ap.add_argument("--mesh", default="M2")
     ap.add_argument("--branches", type=int, default=len(GAMMAS), help="how many of the ten branches to time")
+    ap.add_argument("--scene-stops", action="store_true",
+                    help="the curve stored at its scene's stops (default: at the branches' Gamma values)")
     a = ap.parse_args()
     work = tempfile.mkdtemp(prefix="keller_bench_curves_")
     common = ["--set", f"mesh.name={a.mesh}", "--set", "output.xdmf=false"]
@@ -115,7 +118,9 @@ def main():
     curve_h5 = os.path.join(work, "curve.h5")
     stops = "[" + ",".join(f"{g:g}" for g in GAMMAS[1:-1]) + "]"  # the branches' Gamma values
     cmd = [a.keller, "trace", curve_scene, *common, "--from", os.path.join(work, "wi_0.h5") + ":last", "--curve",
-           "event", "--set", f"continuation.stops={stops}", "-o", curve_h5]
+           "event", "-o", curve_h5]
+    if not a.scene_stops:
+        cmd += ["--set", f"continuation.stops={stops}"]
     curve = Run("limiting-Wi curve", cmd, curve_h5 + ".log")
     print(f"  {curve.name}: {curve.wall:.1f} s wall, {curve.points} points, {curve.factorisations} factorisations, "
           f"continuation {curve.seconds:.1f} s ({curve.per_point():.2f} s a point), load {curve.load:.2f}", flush=True)

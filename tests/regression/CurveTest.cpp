@@ -185,7 +185,8 @@ TEST(CurveCommand, LimitingWiCurveOfTheCollapsibleChannelMatchesWiBranches) {
 // The Hopf curve of the Brusselator through the driver: from the Hopf point located (with its
 // eigenvector) on the b branch of runs/scenes/brusselator1d_hopf.toml at a = 2, continued in a from
 // 1.5 to 3: every row on b = 1 + a^2, omega = a to 1e-8 (exact on the grid; Newton to 1e-12), the
-// stop a = 2.5 hit; a row that is not a Hopf point is refused, naming the Hopf rows.
+// stop a = 2.5 hit; a row that is not a Hopf point is refused, naming the Hopf rows; killed after
+// its third point, the same command finishes the same curve.
 TEST(CurveCommand, AHopfCurveFromAStoredHopfPointIsBEqualsOnePlusASquared) {
   const std::string dir = test::scratch_dir("curve_hopf");
   const std::string scene =
@@ -212,4 +213,19 @@ TEST(CurveCommand, AHopfCurveFromAStoredHopfPointIsBEqualsOnePlusASquared) {
     EXPECT_NEAR(t.rows(i, omega), t.rows(i, a), 1e-8) << "a = " << t.rows(i, a);
   }
   EXPECT_EQ(rows_of_kind(t, PointKind::Requested).size(), 1u);
+
+  // killed mid-curve, the same command continues it (the borders set again at its last stored row)
+  const std::string again = "trace " + scene + " --from " + dir + "/branch.h5:" + std::to_string(hopf[0]) +
+                            curve_args.substr(0, curve_args.rfind(" -o ")) + " -o " + dir + "/killed.h5";
+  r = test::run_keller(again, "KELLER_SIGNAL_AT=point:3 KELLER_SIGNAL=KILL");
+  EXPECT_EQ(r.exit_code, -1) << r.out;
+  ASSERT_TRUE(fs::exists(dir + "/killed.h5.part"));
+  r = test::run_keller(again);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("continuing the unfinished curve"), std::string::npos) << r.out;
+  const BranchTable finished = read_branch_table(dir + "/killed.h5");
+  EXPECT_EQ(rows_of_kind(finished, PointKind::Requested).size(), 1u);
+  for (long i = 0; i < finished.rows.rows(); ++i)
+    EXPECT_NEAR(finished.rows(i, b), 1.0 + finished.rows(i, a) * finished.rows(i, a), 1e-8)
+        << "a = " << finished.rows(i, a);
 }
