@@ -84,6 +84,13 @@ Status CurveProblem::parameter_derivative(int p, const Vector& U, Vector& dF) {
   return {};
 }
 
+FixedParameterResult CurveProblem::solve_here(Vector& U, const NewtonOptions& newton, const SparseLUOptions& lu,
+                                              const StartFactorisation& near) {
+  // every parameter is fixed; the bordered system's extra column is that of any but p1
+  const int p = p1_ == 0 ? 1 : 0;
+  return solve_at_fixed_parameter(*this, inner_.parameters().info(p).name, U, newton, lu, near);
+}
+
 bool CurveProblem::analysed_at(const Vector& U) {
   const std::vector<double> values = parameter_values(inner_.parameters());
   if (analysed_.size() == U.size() && analysed_ == U && analysed_params_ == values) return true;

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "continuation/FixedParameterSolve.hpp"
 #include "core/Problem.hpp"
 
 namespace keller {
@@ -49,6 +50,10 @@ class CurveProblem : public Problem {
 
   // Sets p1 in the inner problem from U; a failure status where it is not finite or out of range.
   Status set_p1(const Vector& U) const;
+  // U corrected at the present parameter values by block elimination (FixedParameterSolve, on
+  // `near` where given).
+  FixedParameterResult solve_here(Vector& U, const NewtonOptions& newton, const SparseLUOptions& lu,
+                                  const StartFactorisation& near = {});
   // The derivative in the parameter p of the curve's own equations (those after F = 0) at U; sets
   // p1 from U (parameter_derivative adds dF/dp at the same values).
   virtual Status equations_parameter_derivative(int p, const Vector& U, Vector& d) = 0;

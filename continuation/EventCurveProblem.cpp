@@ -8,8 +8,6 @@
 #include <optional>
 #include <stdexcept>
 
-#include "continuation/FixedParameterSolve.hpp"
-
 namespace keller {
 
 namespace {
@@ -202,11 +200,8 @@ std::string EventCurveProblem::summary() const {
                      p1_name(), inner_.summary());
 }
 
-Status EventCurveProblem::solve_here(Vector& U, const NewtonOptions& newton, const SparseLUOptions& lu) {
-  // any parameter but p1 is fixed (all are): the first other one; on the factorisation kept from
-  // the last solve or piece where there is one
-  const int p = p1() == 0 ? 1 : 0;
-  FixedParameterResult r = solve_at_fixed_parameter(*this, inner_.parameters().info(p).name, U, newton, lu, kept_);
+Status EventCurveProblem::solve_kept(Vector& U, const NewtonOptions& newton, const SparseLUOptions& lu) {
+  FixedParameterResult r = solve_here(U, newton, lu, kept_);
   kept_ = std::move(r.factorisation);
   solve_seconds_ += r.seconds;
   return r.status;
@@ -216,7 +211,7 @@ Status EventCurveProblem::start(Vector& U, const NewtonOptions& newton, SparseLU
   Status st = argmin(U, place_);
   if (!st.is_ok()) return st;
   kept_ = {};
-  st = solve_here(U, newton, lu);
+  st = solve_kept(U, newton, lu);
   if (!st.is_ok())
     return {StatusCode::NotConverged,
             "event curve: Newton from the located event did not converge (" + st.describe() + ")"};
@@ -281,7 +276,7 @@ ContinuationResult EventCurveProblem::trace(ContinuationOptions o, const NewtonO
                                  place_, next, o.parameter, sw.lambda));
     const int from = place_;
     place_ = next;
-    if (!solve_here(U, newton, lu).is_ok()) {
+    if (!solve_kept(U, newton, lu).is_ok()) {
       total.reason = "event curve: no solution on the new place's piece at the switch";
       total.code = StopCode::StepFloor;
       break;

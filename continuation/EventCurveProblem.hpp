@@ -58,9 +58,9 @@ class EventCurveProblem final : public CurveProblem {
   Status place_values(const Vector& U, std::vector<double>& values);
   // d m_k / d p at U (p1 set from U) by central differences in the parameter p.
   Status place_parameter_derivative(int p, const Vector& u, double& derivative);
-  // Newton at the present parameters by block elimination (FixedParameterSolve), the chord on
-  // kept_ where there is one; kept_ becomes the factorisation it ended with.
-  Status solve_here(Vector& U, const NewtonOptions& newton, const SparseLUOptions& lu);
+  // U corrected at the present parameters (CurveProblem::solve_here), the chord on kept_ where
+  // there is one; kept_ becomes the factorisation it ended with.
+  Status solve_kept(Vector& U, const NewtonOptions& newton, const SparseLUOptions& lu);
 
   int monitor_;
   int place_ = 0;

@@ -5,8 +5,6 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "continuation/FixedParameterSolve.hpp"
-
 namespace keller {
 
 namespace {
@@ -219,9 +217,7 @@ Status HopfCurveProblem::start(Vector& U, const ComplexVector& mode_guess, const
                                SparseLUOptions lu) {
   Status st = set_borders(U, mode_guess);
   if (!st.is_ok()) return st;
-  // any parameter but p1 is fixed (all are): the first other one
-  const int p = p1() == 0 ? 1 : 0;
-  const FixedParameterResult r = solve_at_fixed_parameter(*this, inner_.parameters().info(p).name, U, newton, lu);
+  const FixedParameterResult r = solve_here(U, newton, lu);
   if (!r.status.is_ok())
     return {StatusCode::NotConverged,
             "Hopf curve: Newton from the located Hopf point did not converge (" + r.status.describe() + ")"};
