@@ -84,8 +84,9 @@ BranchPoint EventLocator::point_on_segment(const BranchPoint& a, const BranchPoi
   // The corrector's last factorisation is at its second-last iterate. Locating a fold (a zero of
   // the tangent's parameter part) or a sign change of the determinant needs them at the point
   // itself: one more factorisation there.
+  // (by iteration from the tangent of the bracket's end nearer along the cubic)
   Tangent t;
-  if (st.is_ok()) st = tangents_.at_point(p, c, a.tu, a.tlambda, exact_tangent, t);
+  if (st.is_ok()) st = tangents_.at_point(p, c, a.tu, a.tlambda, exact_tangent, t, x < 0.5 ? &p0 : &p1);
   if (st.is_ok()) {
     p.tu = std::move(t.tu);
     p.tlambda = t.tl;
