@@ -1,86 +1,158 @@
 #include "continuation/BorderedSystem.hpp"
 
+#include <Eigen/SVD>
 #include <cmath>
 #include <stdexcept>
 
 namespace keller {
 
 namespace {
-// A Schur complement d - c.J^-1 b below this fraction of its terms is rounding: J is singular to
-// working precision (a fold itself) and block elimination cannot be used.
+// A Schur complement whose smallest singular value is below this fraction of its terms is
+// rounding: the inner matrix is singular to working precision (a fold itself) and block
+// elimination cannot be used.
 constexpr double kVanishingSchur = 1e-12;
 // Block elimination is accepted where iterative refinement brings the whole bordered system's
 // residual below this fraction of its scale (near a singular J it loses accuracy) ...
 constexpr double kRefinedResidual = 1e-10;
 // ... within this many refinement steps; else the whole matrix is factorised.
 constexpr int kRefinementSteps = 3;
+
+double max_abs(const Matrix& M) { return M.size() ? M.cwiseAbs().maxCoeff() : 0.0; }
 }  // namespace
 
-BorderedSystem::BorderedSystem(const SparseMatrix& P, SparseLUOptions options, Mode mode)
-    : n_(static_cast<int>(P.rows())),
-      nnz_j_(P.nonZeros()),
+BorderedSystem::BorderedSystem(const SparseMatrix& P, int borders, SparseLUOptions options, Mode mode)
+    : nk_(static_cast<int>(P.rows())),
+      m_(borders),
+      n_(nk_ + borders),
+      nnz_k_(P.nonZeros()),
       mode_(mode),
       lu_(options),
+      K_(P),
+      Bt_(Matrix::Zero(nk_, borders + 1)),
+      Ct_(Matrix::Zero(nk_, borders + 1)),
+      Dt_(Matrix::Zero(borders + 1, borders + 1)),
       own_j_(std::make_shared<SparseLU>(options)),
       lu_j_(own_j_) {
   if (P.rows() != P.cols() || !P.isCompressed())
     throw std::invalid_argument("BorderedSystem: square compressed pattern");
-  // column j < n: J's entries then (n, j); column n: rows 0..n
-  const int n = n_;
-  A_.resize(n + 1, n + 1);
-  A_.resizeNonZeros(nnz_j_ + n + (n + 1));
+  if (borders < 0) throw std::invalid_argument("BorderedSystem: a negative number of borders");
+  // column j < nk: K's entries then rows nk..nk+k-1 (the border rows); columns nk..N: every row
+  const int nk = nk_, k = m_ + 1;
+  A_.resize(n_ + 1, n_ + 1);
+  A_.resizeNonZeros(nnz_k_ + static_cast<long>(nk) * k + static_cast<long>(k) * (n_ + 1));
   int* outer = A_.outerIndexPtr();
   int* inner = A_.innerIndexPtr();
-  long k = 0;
-  for (int j = 0; j < n; ++j) {
-    outer[j] = static_cast<int>(k);
-    for (int p = P.outerIndexPtr()[j]; p < P.outerIndexPtr()[j + 1]; ++p) inner[k++] = P.innerIndexPtr()[p];
-    inner[k++] = n;
+  long p = 0;
+  for (int j = 0; j < nk; ++j) {
+    outer[j] = static_cast<int>(p);
+    for (int q = P.outerIndexPtr()[j]; q < P.outerIndexPtr()[j + 1]; ++q) inner[p++] = P.innerIndexPtr()[q];
+    for (int b = 0; b < k; ++b) inner[p++] = nk + b;
   }
-  outer[n] = static_cast<int>(k);
-  for (int i = 0; i <= n; ++i) inner[k++] = i;
-  outer[n + 1] = static_cast<int>(k);
+  for (int b = 0; b < k; ++b) {
+    outer[nk + b] = static_cast<int>(p);
+    for (int i = 0; i <= n_; ++i) inner[p++] = i;
+  }
+  outer[n_ + 1] = static_cast<int>(p);
   std::fill(A_.valuePtr(), A_.valuePtr() + A_.nonZeros(), 0.0);
 }
 
-void BorderedSystem::set(const SparseMatrix& J, const Vector& b, const Vector& c, double d) {
-  if (J.nonZeros() != nnz_j_) throw std::invalid_argument("BorderedSystem::set: J has a different pattern");
-  const int n = n_;
+void BorderedSystem::fill() {
+  const int nk = nk_, k = m_ + 1;
   double* v = A_.valuePtr();
-  const double* jv = J.valuePtr();
-  const int* jo = J.outerIndexPtr();
-  for (int j = 0; j < n; ++j) {
-    const long base = jo[j] + j;  // every earlier column gained one entry
-    const int len = jo[j + 1] - jo[j];
-    for (int p = 0; p < len; ++p) v[base + p] = jv[jo[j] + p];
-    v[base + len] = c.size() ? c[j] : 0.0;
+  const double* kv = K_.valuePtr();
+  const int* ko = K_.outerIndexPtr();
+  long p = 0;
+  for (int j = 0; j < nk; ++j) {
+    for (int q = ko[j]; q < ko[j + 1]; ++q) v[p++] = kv[q];
+    for (int b = 0; b < k; ++b) v[p++] = Ct_(j, b);
   }
-  const long last = nnz_j_ + n;
-  for (int i = 0; i < n; ++i) v[last + i] = b[i];
-  v[last + n] = d;
-  if (mode_ == Mode::Block) {
-    J_ = J;
-    b_ = b;
-    c_ = c.size() ? c : Vector::Zero(n);
-    d_ = d;
+  for (int b = 0; b < k; ++b) {
+    for (int i = 0; i < nk; ++i) v[p++] = Bt_(i, b);
+    for (int i = 0; i < k; ++i) v[p++] = Dt_(i, b);
   }
+}
+
+void BorderedSystem::set(const SparseMatrix& J, const Vector& b, const Vector& c, double d) {
+  if (m_ != 0) throw std::invalid_argument("BorderedSystem::set: the problem has a border; J in bordered form");
+  if (J.nonZeros() != nnz_k_) throw std::invalid_argument("BorderedSystem::set: J has a different pattern");
+  K_ = J;
+  Bt_.col(0) = b;
+  if (c.size())
+    Ct_.col(0) = c;
+  else
+    Ct_.col(0).setZero();
+  Dt_(0, 0) = d;
+  fill();
+}
+
+void BorderedSystem::set(const BorderedJacobian& J, const Vector& b, const Vector& c, double d) {
+  if (J.border_size() != m_ || J.inner_size() != nk_ || J.K.nonZeros() != nnz_k_)
+    throw std::invalid_argument("BorderedSystem::set: the bordered Jacobian has a different structure");
+  const int m = m_, nk = nk_;
+  K_ = J.K;
+  Bt_.leftCols(m) = J.B;
+  Bt_.col(m) = b.head(nk);
+  Ct_.leftCols(m) = J.C;
+  Dt_.topLeftCorner(m, m) = J.D;
+  Dt_.col(m).head(m) = b.tail(m);
+  set_last_row(c, d);
+  fill();
+}
+
+void BorderedSystem::set_last_row(const Vector& c, double d) {
+  const int nk = nk_, m = m_;
+  if (c.size()) {
+    Ct_.col(m) = c.head(nk);
+    Dt_.row(m).head(m) = c.tail(m).transpose();
+  } else {
+    Ct_.col(m).setZero();
+    Dt_.row(m).head(m).setZero();
+  }
+  Dt_(m, m) = d;
+}
+
+bool BorderedSystem::schur() {
+  S_ = Dt_ - Ct_.transpose() * X_;
+  const double scale = Dt_.norm() + Ct_.norm() * X_.norm();
+  if (!S_.allFinite()) return false;
+  const Vector sv = Eigen::JacobiSVD<Matrix>(S_).singularValues();
+  if (!(sv[sv.size() - 1] > kVanishingSchur * scale)) return false;
+  S_lu_.compute(S_);
+  return true;
 }
 
 Status BorderedSystem::adopt(std::shared_ptr<SparseLU> lu, const SparseMatrix& J, const Vector& b, const Vector& c,
                              double d) {
   if (mode_ != Mode::Block) return {StatusCode::InvalidState, "full bordered mode: nothing to adopt"};
+  if (m_ != 0) return {StatusCode::InvalidState, "the problem has a border: J's factorisation is not its inner one"};
   if (!lu || !lu->factorized()) return {StatusCode::InvalidState, "no factorisation to adopt"};
   set(J, b, c, d);
+  return adopt_inner(std::move(lu));
+}
+
+Status BorderedSystem::adopt(std::shared_ptr<SparseLU> lu, const BorderedJacobian& J, const Vector& b, const Vector& c,
+                             double d) {
+  if (mode_ != Mode::Block) return {StatusCode::InvalidState, "full bordered mode: nothing to adopt"};
+  if (!lu || !lu->factorized()) return {StatusCode::InvalidState, "no factorisation to adopt"};
+  set(J, b, c, d);
+  return adopt_inner(std::move(lu));
+}
+
+Status BorderedSystem::adopt_inner(std::shared_ptr<SparseLU> lu) {
   release_adopted();
-  lu_j_ = std::move(lu);
-  adopted_base_ = lu_j_->statistics();
+  if (lu != own_j_) {
+    lu_j_ = std::move(lu);
+    adopted_base_ = lu_j_->statistics();
+  }
   block_ok_ = false;
-  Status st = lu_j_->solve(b_, x2_);
-  if (!st.is_ok()) return st;
-  schur_ = d_ - c_.dot(x2_);
-  const double scale = std::abs(d_) + c_.norm() * x2_.norm();
-  if (!(std::isfinite(schur_) && std::abs(schur_) > kVanishingSchur * scale))
-    return {StatusCode::SingularMatrix, "Schur complement of the adopted factorisation vanishes"};
+  X_.resize(nk_, m_ + 1);
+  for (int b = 0; b <= m_; ++b) {
+    Vector x;
+    const Status st = lu_j_->solve(Bt_.col(b), x);
+    if (!st.is_ok()) return st;
+    X_.col(b) = x;
+  }
+  if (!schur()) return {StatusCode::SingularMatrix, "Schur complement of the adopted factorisation vanishes"};
   block_ok_ = true;
   return {};
 }
@@ -111,15 +183,16 @@ Status BorderedSystem::factorize() {
   block_ok_ = false;
   release_adopted();  // (an adopted factorisation belongs to its maker: ours is refactorised)
   if (mode_ == Mode::Block) {
-    Status st = lu_j_->factorize(J_);
-    if (st.is_ok()) st = lu_j_->solve(b_, x2_);
-    if (st.is_ok()) {
-      schur_ = d_ - c_.dot(x2_);
-      const double scale = std::abs(d_) + c_.norm() * x2_.norm();
-      if (std::isfinite(schur_) && std::abs(schur_) > kVanishingSchur * scale) {
-        block_ok_ = true;
-        return {};
-      }
+    Status st = lu_j_->factorize(K_);
+    X_.resize(nk_, m_ + 1);
+    for (int b = 0; b <= m_ && st.is_ok(); ++b) {
+      Vector x;
+      st = lu_j_->solve(Bt_.col(b), x);
+      if (st.is_ok()) X_.col(b) = x;
+    }
+    if (st.is_ok() && schur()) {
+      block_ok_ = true;
+      return {};
     }
     ++fallbacks_;
   }
@@ -127,25 +200,23 @@ Status BorderedSystem::factorize() {
 }
 
 int BorderedSystem::determinant_sign() const {
-  if (block_ok_) return lu_j_->determinant_sign() * (schur_ > 0 ? 1 : -1);
+  if (block_ok_) return lu_j_->determinant_sign() * (S_lu_.determinant() > 0 ? 1 : -1);
   return lu_.determinant_sign();
 }
 
 Status BorderedSystem::set_row(const Vector& c, double d) {
-  const int n = n_;
-  if (c.size() && c.size() != n) throw std::invalid_argument("BorderedSystem::set_row: size mismatch");
+  const int nk = nk_, m = m_;
+  if (c.size() && c.size() != n_) throw std::invalid_argument("BorderedSystem::set_row: size mismatch");
+  set_last_row(c, d);
+  // in A_: the last entry of each inner column, and row N of each border column
   double* v = A_.valuePtr();
   const int* ao = A_.outerIndexPtr();
-  for (int j = 0; j < n; ++j) v[ao[j + 1] - 1] = c.size() ? c[j] : 0.0;  // (n, j) closes column j
-  v[A_.nonZeros() - 1] = d;
+  for (int j = 0; j < nk; ++j) v[ao[j + 1] - 1] = Ct_(j, m);
+  for (int b = 0; b <= m; ++b) v[ao[nk + b + 1] - 1] = Dt_(m, b);
   if (mode_ != Mode::Block)
     return {StatusCode::InvalidState, "full bordered mode: the row is part of the factorisation"};
-  c_ = c.size() ? c : Vector::Zero(n);
-  d_ = d;
   if (!block_ok_) return {StatusCode::InvalidState, "no block factorisation to reuse"};
-  schur_ = d_ - c_.dot(x2_);
-  const double scale = std::abs(d_) + c_.norm() * x2_.norm();
-  if (!(std::isfinite(schur_) && std::abs(schur_) > kVanishingSchur * scale)) {
+  if (!schur()) {
     block_ok_ = false;
     return {StatusCode::SingularMatrix, "Schur complement of the new border row vanishes"};
   }
@@ -153,11 +224,18 @@ Status BorderedSystem::set_row(const Vector& c, double d) {
 }
 
 Status BorderedSystem::solve_block(const Vector& f, double g, Vector& x, double& y) {
+  const int nk = nk_, m = m_;
   Vector x1;
-  Status st = lu_j_->solve(f, x1, false, 0);  // plain: the whole bordered system is refined below
+  Status st = lu_j_->solve(f.head(nk), x1, false, 0);  // plain: the whole bordered system is refined below
   if (!st.is_ok()) return st;
-  y = (g - c_.dot(x1)) / schur_;
-  x = x1 - y * x2_;
+  Vector rhs(m + 1);
+  rhs.head(m) = f.tail(m);
+  rhs[m] = g;
+  const Vector z = S_lu_.solve(rhs - Ct_.transpose() * x1);
+  x.resize(n_);
+  x.head(nk) = x1 - X_ * z;
+  x.tail(m) = z.head(m);
+  y = z[m];
   return {};
 }
 
@@ -168,19 +246,28 @@ Status BorderedSystem::solve(const Vector& f, double g, Vector& x, double& y, bo
     if (!refine) return x.allFinite() && std::isfinite(y) ? Status{} : Status{StatusCode::NotFinite, "bordered solve"};
     // iterative refinement on the whole bordered system: near a singular J block elimination
     // loses accuracy; if refinement does not restore it, fall back to the whole matrix
-    const double scale_ab = std::abs(d_) + c_.cwiseAbs().maxCoeff() + b_.cwiseAbs().maxCoeff();
+    const int nk = nk_, m = m_;
+    const double scale_ab = max_abs(Dt_) + max_abs(Ct_) + max_abs(Bt_);
     const double scale_f = f.cwiseAbs().maxCoeff() + std::abs(g);
+    Vector z(m + 1), rhs(m + 1);
+    rhs.head(m) = f.tail(m);
+    rhs[m] = g;
     for (int step = 0; step <= kRefinementSteps; ++step) {
       if (!x.allFinite() || !std::isfinite(y)) break;
-      const Vector rf = f - J_ * x - b_ * y;
-      const double rg = g - c_.dot(x) - d_ * y;
-      const double res = rf.cwiseAbs().maxCoeff() + std::abs(rg);
+      z.head(m) = x.tail(m);
+      z[m] = y;
+      Vector r(n_);
+      r.head(nk) = f.head(nk) - K_ * x.head(nk) - Bt_ * z;
+      const Vector rb = rhs - Ct_.transpose() * x.head(nk) - Dt_ * z;
+      r.tail(m) = rb.head(m);
+      const double rg = rb[m];
+      const double res = r.cwiseAbs().maxCoeff() + std::abs(rg);
       const double scale = scale_f + scale_ab * (x.cwiseAbs().maxCoeff() + std::abs(y));
       if (res <= kRefinedResidual * scale) return {};
       if (step == kRefinementSteps) break;
       Vector dx;
       double dy = 0;
-      st = solve_block(rf, rg, dx, dy);
+      st = solve_block(r, rg, dx, dy);
       if (!st.is_ok()) return st;
       x += dx;
       y += dy;

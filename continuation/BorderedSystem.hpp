@@ -2,20 +2,28 @@
 //   [ J    b ] [x]   [f]
 //   [ c^T  d ] [y] = [g],
 // in one of two ways.
-//  Full:  one sparse LU factorisation of the (n+1) x (n+1) matrix, which stays regular at folds
+//  Full:  one sparse LU factorisation of the (N+1) x (N+1) matrix, which stays regular at folds
 //         where J is singular. The dense border row and column cost fill, a lot of it with
 //         nested-dissection orderings on large coupled problems.
-//  Block: block elimination on a factorisation of J alone (x = J^-1 f - y J^-1 b,
-//         y = (g - c.J^-1 f) / (d - c.J^-1 b)) with one step of iterative refinement on the whole
-//         bordered system; where J is singular (at a fold itself), the Schur complement
-//         d - c.J^-1 b vanishes, or a solve leaves a residual of the whole system above 1e-10
-//         of its scale (J nearly singular), that factorisation falls back to the full matrix.
+//  Block: block elimination on a factorisation of the inner sparse matrix alone with one step of
+//         iterative refinement on the whole bordered system; where that matrix is singular, the
+//         Schur complement of the borders vanishes, or a solve leaves a residual of the whole
+//         system above 1e-10 of its scale (a nearly singular inner matrix), that factorisation
+//         falls back to the full matrix.
+// J is the problem's Jacobian or, for a problem with a border of its own (an augmented problem,
+// core/BorderedJacobian.hpp: J = [K B; C^T D]), K bordered by m dense columns and rows. Then all
+// k = m + 1 borders (the problem's and the continuation's row) are eliminated together on K's
+// factorisation: X = K^-1 [B b_K] (k solves per factorisation), the k x k Schur complement
+// S = [D b_m; c_m^T d] - [C c_K]^T X, and one solve with K per right-hand side:
+//   x_K = K^-1 f_K - X z,   z = S^-1 ((f_m, g) - [C c_K]^T K^-1 f_K),   (x_m, y) = z.
 // The patterns are fixed, so each UMFPACK symbolic analysis is done once per branch.
 #pragma once
 
+#include <Eigen/LU>
 #include <memory>
 #include <vector>
 
+#include "core/BorderedJacobian.hpp"
 #include "core/SparseLU.hpp"
 #include "core/Types.hpp"
 
@@ -24,19 +32,33 @@ namespace keller {
 class BorderedSystem {
  public:
   enum class Mode { Full, Block };
-  BorderedSystem(const SparseMatrix& jacobian_pattern, SparseLUOptions options, Mode mode = Mode::Full);
+  // inner_pattern: the pattern of J (a problem without a border of its own, borders = 0) or of K
+  // (an augmented problem with borders = m > 0 border unknowns).
+  BorderedSystem(const SparseMatrix& inner_pattern, int borders, SparseLUOptions options, Mode mode = Mode::Full);
+  BorderedSystem(const SparseMatrix& jacobian_pattern, SparseLUOptions options, Mode mode = Mode::Full)
+      : BorderedSystem(jacobian_pattern, 0, options, mode) {}
 
-  int size() const { return n_; }  // n (the extended size is n + 1)
-  // Values: J with the pattern given at construction, border column b, row c, corner d.
+  int size() const { return n_; }  // N, the problem's unknowns (the extended size is N + 1)
+  int problem_borders() const { return m_; }
+  // Values: J with the pattern given at construction (no border of its own), border column b, row
+  // c (empty: zero), corner d.
   void set(const SparseMatrix& J, const Vector& b, const Vector& c, double d);
+  // The same for a problem with a border of its own: J in bordered form (K with the inner pattern).
+  void set(const BorderedJacobian& J, const Vector& b, const Vector& c, double d);
   Status factorize();
-  // Block mode: takes J's factorisation made elsewhere (lu factorises J, a Jacobian with the
-  // pattern given at construction, e.g. the last one of the Newton solve that found the start) with
-  // border b, c, d; no numeric factorisation. A non-ok status where it cannot be used (full mode, a
-  // vanishing Schur complement).
+  // Block mode, no border of the problem's own: takes J's factorisation made elsewhere (lu
+  // factorises J, a Jacobian with the pattern given at construction, e.g. the last one of the
+  // Newton solve that found the start) with border b, c, d; no numeric factorisation. A non-ok
+  // status where it cannot be used (full mode, a problem border, a vanishing Schur complement).
   Status adopt(std::shared_ptr<SparseLU> lu, const SparseMatrix& J, const Vector& b, const Vector& c, double d);
+  // The same for a problem with a border: lu factorises J.K (another point's inner matrix, kept
+  // as the system's), the border J.B, J.C, J.D is the new point's.
+  Status adopt(std::shared_ptr<SparseLU> lu, const BorderedJacobian& J, const Vector& b, const Vector& c, double d);
+  // The inner matrix's factorisation in use and the matrix (block mode; for another system to adopt).
+  std::shared_ptr<SparseLU> inner_lu() const { return lu_j_; }
+  const SparseMatrix& inner_matrix() const { return K_; }
   // Replaces the border row and corner (c, d) of the factorised system without refactorising J:
-  // block mode only (the Schur complement is one dot product away); returns a non-ok status when
+  // block mode only (the Schur complement is k dot products away); returns a non-ok status when
   // the system must be refactorised instead (full mode, no factorisation, vanishing Schur
   // complement). The chord corrector uses it to keep J's factorisation across steps.
   Status set_row(const Vector& c, double d);
@@ -46,13 +68,16 @@ class BorderedSystem {
   // 1e-10 of its scale (at most 3 steps; block mode), false: one elimination only (callers that
   // iterate themselves).
   Status solve(const Vector& f, double g, Vector& x, double& y, bool refine = true);
-  // Sign of det of the last factorised extended matrix (block: det J times the Schur complement).
+  // Sign of det of the last factorised extended matrix (block: det of the inner matrix times
+  // det of the Schur complement).
   int determinant_sign() const;
+  // The whole extended matrix (kept up to date in both modes).
   const SparseMatrix& matrix() const { return A_; }
-  // The factorisation in use: J's in block mode, the extended matrix's otherwise.
+  // The factorisation in use: the inner matrix's in block mode, the extended matrix's otherwise.
   const SparseLU& lu() const { return mode_ == Mode::Block ? *lu_j_ : lu_; }
-  // J's own factorisation (block mode, J regular), for others to solve with; null otherwise.
-  SparseLU* j_factorisation() { return mode_ == Mode::Block && block_ok_ ? lu_j_.get() : nullptr; }
+  // J's own factorisation (block mode, J regular, no border of the problem's own), for others to
+  // solve with; null otherwise.
+  SparseLU* j_factorisation() { return mode_ == Mode::Block && block_ok_ && m_ == 0 ? lu_j_.get() : nullptr; }
   // Factorisations that fell back from block elimination to the full matrix.
   long fallbacks() const { return fallbacks_; }
   // Cumulative wall time of numeric factorisations and solves made through this system (both
@@ -69,18 +94,28 @@ class BorderedSystem {
   Totals totals() const;
 
  private:
+  // A_'s values from K_, Bt_, Ct_, Dt_.
+  void fill();
+  // The continuation's row (c, d) into Ct_ and Dt_ (c empty: zero).
+  void set_last_row(const Vector& c, double d);
+  // The Schur complement from X_ and its LU; false where it vanishes (block elimination unusable).
+  bool schur();
+  // Takes lu as the inner factorisation (the values set already) and eliminates the borders on it.
+  Status adopt_inner(std::shared_ptr<SparseLU> lu);
   Status solve_block(const Vector& f, double g, Vector& x, double& y);
   // Back to J's own factorisation object (its adopted statistics kept).
   void release_adopted();
-  int n_;
-  long nnz_j_;
+  int nk_, m_, n_;  // inner size, the problem's borders, nk_ + m_
+  long nnz_k_;
   Mode mode_;
   SparseMatrix A_;
   SparseLU lu_;
-  // block mode
-  SparseMatrix J_;
-  Vector b_, c_, x2_;
-  double d_ = 0.0, schur_ = 0.0;
+  // the blocks: K_ inner, Bt_ = [B b_K], Ct_ = [C c_K] (nk x k), Dt_ = [D b_m; c_m^T d] (k x k)
+  SparseMatrix K_;
+  Matrix Bt_, Ct_, Dt_;
+  // block mode: X_ = K^-1 Bt_, the Schur complement S_ = Dt_ - Ct_^T X_ and its factors
+  Matrix X_, S_;
+  Eigen::FullPivLU<Matrix> S_lu_;
   // J's factorisation in use: its own (own_j_), or one adopted, whose statistics count from the
   // adoption on (adopted_base_; solves only: it is refactorised as our own)
   std::shared_ptr<SparseLU> own_j_, lu_j_;

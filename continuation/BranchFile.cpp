@@ -218,6 +218,22 @@ BranchPoint read_branch_point(const std::string& path, int row) {
   return p;
 }
 
+bool read_critical_mode(const std::string& path, int row, Vector& re, Vector& im, double& imag) {
+  H5File f(path, H5File::Mode::Read);
+  if (!f.exists("/branch/eigenvector_rows") || !f.exists("/branch/eigenvectors")) return false;
+  long r = 0, c = 0, m = 0, n = 0;
+  const auto rows = f.read_matrix("/branch/eigenvector_rows", &r, &c);
+  const auto modes = f.read_matrix("/branch/eigenvectors", &m, &n);
+  for (long k = 0; k < r && 2 * k + 1 < m; ++k) {
+    if (static_cast<int>(rows[static_cast<size_t>(k * c)]) != row) continue;
+    re = Eigen::Map<const Vector>(&modes[static_cast<size_t>(2 * k * n)], n);
+    im = Eigen::Map<const Vector>(&modes[static_cast<size_t>((2 * k + 1) * n)], n);
+    imag = rows[static_cast<size_t>(k * c + 3)];
+    return true;
+  }
+  return false;
+}
+
 namespace {
 // The rows of m whose first column (a table row) is at most `row`; m is ordered by that column.
 Eigen::MatrixXd rows_up_to(const Eigen::MatrixXd& m, int row) {

@@ -90,6 +90,10 @@ BranchTable read_branch_table(const std::string& path);
 // A stored point (solution, tangent, step, arclength). Throws std::invalid_argument listing the
 // stored rows if `row` has no stored solution; row = -1 means the last stored one.
 BranchPoint read_branch_point(const std::string& path, int row);
+// The critical eigenvector stored with a located row (a fold, branch point or Hopf point of a
+// branch traced with its stability): its real and imaginary parts and the imaginary part of its
+// eigenvalue (a Hopf point's frequency). False where the row has none.
+bool read_critical_mode(const std::string& path, int row, Vector& re, Vector& im, double& imag);
 
 // The critical eigenvector stored with a row of a branch file (/branch/eigenvectors): phi = re + i im
 // with its eigenvalue sigma. Nothing when the row has none (no [stability], or not a stored row).

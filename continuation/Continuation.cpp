@@ -54,7 +54,7 @@ Continuation::Continuation(Problem& problem, ContinuationOptions options, Newton
       newton_(newton),
       lu_options_(lu),
       ev_(problem, problem.parameters().index(options_.parameter), options_.parameter),
-      kept_(problem.jacobian_pattern(), lu, options_.corrector.block_elimination),
+      kept_(problem, lu, options_.corrector.block_elimination),
       corrector_(ev_, kept_, norm_, options_, newton_),
       tangents_(ev_, kept_, norm_, options_),
       predictor_(options_, norm_),
@@ -75,6 +75,7 @@ Continuation::Continuation(Problem& problem, ContinuationOptions options, Newton
     stop_index_ = static_cast<int>(it - names.begin());
   }
   monitor_names_ = problem_.monitor_names();
+  turning_ = problem_.turning_unknowns();
   if (stop_index_ >= 0) {
     if (std::isfinite(options_.stop.above)) monitor_names_.push_back(options_.stop.observable + " > stop_above");
     if (std::isfinite(options_.stop.below)) monitor_names_.push_back(options_.stop.observable + " < stop_below");
@@ -113,9 +114,17 @@ ContinuationResult Continuation::run(const Vector& u0, BranchObserver& observer,
     st = ev_.set_parameter(start.lambda);
     if (st.is_ok()) st = ev_.parameter_derivative(start.u);
     const Constraint row = Constraint::parameter(0.0);
-    if (st.is_ok())
+    if (st.is_ok() && ev_.bordered()) {
+      // the border at the start on the factorised inner matrix
+      st = ev_.jacobian(start.u);
+      BorderedJacobian J = ev_.bordered_jacobian();
+      J.K = factorised.jacobian;
+      if (st.is_ok())
+        st = kept_.adopt(factorised.lu, J, factorised.at, start.lambda, ev_.parameter_derivative_vector(), row);
+    } else if (st.is_ok()) {
       st = kept_.adopt(factorised.lu, factorised.jacobian, factorised.at, start.lambda,
                        ev_.parameter_derivative_vector(), row);
+    }
     if (st.is_ok()) st = tangents_.at_point(start, row, Vector(), 0.0, false, t);
     if (st.is_ok() && t.tl * options_.direction < 0) {
       t.tu = -t.tu;
@@ -354,7 +363,7 @@ std::vector<LocatedPoint> Continuation::locate_on(BranchPoint& cur, BranchPoint&
 void Continuation::locate_crossings(const BranchPoint& cur, const BranchPoint& nxt, const Step& step,
                                     std::vector<LocatedPoint>& located, BranchObserver& observer) {
   const std::vector<Crossing> crossings =
-      detect_crossings(cur, nxt, step.land, options_, monitor_names_, problem_.monitor_names().size());
+      detect_crossings(cur, nxt, step.land, options_, monitor_names_, problem_.monitor_names().size(), turning_);
   std::vector<std::optional<BranchPoint>> zero_of(crossings.size());  // the points located for each
   for (size_t k = 0; k < crossings.size(); ++k) {
     const Crossing& c = crossings[k];

@@ -68,14 +68,6 @@ struct ContinuationResult {
   BranchPoint last;
 };
 
-// J's factorisation that the solve of the start left (NewtonSolver::factorisation(), jacobian(),
-// factorised_at()): the branch starts on it instead of factorising J at the start again.
-struct StartFactorisation {
-  std::shared_ptr<SparseLU> lu;
-  SparseMatrix jacobian;
-  Vector at;  // the iterate where it was made
-};
-
 class Continuation {
  public:
   Continuation(Problem& problem, ContinuationOptions options, NewtonOptions newton = {}, SparseLUOptions lu = {});
@@ -83,7 +75,8 @@ class Continuation {
 
   // Traces the branch from u0, a converged solution at the parameter's current value; with the
   // factorisation the solve of u0 left (block elimination with a kept factorisation only: the
-  // start's tangent by iteration on it, a factorisation at u0 only where that does not converge).
+  // start's tangent by iteration on it, a factorisation at u0 only where that does not converge;
+  // for a problem with a border, the factorisation of its inner matrix, the border evaluated at u0).
   ContinuationResult run(const Vector& u0, BranchObserver& observer, const StartFactorisation& factorised = {});
   // Continues from a stored point (solution, tangent, step, arclength) of an earlier run.
   ContinuationResult resume(BranchPoint start, BranchObserver& observer);
@@ -107,6 +100,9 @@ class Continuation {
   // BranchPoint::monitors).
   const std::vector<std::string>& monitor_names() const { return monitor_names_; }
   const BorderedSystem& bordered() const { return kept_.system(); }
+  // The kept factorisation of J (of the inner matrix, for a problem with a border) where the run
+  // ended, for another run to start on (empty where there is none: full mode, a fallback).
+  StartFactorisation factorisation() const { return kept_.inner_factorisation(); }
 
  private:
   // An attempted step: the point it reached (if any) and what the step controller needs.
@@ -162,6 +158,7 @@ class Continuation {
   SparseLUOptions lu_options_;
   int stop_index_ = -1;  // index of the stop observable in the problem's observables
   std::vector<std::string> monitor_names_;
+  std::vector<Problem::NamedUnknown> turning_;  // the problem's turning unknowns
   ArclengthNorm norm_;
   Evaluator ev_;
   KeptFactorisation kept_;

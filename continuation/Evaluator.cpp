@@ -16,7 +16,11 @@ double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock:
 }  // namespace
 
 Evaluator::Evaluator(Problem& problem, int parameter, std::string parameter_name)
-    : problem_(problem), p_(parameter), name_(std::move(parameter_name)), J_(problem.jacobian_pattern()) {}
+    : problem_(problem),
+      p_(parameter),
+      name_(std::move(parameter_name)),
+      bordered_(problem.border_size() > 0),
+      J_(problem.jacobian_pattern()) {}
 
 Status Evaluator::set_parameter(double lambda) {
   ParameterSet& ps = problem_.parameters();
@@ -38,11 +42,20 @@ Status Evaluator::residual(const Vector& u, Vector& F) {
 
 Status Evaluator::jacobian(const Vector& u) {
   const auto t0 = Clock::now();
-  const Status st = problem_.jacobian(u, F_, J_);
+  const Status st = bordered_ ? problem_.bordered_jacobian(u, F_, JB_) : problem_.jacobian(u, F_, J_);
   timings_.jacobian += since(t0);
   ++timings_.jacobians;
-  if (st.is_ok()) floor_ = keller::rounding_floor(J_, u);
+  assembled_ = !bordered_;
+  if (st.is_ok()) floor_ = bordered_ ? JB_.rounding_floor(u) : keller::rounding_floor(J_, u);
   return st;
+}
+
+const SparseMatrix& Evaluator::jacobian_matrix() const {
+  if (!assembled_) {
+    J_ = JB_.assembled();
+    assembled_ = true;
+  }
+  return J_;
 }
 
 Status Evaluator::parameter_derivative(const Vector& u) {

@@ -28,7 +28,8 @@ class Evaluator {
   // outside the problem's admissible range.
   Status set_parameter(double lambda);
   Status residual(const Vector& u, Vector& F);
-  // J and F at u (into jacobian(), residual_vector()); the rounding floor of J at u.
+  // J and F at u (into jacobian_matrix() or, for a problem with a border of its own,
+  // bordered_jacobian(); residual_vector()); the rounding floor of J at u.
   Status jacobian(const Vector& u);
   // dF/dp at u (into parameter_derivative_vector()).
   Status parameter_derivative(const Vector& u);
@@ -36,7 +37,12 @@ class Evaluator {
   // about 1e-11 of |J| |v|, below what the tangent iteration asks for).
   Status jacobian_times(const Vector& u, const Vector& v, Vector& out);
 
-  const SparseMatrix& jacobian_matrix() const { return J_; }
+  // The last Jacobian as one sparse matrix (a bordered one assembled on the first call).
+  const SparseMatrix& jacobian_matrix() const;
+  // The problem has a border of its own (Problem::border_size() > 0): its Jacobians come in
+  // bordered form.
+  bool bordered() const { return bordered_; }
+  const BorderedJacobian& bordered_jacobian() const { return JB_; }
   const Vector& residual_vector() const { return F_; }
   const Vector& parameter_derivative_vector() const { return Fp_; }
   // rounding_floor() (ConvergenceTest) of the last assembled Jacobian at its point.
@@ -47,7 +53,11 @@ class Evaluator {
   Problem& problem_;
   int p_;
   std::string name_;
-  SparseMatrix J_;
+  bool bordered_;
+  // J_ holds the whole Jacobian; for a bordered problem JB_ does, J_ once assembled (assembled_)
+  mutable SparseMatrix J_;
+  mutable bool assembled_ = true;
+  BorderedJacobian JB_;
   Vector F_, Fp_, plus_, minus_;
   double floor_ = 0.0;
   ContinuationTimings timings_;

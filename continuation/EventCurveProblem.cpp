@@ -79,51 +79,8 @@ class Pieces final : public BranchObserver {
 }  // namespace
 
 EventCurveProblem::EventCurveProblem(Problem& inner, const std::string& event_parameter, const std::string& monitor)
-    : inner_(inner),
-      n_(inner.size()),
-      p1_(inner.parameters().index(event_parameter)),
-      monitor_(index_of(inner.monitor_names(), monitor, "monitor")) {
-  if (inner_.parameters().size() < 2)
-    throw std::invalid_argument("event curve of '" + inner_.name() + "': the problem has only one parameter");
-  pattern_ = bordered(inner_.jacobian_pattern(), Vector::Zero(n_), Vector::Zero(n_), 0.0);
-}
-
-SparseMatrix EventCurveProblem::bordered(const SparseMatrix& A, const Vector& col, const Vector& row,
-                                         double corner) const {
-  std::vector<Eigen::Triplet<double, int>> t;
-  t.reserve(A.nonZeros() + 2 * n_ + 1);
-  for (int j = 0; j < A.outerSize(); ++j)
-    for (SparseMatrix::InnerIterator it(A, j); it; ++it) t.emplace_back(it.row(), j, it.value());
-  for (int i = 0; i < n_; ++i) {
-    t.emplace_back(i, n_, col[i]);
-    t.emplace_back(n_, i, row[i]);
-  }
-  t.emplace_back(n_, n_, corner);
-  SparseMatrix M(n_ + 1, n_ + 1);
-  M.setFromTriplets(t.begin(), t.end());
-  M.makeCompressed();
-  return M;
-}
-
-Vector EventCurveProblem::state(const Vector& u, double p1) const {
-  Vector U(n_ + 1);
-  U.head(n_) = u;
-  U[n_] = p1;
-  return U;
-}
-
-Vector EventCurveProblem::initial_guess() { return state(inner_.initial_guess(), inner_.parameters().value(p1_)); }
-
-Status EventCurveProblem::set_p1(const Vector& U) {
-  if (U.size() != n_ + 1) throw std::invalid_argument("event curve: state of the wrong size");
-  if (!std::isfinite(U[n_]))
-    return {StatusCode::NotFinite, "event curve: " + event_parameter_name() + " is not finite"};
-  if (!inner_.parameters().admissible(p1_, U[n_]))
-    return {StatusCode::InvalidState,
-            fmt::format("event curve: {} = {} is outside its range", event_parameter_name(), U[n_])};
-  inner_.parameters().set(p1_, U[n_]);
-  return {};
-}
+    : CurveProblem(inner, event_parameter, 1, "event curve"),
+      monitor_(index_of(inner.monitor_names(), monitor, "monitor")) {}
 
 Status EventCurveProblem::place_values(const Vector& U, std::vector<double>& values) {
   Status st = set_p1(U);
@@ -156,65 +113,50 @@ Status EventCurveProblem::residual(const Vector& U, Vector& F) {
   return {};
 }
 
-Status EventCurveProblem::parameter_derivative(int p, const Vector& U, Vector& dF) {
-  if (p == p1_)
-    throw std::invalid_argument("event curve: " + event_parameter_name() +
-                                " is an unknown of the curve, not the parameter it is continued in");
-  Status st = set_p1(U);
-  if (!st.is_ok()) return st;
-  const Vector u = U.head(n_);
-  Vector Fp;
-  st = inner_.parameter_derivative(p, u, Fp);
-  if (!st.is_ok()) return st;
-  // the followed value's derivative by central differences in the parameter
-  ParameterSet& ps = inner_.parameters();
-  const double v = ps.value(p), h = 1e-6 * std::max(1.0, std::abs(v));
-  const double hi = std::min(v + h, ps.info(p).upper), lo = std::max(v - h, ps.info(p).lower);
-  std::vector<double> vhi, vlo;
-  ps.set(p, hi);
-  st = inner_.monitor_places(monitor_, u, vhi);
-  ps.set(p, lo);
-  if (st.is_ok()) st = inner_.monitor_places(monitor_, u, vlo);
-  ps.set(p, v);
-  if (!st.is_ok()) return st;
-  dF.resize(n_ + 1);
-  dF.head(n_) = Fp;
-  dF[n_] = (vhi[static_cast<size_t>(place_)] - vlo[static_cast<size_t>(place_)]) / (hi - lo);
-  return {};
+Status EventCurveProblem::place_parameter_derivative(int p, const Vector& u, double& derivative) {
+  Vector d;
+  const Status st = parameter_difference(
+      p,
+      [&](Vector& value) {
+        std::vector<double> v;
+        const Status s = inner_.monitor_places(monitor_, u, v);
+        if (s.is_ok()) value = Vector::Constant(1, v[static_cast<size_t>(place_)]);
+        return s;
+      },
+      d);
+  if (st.is_ok()) derivative = d[0];
+  return st;
 }
 
-Status EventCurveProblem::jacobian(const Vector& U, Vector& F, SparseMatrix& J) {
-  Status st = residual(U, F);
+Status EventCurveProblem::equations_parameter_derivative(int p, const Vector& U, Vector& d) {
+  double mp = 0.0;
+  Status st = set_p1(U);
+  if (st.is_ok()) st = place_parameter_derivative(p, U.head(n_), mp);
+  d = Vector::Constant(1, mp);
+  return st;
+}
+
+Status EventCurveProblem::bordered_jacobian(const Vector& U, Vector& F, BorderedJacobian& J) {
+  std::vector<double> v;
+  Status st = place_values(U, v);
   if (!st.is_ok()) return st;
   const Vector u = U.head(n_);
   Vector f, Fp1, gu;
-  SparseMatrix Ju;
-  st = inner_.jacobian(u, f, Ju);
-  if (st.is_ok()) st = inner_.parameter_derivative(p1_, u, Fp1);
+  if (J.border_size() != 1 || J.inner_size() != n_) J = blocks();
+  st = inner_.jacobian(u, f, J.K);
+  if (!st.is_ok()) return st;
+  F.resize(n_ + 1);
+  F.head(n_) = f;
+  F[n_] = v[static_cast<size_t>(place_)];
+  st = inner_.parameter_derivative(p1(), u, Fp1);
   if (st.is_ok()) st = inner_.monitor_place_gradient(monitor_, place_, u, gu);
+  double gp1 = 0.0;
+  if (st.is_ok()) st = place_parameter_derivative(p1(), u, gp1);
   if (!st.is_ok()) return st;
-  // d m_k / d p1 by central differences in p1
-  ParameterSet& ps = inner_.parameters();
-  const double v = U[n_], h = 1e-6 * std::max(1.0, std::abs(v));
-  const double hi = std::min(v + h, ps.info(p1_).upper), lo = std::max(v - h, ps.info(p1_).lower);
-  std::vector<double> vhi, vlo;
-  ps.set(p1_, hi);
-  st = inner_.monitor_places(monitor_, u, vhi);
-  ps.set(p1_, lo);
-  if (st.is_ok()) st = inner_.monitor_places(monitor_, u, vlo);
-  ps.set(p1_, v);
-  if (!st.is_ok()) return st;
-  const double gp1 = (vhi[static_cast<size_t>(place_)] - vlo[static_cast<size_t>(place_)]) / (hi - lo);
-  J = bordered(Ju, Fp1, gu, gp1);
+  J.B.col(0) = Fp1;
+  J.C.col(0) = gu;
+  J.D(0, 0) = gp1;
   return {};
-}
-
-std::vector<std::string> EventCurveProblem::observable_names() const {
-  std::vector<std::string> names = inner_.observable_names();
-  names.push_back(event_parameter_name());
-  names.push_back("place");
-  names.push_back(kMargin);
-  return names;
 }
 
 Status EventCurveProblem::observables(const Vector& U, std::vector<double>& values) {
@@ -223,11 +165,15 @@ Status EventCurveProblem::observables(const Vector& U, std::vector<double>& valu
   if (!st.is_ok()) return st;
   st = inner_.observables(U.head(n_), values);
   if (!st.is_ok()) return st;
+  // At the switch a piece starts from, the place it left is level with the followed one (not a new
+  // crossing): the margin there is that of the other places, so that a third one overtaking within
+  // the piece's first step is still a crossing.
+  const bool at_switch = switched_at_.size() == U.size() && switched_at_ == U;
   double other = std::numeric_limits<double>::infinity();
   for (size_t j = 0; j < v.size(); ++j)
-    if (static_cast<int>(j) != place_) other = std::min(other, v[j]);
-  double margin = std::isfinite(other) ? other - v[static_cast<size_t>(place_)] : 1.0;
-  if (switched_at_.size() == U.size() && switched_at_ == U) margin = 0.0;  // the switch itself, not a new one
+    if (static_cast<int>(j) != place_ && !(at_switch && static_cast<int>(j) == switched_from_))
+      other = std::min(other, v[j]);
+  const double margin = std::isfinite(other) ? other - v[static_cast<size_t>(place_)] : 1.0;
   values.push_back(U[n_]);
   values.push_back(place_);
   values.push_back(margin);
@@ -251,17 +197,24 @@ Status EventCurveProblem::monitors(const Vector& U, std::vector<double>& values)
 
 std::string EventCurveProblem::summary() const {
   return fmt::format("event curve of {} = 0 (unknowns the state and {}) of {}", inner_.monitor_names()[monitor_],
-                     event_parameter_name(), inner_.summary());
+                     p1_name(), inner_.summary());
+}
+
+Status EventCurveProblem::solve_kept(Vector& U, const NewtonOptions& newton, const SparseLUOptions& lu) {
+  FixedParameterResult r = solve_here(U, newton, lu, kept_);
+  kept_ = std::move(r.factorisation);
+  solve_seconds_ += r.seconds;
+  return r.status;
 }
 
 Status EventCurveProblem::start(Vector& U, const NewtonOptions& newton, SparseLUOptions lu) {
   Status st = argmin(U, place_);
   if (!st.is_ok()) return st;
-  NewtonSolver solver(*this, newton, lu);
-  const NewtonResult r = solver.solve(U);
-  if (!r.converged())
+  kept_ = {};
+  st = solve_kept(U, newton, lu);
+  if (!st.is_ok())
     return {StatusCode::NotConverged,
-            "event curve: Newton from the located event did not converge (" + r.status.describe() + ")"};
+            "event curve: Newton from the located event did not converge (" + st.describe() + ")"};
   return {};
 }
 
@@ -276,6 +229,7 @@ ContinuationResult EventCurveProblem::trace(ContinuationOptions o, const NewtonO
   o.stop.below = 0.0;
   o.stop.above = std::numeric_limits<double>::infinity();
   switched_at_.resize(0);
+  const double solves_before = solve_seconds_;
   Pieces pieces(observer);
   pieces.begin_piece(true, 0.0);
   Vector U = U0;
@@ -284,8 +238,9 @@ ContinuationResult EventCurveProblem::trace(ContinuationOptions o, const NewtonO
   for (bool first = true;; first = false) {
     Continuation run(*this, o, newton, lu);
     if (each_run) each_run(&run);
-    const ContinuationResult r = run.run(U, pieces);
+    const ContinuationResult r = run.run(U, pieces, kept_);
     if (each_run) each_run(nullptr);
+    kept_ = run.factorisation();
     total.points += first ? r.points : r.points - 1;
     total.rejected += r.rejected;
     total.factorisations += r.factorisations;
@@ -319,19 +274,22 @@ ContinuationResult EventCurveProblem::trace(ContinuationOptions o, const NewtonO
     }
     observer.on_note(fmt::format("after row {}: the minimum moves from place {} to place {} at {} = {:.10g}", sw.index,
                                  place_, next, o.parameter, sw.lambda));
+    const int from = place_;
     place_ = next;
-    NewtonSolver solver(*this, newton, lu);
-    if (!solver.solve(U).converged()) {
+    if (!solve_kept(U, newton, lu).is_ok()) {
       total.reason = "event curve: no solution on the new place's piece at the switch";
       total.code = StopCode::StepFloor;
       break;
     }
     switched_at_ = U;
+    switched_from_ = from;
     o.state_scale = run.state_scale();
     o.direction = sw.tlambda >= 0 ? +1 : -1;
+    o.step.initial = sw.step;  // the step the curve had reached, not a new start's
     o.stop.max_steps = steps_left;
     pieces.begin_piece(false, sw.s);
   }
+  total.timings.total += solve_seconds_ - solves_before;  // the solves at the switches, between the pieces
   pieces.finish();
   return total;
 }

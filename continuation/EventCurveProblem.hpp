@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "continuation/Continuation.hpp"
+#include "continuation/CurveProblem.hpp"
 #include "core/Newton.hpp"
 #include "core/Problem.hpp"
 #include "core/SparseLU.hpp"
@@ -20,32 +21,23 @@ namespace keller {
 // Observables: the inner problem's, then p1, "place" (the followed place's index) and
 // "switch margin" (the smallest value elsewhere minus the followed one: >= 0 while the
 // minimum sits at the followed place). Monitors: the inner problem's but the curve's own.
-class EventCurveProblem final : public Problem {
+class EventCurveProblem final : public CurveProblem {
  public:
   // inner at the event's parameter values; event_parameter: p1 (the parameter of the branch the
   // event was located on, an unknown of the curve); monitor: the inner problem's monitor.
   EventCurveProblem(Problem& inner, const std::string& event_parameter, const std::string& monitor);
 
   std::string name() const override { return inner_.name() + "-event-curve"; }
-  int size() const override { return n_ + 1; }
-  ParameterSet& parameters() override { return inner_.parameters(); }
-  const ParameterSet& parameters() const override { return inner_.parameters(); }
-  const SparseMatrix& jacobian_pattern() const override { return pattern_; }
   Status residual(const Vector& U, Vector& F) override;
-  Status jacobian(const Vector& U, Vector& F, SparseMatrix& J) override;
-  Status parameter_derivative(int p, const Vector& U, Vector& dF) override;
-  Vector initial_guess() override;
-  double residual_scale() const override { return inner_.residual_scale(); }
-  std::vector<std::string> observable_names() const override;
+  // [J F_p1; m_k,u^T m_k,p1]: the inner J bordered by one column and row.
+  int border_size() const override { return 1; }
+  Status bordered_jacobian(const Vector& U, Vector& F, BorderedJacobian& J) override;
+  std::vector<std::string> observable_names() const override { return curve_observable_names({"place", kMargin}); }
   Status observables(const Vector& U, std::vector<double>& values) override;
   std::vector<std::string> monitor_names() const override;
   Status monitors(const Vector& U, std::vector<double>& values) override;
-  SolutionFields fields(const Vector& U) const override { return inner_.fields(U.head(n_)); }
   std::string summary() const override;
 
-  int event_parameter() const { return p1_; }
-  const std::string& event_parameter_name() const { return inner_.parameters().info(p1_).name; }
-  Vector state(const Vector& u, double p1) const;
   // The place followed, and the place where the minimum sits at U (the inner problem's
   // parameters set from U and the present p2).
   int place() const { return place_; }
@@ -62,19 +54,22 @@ class EventCurveProblem final : public Problem {
   static constexpr const char* kMargin = "switch margin";
 
  private:
-  // Sets p1 from U; a failure status where it is out of range.
-  Status set_p1(const Vector& U);
+  Status equations_parameter_derivative(int p, const Vector& U, Vector& d) override;
   Status place_values(const Vector& U, std::vector<double>& values);
-  SparseMatrix bordered(const SparseMatrix& A, const Vector& col, const Vector& row, double corner) const;
+  // d m_k / d p at U (p1 set from U) by central differences in the parameter p.
+  Status place_parameter_derivative(int p, const Vector& u, double& derivative);
+  // U corrected at the present parameters (CurveProblem::solve_here), the chord on kept_ where
+  // there is one; kept_ becomes the factorisation it ended with.
+  Status solve_kept(Vector& U, const NewtonOptions& newton, const SparseLUOptions& lu);
 
-  Problem& inner_;
-  int n_;
-  int p1_;
   int monitor_;
   int place_ = 0;
-  SparseMatrix pattern_;
-  // the state of a switch the curve restarts from: its margin is zero there (not a new crossing)
+  // the state of the switch a piece starts from, and the place it left there
   Vector switched_at_;
+  int switched_from_ = -1;
+  // the inner J's factorisation the last solve or piece ended with: the next one starts on it
+  StartFactorisation kept_;
+  double solve_seconds_ = 0.0;  // in solves at switches (outside the pieces' own timings)
 };
 
 }  // namespace keller

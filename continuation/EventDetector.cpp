@@ -9,7 +9,8 @@ namespace keller {
 
 std::vector<Crossing> detect_crossings(const BranchPoint& cur, const BranchPoint& nxt,
                                        const std::optional<Landing>& land, const ContinuationOptions& o,
-                                       const std::vector<std::string>& monitor_names, size_t problem_monitors) {
+                                       const std::vector<std::string>& monitor_names, size_t problem_monitors,
+                                       const std::vector<Problem::NamedUnknown>& turning_unknowns) {
   std::vector<Crossing> out;
   auto value = [&](double v, PointKind kind, std::string label, std::optional<StopCode> end) {
     Crossing c;
@@ -62,6 +63,18 @@ std::vector<Crossing> detect_crossings(const BranchPoint& cur, const BranchPoint
     c.label = cur.tlambda > 0 ? "max" : "min";
     out.push_back(std::move(c));
   }
+  if (o.method == ContinuationOptions::Method::Arclength && o.events.folds)
+    for (const Problem::NamedUnknown& t : turning_unknowns) {
+      const double gc = cur.tu[t.index], gn = nxt.tu[t.index];
+      if (!(gc * gn < 0)) continue;
+      Crossing c;
+      c.target = {EventTarget::Turn, t.index, 0.0};
+      c.ga = gc;
+      c.gb = gn;
+      c.kind = PointKind::Event;
+      c.label = t.name + (gc > 0 ? " max" : " min");
+      out.push_back(std::move(c));
+    }
   return out;
 }
 

@@ -13,6 +13,7 @@
 #include "continuation/EventLocator.hpp"
 #include "continuation/Predictor.hpp"
 #include "continuation/StopCode.hpp"
+#include "core/Problem.hpp"
 
 namespace keller {
 
@@ -29,11 +30,13 @@ struct Crossing {
 
 // The crossings of the segment cur -> nxt, in this order: bounds, requested values (except the
 // value landed on), monitors (problem monitors are events, the stop thresholds ends), folds
-// (arclength only). monitor_names: the problem's monitors then the stop thresholds;
+// (arclength only), turns in the turning unknowns (arclength and folds only: events labelled
+// "<name> max" or "<name> min"). monitor_names: the problem's monitors then the stop thresholds;
 // problem_monitors: how many of them are the problem's.
 std::vector<Crossing> detect_crossings(const BranchPoint& cur, const BranchPoint& nxt,
                                        const std::optional<Landing>& land, const ContinuationOptions& options,
-                                       const std::vector<std::string>& monitor_names, size_t problem_monitors);
+                                       const std::vector<std::string>& monitor_names, size_t problem_monitors,
+                                       const std::vector<Problem::NamedUnknown>& turning_unknowns = {});
 
 struct LocatedPoint {
   BranchPoint point;

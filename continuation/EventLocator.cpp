@@ -22,6 +22,7 @@ const char* to_string(EventTarget t) {
     case EventTarget::Fold: return "fold";
     case EventTarget::BranchPoint: return "branch point";
     case EventTarget::StabilityChange: return "stability change";
+    case EventTarget::Turn: return "turn";
   }
   return "?";
 }
@@ -33,6 +34,7 @@ double Target::of(const BranchPoint& p) const {
     case EventTarget::Fold: return p.tlambda;
     case EventTarget::BranchPoint: return static_cast<double>(p.bordered_det_sign);
     case EventTarget::StabilityChange: return p.locator;
+    case EventTarget::Turn: return p.tu[monitor];
   }
   return NAN;
 }
@@ -82,8 +84,9 @@ BranchPoint EventLocator::point_on_segment(const BranchPoint& a, const BranchPoi
   // The corrector's last factorisation is at its second-last iterate. Locating a fold (a zero of
   // the tangent's parameter part) or a sign change of the determinant needs them at the point
   // itself: one more factorisation there.
+  // (by iteration from the tangent of the bracket's end nearer along the cubic)
   Tangent t;
-  if (st.is_ok()) st = tangents_.at_point(p, c, a.tu, a.tlambda, exact_tangent, t);
+  if (st.is_ok()) st = tangents_.at_point(p, c, a.tu, a.tlambda, exact_tangent, t, x < 0.5 ? &p0 : &p1);
   if (st.is_ok()) {
     p.tu = std::move(t.tu);
     p.tlambda = t.tl;
@@ -145,7 +148,7 @@ std::optional<BranchPoint> EventLocator::locate_root(const BranchPoint& a, const
   const bool sign_only = target.kind == EventTarget::BranchPoint;
   // functions that vanish where the branch turns in some sense: their bracket is measured along
   // the branch, not in the parameter alone
-  const bool turning = target.kind == EventTarget::Fold || sign_only || by_count;
+  const bool turning = target.kind == EventTarget::Fold || target.kind == EventTarget::Turn || sign_only || by_count;
   double ta = 0.0, tb = 1.0;
   BranchPoint pa = a, pb = b;
   int side = 0, solves = 0;
@@ -200,9 +203,10 @@ std::optional<BranchPoint> EventLocator::locate_root(const BranchPoint& a, const
       return pc;
     }
     if (width <= options_.events.tolerance) {
-      BranchPoint& best = by_count  ? (std::abs(pa.locator) < std::abs(pb.locator) ? pa : pb)
-                          : turning ? (std::abs(pa.tlambda) < std::abs(pb.tlambda) ? pa : pb)
-                                    : (std::abs(target.of(pa)) < std::abs(target.of(pb)) ? pa : pb);
+      const bool by_value = !turning || target.kind == EventTarget::Turn;
+      BranchPoint& best = by_count   ? (std::abs(pa.locator) < std::abs(pb.locator) ? pa : pb)
+                          : by_value ? (std::abs(target.of(pa)) < std::abs(target.of(pb)) ? pa : pb)
+                                     : (std::abs(pa.tlambda) < std::abs(pb.tlambda) ? pa : pb);
       best.iterations = solves;
       return best;
     }

@@ -1,10 +1,10 @@
 // Location of a point on the segment between two converged points a and b of a branch: a requested
 // parameter value (a fixed-parameter correction, with root finding along the arclength where that
 // fails at a fold), or a zero of a function along the branch: a monitor, the parameter part of the
-// tangent (a fold), the sign of det of the bordered Jacobian (a branch point), or the locator of a
-// change of the point analysis's count (stability). Illinois secant steps (bisection for signs)
-// on trial points predicted by the cubic Hermite interpolant of the bracket and corrected under
-// the arclength row through a (natural continuation: at the trial parameter value).
+// tangent (a fold) or an unknown's part (a turn in it), the sign of det of the bordered Jacobian (a branch point), or
+// the locator of a change of the point analysis's count (stability). Illinois secant steps (bisection for signs) on
+// trial points predicted by the cubic Hermite interpolant of the bracket and corrected under the arclength row through
+// a (natural continuation: at the trial parameter value).
 #pragma once
 
 #include <functional>
@@ -26,18 +26,21 @@ enum class EventTarget {
   Fold,             // the parameter part of the unit tangent
   BranchPoint,      // the sign of det of the bordered Jacobian
   StabilityChange,  // the point analysis's locator, bracketed by its count
+  Turn,             // one unknown's part of the unit tangent (a turn of the branch in that unknown)
 };
 const char* to_string(EventTarget t);
 
 struct Target {
   EventTarget kind = EventTarget::Value;
-  int monitor = -1;    // Monitor: its index in BranchPoint::monitors
+  int monitor = -1;    // Monitor: its index in BranchPoint::monitors; Turn: the unknown's index
   double value = 0.0;  // Value: the parameter value
   // g at a point of the branch (the function whose zero is located)
   double of(const BranchPoint& p) const;
   // Fold and branch point need J factorised at each trial point (the tangent's and the
   // determinant's signs there); the stability change needs the point analysed.
-  bool needs_exact_tangent() const { return kind == EventTarget::Fold || kind == EventTarget::BranchPoint; }
+  bool needs_exact_tangent() const {
+    return kind == EventTarget::Fold || kind == EventTarget::BranchPoint || kind == EventTarget::Turn;
+  }
 };
 
 class EventLocator {

@@ -9,6 +9,9 @@
 #include <vector>
 
 #include "continuation/Continuation.hpp"
+#include "continuation/CurveBorderUpdate.hpp"
+#include "continuation/CurveProblem.hpp"
+#include "continuation/FoldTestFunction.hpp"
 #include "core/Newton.hpp"
 #include "core/Problem.hpp"
 #include "core/SparseLU.hpp"
@@ -23,33 +26,23 @@ namespace keller {
 // keeps the bordered matrix regular; g's zero set does not depend on them.
 // Observables: the inner problem's, then p1. Monitors: the inner problem's, then "cusp", the
 // quadratic coefficient w^T F_uu[v, v] of the fold, whose zero is a cusp point of the curve.
-class FoldCurveProblem final : public Problem {
+class FoldCurveProblem final : public CurveProblem {
  public:
   // inner at the fold's parameter values; fold_parameter: p1, the parameter of the branch the fold
   // was located on (it becomes an unknown).
   FoldCurveProblem(Problem& inner, const std::string& fold_parameter, SparseLUOptions lu = {});
 
   std::string name() const override { return inner_.name() + "-fold-curve"; }
-  int size() const override { return n_ + 1; }
-  ParameterSet& parameters() override { return inner_.parameters(); }
-  const ParameterSet& parameters() const override { return inner_.parameters(); }
-  const SparseMatrix& jacobian_pattern() const override { return pattern_; }
   Status residual(const Vector& U, Vector& F) override;
-  Status jacobian(const Vector& U, Vector& F, SparseMatrix& J) override;
-  Status parameter_derivative(int p, const Vector& U, Vector& dF) override;
-  Vector initial_guess() override;
-  double residual_scale() const override { return inner_.residual_scale(); }
-  std::vector<std::string> observable_names() const override;
+  // [J F_p1; g_u^T g_p1]. J is singular all along a fold curve: no border for block elimination on
+  // it (border_size() 0), the augmented Jacobian is factorised whole.
+  Status bordered_jacobian(const Vector& U, Vector& F, BorderedJacobian& J) override;
+  std::vector<std::string> observable_names() const override { return curve_observable_names(); }
   Status observables(const Vector& U, std::vector<double>& values) override;
   std::vector<std::string> monitor_names() const override;
   Status monitors(const Vector& U, std::vector<double>& values) override;
-  SolutionFields fields(const Vector& U) const override { return inner_.fields(U.head(n_)); }
   std::string summary() const override;
 
-  int fold_parameter() const { return p1_; }
-  const std::string& fold_parameter_name() const { return inner_.parameters().info(p1_).name; }
-  // (u, p1) as the augmented state.
-  Vector state(const Vector& u, double p1) const;
   // Borders from a guess of the null vector (a fold's tangent: its state part; b = c = the guess),
   // refined at U by three bordered solves.
   Status set_borders(const Vector& U, const Vector& null_guess);
@@ -64,45 +57,19 @@ class FoldCurveProblem final : public Problem {
   Status quadratic_coefficient(const Vector& U, double& a);
 
   // Forwards every point to another observer and moves the borders to each accepted point.
-  class BorderUpdate final : public BranchObserver {
-   public:
-    BorderUpdate(FoldCurveProblem& curve, BranchObserver& next) : curve_(curve), next_(next) {}
-    void on_start(const std::vector<std::string>& o, const std::vector<std::string>& m) override {
-      next_.on_start(o, m);
-    }
-    void on_point(const BranchPoint& p) override;
-    void on_rejected(double lambda, double step, const Status& why) override { next_.on_rejected(lambda, step, why); }
-    void on_note(const std::string& m) override { next_.on_note(m); }
-    void on_finish(const std::string& r, const BranchPoint& last) override { next_.on_finish(r, last); }
-
-   private:
-    FoldCurveProblem& curve_;
-    BranchObserver& next_;
-  };
+  using BorderUpdate = CurveBorderUpdate<FoldCurveProblem>;
 
  private:
+  Status equations_parameter_derivative(int p, const Vector& U, Vector& d) override;
   // F, J, v, w and g at U, computed once per state and parameter values.
   Status analyse(const Vector& U);
-  // The step of the central differences along v.
-  double difference_step(const Vector& u) const;
-  // [A col; row^T corner] with A's pattern (the same structure for every call).
-  SparseMatrix bordered(const SparseMatrix& A, const Vector& col, const Vector& row, double corner) const;
   // -w^T (dF/dp)_u v by central differences of dF/dp along v.
   Status parameter_term(int p, const Vector& u, double& gp);
 
-  Problem& inner_;
-  int n_;
-  int p1_;
-  SparseMatrix pattern_;
-  Vector b_, c_;
-  SparseLU lu_;
-  // the analysis at analysed_ (state) and analysed_params_
-  Vector analysed_;
-  std::vector<double> analysed_params_;
-  Status analysed_status_;
-  Vector F_, v_, w_;
+  FoldTestFunction test_;
+  Status analysed_status_;  // of the analysis at CurveProblem::analysed_at
+  Vector F_;
   SparseMatrix J_;
-  double g_ = 0.0;
 };
 
 }  // namespace keller

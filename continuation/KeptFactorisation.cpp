@@ -2,8 +2,9 @@
 
 namespace keller {
 
-KeptFactorisation::KeptFactorisation(const SparseMatrix& pattern, SparseLUOptions lu, bool block_elimination)
-    : system_(pattern, lu, block_elimination ? BorderedSystem::Mode::Block : BorderedSystem::Mode::Full) {}
+KeptFactorisation::KeptFactorisation(const Problem& problem, SparseLUOptions lu, bool block_elimination)
+    : system_(problem.inner_pattern(), problem.border_size(), lu,
+              block_elimination ? BorderedSystem::Mode::Block : BorderedSystem::Mode::Full) {}
 
 Status KeptFactorisation::factorise_at(Evaluator& ev, const Vector& u, double lambda, const Constraint& c) {
   Status st = ev.set_parameter(lambda);
@@ -15,31 +16,40 @@ Status KeptFactorisation::factorise_at(Evaluator& ev, const Vector& u, double la
 
 Status KeptFactorisation::factorise_assembled(const Evaluator& ev, const Vector& u, double lambda,
                                               const Constraint& c) {
-  system_.set(ev.jacobian_matrix(), ev.parameter_derivative_vector(), c.cu, c.cl);
+  if (ev.bordered())
+    system_.set(ev.bordered_jacobian(), ev.parameter_derivative_vector(), c.cu, c.cl);
+  else
+    system_.set(ev.jacobian_matrix(), ev.parameter_derivative_vector(), c.cu, c.cl);
   return factorise(u, lambda);
 }
 
 Status KeptFactorisation::factorise(const Vector& u, double lambda) {
-  known_ = false;
   ++count_;
-  const Status st = system_.factorize();
-  if (st.is_ok()) {
-    u_ = u;
-    lambda_ = lambda;
-    known_ = true;
-  }
-  return st;
+  return remember(system_.factorize(), u, lambda);
 }
 
 Status KeptFactorisation::adopt(std::shared_ptr<SparseLU> lu, const SparseMatrix& J, const Vector& u_j, double lambda,
                                 const Vector& Fp, const Constraint& c) {
-  known_ = false;
-  const Status st = system_.adopt(std::move(lu), J, Fp, c.cu, c.cl);
-  if (!st.is_ok()) return st;
-  u_ = u_j;
-  lambda_ = lambda;
-  known_ = true;
-  return {};
+  return remember(system_.adopt(std::move(lu), J, Fp, c.cu, c.cl), u_j, lambda);
+}
+
+Status KeptFactorisation::adopt(std::shared_ptr<SparseLU> lu, const BorderedJacobian& J, const Vector& u_j,
+                                double lambda, const Vector& Fp, const Constraint& c) {
+  return remember(system_.adopt(std::move(lu), J, Fp, c.cu, c.cl), u_j, lambda);
+}
+
+Status KeptFactorisation::remember(const Status& st, const Vector& u, double lambda) {
+  known_ = st.is_ok();
+  if (known_) {
+    u_ = u;
+    lambda_ = lambda;
+  }
+  return st;
+}
+
+StartFactorisation KeptFactorisation::inner_factorisation() const {
+  if (!known_ || !system_.block_factorised()) return {};
+  return {system_.inner_lu(), system_.inner_matrix(), u_};
 }
 
 bool KeptFactorisation::made_at(const Vector& u, double lambda) const {

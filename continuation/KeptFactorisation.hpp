@@ -13,9 +13,19 @@
 
 namespace keller {
 
+// J's factorisation that the solve of the start left (NewtonSolver::factorisation(), jacobian(),
+// factorised_at()), or another run's kept one: a branch starts on it instead of factorising J at
+// the start again. For a problem with a border (Problem::border_size() > 0), its inner matrix K.
+struct StartFactorisation {
+  std::shared_ptr<SparseLU> lu;
+  SparseMatrix jacobian;
+  Vector at;  // the iterate where it was made
+};
+
 class KeptFactorisation {
  public:
-  KeptFactorisation(const SparseMatrix& jacobian_pattern, SparseLUOptions lu, bool block_elimination);
+  // For the problem's Jacobian pattern, or its inner pattern and border (Problem::border_size()).
+  KeptFactorisation(const Problem& problem, SparseLUOptions lu, bool block_elimination);
 
   // Assembles J and F_p at (u, lambda) (the parameter set there), sets the border row c and
   // factorises; remembers the point.
@@ -27,6 +37,13 @@ class KeptFactorisation {
   // no factorisation (block elimination only; a non-ok status where it cannot be used).
   Status adopt(std::shared_ptr<SparseLU> lu, const SparseMatrix& J, const Vector& u_j, double lambda, const Vector& Fp,
                const Constraint& c);
+  // The same for a problem with a border: J in bordered form, K the factorised inner matrix and
+  // the border that of the point.
+  Status adopt(std::shared_ptr<SparseLU> lu, const BorderedJacobian& J, const Vector& u_j, double lambda,
+               const Vector& Fp, const Constraint& c);
+  // J's (the inner matrix's) factorisation in use, the matrix and where it was made; empty where
+  // block elimination is not in use.
+  StartFactorisation inner_factorisation() const;
   // A factorisation of [J F_p; c^T d] with a border row replaced without refactorising (block
   // elimination only); a non-ok status when it must be refactorised instead.
   Status set_row(const Constraint& c) { return system_.set_row(c.cu, c.cl); }
@@ -56,6 +73,8 @@ class KeptFactorisation {
 
  private:
   Status factorise(const Vector& u, double lambda);
+  // Where J was factorised (u, lambda) after a factorisation or adoption that returned st.
+  Status remember(const Status& st, const Vector& u, double lambda);
   BorderedSystem system_;
   Vector u_;
   double lambda_ = 0.0;

@@ -29,9 +29,10 @@ class TangentSolver {
   // in options.direction.
   Status initial(const Vector& u, double lambda, Tangent& t);
   // At the converged point p under border row c: from the kept factorisation by iteration (when
-  // kept and not refresh), else from a factorisation made at p.
+  // kept and not refresh), else from a factorisation made at p. near: a point close to p whose
+  // tangent starts the iteration (a bracket end of a located point), or null (it starts at zero).
   Status at_point(const BranchPoint& p, const Constraint& c, const Vector& tu_prev, double tl_prev, bool refresh,
-                  Tangent& t);
+                  Tangent& t, const BranchPoint* near = nullptr);
   // From the factorisation at hand (made wherever it was).
   Status from_factorisation(const Vector& tu_prev, double tl_prev, Tangent& t);
   // Solves spent on tangents by iteration.
@@ -41,7 +42,7 @@ class TangentSolver {
   // The tangent system at p solved by iteration on the kept factorisation; false where it does
   // not converge (t untouched).
   bool by_iteration(const BranchPoint& p, const Constraint& c, const Vector& tu_prev, double tl_prev, Tangent& t,
-                    Status& st);
+                    Status& st, const BranchPoint* near);
   // Normalises (v, mu) and orients it along (tu_prev, tl_prev) where given; the sign of det J
   // from mu and the bordered determinant.
   Status unit(Vector v, double mu, const Vector& tu_prev, double tl_prev, Tangent& t) const;

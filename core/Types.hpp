@@ -1,4 +1,4 @@
-// Basic linear-algebra aliases shared by every library: dense vectors and the compressed
+// Basic linear-algebra aliases shared by every library: dense vectors and matrices and the compressed
 // sparse column matrix type used for Jacobians and mass matrices (int indices, as UMFPACK's
 // umfpack_di_* routines expect).
 #pragma once
@@ -9,6 +9,7 @@
 namespace keller {
 
 using Vector = Eigen::VectorXd;
+using Matrix = Eigen::MatrixXd;
 using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
 
 }  // namespace keller

@@ -107,9 +107,10 @@ StoredPoint read_stored_start(const StoredStart& start, const LoadedScene& scene
         fmt::format("{}: the curve of a point of a branch in '{}' needs another free parameter "
                     "than '{}' (--free)",
                     where, parameter, parameter));
+  const bool event_curve = start.located == PointKind::Event;
   auto wanted = [&](int k) {
-    return start.event_curve ? k == static_cast<int>(PointKind::Event) || k == static_cast<int>(PointKind::End)
-                             : k == static_cast<int>(PointKind::Fold);
+    return event_curve ? k == static_cast<int>(PointKind::Event) || k == static_cast<int>(PointKind::End)
+                       : k == static_cast<int>(start.located);
   };
   if (start.curve && !wanted(static_cast<int>(point.kind))) {
     std::string located;
@@ -118,7 +119,7 @@ StoredPoint read_stored_start(const StoredStart& start, const LoadedScene& scene
     for (int r : table.saved_rows)
       if (r < table.rows.rows() && wanted(static_cast<int>(table.rows(r, kind))))
         located += (located.empty() ? "" : ", ") + std::to_string(r);
-    const char* what = start.event_curve ? "event" : "fold";
+    const std::string what = event_curve ? "event" : start.located == PointKind::Hopf ? "Hopf point" : "fold";
     refusals.push_back(fmt::format("row {} is not a located {} (located {}s with a stored solution: {})", point.index,
                                    what, what, located.empty() ? "none" : located));
   }

@@ -4,8 +4,8 @@
 // unknowns, and the point's parameter values must be the scene's for every parameter that this
 // run keeps fixed (the stored branch's own parameter included, when the run continues in
 // another one, as AUTO and pde2path allow); a switch must start at a located branch point of a
-// branch in the same parameter; a fold curve (--from) must start at a located fold, and its
-// branch's parameter is free. `force` turns each refusal into a warning.
+// branch in the same parameter; a curve (--from) must start at a located point of its kind (a
+// fold, a Hopf point, an event), and its branch's parameter is free. `force` turns each refusal into a warning.
 #pragma once
 
 #include <optional>
@@ -25,8 +25,9 @@ struct StoredStart {
   std::string file;
   int row = -1;  // -1: the last stored point
   bool switching = false;
-  bool curve = false;        // --from: a curve starts at the point, its branch's parameter an unknown of it
-  bool event_curve = false;  // the point must be a located fold (false) or event or end (true)
+  bool curve = false;  // --from: a curve starts at the point, its branch's parameter an unknown of it
+  // --from: the kind of located point the curve starts at (Fold, Hopf, or Event: an event or an end)
+  PointKind located = PointKind::Fold;
   bool force = false;
 };
 

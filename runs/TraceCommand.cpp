@@ -12,6 +12,7 @@
 #include "continuation/ContinuedBranch.hpp"
 #include "continuation/EventCurveProblem.hpp"
 #include "continuation/FoldCurveProblem.hpp"
+#include "continuation/HopfCurveProblem.hpp"
 #include "continuation/ProgressPrinter.hpp"
 #include "continuation/StartSolver.hpp"
 #include "core/PendingFile.hpp"
@@ -112,6 +113,13 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
     summary.reason = message;
     return code;
   };
+  // a numerical failure before anything is written: what failed and why
+  auto failed = [&](const std::string& what, const Status& st) {
+    fmt::print(stderr, "keller: {}: {}; no output written\n", what, st.describe());
+    summary.reason = what + ": " + st.describe();
+    summary.exit_code = exit_code::numerical_failure;
+    return summary.exit_code;
+  };
   LoadedScene loaded;
   std::unique_ptr<Problem> problem;
   ContinuationOptions copt;
@@ -138,11 +146,11 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
       throw std::invalid_argument("--force applies to a start from --restart, --switch or --from");
     if (args.from.empty() != args.curve.empty())
       throw std::invalid_argument(
-          "--from FILE.h5:ROW and --curve fold|event go together (a curve starts at a located point)");
+          "--from FILE.h5:ROW and --curve fold|hopf|event go together (a curve starts at a located point)");
     if (!args.free.empty() && args.from.empty())
       throw std::invalid_argument("--free applies to a curve (--from, --curve)");
-    if (!args.curve.empty() && args.curve != "fold" && args.curve != "event")
-      throw std::invalid_argument("--curve: '" + args.curve + "' is not a curve keller traces (fold, event)");
+    if (!args.curve.empty() && args.curve != "fold" && args.curve != "hopf" && args.curve != "event")
+      throw std::invalid_argument("--curve: '" + args.curve + "' is not a curve keller traces (fold, hopf, event)");
     if (!args.from.empty() && (!args.restart.empty() || !args.switch_at.empty()))
       throw std::invalid_argument("--from excludes --restart and --switch");
     if (!args.from.empty() && sopt.enabled)
@@ -155,7 +163,9 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
     if (!args.switch_at.empty()) from = parse_stored_start("--switch", args.switch_at);
     if (!args.from.empty()) {
       from = parse_stored_start("--from", args.from);
-      from->event_curve = args.curve == "event";
+      from->located = args.curve == "event"  ? PointKind::Event
+                      : args.curve == "hopf" ? PointKind::Hopf
+                                             : PointKind::Fold;
     }
     if (from) {
       from->force = args.force;
@@ -225,7 +235,8 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
   StartFactorisation start_factorisation;          // the first state's last factorisation of J, handed to the branch
   std::unique_ptr<FoldCurveProblem> curve;         // --curve fold: the augmented problem traced instead
   std::unique_ptr<EventCurveProblem> event_curve;  // --curve event
-  if (from && from->event_curve) {
+  std::unique_ptr<HopfCurveProblem> hopf_curve;    // --curve hopf
+  if (from && from->curve && from->located == PointKind::Event) {
     for (const Parameter& q : problem->parameters().list())
       if (const auto v = stored->value_of(q.name)) problem->parameters().set(q.name, *v);
     const BranchPoint& event = stored->point;
@@ -258,10 +269,7 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
     }
     const Status st = event_curve->start(U, nopt, lopt);
     if (!st.is_ok()) {
-      fmt::print(stderr, "keller: the event curve's first point failed: {}; no output written\n", st.describe());
-      summary.reason = "the event curve's first point failed: " + st.describe();
-      summary.exit_code = exit_code::numerical_failure;
-      return summary.exit_code;
+      return failed("the event curve's first point failed", st);
     }
     fmt::print(
         "event curve of {} = 0 in ({}, {}) from row {} of {} ({} = {:.10g}, {} = {:.10g}), the minimum at place "
@@ -273,6 +281,42 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
                  unfinished->seed.row, copt.parameter, start->lambda);
     u0 = U;
     start.reset();
+  } else if (from && from->curve && from->located == PointKind::Hopf) {
+    for (const Parameter& q : problem->parameters().list())
+      if (const auto v = stored->value_of(q.name)) problem->parameters().set(q.name, *v);
+    const BranchPoint& hopf = stored->point;
+    Vector re, im;
+    double omega = 0.0;
+    if (!read_critical_mode(from->file, hopf.index, re, im, omega))
+      return fail(exit_code::usage, fmt::format("--from '{}': row {} has no stored critical eigenvector (a Hopf point "
+                                                "of a branch traced with [stability] has one)",
+                                                from->file, hopf.index));
+    hopf_curve = std::make_unique<HopfCurveProblem>(*problem, stored->table.parameter, lopt);
+    Vector U = hopf_curve->state(hopf.u, hopf.lambda, std::abs(omega));
+    const ComplexVector mode = re.cast<std::complex<double>>() + std::complex<double>(0.0, 1.0) * im;
+    Status st = hopf_curve->start(U, mode, nopt, lopt);
+    if (st.is_ok() && unfinished) {
+      // the borders from the start's eigenvector, refined at the point the unfinished curve continues from
+      ComplexVector v, w;
+      std::complex<double> g;
+      st = hopf_curve->null_vectors(U, v, w, g);
+      problem->parameters().set(copt.parameter, start->lambda);
+      if (st.is_ok()) st = hopf_curve->set_borders(start->u, v);
+    }
+    if (!st.is_ok()) {
+      return failed("the Hopf curve's first point failed", st);
+    }
+    fmt::print(
+        "Hopf curve in ({}, {}) from the Hopf point at row {} of {} ({} = {:.10g}, omega = {:.10g}, {} = {:.10g})\n",
+        copt.parameter, stored->table.parameter, hopf.index, from->file, stored->table.parameter, U[U.size() - 2],
+        U[U.size() - 1], copt.parameter, problem->parameters().get(copt.parameter));
+    if (unfinished)
+      fmt::print("continuing the unfinished curve in {} from its row {} ({} = {:.10g}; --fresh starts over)\n", work,
+                 unfinished->seed.row, copt.parameter, start->lambda);
+    else {
+      u0 = U;
+      start.reset();
+    }
   } else if (from && from->curve) {
     for (const Parameter& q : problem->parameters().list())
       if (const auto v = stored->value_of(q.name)) problem->parameters().set(q.name, *v);
@@ -281,10 +325,7 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
     Vector U = curve->state(fold.u, fold.lambda);
     const Status st = curve->start(U, fold.tu, nopt, lopt);
     if (!st.is_ok()) {
-      fmt::print(stderr, "keller: the fold curve's first point failed: {}; no output written\n", st.describe());
-      summary.reason = "the fold curve's first point failed: " + st.describe();
-      summary.exit_code = exit_code::numerical_failure;
-      return summary.exit_code;
+      return failed("the fold curve's first point failed", st);
     }
     fmt::print("fold curve in ({}, {}) from the fold at row {} of {} ({} = {:.10g}, {} = {:.10g})\n", copt.parameter,
                stored->table.parameter, fold.index, from->file, stored->table.parameter, U[U.size() - 1],
@@ -297,10 +338,7 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
       problem->parameters().set(copt.parameter, start->lambda);
       if (b.is_ok()) b = curve->set_borders(start->u, v);
       if (!b.is_ok()) {
-        fmt::print(stderr, "keller: the unfinished fold curve cannot be continued: {}\n", b.describe());
-        summary.reason = "the unfinished fold curve cannot be continued: " + b.describe();
-        summary.exit_code = exit_code::numerical_failure;
-        return summary.exit_code;
+        return failed("the unfinished fold curve cannot be continued", b);
       }
       fmt::print("continuing the unfinished curve in {} from its row {} ({} = {:.10g}; --fresh starts over)\n", work,
                  unfinished->seed.row, copt.parameter, start->lambda);
@@ -336,10 +374,7 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
     print_newton_header();
     const StartResult r = start_solver.solve(u0, print_newton_row);
     if (!r.status.is_ok()) {
-      fmt::print(stderr, "keller: the first steady state failed: {}; no output written\n", r.status.describe());
-      summary.reason = "the first steady state failed: " + r.status.describe();
-      summary.exit_code = exit_code::numerical_failure;
-      return summary.exit_code;
+      return failed("the first steady state failed", r.status);
     }
     fmt::print("first steady state: {}, {} Newton iterations, {} factorisations, {:.2f} s\n", r.path,
                r.newton_iterations, r.factorisations, r.seconds);
@@ -347,9 +382,11 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
   }
 
   // 3. the branch, written to `work` point by point
-  Problem& traced = curve         ? static_cast<Problem&>(*curve)
-                    : event_curve ? static_cast<Problem&>(*event_curve)
-                                  : *problem;
+  CurveProblem* traced_curve = curve         ? static_cast<CurveProblem*>(curve.get())
+                               : event_curve ? static_cast<CurveProblem*>(event_curve.get())
+                               : hopf_curve  ? static_cast<CurveProblem*>(hopf_curve.get())
+                                             : nullptr;
+  Problem& traced = traced_curve ? *traced_curve : *problem;
   ContinuationOptions fixed = copt;
   if (event_curve) {  // each piece of the curve ends where the minimum's place moves
     fixed.stop.observable = EventCurveProblem::kMargin;
@@ -401,6 +438,8 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
     if (unfinished) observer = &continued.emplace(observers, unfinished->seed.row);
     std::optional<FoldCurveProblem::BorderUpdate> borders;
     if (curve) observer = &borders.emplace(*curve, *observer);
+    std::optional<HopfCurveProblem::BorderUpdate> hopf_borders;
+    if (hopf_curve) observer = &hopf_borders.emplace(*hopf_curve, *observer);
     InterruptGuard::forward_to(run.get());
     result = event_curve               ? event_curve->trace(fixed, nopt, lopt, u0, *observer,
                                                             [](Continuation* c) { InterruptGuard::forward_to(c); })
@@ -437,8 +476,7 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
   const int p = problem->parameters().index(copt.parameter);
   const FieldsAt fields_at = [&](const Vector& u, double lambda) {
     problem->parameters().set(p, lambda);
-    if (curve) problem->parameters().set(curve->fold_parameter(), u[u.size() - 1]);
-    if (event_curve) problem->parameters().set(event_curve->event_parameter(), u[u.size() - 1]);
+    if (traced_curve) problem->parameters().set(traced_curve->p1(), u[problem->size()]);
     return traced.fields(u);
   };
   PublishedBranch published;

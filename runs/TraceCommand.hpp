@@ -1,7 +1,8 @@
 // `keller trace SCENE.toml -o OUT.h5 [--restart FILE.h5:ROW | --switch FILE.h5:ROW |
-// --from FILE.h5:ROW --curve fold --free PARAMETER]`: traces a solution branch with the
-// continuation engine, or the curve of the fold located at a stored row in a second parameter
-// (continuation/FoldCurveProblem; [continuation] then sets the curve's range, stops and steps). The branch is written
+// --from FILE.h5:ROW --curve fold|hopf|event --free PARAMETER]`: traces a solution branch with the
+// continuation engine, or the curve of the fold, Hopf point or event located at a stored row in a second
+// parameter (continuation/FoldCurveProblem, HopfCurveProblem, EventCurveProblem; [continuation] then sets the
+// curve's range, stops and steps). The branch is written
 // point by point to OUT.h5.part (readable at every moment, whatever ends the run) and takes the name OUT.h5 once the
 // branch has ended, with the fields of its stored solutions and an XDMF file beside it. A run that was interrupted or
 // killed leaves OUT.h5.part, and the same command continues it from its last stored solution; a branch that ended at
@@ -22,7 +23,7 @@ struct TraceArguments {
   std::string switch_at;               // "FILE.h5:ROW": a new branch from the branch point stored there
   int switch_direction = +1;           // which side of the old branch (+1 or -1)
   std::string from;                    // "FILE.h5:ROW": a curve from the located point stored there
-  std::string curve;                   // what --from continues: "fold"
+  std::string curve;                   // what --from continues: "fold", "hopf" or "event"
   std::string free;                    // the curve's second parameter (empty: continuation.parameter)
   bool force = false;                  // start from a stored point that fails the compatibility checks
   bool fresh = false;                  // discard an unfinished OUT.h5.part instead of continuing it

@@ -45,13 +45,14 @@ int run(int argc, char** argv) {  // argc and argv go on to MPI_Init under mpiru
       ->check(CLI::IsMember({-1, 1}));
   cmd_trace->add_option(
       "--from", trace.from,
-      "start a curve at the located point stored in FILE.h5:ROW (a fold or event), its branch's parameter "
+      "start a curve at the located point stored in FILE.h5:ROW (a fold, Hopf point or event), its branch's parameter "
       "an unknown of the curve");
   cmd_trace
       ->add_option("--curve", trace.curve,
-                   "the curve --from continues in a second parameter: fold (of a located fold) or event (the "
-                   "zero of a monitor, min_m1 = 0: a located event or monitor end)")
-      ->check(CLI::IsMember({"fold", "event"}));
+                   "the curve --from continues in a second parameter: fold (of a located fold), hopf (of a "
+                   "located Hopf point of a branch traced with its stability) or event (the zero of a monitor, "
+                   "min_m1 = 0: a located event or monitor end)")
+      ->check(CLI::IsMember({"fold", "hopf", "event"}));
   cmd_trace->add_option("--free", trace.free,
                         "the curve's second parameter, with [continuation]'s range, stops and steps (default: "
                         "continuation.parameter)");

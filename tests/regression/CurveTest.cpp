@@ -1,7 +1,8 @@
-// Fold curves through the real driver: `keller trace SCENE --from BRANCH.h5:ROW --curve fold
-// --free PARAMETER` continues the fold stored in a branch file in a second parameter; the curve
-// agrees with the folds of ordinary branches traced at its stored parameter values, is a branch
-// file like any other (killed, the same command continues it), and bad starts are refused.
+// Curves through the real driver: `keller trace SCENE --from BRANCH.h5:ROW --curve fold|hopf|event
+// --free PARAMETER` continues the fold, Hopf point or event stored in a branch file in a second
+// parameter; the curve agrees with the points of ordinary branches traced at its stored parameter
+// values (or with the closed form), is a branch file like any other (killed, the same command
+// continues it), and bad starts are refused.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -179,4 +180,52 @@ TEST(CurveCommand, LimitingWiCurveOfTheCollapsibleChannelMatchesWiBranches) {
     }
   }
   EXPECT_EQ(curve.rows(curve.rows.rows() - 1, gamma), 5e-5);
+}
+
+// The Hopf curve of the Brusselator through the driver: from the Hopf point located (with its
+// eigenvector) on the b branch of runs/scenes/brusselator1d_hopf.toml at a = 2, continued in a from
+// 1.5 to 3: every row on b = 1 + a^2, omega = a to 1e-8 (exact on the grid; Newton to 1e-12), the
+// stop a = 2.5 hit; a row that is not a Hopf point is refused, naming the Hopf rows; killed after
+// its third point, the same command finishes the same curve.
+TEST(CurveCommand, AHopfCurveFromAStoredHopfPointIsBEqualsOnePlusASquared) {
+  const std::string dir = test::scratch_dir("curve_hopf");
+  const std::string scene =
+      test::source_path("runs/scenes/brusselator1d_hopf.toml") + " --set brusselator.intervals=32";
+  auto r = test::run_keller("trace " + scene + " -o " + dir + "/branch.h5");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto hopf = rows_of_kind(read_branch_table(dir + "/branch.h5"), PointKind::Hopf);
+  ASSERT_EQ(hopf.size(), 1u);
+  const std::string curve_args =
+      " --curve hopf --free a --set stability.enabled=false --set continuation.lower=1.5 "
+      "--set continuation.upper=3 --set continuation.stops=[2.5] --set "
+      "newton.residual_tolerance=1e-12 -o " +
+      dir + "/curve.h5";
+  r = test::run_keller("trace " + scene + " --from " + dir + "/branch.h5:0" + curve_args);
+  EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+  EXPECT_NE(r.err.find("is not a located Hopf point"), std::string::npos) << r.err;
+  r = test::run_keller("trace " + scene + " --from " + dir + "/branch.h5:" + std::to_string(hopf[0]) + curve_args);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const BranchTable t = read_branch_table(dir + "/curve.h5");
+  const int a = t.column("a"), b = t.column("b"), omega = t.column("omega");
+  ASSERT_GT(t.rows.rows(), 4);
+  for (long i = 0; i < t.rows.rows(); ++i) {
+    EXPECT_NEAR(t.rows(i, b), 1.0 + t.rows(i, a) * t.rows(i, a), 1e-8) << "a = " << t.rows(i, a);
+    EXPECT_NEAR(t.rows(i, omega), t.rows(i, a), 1e-8) << "a = " << t.rows(i, a);
+  }
+  EXPECT_EQ(rows_of_kind(t, PointKind::Requested).size(), 1u);
+
+  // killed mid-curve, the same command continues it (the borders set again at its last stored row)
+  const std::string again = "trace " + scene + " --from " + dir + "/branch.h5:" + std::to_string(hopf[0]) +
+                            curve_args.substr(0, curve_args.rfind(" -o ")) + " -o " + dir + "/killed.h5";
+  r = test::run_keller(again, "KELLER_SIGNAL_AT=point:3 KELLER_SIGNAL=KILL");
+  EXPECT_EQ(r.exit_code, -1) << r.out;
+  ASSERT_TRUE(fs::exists(dir + "/killed.h5.part"));
+  r = test::run_keller(again);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("continuing the unfinished curve"), std::string::npos) << r.out;
+  const BranchTable finished = read_branch_table(dir + "/killed.h5");
+  EXPECT_EQ(rows_of_kind(finished, PointKind::Requested).size(), 1u);
+  for (long i = 0; i < finished.rows.rows(); ++i)
+    EXPECT_NEAR(finished.rows(i, b), 1.0 + finished.rows(i, a) * finished.rows(i, a), 1e-8)
+        << "a = " << finished.rows(i, a);
 }

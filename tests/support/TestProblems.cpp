@@ -36,6 +36,52 @@ Status CubicProblem::monitors(const Vector& u, std::vector<double>& v) {
   return {};
 }
 
+FunctionProblem::FunctionProblem(std::string name, int n, const std::vector<std::pair<std::string, double>>& parameters,
+                                 Residual F, Jacobian J, ParameterDerivative Fp)
+    : name_(std::move(name)), n_(n), pattern_(n, n), F_(std::move(F)), J_(std::move(J)), Fp_(std::move(Fp)) {
+  for (const auto& [p, value] : parameters) params_.add(p, value, "parameter of " + name_);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) pattern_.insert(i, j) = 0.0;
+  pattern_.makeCompressed();
+}
+
+void FunctionProblem::set_monitors(std::vector<std::string> names, Monitors m) {
+  monitor_names_ = std::move(names);
+  monitors_ = std::move(m);
+}
+
+Vector FunctionProblem::values() const { return Eigen::Map<const Vector>(params_.values(), params_.size()); }
+
+Status FunctionProblem::residual(const Vector& u, Vector& F) {
+  F = F_(u, values());
+  return {};
+}
+
+Status FunctionProblem::jacobian(const Vector& u, Vector& F, SparseMatrix& J) {
+  F = F_(u, values());
+  const Eigen::MatrixXd D = J_(u, values());
+  J = pattern_;  // dense: every entry is in the pattern
+  for (int j = 0; j < n_; ++j)
+    for (int i = 0; i < n_; ++i) J.coeffRef(i, j) = D(i, j);
+  return {};
+}
+
+Status FunctionProblem::parameter_derivative(int p, const Vector& u, Vector& dF) {
+  dF = Fp_(p, u, values());
+  return {};
+}
+
+Status FunctionProblem::mass_matrix(const Vector&, SparseMatrix& B) {
+  B = pattern_;
+  for (int i = 0; i < n_; ++i) B.coeffRef(i, i) = 1.0;
+  return {};
+}
+
+Status FunctionProblem::monitors(const Vector& u, std::vector<double>& v) {
+  v = monitors_ ? monitors_(u) : std::vector<double>{};
+  return {};
+}
+
 Status FailingBand::check() const {
   const double l = inner_->parameters().value(0);
   if (l >= a_ && l <= b_) return {StatusCode::InvalidState, "the model breaks down here"};

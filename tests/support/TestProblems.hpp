@@ -2,6 +2,7 @@
 // keeps the branch in memory.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -34,6 +35,47 @@ class CubicProblem final : public Problem {
  private:
   ParameterSet params_;
   SparseMatrix pattern_;
+};
+
+// A small dense problem given by functions of the state u and the parameter values p: F(u, p),
+// its exact Jacobian and dF/dp_k (normal forms, closed-form curves), with named parameters, the
+// mass matrix B = I (B du/dt = -F) and optional monitors (the zero-based parameter index k).
+class FunctionProblem final : public Problem {
+ public:
+  using Residual = std::function<Vector(const Vector& u, const Vector& p)>;
+  using Jacobian = std::function<Eigen::MatrixXd(const Vector& u, const Vector& p)>;
+  using ParameterDerivative = std::function<Vector(int k, const Vector& u, const Vector& p)>;
+  using Monitors = std::function<std::vector<double>(const Vector& u)>;
+  FunctionProblem(std::string name, int n, const std::vector<std::pair<std::string, double>>& parameters, Residual F,
+                  Jacobian J, ParameterDerivative Fp);
+  // Monitors by name (their values at a state).
+  void set_monitors(std::vector<std::string> names, Monitors m);
+
+  std::string name() const override { return name_; }
+  int size() const override { return n_; }
+  ParameterSet& parameters() override { return params_; }
+  const ParameterSet& parameters() const override { return params_; }
+  const SparseMatrix& jacobian_pattern() const override { return pattern_; }
+  Status residual(const Vector& u, Vector& F) override;
+  Status jacobian(const Vector& u, Vector& F, SparseMatrix& J) override;
+  Status parameter_derivative(int p, const Vector& u, Vector& dF) override;
+  Status mass_matrix(const Vector& u, SparseMatrix& B) override;
+  Vector initial_guess() override { return Vector::Zero(n_); }
+  std::vector<std::string> monitor_names() const override { return monitor_names_; }
+  Status monitors(const Vector& u, std::vector<double>& v) override;
+  SolutionFields fields(const Vector&) const override { return {}; }
+
+ private:
+  Vector values() const;
+  std::string name_;
+  int n_;
+  ParameterSet params_;
+  SparseMatrix pattern_;
+  Residual F_;
+  Jacobian J_;
+  ParameterDerivative Fp_;
+  std::vector<std::string> monitor_names_;
+  Monitors monitors_;
 };
 
 // Wraps a problem and reports an invalid state whenever the parameter lies in [a, b] (a model

@@ -68,6 +68,47 @@ TEST(BorderedSystem, NewBorderRowWithoutRefactorising) {
   EXPECT_FALSE(full.set_row(c2, d2).is_ok());
 }
 
+// A problem with a border of its own (an augmented problem: K bordered by m = 2 dense columns and
+// rows): all borders, the problem's and the continuation's row, eliminated together on K's
+// factorisation give the dense solution and the sign of the whole determinant, also after a new
+// border row without refactorising; a singular K (J on a fold curve, or at a fold-Hopf point of a
+// Hopf curve) falls back to the whole matrix.
+TEST(BorderedSystem, ProblemBordersEliminatedOnTheInnerFactorisation) {
+  const int nk = 12, m = 2, n = nk + m;
+  for (bool singular : {false, true}) {
+    SCOPED_TRACE(singular ? "singular K" : "regular K");
+    BorderedJacobian A;
+    A.K = random_matrix(nk, 5, singular);
+    A.B.resize(nk, m);
+    A.C.resize(nk, m);
+    for (int i = 0; i < nk; ++i)
+      for (int b = 0; b < m; ++b) {
+        A.B(i, b) = std::sin(1.0 + i + 3.0 * b);
+        A.C(i, b) = std::cos(2.0 + 0.5 * i + b);
+      }
+    A.D.resize(m, m);
+    A.D << 0.4, -0.2, 0.3, 0.9;
+    const Vector b = Vector::LinSpaced(n, 1.0, 2.0), c = Vector::LinSpaced(n, -1.0, 0.5), f = Vector::Ones(n);
+    const double d = 0.3, g = -0.7;
+    BorderedSystem bs(A.K, m, {}, BorderedSystem::Mode::Block);
+    bs.set(A, b, c, d);
+    ASSERT_TRUE(bs.factorize().is_ok());
+    EXPECT_EQ(bs.fallbacks(), singular ? 1 : 0);
+    Vector x;
+    double y = 0;
+    ASSERT_TRUE(bs.solve(f, g, x, y).is_ok());
+    expect_dense_solution(A.assembled(), b, c, d, f, g, x, y, bs.determinant_sign());
+    if (singular) continue;
+    const Vector c2 = Vector::LinSpaced(n, 0.2, -0.9);
+    const double d2 = -1.1;
+    ASSERT_TRUE(bs.set_row(c2, d2).is_ok());
+    ASSERT_TRUE(bs.solve(f, g, x, y).is_ok());
+    EXPECT_EQ(bs.fallbacks(), 0);
+    expect_dense_solution(A.assembled(), b, c2, d2, f, g, x, y, bs.determinant_sign());
+    EXPECT_EQ(bs.j_factorisation(), nullptr);  // K is not the problem's Jacobian
+  }
+}
+
 TEST(Continuation, CubicFoldsLocatedTo1e10AndEndHitExactly) {
   CubicProblem problem(-2.0);  // u = -2 solves u^3 - 3u = -2
   Continuation cont(problem, cubic_options());

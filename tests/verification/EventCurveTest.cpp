@@ -67,7 +67,58 @@ class TwoPlaceProblem final : public Problem {
   SparseMatrix pattern_;
 };
 
+// F = u + u^3 / 3 + b^2 - a with the monitor "u": its zero is the event curve a = b^2, which
+// turns in a (the unknown p1 of the curve) at b = 0, a minimum.
+test::FunctionProblem parabola(double a, double b) {
+  test::FunctionProblem p(
+      "parabola", 1, {{"a", a}, {"b", b}},
+      [](const Vector& u, const Vector& q) {
+        return Vector::Constant(1, u[0] + u[0] * u[0] * u[0] / 3.0 + q[1] * q[1] - q[0]);
+      },
+      [](const Vector& u, const Vector&) { return Eigen::MatrixXd::Constant(1, 1, 1.0 + u[0] * u[0]); },
+      [](int k, const Vector&, const Vector& q) { return Vector::Constant(1, k == 0 ? -1.0 : 2.0 * q[1]); });
+  p.set_monitors({"u"}, [](const Vector& u) { return std::vector<double>{u[0]}; });
+  return p;
+}
+
+// The curves below in b up to 0.5, with short steps and events located to 1e-10.
+ContinuationOptions in_b_to_half() {
+  ContinuationOptions o;
+  o.parameter = "b";
+  o.stop.upper = 0.5;
+  o.step.initial = 0.05;
+  o.step.max = 0.1;
+  o.events.tolerance = 1e-10;
+  return o;
+}
+
 }  // namespace
+
+// The event curve a = b^2 from b = -0.5 to 0.5: every point on it to 1e-10, and its turn in a
+// (the unknown p1: the tangent's a part changes sign) located at b = 0 to 1e-10 and labelled
+// "a min", with a = b^2 = 0 there; no switch (one place).
+TEST(EventCurve, TurnsInTheUnknownParameterAreLocated) {
+  test::FunctionProblem p = parabola(0.25, -0.5);
+  EventCurveProblem curve(p, "a", "u");
+  Vector U = curve.state(Vector::Constant(1, 1e-3), 0.25 + 1e-3);
+  NewtonOptions tight;
+  tight.residual_tolerance = 1e-12;  // two orders below what the curve is checked to
+  ASSERT_TRUE(curve.start(U, tight).is_ok());
+  const ContinuationOptions o = in_b_to_half();
+  test::RecordingObserver rec;
+  const ContinuationResult r = curve.trace(o, tight, {}, U, rec);
+  ASSERT_EQ(r.code, StopCode::UpperBound) << r.reason;
+  for (const BranchPoint& q : rec.points) EXPECT_NEAR(q.u[1], q.lambda * q.lambda, 1e-10) << "b = " << q.lambda;
+  std::vector<const BranchPoint*> turns;
+  for (const BranchPoint* e : rec.of_kind(PointKind::Event)) {
+    EXPECT_NE(e->label, "switch");
+    if (e->label == "a min") turns.push_back(e);
+  }
+  ASSERT_EQ(turns.size(), 1u);
+  EXPECT_NEAR(turns[0]->lambda, 0.0, 1e-10);
+  EXPECT_NEAR(turns[0]->u[1], 0.0, 1e-10);
+  EXPECT_TRUE(rec.of_kind(PointKind::Fold).empty());  // the curve does not turn in b
+}
 
 // From the event at b = -0.5 (a = 0.5, u0 = 0) to b = 0.5: every point on a = 1 - |b| to 1e-10
 // with the followed value the minimum (margin >= 0) and the monitor zero; one switch, at b = 0 to
@@ -81,12 +132,7 @@ TEST(EventCurve, MinimumOverPlacesFollowsItsPlaceAndSwitches) {
   ASSERT_TRUE(curve.start(U, tight).is_ok());
   EXPECT_EQ(curve.place(), 0);
   EXPECT_NEAR(U[2], 0.5, 1e-12);
-  ContinuationOptions o;
-  o.parameter = "b";
-  o.stop.upper = 0.5;
-  o.step.initial = 0.05;
-  o.step.max = 0.1;
-  o.events.tolerance = 1e-10;
+  const ContinuationOptions o = in_b_to_half();
   test::RecordingObserver rec;
   const ContinuationResult r = curve.trace(o, tight, {}, U, rec);
   ASSERT_EQ(r.code, StopCode::UpperBound) << r.reason;

@@ -1,0 +1,54 @@
+#include "continuation/FixedParameterSolve.hpp"
+
+#include <chrono>
+
+#include "continuation/ArclengthNorm.hpp"
+#include "continuation/ContinuationOptions.hpp"
+#include "continuation/Corrector.hpp"
+#include "continuation/Evaluator.hpp"
+#include "continuation/KeptFactorisation.hpp"
+
+namespace keller {
+
+FixedParameterResult solve_at_fixed_parameter(Problem& problem, const std::string& parameter, Vector& u,
+                                              const NewtonOptions& newton, const SparseLUOptions& lu,
+                                              const StartFactorisation& near) {
+  const auto t0 = std::chrono::steady_clock::now();
+  ContinuationOptions o;
+  o.parameter = parameter;
+  o.corrector.method = near.lu ? CorrectorOptions::Method::Chord : CorrectorOptions::Method::Newton;
+  if (!near.lu) o.corrector.max_iterations = newton.max_iterations;
+  const int p = problem.parameters().index(parameter);
+  Evaluator ev(problem, p, parameter);
+  KeptFactorisation kept(problem, lu, o.corrector.block_elimination);
+  const ArclengthNorm norm(problem.size(), 1.0, o.theta);  // (Deuflhard's test: steps only)
+  Corrector corrector(ev, kept, norm, o, newton);
+  double value = problem.parameters().value(p);
+  const Constraint row = Constraint::parameter(value);
+  if (near.lu) {
+    // the chord starts on the nearby factorisation, the border evaluated at u
+    Status st = ev.set_parameter(value);
+    if (st.is_ok()) st = ev.jacobian(u);
+    if (st.is_ok()) st = ev.parameter_derivative(u);
+    if (st.is_ok()) {
+      if (ev.bordered()) {
+        BorderedJacobian J = ev.bordered_jacobian();
+        J.K = near.jacobian;
+        st = kept.adopt(near.lu, J, near.at, value, ev.parameter_derivative_vector(), row);
+      } else {
+        st = kept.adopt(near.lu, near.jacobian, near.at, value, ev.parameter_derivative_vector(), row);
+      }
+    }
+    kept.set_reusable(st.is_ok());
+  }
+  const CorrectorResult r = corrector.correct(u, value, row, Corrector::Kind::Located);
+  FixedParameterResult out;
+  out.status = r.status;
+  out.iterations = r.iterations;
+  out.factorisations = kept.count();
+  out.factorisation = kept.inner_factorisation();
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return out;
+}
+
+}  // namespace keller

@@ -1,0 +1,238 @@
+// Hopf curves by the minimally augmented system (continuation/HopfCurveProblem): the Brusselator,
+// whose Hopf curve b = 1 + a^2 with omega = a is known in closed form on every grid, the augmented
+// Jacobian against differences of its residual, and the codimension-two points where a Hopf curve
+// meets a fold curve (Bogdanov-Takens, fold-Hopf) on normal forms whose points are known exactly.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <iomanip>
+#include <iostream>
+
+#include "continuation/Continuation.hpp"
+#include "continuation/HopfCurveProblem.hpp"
+#include "problems/analytic/Brusselator1DProblem.hpp"
+#include "support/TestProblems.hpp"
+#include "support/TestSupport.hpp"
+
+using namespace keller;
+
+namespace {
+
+NewtonOptions tight() {
+  NewtonOptions n;
+  n.residual_tolerance = 1e-12;  // two orders below the 1e-10 the curves are checked to
+  return n;
+}
+
+// The Bogdanov-Takens normal form x' = y, y' = beta1 + beta2 x + x^2 - x y (F = -rhs, B = I).
+// Equilibria (x, 0) with x^2 + beta2 x + beta1 = 0; the Jacobian of the right-hand side
+// [0 1; beta2 + 2x, -x] has trace -x and determinant -(beta2 + 2x): Hopf points where x = 0, so
+// beta1 = 0, with omega^2 = -beta2 (beta2 < 0); folds on beta1 = beta2^2 / 4; both meet at the
+// Bogdanov-Takens point beta1 = beta2 = 0, where omega = 0. (Exact Jacobians: the Hopf condition is
+// that of the J it is given.)
+test::FunctionProblem bogdanov_takens(double beta1, double beta2) {
+  return test::FunctionProblem(
+      "bogdanov-takens", 2, {{"beta1", beta1}, {"beta2", beta2}},
+      [](const Vector& u, const Vector& p) {
+        const double x = u[0], y = u[1];
+        return Vector(Eigen::Vector2d(-y, -(p[0] + p[1] * x + x * x - x * y)));
+      },
+      [](const Vector& u, const Vector& p) {
+        Eigen::Matrix2d J;
+        J << 0.0, -1.0, -(p[1] + 2.0 * u[0] - u[1]), u[0];
+        return Eigen::MatrixXd(J);
+      },
+      [](int k, const Vector& u, const Vector&) { return Vector(Eigen::Vector2d(0.0, k == 0 ? -1.0 : -u[0])); });
+}
+
+// The fold-Hopf (zero-Hopf) normal form x' = beta1 + x^2, (y, z)' = R (y, z) with
+// R = [beta2 + x, -omega0; omega0, beta2 + x] (F = -rhs, B = I). Equilibria (x, 0, 0) with
+// x^2 = -beta1; the pair beta2 + x +- i omega0 crosses the imaginary axis where beta2 = -x, with
+// omega = omega0; the real eigenvalue 2x crosses zero at x = 0. The Hopf curve beta1 = -beta2^2
+// (x = -beta2) passes through the fold-Hopf point beta1 = beta2 = 0, where det J changes sign.
+constexpr double kOmega0 = 2.0;
+test::FunctionProblem fold_hopf(double beta1, double beta2) {
+  return test::FunctionProblem(
+      "fold-hopf", 3, {{"beta1", beta1}, {"beta2", beta2}},
+      [](const Vector& u, const Vector& p) {
+        const double x = u[0], y = u[1], z = u[2], r = p[1] + x;
+        return Vector(Eigen::Vector3d(-(p[0] + x * x), -(r * y - kOmega0 * z), -(kOmega0 * y + r * z)));
+      },
+      [](const Vector& u, const Vector& p) {
+        const double x = u[0], y = u[1], z = u[2], r = p[1] + x;
+        Eigen::Matrix3d J;
+        J << -2.0 * x, 0.0, 0.0, -y, -r, kOmega0, -z, -kOmega0, -r;
+        return Eigen::MatrixXd(J);
+      },
+      [](int k, const Vector& u, const Vector&) {
+        return Vector(k == 0 ? Eigen::Vector3d(-1.0, 0.0, 0.0) : Eigen::Vector3d(0.0, -u[1], -u[2]));
+      });
+}
+
+// The Brusselator's options: intervals, a, b and D_v (D_u = 1).
+Brusselator1DOptions brusselator(int intervals, double a, double b, double D_v = 1.0) {
+  Brusselator1DOptions o;
+  o.intervals = intervals;
+  o.a = a;
+  o.b = b;
+  o.D_v = D_v;
+  return o;
+}
+
+// A Hopf curve traced from U (start() done) in o.parameter, with its borders following it.
+struct Traced {
+  ContinuationResult result;
+  test::RecordingObserver rec;
+};
+Traced trace(HopfCurveProblem& curve, const Vector& U, const ContinuationOptions& o) {
+  Continuation cont(curve, o, tight());
+  Traced t;
+  HopfCurveProblem::BorderUpdate borders(curve, t.rec);
+  t.result = cont.run(U, borders);
+  return t;
+}
+
+// Options for a curve in `parameter` from `lower` to `upper` with short steps (a few points between
+// its codimension-two points) and events located to 1e-8.
+ContinuationOptions curve_options(const std::string& parameter, double lower, double upper) {
+  ContinuationOptions o;
+  o.parameter = parameter;
+  o.stop.lower = lower;
+  o.stop.upper = upper;
+  o.step.initial = 0.05;
+  o.step.max = 0.1;
+  o.events.tolerance = 1e-8;
+  return o;
+}
+
+// The located points of a kind with a label.
+std::vector<const BranchPoint*> labelled(const test::RecordingObserver& rec, PointKind kind, const std::string& label) {
+  std::vector<const BranchPoint*> out;
+  for (const BranchPoint* p : rec.of_kind(kind))
+    if (p->label == label) out.push_back(p);
+  return out;
+}
+
+}  // namespace
+
+// The Brusselator (32 intervals): the uniform state's Hopf point b = 1 + a^2 (omega = a), from a
+// perturbed start at a = 2 continued in a to 3: every point on b = 1 + a^2 and omega = a to 1e-8
+// (the curve is exact on the grid; Newton's tolerance 1e-12), the state uniform (a, b / a).
+TEST(HopfCurve, BrusselatorHopfCurveIsBEqualsOnePlusASquared) {
+  Brusselator1DProblem p(brusselator(32, 2.0, 5.0));
+  HopfCurveProblem curve(p, "b");
+  const int n = p.size();
+  Vector U = curve.state(p.initial_guess() + Vector::Constant(n, 1e-3), 5.0 + 1e-3, 2.0 + 1e-3);
+  ASSERT_TRUE(curve.start(U, ComplexVector(), tight()).is_ok());
+  EXPECT_NEAR(U[n], 5.0, 1e-10);
+  EXPECT_NEAR(U[n + 1], 2.0, 1e-10);
+  ContinuationOptions o = curve_options("a", 2.0, 3.0);
+  o.step.max = 0.2;
+  o.events.stops = {2.5};
+  const auto [r, rec] = trace(curve, U, o);
+  ASSERT_EQ(r.code, StopCode::UpperBound) << r.reason;
+  ASSERT_GT(rec.points.size(), 5u);
+  double worst_b = 0.0, worst_omega = 0.0;
+  for (const BranchPoint& q : rec.points) {
+    const double a = q.lambda, b = q.u[n], omega = q.u[n + 1];
+    worst_b = std::max(worst_b, std::abs(b - (1.0 + a * a)));
+    worst_omega = std::max(worst_omega, std::abs(omega - a));
+    EXPECT_NEAR(b, 1.0 + a * a, 1e-8) << "a = " << a;
+    EXPECT_NEAR(omega, a, 1e-8) << "a = " << a;
+    EXPECT_NEAR(q.u[0], a, 1e-8) << "a = " << a;      // u at the first node
+    EXPECT_NEAR(q.u[1], b / a, 1e-8) << "a = " << a;  // v at the first node
+    EXPECT_NEAR(q.observables.back(), omega, 0.0);    // omega is the last observable
+  }
+  std::cout << std::setprecision(3) << rec.points.size() << " points, largest |b - (1 + a^2)| = " << worst_b
+            << ", |omega - a| = " << worst_omega << "; " << r.factorisations << " factorisations\n";
+  EXPECT_EQ(rec.of_kind(PointKind::Requested).size(), 1u);
+  EXPECT_NEAR(rec.points.back().lambda, 3.0, 1e-12);
+  EXPECT_TRUE(labelled(rec, PointKind::Event, "bogdanov-takens").empty());
+  EXPECT_TRUE(labelled(rec, PointKind::Event, "fold-hopf").empty());
+}
+
+// The bordered Jacobian [J F_b 0; Re g_u^T ...; Im g_u^T ...] of the Hopf curve (g's derivatives by
+// differences of J and dF/dp along v, g_omega exact), assembled, and dF/da, against central
+// differences of the augmented residual off the curve (a state that is not uniform, b and omega
+// off their Hopf values), to 1e-6 of the largest entry of each row (differences of differences,
+// steps 1e-5 and 1e-7).
+TEST(HopfCurve, AugmentedJacobianMatchesDifferencesOfItsResidual) {
+  Brusselator1DProblem p(brusselator(8, 1.5, 3.2, 0.7));
+  HopfCurveProblem curve(p, "b");
+  const int n = p.size();
+  Vector u = p.initial_guess();
+  for (int i = 0; i < n; ++i) u[i] += 0.1 * std::sin(0.9 * i);
+  const Vector U = curve.state(u, 3.2, 1.4);
+  ASSERT_TRUE(curve.set_borders(U, ComplexVector()).is_ok());
+  const test::JacobianCheck check = test::check_problem_jacobian(curve, U, 1e-5);
+  std::cout << "largest relative error of the augmented Jacobian " << check.max_relative_error << " (row "
+            << check.worst_row << ", column " << check.worst_col << ")\n";
+  EXPECT_LT(check.max_relative_error, 1e-6);
+  BorderedJacobian B;
+  Vector F;
+  ASSERT_TRUE(curve.bordered_jacobian(U, F, B).is_ok());
+  EXPECT_GT(B.C.norm(), 1e-3 * B.D.norm());  // g depends on u: the rows are there
+  const double dp = test::check_parameter_derivative(curve, p.parameters().index("a"), U, 1e-7);
+  std::cout << "dF/da: largest relative error " << dp << "\n";
+  EXPECT_LT(dp, 1e-6);
+}
+
+// The Bogdanov-Takens normal form: the Hopf curve beta1 = 0, omega = sqrt(-beta2) continued in
+// beta2 from -1 up to the Bogdanov-Takens point, where omega passes through zero and the curve
+// turns back in beta2 (omega < 0 is the same curve). Every point on beta1 = 0 and
+// omega^2 = -beta2 to 1e-10; the point located where omega changes sign at beta2 = 0 to 1e-8
+// (beta2 = -omega^2 there, so omega to 1e-4, the square root), beta1 = 0.
+TEST(HopfCurve, BogdanovTakensWhereOmegaVanishes) {
+  test::FunctionProblem p = bogdanov_takens(0.0, -1.0);
+  HopfCurveProblem curve(p, "beta1");
+  Vector U = curve.state(Eigen::Vector2d(1e-3, -1e-3), 1e-3, 1.0 + 1e-3);
+  ASSERT_TRUE(curve.start(U, ComplexVector(), tight()).is_ok());
+  EXPECT_NEAR(U[3], 1.0, 1e-10);
+  const auto [r, rec] = trace(curve, U, curve_options("beta2", -1.0, 0.5));
+  ASSERT_EQ(r.code, StopCode::LowerBound) << r.reason;
+  for (const BranchPoint& q : rec.points) {
+    EXPECT_NEAR(q.u[2], 0.0, 1e-10) << "beta2 = " << q.lambda;
+    EXPECT_NEAR(q.u[3] * q.u[3], -q.lambda, 1e-10) << "beta2 = " << q.lambda;
+  }
+  const auto bt = labelled(rec, PointKind::Event, "bogdanov-takens");
+  ASSERT_EQ(bt.size(), 1u) << r.reason;
+  std::cout << std::setprecision(3) << "Bogdanov-Takens at beta2 = " << bt[0]->lambda << ", beta1 = " << bt[0]->u[2]
+            << ", omega = " << bt[0]->u[3] << "\n";
+  EXPECT_NEAR(bt[0]->lambda, 0.0, 1e-8);
+  EXPECT_NEAR(bt[0]->u[2], 0.0, 1e-10);
+  EXPECT_NEAR(bt[0]->u[3], 0.0, 1e-4);
+  // the curve turns in beta2 there, and comes back on the side omega < 0
+  const auto turns = rec.of_kind(PointKind::Fold);
+  ASSERT_EQ(turns.size(), 1u);
+  EXPECT_EQ(turns[0]->label, "max");
+  EXPECT_NEAR(turns[0]->lambda, 0.0, 1e-8);
+  EXPECT_NEAR(rec.points.back().u[3], -1.0, 1e-10);
+}
+
+// The fold-Hopf normal form: the Hopf curve beta1 = -beta2^2, omega = omega0 continued in beta2
+// from -0.5 to 0.5 through the fold-Hopf point (0, 0), where the real eigenvalue 2x = -2 beta2
+// crosses zero. Every point on the curve to 1e-10; the point located where the fold test function
+// of J changes sign at beta2 = 0 to 1e-8, beta1 = 0 to 1e-10, omega = omega0. (J is singular
+// there: the block elimination falls back to the whole matrix.)
+TEST(HopfCurve, FoldHopfWhereDetJChangesSign) {
+  test::FunctionProblem p = fold_hopf(-0.25, -0.5);
+  HopfCurveProblem curve(p, "beta1");
+  Vector U = curve.state(Eigen::Vector3d(0.5 + 1e-3, 1e-3, -1e-3), -0.25 + 1e-3, kOmega0 + 1e-3);
+  ASSERT_TRUE(curve.start(U, ComplexVector(), tight()).is_ok());
+  const auto [r, rec] = trace(curve, U, curve_options("beta2", -0.5, 0.5));
+  ASSERT_EQ(r.code, StopCode::UpperBound) << r.reason;
+  for (const BranchPoint& q : rec.points) {
+    const double b2 = q.lambda;
+    EXPECT_NEAR(q.u[0], -b2, 1e-10) << "beta2 = " << b2;
+    EXPECT_NEAR(q.u[3], -b2 * b2, 1e-10) << "beta2 = " << b2;
+    EXPECT_NEAR(q.u[4], kOmega0, 1e-10) << "beta2 = " << b2;
+  }
+  const auto zh = labelled(rec, PointKind::Event, "fold-hopf");
+  ASSERT_EQ(zh.size(), 1u) << r.reason;
+  std::cout << std::setprecision(3) << "fold-Hopf at beta2 = " << zh[0]->lambda << ", beta1 = " << zh[0]->u[3]
+            << ", omega = " << zh[0]->u[4] << "\n";
+  EXPECT_NEAR(zh[0]->lambda, 0.0, 1e-8);
+  EXPECT_NEAR(zh[0]->u[3], 0.0, 1e-10);
+  EXPECT_NEAR(zh[0]->u[4], kOmega0, 1e-10);
+  EXPECT_TRUE(labelled(rec, PointKind::Event, "bogdanov-takens").empty());
+}
