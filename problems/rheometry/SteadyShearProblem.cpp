@@ -8,17 +8,14 @@
 
 #include "core/AutoDiff.hpp"
 #include "problems/kernels/ConformationTransport.hpp"
+#include "problems/laws/LawKeys.hpp"
 #include "problems/laws/LogConformation.hpp"
 
 namespace keller {
 
 void SteadyShearOptions::declare(SceneSchema& s) {
   s.section("fluid", "the viscoelastic law and its formulation");
-  s.string("fluid.model", "owens", "constitutive law", {"oldroyd-b", "fene-p", "owens"});
-  s.string("fluid.formulation", "conformation", "unknown of the constitutive equation: M or log M",
-           {"conformation", "log-conformation"});
-  s.boolean("fluid.fene_p_dynamic_zz", false,
-            "FENE-P: keep M_zz as an unknown (needed for time-dependent forms) instead of f M_zz = 1");
+  LawKeys::declare(s, {"oldroyd-b", "fene-p", "owens"}, "owens");
   s.section("parameters", "initial values of the named continuation parameters");
   s.real("parameters.log10_rate", -3.0, "log10 of the dimensional shear rate in 1/s", Range::between(-30.0, 30.0));
   s.real("parameters.Wi", 26.3, "Weissenberg number of the channel: lambda_0 = Wi W / U0 = Wi / 100 s",
@@ -31,18 +28,15 @@ void SteadyShearOptions::declare(SceneSchema& s) {
 
 SteadyShearOptions SteadyShearOptions::from_scene(const Scene& sc) {
   SteadyShearOptions o;
-  o.model = fluid_model_from_string(sc.string("fluid.model"));
-  o.log_conformation = sc.string("fluid.formulation") == "log-conformation";
-  o.dynamic_zz = sc.boolean("fluid.fene_p_dynamic_zz");
+  const LawKeys law = LawKeys::from_scene(sc);
+  o.model = law.model;
+  o.log_conformation = law.log_conformation;
+  o.dynamic_zz = law.dynamic_zz;
+  o.b = law.b;
   o.log10_rate = sc.real("parameters.log10_rate");
   o.Wi = sc.real("parameters.Wi");
   o.Gamma = sc.real("parameters.Gamma");
   o.beta = sc.real("parameters.beta");
-  o.b = sc.real("parameters.b");
-  if (o.model != FluidModel::FeneP)
-    for (const char* k : {"parameters.b", "fluid.fene_p_dynamic_zz"})
-      if (sc.differs_from_default(k))
-        throw sc.error(k, "applies to fluid.model = \"fene-p\" only (got \"" + sc.string("fluid.model") + "\")");
   return o;
 }
 

@@ -31,7 +31,7 @@ struct SteadyShearOptions {
   OwensParameters owens;
 
   static void declare(SceneSchema& schema);
-  // Throws SceneError for a Newtonian fluid (no conformation) and for keys the law does not use.
+  // Throws SceneError for keys the law does not use (LawKeys); fluid.model has no Newtonian choice.
   static SteadyShearOptions from_scene(const Scene& scene);
 };
 
