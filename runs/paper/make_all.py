@@ -7,7 +7,8 @@ finite-thickness wall) by one command, from branch files keller makes itself:
 1. runs the studies of runs/paper (steady_shear, gamma, thickness, wi, wi_m3, wi_thickness) with
    `keller study STUDY.toml --jobs N -o DATA/STUDY`: a task already computed for its current
    scene (the study's hash) is skipped, an interrupted one continued;
-2. draws figures 1-16 into runs/paper/figures/ (figNN_name.png), N at a time.
+2. draws figures 1-16 into runs/paper/figures/ (figNN_name.png), N at a time, and writes there
+   costs.md: what the branches each figure reads cost keller (points, seconds).
 
 The data folder (runs/paper/data by default) holds the studies' branch files and tables; delete
 it to start from nothing. A figure whose data is missing (a failed task) is reported and the
@@ -20,6 +21,7 @@ import os
 import subprocess
 import sys
 import time
+import tomllib
 import traceback
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -51,13 +53,38 @@ def draw(job):
 
     paper_style.setup()
     t0 = time.monotonic()
+    ctx = figures.Context(data, figures_dir)
     try:
-        path = getattr(figures, name)(figures.Context(data, figures_dir))
-        return name, path, time.monotonic() - t0, True
+        path = getattr(figures, name)(ctx)
+        return name, path, time.monotonic() - t0, True, sorted(set(ctx.inputs))
     except paper_data.MissingData as e:
-        return name, f"not drawn: {e}", time.monotonic() - t0, False
+        return name, f"not drawn: {e}", time.monotonic() - t0, False, []
     except Exception:  # a fault in one figure's code: its traceback, and the others are still drawn
-        return name, "failed:\n" + traceback.format_exc(), time.monotonic() - t0, False
+        return name, "failed:\n" + traceback.format_exc(), time.monotonic() - t0, False, []
+
+
+def task_record(branch):
+    """The study's record of the task that wrote a branch file (STUDY/tasks/NAME.toml)."""
+    with open(os.path.splitext(branch)[0] + ".toml", "rb") as f:
+        return tomllib.load(f)
+
+
+def costs(drawn, path):
+    """A Markdown table of what each figure's branches cost keller (the continuation's seconds and
+    the tasks' processes, summed over the branch files it read), written through PATH.part."""
+    lines = ["| figure | branches | unknowns | points | continuation s | process s |", "| --- | --- | --- | --- | --- | --- |"]
+    for name, _, _, ok, inputs in drawn:
+        if not ok:
+            continue
+        recs = [task_record(b) for b in inputs]
+        sizes = sorted({int(r["unknowns"]) for r in recs})
+        lines.append(f"| {name} | {len(recs)} | {sizes[0]}-{sizes[-1]} | {sum(int(r['points']) for r in recs)} | "
+                     f"{sum(float(r['seconds']) for r in recs):.0f} | {sum(float(r['process_seconds']) for r in recs):.0f} |")
+    text = "\n".join(lines) + "\n"
+    with open(path + ".part", "w") as f:
+        f.write(text)
+    os.replace(path + ".part", path)
+    return text
 
 
 def main():
@@ -91,9 +118,12 @@ def main():
         drawn = pool.map(draw, [(n, a.data, a.figures) for n in names])
     t_all = time.monotonic() - t0
 
-    for name, what, seconds, _ in drawn:
+    for name, what, seconds, _, _ in drawn:
         print(f"  {name}: {what} ({seconds:.1f} s)")
-    failed = [n for n, _, _, ok in drawn if not ok] + [s for s, (code, _) in studies.items() if code != 0]
+    if not a.only:
+        print("what each figure's branches cost (also in " + os.path.join(a.figures, "costs.md") + "):")
+        print(costs(drawn, os.path.join(a.figures, "costs.md")), end="")
+    failed = [n for n, _, _, ok, _ in drawn if not ok] + [s for s, (code, _) in studies.items() if code != 0]
     print(f"make_all: studies {t_studies:.1f} s, figures {t_all - t_studies:.1f} s, total {t_all:.1f} s"
           + (f"; not done: {', '.join(failed)}" if failed else ""))
     return 1 if failed else 0

@@ -117,9 +117,12 @@ class Branch:
         return v.decode() if isinstance(v, bytes) else v
 
     def mesh(self):
-        """(reference node positions, 9-node elements, element group names per element)."""
+        """(reference node positions, 9-node elements, element group names per element). The
+        reference positions are a stored state's positions less its displacement (/mesh/nodes
+        holds the deformed mesh of a collapsible-channel branch)."""
+        g = self.saved[0][2]
+        nodes = self.array(g, "position") - self.array(g, "displacement")
         with open_h5(self.path) as f:
-            nodes = np.array(f["mesh/nodes"][()])
             elements = np.array(f["mesh/elements"][()], dtype=int)
             groups = np.array(f["mesh/element_group"][()], dtype=int)
             names = [n.decode() if isinstance(n, bytes) else str(n) for n in f["mesh/group_names"][()]]
