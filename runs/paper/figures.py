@@ -615,3 +615,11 @@ def fig13(ctx):
 
 
 ALL = [fig01, fig02, fig03, fig04, fig05, fig06, fig07, fig08, fig09, fig10, fig11, fig12, fig13, fig14, fig15, fig16]
+# the studies (runs/paper/NAME.toml) each figure reads
+STUDIES = {
+    "fig01": ["steady_shear"], "fig02": ["wi", "wi_m3"], "fig03": ["wi", "wi_m3"], "fig04": ["wi"],
+    "fig05": ["wi", "wi_m3"], "fig06": ["gamma", "wi"], "fig07": ["gamma", "wi"], "fig08": ["gamma", "wi"],
+    "fig09": ["thickness", "wi", "wi_thickness"], "fig10": ["wi", "wi_thickness"], "fig11": ["gamma", "wi"],
+    "fig12": ["gamma", "wi"], "fig13": ["gamma", "wi"], "fig14": ["gamma", "wi"], "fig15": ["gamma"],
+    "fig16": ["gamma", "wi"],
+}

@@ -4,7 +4,8 @@ finite-thickness wall) by one command, from branch files keller makes itself:
 
     python3 runs/paper/make_all.py [--jobs 2] [--keller build/bin/keller] [--only fig05 fig13]
 
-1. runs the studies of runs/paper (steady_shear, gamma, thickness, wi, wi_m3, wi_thickness) with
+1. runs the studies of runs/paper (steady_shear, gamma, thickness, wi, wi_m3, wi_thickness; with
+   --only, those the figures read) with
    `keller study STUDY.toml --jobs N -o DATA/STUDY`: a task already computed for its current
    scene (the study's hash) is skipped, an interrupted one continued;
 2. draws figures 1-16 into runs/paper/figures/ (figNN_name.png), N at a time, and writes there
@@ -93,7 +94,8 @@ def main():
     ap.add_argument("--keller", default=os.path.join(ROOT, "build", "bin", "keller"), help="the keller program")
     ap.add_argument("--data", default=os.path.join(HERE, "data"), help="folder of the studies' output")
     ap.add_argument("--figures", default=os.path.join(HERE, "figures"), help="folder of the figures")
-    ap.add_argument("--only", nargs="+", metavar="FIG", help="draw only these figures (fig01 ... fig16)")
+    ap.add_argument("--only", nargs="+", metavar="FIG",
+                    help="draw only these figures (fig01 ... fig16), running only the studies they read")
     ap.add_argument("--no-studies", action="store_true", help="draw from the data as it is, run no study")
     a = ap.parse_args()
     import figures
@@ -112,7 +114,8 @@ def main():
         os.makedirs(folder, exist_ok=True)
 
     t0 = time.monotonic()
-    studies = {} if a.no_studies else run_studies(a.keller, a.data, a.jobs, STUDIES)
+    needed = {st for n in names for st in figures.STUDIES[n]}
+    studies = {} if a.no_studies else run_studies(a.keller, a.data, a.jobs, [st for st in STUDIES if st in needed])
     t_studies = time.monotonic() - t0
     with multiprocessing.Pool(min(a.jobs, len(names))) as pool:
         drawn = pool.map(draw, [(n, a.data, a.figures) for n in names])
