@@ -8,7 +8,6 @@
 
 #include "core/AutoDiff.hpp"
 #include "problems/kernels/ConformationTransport.hpp"
-#include "problems/laws/LawKeys.hpp"
 #include "problems/laws/LogConformation.hpp"
 
 namespace keller {
@@ -28,11 +27,7 @@ void SteadyShearOptions::declare(SceneSchema& s) {
 
 SteadyShearOptions SteadyShearOptions::from_scene(const Scene& sc) {
   SteadyShearOptions o;
-  const LawKeys law = LawKeys::from_scene(sc);
-  o.model = law.model;
-  o.log_conformation = law.log_conformation;
-  o.dynamic_zz = law.dynamic_zz;
-  o.b = law.b;
+  o.law = LawKeys::from_scene(sc);
   o.log10_rate = sc.real("parameters.log10_rate");
   o.Wi = sc.real("parameters.Wi");
   o.Gamma = sc.real("parameters.Gamma");
@@ -41,14 +36,14 @@ SteadyShearOptions SteadyShearOptions::from_scene(const Scene& sc) {
 }
 
 SteadyShearProblem::SteadyShearProblem(SteadyShearOptions options)
-    : o_(std::move(options)), components_(o_.model == FluidModel::FeneP && o_.dynamic_zz ? 4 : 3) {
-  if (o_.model == FluidModel::Newtonian)
+    : o_(std::move(options)), components_(o_.law.model == FluidModel::FeneP && o_.law.dynamic_zz ? 4 : 3) {
+  if (o_.law.model == FluidModel::Newtonian)
     throw std::invalid_argument("steady-shear: a Newtonian fluid has no conformation (its viscosity is eta0)");
   i_rate_ = params_.add("log10_rate", o_.log10_rate, "log10 of the dimensional shear rate in 1/s", -30.0, 30.0);
   i_Wi_ = params_.add("Wi", o_.Wi, "Weissenberg number of the channel (lambda_0 = Wi W / U0)", Range::positive());
   i_Gamma_ = params_.add("Gamma", o_.Gamma, "velocity scale of the channel", Range::positive());
   i_beta_ = params_.add("beta", o_.beta, "viscosity ratio eta_s / eta0", Range{0.0, 1.0, false, true});
-  if (o_.model == FluidModel::FeneP) i_b_ = params_.add("b", o_.b, "FENE-P extensibility", Range::above(1.0));
+  if (o_.law.model == FluidModel::FeneP) i_b_ = params_.add("b", o_.law.b, "FENE-P extensibility", Range::above(1.0));
   std::vector<Eigen::Triplet<double, int>> t;
   for (int i = 0; i < components_; ++i)
     for (int j = 0; j < components_; ++j) t.emplace_back(i, j, 0.0);
@@ -63,7 +58,7 @@ SteadyShearProblem::Shear SteadyShearProblem::shear() const {
   s.gdot = std::pow(10.0, params_.value(i_rate_)) * Gamma / o_.owens.rate_scale;
   s.lambda = params_.value(i_Wi_) / Gamma;
   const double L[2][2] = {{0.0, s.gdot}, {0.0, 0.0}};
-  s.inv_lambda_eff = inverse_relaxation_time(o_.model, s.lambda, L, Gamma, o_.owens);
+  s.inv_lambda_eff = inverse_relaxation_time(o_.law.model, s.lambda, L, Gamma, o_.owens);
   return s;
 }
 
@@ -74,10 +69,10 @@ Status SteadyShearProblem::evaluate(const Vector& u, Vector& F, SparseMatrix* J)
   const double L[2][2] = {{0.0, s.gdot}, {0.0, 0.0}};
   D m[NC], r[NC];
   for (int i = 0; i < NC; ++i) m[i] = make_variable<NC>(u[i], i);
-  const Conformation<D> M = conformation_of<NC>(m, o_.log_conformation);
-  const D f = i_b_ >= 0 ? peterlin(o_.model, NC == 4, M, params_.value(i_b_)) : D(1.0);
+  const Conformation<D> M = conformation_of<NC>(m, o_.law.log_conformation);
+  const D f = i_b_ >= 0 ? peterlin(o_.law.model, NC == 4, M, params_.value(i_b_)) : D(1.0);
   if (!(value_of(f) > 0.0)) return {StatusCode::InvalidState, "FENE-P: tr M reached 3b"};
-  if (o_.log_conformation) {
+  if (o_.law.log_conformation) {
     using std::exp;
     const Sym2<D> rate = log_conformation_rate(Sym2<D>{m[0], m[1], m[2]}, L, f, s.inv_lambda_eff);
     r[0] = rate.xx;
@@ -118,7 +113,7 @@ Status SteadyShearProblem::mass_matrix(const Vector&, SparseMatrix& B) {
 
 Vector SteadyShearProblem::initial_guess() {
   Vector u = Vector::Zero(components_);
-  if (!o_.log_conformation) {
+  if (!o_.law.log_conformation) {
     u[0] = u[2] = 1.0;
     if (components_ == 4) u[3] = 1.0;
   }
@@ -134,9 +129,9 @@ std::vector<std::string> SteadyShearProblem::observable_names() const {
 }
 
 bool SteadyShearProblem::stress(const Vector& u, Conformation<double>& M, Conformation<double>& tau) const {
-  M = components_ == 4 ? conformation_of<4>(u.data(), o_.log_conformation)
-                       : conformation_of<3>(u.data(), o_.log_conformation);
-  const double f = i_b_ >= 0 ? peterlin(o_.model, components_ == 4, M, params_.value(i_b_)) : 1.0;
+  M = components_ == 4 ? conformation_of<4>(u.data(), o_.law.log_conformation)
+                       : conformation_of<3>(u.data(), o_.law.log_conformation);
+  const double f = i_b_ >= 0 ? peterlin(o_.law.model, components_ == 4, M, params_.value(i_b_)) : 1.0;
   const double Gamma = params_.value(i_Gamma_), beta = params_.value(i_beta_);
   tau = polymer_stress(M, f, (1.0 - beta) * Gamma / params_.value(i_Wi_));
   return f > 0.0;
@@ -167,8 +162,8 @@ SolutionFields SteadyShearProblem::fields(const Vector& u) const {
 }
 
 std::string SteadyShearProblem::summary() const {
-  return fmt::format("steady simple shear of the {} law ({}), {} unknowns", to_string(o_.model),
-                     o_.log_conformation ? "log-conformation" : "conformation", components_);
+  return fmt::format("steady simple shear of the {} law ({}), {} unknowns", to_string(o_.law.model),
+                     o_.law.log_conformation ? "log-conformation" : "conformation", components_);
 }
 
 std::unique_ptr<Problem> SteadyShearProblem::from_scene(const Scene& scene) {

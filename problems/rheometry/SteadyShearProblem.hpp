@@ -16,18 +16,16 @@
 #include "core/Problem.hpp"
 #include "core/Scene.hpp"
 #include "problems/laws/ConstitutiveLaw.hpp"
+#include "problems/laws/LawKeys.hpp"
 
 namespace keller {
 
 struct SteadyShearOptions {
-  FluidModel model = FluidModel::Owens;
-  bool log_conformation = false;
-  bool dynamic_zz = false;  // FENE-P: M_zz as an unknown instead of f M_zz = 1
+  LawKeys law{FluidModel::Owens};  // the law, its formulation, FENE-P's b
   double log10_rate = -3.0;
   double Wi = 26.3;  // lambda_0 = Wi / (U0 / W) = 0.263 s
   double Gamma = 4.95e-4;
   double beta = OwensParameters().beta();
-  double b = 100.0;
   OwensParameters owens;
 
   static void declare(SceneSchema& schema);

@@ -35,19 +35,16 @@ namespace {
 SteadyShearOptions law(FluidModel model, bool log_form, bool dynamic_zz, double Gamma, double Wi, double beta,
                        double b) {
   SteadyShearOptions o;
-  o.model = model;
-  o.log_conformation = log_form;
-  o.dynamic_zz = dynamic_zz;
+  o.law = {model, log_form, dynamic_zz, b};
   o.Gamma = Gamma;
   o.Wi = Wi;
   o.beta = beta;
-  o.b = b;
   return o;
 }
 
 std::string describe(const SteadyShearOptions& o) {
-  return std::string(to_string(o.model)) + (o.log_conformation ? " log" : " conf") + (o.dynamic_zz ? " zz" : "") +
-         ", b = " + std::to_string(o.b);
+  return std::string(to_string(o.law.model)) + (o.law.log_conformation ? " log" : " conf") +
+         (o.law.dynamic_zz ? " zz" : "") + ", b = " + std::to_string(o.law.b);
 }
 
 // Newton on the problem at its current rate from u; returns false without convergence.
