@@ -11,6 +11,7 @@
 #include "problems/channel/CollapsibleChannelProblem.hpp"
 #include "problems/channel/WallProblem.hpp"
 #include "problems/cylinder/CylinderProblem.hpp"
+#include "problems/rheometry/SteadyShearProblem.hpp"
 
 namespace keller {
 
@@ -42,6 +43,9 @@ const std::vector<ProblemType>& problem_types() {
        [](const Scene& s) -> std::unique_ptr<Problem> {
          return std::make_unique<WallProblem>(WallOptions::from_scene(s));
        }},
+      {"steady-shear",
+       "steady homogeneous simple shear of a viscoelastic law: its steady-shear viscosity against the shear rate",
+       SteadyShearOptions::declare, SteadyShearProblem::from_scene},
       {"bratu1d", "1D Bratu problem by central differences (test problem)", Bratu1DProblem::declare,
        Bratu1DProblem::from_scene},
       {"bratu1d-shifted", "1D Bratu problem with a linear term mu u (test problem: fold curves)",

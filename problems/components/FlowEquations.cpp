@@ -13,17 +13,14 @@
 #include "core/RateConstraintTerm.hpp"
 #include "problems/kernels/NewtonianFlowKernel.hpp"
 #include "problems/kernels/OutflowTractionKernel.hpp"
+#include "problems/laws/LawKeys.hpp"
 #include "problems/laws/LogConformation.hpp"
 
 namespace keller {
 
 void FluidOptions::declare(SceneSchema& s, double default_beta, double default_Wi) {
   s.section("fluid", "the fluid and which physics is on");
-  s.string("fluid.model", "newtonian", "constitutive law", {"newtonian", "oldroyd-b", "fene-p", "owens"});
-  s.string("fluid.formulation", "conformation", "unknown of the constitutive equation: M or log M",
-           {"conformation", "log-conformation"});
-  s.boolean("fluid.fene_p_dynamic_zz", false,
-            "FENE-P: keep M_zz as an unknown (needed for time-dependent forms) instead of f M_zz = 1");
+  LawKeys::declare(s, {"newtonian", "oldroyd-b", "fene-p", "owens"}, "newtonian");
   s.real("fluid.devss", -1.0, "DEVSS viscosity beta_a (negative: 1 - beta)");
   s.string("fluid.supg", "local", "SUPG time scale: local h/|v| or global h_c/v_c", {"local", "global"});
   s.real("fluid.supg_scale", 1.0, "factor on the SUPG time scale", Range::non_negative());
@@ -44,14 +41,15 @@ void FluidOptions::declare(SceneSchema& s, double default_beta, double default_W
 
 FluidOptions FluidOptions::from_scene(const Scene& sc) {
   FluidOptions o;
-  o.model = fluid_model_from_string(sc.string("fluid.model"));
-  o.log_conformation = sc.string("fluid.formulation") == "log-conformation";
-  o.dynamic_zz = sc.boolean("fluid.fene_p_dynamic_zz");
+  const LawKeys law = LawKeys::from_scene(sc);
+  o.model = law.model;
+  o.log_conformation = law.log_conformation;
+  o.dynamic_zz = law.dynamic_zz;
+  o.b = law.b;
   o.Re = sc.real("parameters.Re");
   o.inertia = o.Re > 0.0;
   o.Wi = sc.real("parameters.Wi");
   o.beta = sc.real("parameters.beta");
-  o.b = sc.real("parameters.b");
   o.kernel.model = o.model;
   o.kernel.log_conformation = o.log_conformation;
   o.kernel.inertia = o.inertia;
@@ -61,15 +59,10 @@ FluidOptions FluidOptions::from_scene(const Scene& sc) {
   o.kernel.supg.velocity_floor = sc.real("fluid.supg_velocity_floor");
   o.profile = profile_kind_from_string(sc.string("inflow.profile"));
   o.power_index = sc.real("inflow.power_law_index");
-  const std::string m = sc.string("fluid.model");
   if (!o.viscoelastic()) {
     for (const char* k : {"parameters.Wi", "parameters.beta", "fluid.formulation", "fluid.devss", "fluid.supg",
                           "fluid.supg_scale", "fluid.supg_velocity_floor"})
       if (sc.differs_from_default(k)) throw sc.error(k, "has no meaning for fluid.model = \"newtonian\"");
-  }
-  if (o.model != FluidModel::FeneP) {
-    for (const char* k : {"parameters.b", "fluid.fene_p_dynamic_zz"})
-      if (sc.differs_from_default(k)) throw sc.error(k, "applies to fluid.model = \"fene-p\" only (got \"" + m + "\")");
   }
   if (o.profile != ProfileKind::PowerLaw && sc.differs_from_default("inflow.power_law_index"))
     throw sc.error("inflow.power_law_index", "applies to inflow.profile = \"power-law\" only");

@@ -27,27 +27,12 @@ import math
 import os
 import sys
 
-import h5py
 import numpy as np
 
-from keller_h5 import OutputError, check_outputs, save_figure
+from keller_h5 import OutputError, check_outputs, read_study, same_value, save_figure
 
 COST = [("unknowns", "unknowns"), ("nnz_lu", "nnz(L+U)"), ("peak_mb", "peak MB"),
         ("seconds_per_solve", "s/solve"), ("seconds_per_point", "s/point"), ("seconds", "s/run")]
-
-
-def read_study(path):
-    with h5py.File(path, "r") as f:
-        s = f["study"]
-        order = s.attrs["columns"]
-        order = (order.decode() if isinstance(order, bytes) else str(order)).split(",")
-        cols = {}
-        for c in order:
-            v = s[c][()]
-            if v.dtype.kind in "SO":
-                v = np.array([x.decode() if isinstance(x, bytes) else str(x) for x in v])
-            cols[c] = v
-    return cols
 
 
 def observed_order(h, q, formal):
@@ -153,6 +138,8 @@ def main():
     ap.add_argument("study", help="STUDY.h5 written by keller study")
     ap.add_argument("--mesh", required=True, help="the varied key that names the mesh")
     ap.add_argument("--group", nargs="*", default=[], help="varied keys whose values make separate families")
+    ap.add_argument("--where", nargs="*", default=[], metavar="KEY=VALUE",
+                    help="only the tasks whose varied KEY has this VALUE (as the study table writes it)")
     ap.add_argument("--observables", nargs="+", required=True, help="collected columns (dP@0.1, end:dP, ...)")
     ap.add_argument("--published", nargs="*", default=[], help="COLUMN=VALUE: a published value to compare with")
     ap.add_argument("--order", type=float, default=2.0, help="the formal order, used where none is observed")
@@ -171,10 +158,17 @@ def main():
     for p in a.published:
         k, _, v = p.partition("=")
         published[k] = float(v)
-    cols = read_study(a.study)
-    for k in [a.mesh] + a.group:
+    cols, _ = read_study(a.study)
+    where = [w.partition("=") for w in a.where]
+    for k in [a.mesh] + a.group + [k for k, _, _ in where]:
         if k not in cols:
             sys.exit(f"convergence.py: the study varies no key '{k}'")
+    keep = np.ones(len(cols["status"]), bool)
+    for k, _, v in where:
+        keep &= np.array([same_value(x, v) for x in cols[k]])
+    if not keep.any():
+        sys.exit(f"convergence.py: no task has {' and '.join(a.where)}")
+    cols = {c: np.asarray(v)[keep] for c, v in cols.items()}
     rows = analyse(cols, a.mesh, a.group, a.observables, published, a.order, a.dimension, a.resolution)
     table = markdown(rows, published)
     print(table, end="")

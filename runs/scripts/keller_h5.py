@@ -50,6 +50,32 @@ def read_time_series(path):
         return columns, status, mode
 
 
+def read_study(path):
+    """Returns ({column: array of numbers or of strings}, column order) of a study table
+    (STUDY.h5 of keller study: /study/<column>, the order in the attribute columns)."""
+    with open_h5(path) as f:
+        s = f["study"]
+        order = _attr(s, "columns").split(",")
+        cols = {}
+        for c in order:
+            v = s[c][()]
+            if v.dtype.kind in "SO":
+                v = np.array([x.decode() if isinstance(x, bytes) else str(x) for x in v])
+            cols[c] = v
+        return cols, order
+
+
+def same_value(cell, value):
+    """Whether a varied value of a study table (a number, or TOML text such as "owens", 0.000495,
+    M2) is value (a string, or a number compared to 1e-9 relative)."""
+    text = str(cell).strip().strip('"')
+    try:
+        a, b = float(text), float(str(value).strip('"'))
+        return abs(a - b) <= 1e-9 * max(1.0, abs(b))
+    except ValueError:
+        return text == str(value).strip('"')
+
+
 class OutputError(Exception):
     """An output path that keller's rules refuse (it would overwrite an input, or is not a file)."""
 
@@ -103,7 +129,12 @@ QUANTITIES = {
     "Re": "Re",
     "beta": r"$\beta = \eta_s / \eta_0$",
     "dP": "pressure drop across the wall, dP / G",
-    "dP_total": "inlet-to-outlet pressure drop / G",
+    "dP_inlet_outlet": "pressure drop inlet to outlet, dP_inlet_outlet / G",
+    "eta": "viscosity eta / eta0",
+    "eta_p": "polymer viscosity eta_p / eta_p0",
+    "Wi_local": "local Wi = lambda_0 gdot",
+    "rate": "shear rate (1/s)",
+    "log10_rate": "log10 of the shear rate (1/s)",
     "dx_max": "x of largest deflection from the centre, dx_max / W",
     "dy_max": "largest deflection dy_max / W",
     "gap_min": "narrowest gap / W",

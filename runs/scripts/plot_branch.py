@@ -99,8 +99,10 @@ def main(argv=None):
         for k, (label, marker, mcolour) in MARKERS.items():
             sel = kind == k
             if sel.any():
-                ax.scatter(x[sel], v[sel], marker=marker, color=mcolour, s=48 if k in (5, 7) else 36, zorder=3,
-                           label=None if label in seen else label)
+                # one branch: a colour per kind; several: the branch's colour, the kind by the shape
+                ax.scatter(x[sel], v[sel], marker=marker, color=mcolour if len(branches) == 1 else colour,
+                           edgecolors="black" if len(branches) > 1 else None, linewidths=0.5,
+                           s=48 if k in (5, 7) else 36, zorder=3)
                 seen.add(label)
         for k, c in ((4, "tab:red"), (5, "tab:purple"), (7, "tab:cyan")):
             for lam, val in zip(x[kind == k], v[kind == k]):
@@ -112,7 +114,16 @@ def main(argv=None):
     title = args.title or (f"{y} against {parameter}: " + (os.path.basename(args.branch[0]) if len(branches) == 1
                                                              else f"{len(branches)} branches") + f", {points} points")
     ax.set_title(title, fontsize=9, wrap=True)
-    ax.legend(fontsize=7, loc="best")
+    # the curves first, then one entry per kind of marked point (in black where the branch's
+    # colour marks it)
+    handles, names = ax.get_legend_handles_labels()
+    for k, (label, marker, mcolour) in MARKERS.items():
+        if label in seen:
+            handles.append(ax.scatter([], [], marker=marker, color=mcolour if len(branches) == 1 else "0.6",
+                                      edgecolors="black" if len(branches) > 1 else None, linewidths=0.5,
+                                      s=48 if k in (5, 7) else 36))
+            names.append(label)
+    ax.legend(handles, names, fontsize=7, loc="best")
     ax.grid(alpha=0.3)
     # why each branch ended, one line each, under the axes
     ends = [f"{labels[i] if len(branches) > 1 else 'ended'}: {b[3]}" for i, b in enumerate(branches)]

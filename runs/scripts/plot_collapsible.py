@@ -61,6 +61,22 @@ def triangulation(path, group):
     return mtri.Triangulation(pos[:, 0], pos[:, 1], np.array(tris)), fluid, pos
 
 
+def nodal_pressure(path, group, pos):
+    """The P1-discontinuous pressure of a stored solution evaluated at each element's nodes (pos:
+    the deformed node positions); nodes shared by elements get the last value (enough for a
+    contour picture); NaN at nodes of no fluid element."""
+    pc = read_array(path, group, "pressure")
+    pn = np.full(len(pos), np.nan)
+    with open_h5(path) as f:
+        elements = np.array(f["mesh/elements"][()], dtype=int)
+    for e, el in enumerate(elements):
+        if np.isnan(pc[e, 0]):
+            continue
+        xc = pos[el[4]]
+        pn[el] = pc[e, 0] + pc[e, 1] * (pos[el, 0] - xc[0]) + pc[e, 2] * (pos[el, 1] - xc[1])
+    return pn
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("branch")
@@ -142,19 +158,7 @@ def main():
         conf = read_array(args.branch, g, "conformation_M")
         if conf is None and parameter is not None:
             conf = read_array(args.branch, g, "conformation")
-        pc = read_array(args.branch, g, "pressure")
-        panels = [("v_x", vel[:, 0])]
-        # P1-discontinuous pressure evaluated at each element's nodes; nodes shared by elements get
-        # the last value (enough for a contour picture)
-        pn = np.full(len(pos), np.nan)
-        with open_h5(args.branch) as f:
-            elements = np.array(f["mesh/elements"][()], dtype=int)
-        for e, el in enumerate(elements):
-            if np.isnan(pc[e, 0]):
-                continue
-            xc = pos[el[4]]
-            pn[el] = pc[e, 0] + pc[e, 1] * (pos[el, 0] - xc[0]) + pc[e, 2] * (pos[el, 1] - xc[1])
-        panels.append(("P", pn))
+        panels = [("v_x", vel[:, 0]), ("P", nodal_pressure(args.branch, g, pos))]
         if conf is not None:
             panels.append(("M_xx", conf[:, 0]))
         fig, axes = plt.subplots(len(panels), 1, figsize=(9.0, 1.9 * len(panels)), sharex=True)

@@ -11,7 +11,6 @@ import argparse
 import os
 import sys
 
-import h5py
 import numpy as np
 
 import matplotlib
@@ -19,22 +18,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from keller_h5 import OutputError, check_outputs, save_figure  # noqa: E402
-
-
-def read_study(path):
-    """Returns ({column: array of numbers or of strings}, column order)."""
-    with h5py.File(path, "r") as f:
-        s = f["study"]
-        order = s.attrs["columns"]
-        order = (order.decode() if isinstance(order, bytes) else str(order)).split(",")
-        cols = {}
-        for c in order:
-            v = s[c][()]
-            if v.dtype.kind in "SO":
-                v = np.array([x.decode() if isinstance(x, bytes) else str(x) for x in v])
-            cols[c] = v
-        return cols, order
+from keller_h5 import OutputError, check_outputs, read_study, save_figure  # noqa: E402
 
 
 def as_numbers(v):

@@ -73,27 +73,6 @@ std::string table_without_time(const std::string& csv) {
   return out;
 }
 
-// A collected CSV as rows of named cells.
-std::vector<std::map<std::string, std::string>> read_table(const std::string& csv) {
-  std::ifstream in(csv);
-  std::string line;
-  std::vector<std::string> header;
-  std::vector<std::map<std::string, std::string>> rows;
-  while (std::getline(in, line)) {
-    std::vector<std::string> cells;
-    std::stringstream ss(line);
-    for (std::string c; std::getline(ss, c, ',');) cells.push_back(c);
-    if (header.empty()) {
-      header = cells;
-      continue;
-    }
-    std::map<std::string, std::string> row;
-    for (size_t i = 0; i < cells.size() && i < header.size(); ++i) row[header[i]] = cells[i];
-    rows.push_back(row);
-  }
-  return rows;
-}
-
 int count(const std::string& text, const std::string& what) {
   int n = 0;
   for (size_t p = text.find(what); p != std::string::npos; p = text.find(what, p + 1)) ++n;
@@ -114,7 +93,7 @@ TEST(Study, TheSameTableUnderEveryExecutor) {
   // what was collected: every branch passes its fold, which converges to the continuum's
   // 3.513830719125 at second order in the grid (the error is 1.83 h^2 for h = 1/16 ... 1/48),
   // and ends where u(1/2) crosses its threshold, which is where the event u_mid is located
-  const auto rows = read_table(dir + "/one/bratu.csv");
+  const auto rows = test::read_table(dir + "/one/bratu.csv");
   ASSERT_EQ(rows.size(), 12u);
   for (const auto& row : rows) {
     EXPECT_EQ(row.at("status"), "done");
@@ -241,7 +220,7 @@ TEST(Study, ATaskWhoseProcessDiesIsRunAgainThenRecordedAsFailed) {
     EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
     EXPECT_EQ(count(r.out, "running it again"), 2) << r.out;
     EXPECT_NE(r.out.find("collected 2 tasks (0 done, 2 failed, 0 not run)"), std::string::npos) << r.out;
-    for (const auto& row : read_table(out + "/died.csv")) {
+    for (const auto& row : test::read_table(out + "/died.csv")) {
       EXPECT_EQ(row.at("status"), "failed");
       EXPECT_EQ(row.at("reason"), "its process died of signal 9 (Killed)");
       EXPECT_EQ(row.at("attempts"), "2");
@@ -340,7 +319,7 @@ TEST(Study, TheConvergenceTableFindsTheOrderAndTheLimit) {
                              "event:fold --published event:fold=3.513830719125 --csv " +
                              dir + "/conv.csv --markdown " + dir + "/conv.md --figure " + dir + "/conv.png > /dev/null";
   ASSERT_EQ(std::system(script.c_str()), 0);
-  const auto rows = read_table(dir + "/conv.csv");
+  const auto rows = test::read_table(dir + "/conv.csv");
   ASSERT_EQ(rows.size(), 4u);
   for (const auto& row : rows) {
     EXPECT_EQ(row.at("observed"), "True");

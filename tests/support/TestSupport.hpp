@@ -3,8 +3,10 @@
 #pragma once
 
 #include <functional>
+#include <map>
 #include <random>
 #include <string>
+#include <vector>
 
 #include "core/Mesh.hpp"
 #include "core/Problem.hpp"
@@ -44,5 +46,7 @@ CommandResult run_keller(const std::string& args, const std::string& env = "");
 std::string source_path(const std::string& relative);
 // A fresh empty directory for a test's files.
 std::string scratch_dir(const std::string& name);
+// A CSV file with a header line (a study's collected table) as rows of named cells.
+std::vector<std::map<std::string, std::string>> read_table(const std::string& csv);
 
 }  // namespace keller::test
