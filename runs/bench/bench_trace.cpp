@@ -208,8 +208,8 @@ int main(int argc, char** argv) {
         "\ndefaults / tuned: factorisations {} / {} = {:.3f} ({} of the defaults' are branch-point probes, which "
         "the tuned keys switch off); time {:.2f} / {:.2f} s = {:.3f} (issue 17's goal: both within 1.10); per row "
         "{:.3f} / {:.3f}\n",
-        f_default, f_tuned, static_cast<double>(f_default) / std::max(f_tuned, 1L), probes_default, t_default,
-        t_tuned, t_default / t_tuned, fd, ft);
+        f_default, f_tuned, static_cast<double>(f_default) / std::max(f_tuned, 1L), probes_default, t_default, t_tuned,
+        t_default / t_tuned, fd, ft);
     fmt::print("{}\n", machine());
     return 0;
   }
