@@ -148,6 +148,7 @@ def main():
     ap.add_argument("--csv")
     ap.add_argument("--markdown")
     ap.add_argument("--figure")
+    ap.add_argument("--title", help="the figure's title")
     a = ap.parse_args()
     outputs = [o for o in (a.csv, a.markdown, a.figure) if o]
     try:
@@ -193,24 +194,33 @@ def main():
         import matplotlib.pyplot as plt
 
         obs = list(dict.fromkeys(r["observable"] for r in rows))
-        fig, axes = plt.subplots(1, len(obs), figsize=(4.2 * len(obs), 3.6), squeeze=False)
-        for ax, o in zip(axes[0], obs):
-            for g in dict.fromkeys(r["group"] for r in rows):
+        groups = list(dict.fromkeys(r["group"] for r in rows))
+        ncols = min(4, len(obs))
+        nrows = -(-len(obs) // ncols)
+        fig, axes = plt.subplots(nrows, ncols, figsize=(3.6 * ncols, 3.0 * nrows + 0.4 + 0.2 * len(groups)),
+                                 squeeze=False)
+        for ax, o in zip(axes.flat, obs):
+            key = "published_error" if o in published else "error"
+            for k, g in enumerate(groups):
                 pts = [r for r in rows if r["observable"] == o and r["group"] == g]
-                key = "published_error" if o in published else "error"
                 t = [r["seconds"] for r in pts]
                 e = [r.get(key, float("nan")) for r in pts]
-                ax.loglog(t, e, "o-", ms=4, label=g or "all")
+                ax.loglog(t, e, "o-", ms=4, color=f"C{k % 10}", label=g or "all")
                 for r in pts:
                     ax.annotate(str(r["mesh"]), (r["seconds"], r.get(key, float("nan"))), fontsize=6,
                                 textcoords="offset points", xytext=(3, 3))
-            ax.set_xlabel("time of the run (s)")
-            ax.set_ylabel("relative error " + ("against the published value" if o in published else
-                                               "against the extrapolation"))
+            ax.set_xlabel("time of the run (s)", fontsize=8)
+            ax.set_ylabel("relative error, " + ("against the published value" if o in published else
+                                                 "against the extrapolation"), fontsize=8)
             ax.set_title(o, fontsize=9)
             ax.grid(alpha=0.3, which="both")
-            ax.legend(fontsize=7)
-        fig.tight_layout()
+        for ax in axes.flat[len(obs):]:
+            ax.set_visible(False)
+        handles, labels = axes.flat[0].get_legend_handles_labels()
+        fig.legend(handles, labels, loc="lower center", ncol=min(2, len(groups)), fontsize=7)
+        if a.title:
+            fig.suptitle(a.title, fontsize=10)
+        fig.tight_layout(rect=(0, (0.25 + 0.2 * len(groups)) / fig.get_figheight(), 1, 1))
         save_figure(fig, a.figure, [a.study], dpi=150)
 
 

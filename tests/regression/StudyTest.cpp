@@ -346,3 +346,42 @@ TEST(Study, BlasThreadsShareTheCoresAndKeepTheUsersLimit) {
   EXPECT_EQ(blas_threads_for(2, 8, "16"), 4);
   for (const char* bad : {"", "0", "-2", "two", "2x"}) EXPECT_EQ(blas_threads_for(2, 8, bad), 4) << bad;
 }
+
+// Every shipped study (runs/studies/, runs/paper/) resolves each of its tasks as `--set` would
+// (`keller study list` validates every override before it lists) and has the number of tasks
+// docs/studies/README.md gives it: a scene key renamed or a grid edited without the docs fails here.
+TEST(Study, EveryShippedStudyResolvesItsTasksAsDocumented) {
+  const std::string readme = contents(test::source_path("docs/studies/README.md"));
+  const std::regex row(R"(\| `runs/(studies/[a-z_]+\.toml|paper/\*\.toml)` \| (\d+) \|)");
+  std::map<std::string, int> documented;
+  for (std::sregex_iterator it(readme.begin(), readme.end(), row), end; it != end; ++it)
+    documented[(*it)[1]] = std::stoi((*it)[2]);
+  ASSERT_GE(documented.size(), 2u) << "the table of shipped studies in docs/studies/README.md";
+  const std::string dir = test::scratch_dir("study_shipped");
+  int paper_tasks = 0;
+  std::set<std::string> listed;
+  for (const char* folder : {"runs/studies", "runs/paper"}) {
+    for (const auto& entry : fs::directory_iterator(test::source_path(folder))) {
+      if (entry.path().extension() != ".toml") continue;
+      const std::string name = std::string(folder).substr(5) + "/" + entry.path().filename().string();
+      SCOPED_TRACE(name);
+      const auto r = test::run_keller("study list " + entry.path().string() + " -o " + dir + "/out");
+      ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+      std::smatch m;
+      ASSERT_TRUE(std::regex_search(r.out, m, std::regex(R"(^# (\d+) tasks of )"))) << r.out;
+      const int tasks = std::stoi(m[1]);
+      EXPECT_EQ(count(r.out, " missing "), tasks) << r.out;  // nothing run: every task missing
+      if (name.rfind("paper/", 0) == 0) {
+        paper_tasks += tasks;
+      } else {
+        listed.insert(name);
+        ASSERT_TRUE(documented.count(name)) << "not in docs/studies/README.md";
+        EXPECT_EQ(tasks, documented[name]);
+      }
+    }
+  }
+  EXPECT_EQ(paper_tasks, documented["paper/*.toml"]);
+  for (const auto& [name, tasks] : documented)
+    if (name != "paper/*.toml") EXPECT_TRUE(listed.count(name)) << name << " is documented but not shipped";
+  EXPECT_FALSE(fs::exists(dir + "/out"));  // listing writes nothing
+}
