@@ -118,6 +118,24 @@ Vector random_start(int n) {
   return r;
 }
 
+// The vector OP is first applied to: the random one, or the options' start vectors (each scaled
+// to unit norm) with the random one at its weight of their sum's norm. For a real operator each
+// vector's real and imaginary parts are added (both lie in the real invariant subspace; a
+// conjugate pair's vectors would otherwise cancel their imaginary parts).
+ComplexVector start_vector(int n, const EigenOptions& o, bool real) {
+  const Vector random = random_start(n);
+  ComplexVector sum = ComplexVector::Zero(n);
+  for (const auto& v : o.start) {
+    if (v.size() != n || !(v.norm() > 0) || !v.allFinite()) continue;
+    if (real)
+      sum.real() += (v.real() + v.imag()) / v.norm();
+    else
+      sum += v / v.norm();
+  }
+  if (!(sum.norm() > 0)) return random.cast<Complex>();
+  return sum + (o.start_random_weight * sum.norm() / random.norm()) * random.cast<Complex>();
+}
+
 std::string arpack_reason(int info) {
   switch (info) {
     case 1: return "the restart limit was reached";
@@ -378,7 +396,7 @@ Status EigenSolver::solve(const SparseMatrix& J, const SparseMatrix& B, const Ei
       return Status{};
     };
     Vector start;
-    const Status st = real_op(random_start(n), start);
+    const Status st = real_op(start_vector(n, o, true).real(), start);
     if (!st.is_ok()) return st;
     if (start.norm() == 0) return invalid("B is zero: the pencil has no finite eigenvalue");
     iteration = real_arnoldi(n, o.count, ncv, o, start, real_op, ritz, out);
@@ -394,7 +412,7 @@ Status EigenSolver::solve(const SparseMatrix& J, const SparseMatrix& B, const Ei
       return complex_lu_->solve(times(B, x), y);
     };
     ComplexVector start;
-    const Status sst = op(random_start(n).cast<Complex>(), start);
+    const Status sst = op(start_vector(n, o, false), start);
     if (!sst.is_ok()) return sst;
     if (start.norm() == 0) return invalid("B is zero: the pencil has no finite eigenvalue");
     iteration = complex_arnoldi(n, o.count, ncv, o, start, op, ritz, out);

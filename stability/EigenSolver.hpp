@@ -29,6 +29,11 @@ struct EigenOptions {
   // sqrt(||A||_1 ||A||_inf), an upper bound of the 2-norm.
   double residual_tolerance = 1e-8;
   bool vectors = false;  // return the eigenvectors (they are computed for the residuals anyway)
+  // Vectors to start Arnoldi from (warm start), e.g. the eigenvectors of a nearby point: their sum
+  // (real and imaginary parts) plus the fixed pseudo-random vector at `start_random_weight` of its
+  // norm, so that directions outside them are still in the Krylov space. Empty: the random vector.
+  std::vector<Eigen::VectorXcd> start;
+  double start_random_weight = 0.1;
 };
 
 struct EigenPair {

@@ -23,6 +23,9 @@ void StabilityOptions::declare(SceneSchema& s) {
             "Arnoldi basis size per shift (0: max(2 count + 1, 20)); larger helps clustered spectra",
             Range::non_negative());
   s.real("stability.arpack_tolerance", 1e-10, "ARPACK's relative accuracy of the Ritz values", Range::positive());
+  s.boolean("stability.warm_start", true,
+            "start each point's Arnoldi iteration from the eigenvectors of the last analysed point (false: "
+            "from a fixed random vector)");
   s.real("stability.residual_tolerance", 1e-8, "largest accepted relative residual of an eigenpair", Range::positive());
   s.real("stability.neutral_tolerance", 1e-8,
          "eigenvalues with |Re sigma| <= this x max(1, |sigma|) are neutral, not counted as unstable",
@@ -38,6 +41,7 @@ StabilityOptions StabilityOptions::from_scene(const Scene& sc) {
   o.ncv = static_cast<int>(sc.integer("stability.ncv"));
   o.arpack_tolerance = sc.real("stability.arpack_tolerance");
   o.neutral_tolerance = sc.real("stability.neutral_tolerance");
+  o.warm_start = sc.boolean("stability.warm_start");
   const auto& re = sc.real_list("stability.shifts_re");
   const auto& im = sc.real_list("stability.shifts_im");
   if (re.empty()) throw sc.error("stability.shifts_re", "needs at least one shift");
@@ -96,8 +100,11 @@ Status StabilityAnalysis::analyse(Problem& problem, const Vector& u, PointAnalys
   }
   std::vector<EigenPair> all;
   Status worst;
-  for (const auto& s : options_.shifts) {
+  previous_.resize(options_.shifts.size());
+  for (size_t shift = 0; shift < options_.shifts.size(); ++shift) {
+    const auto& s = options_.shifts[shift];
     EigenOptions eo;
+    if (options_.warm_start) eo.start = previous_[shift];
     eo.count = std::min(k, static_cast<int>(u.size()) - 2);
     eo.shift = s;
     eo.vectors = true;
@@ -128,6 +135,9 @@ Status StabilityAnalysis::analyse(Problem& problem, const Vector& u, PointAnalys
     }
     if (!st.is_ok() && r.pairs.empty()) return st;
     if (!st.is_ok()) worst = st;
+    previous_[shift].clear();
+    for (const auto& p : r.pairs)
+      if (p.accurate && p.vector.size()) previous_[shift].push_back(p.vector);
     for (auto& p : r.pairs) {
       const bool duplicate = std::any_of(all.begin(), all.end(), [&](const EigenPair& q) {
         return std::abs(q.value - p.value) <= 1e-8 * (1.0 + std::abs(p.value));

@@ -29,6 +29,7 @@ struct StabilityOptions {
   int ncv = 0;                                       // Arnoldi basis size (0: EigenSolver's default)
   double arpack_tolerance = 1e-10;                   // ARPACK's relative accuracy of the Ritz values
   double neutral_tolerance = 1e-8;                   // |Re sigma| <= this x max(1,|sigma|): neutral
+  bool warm_start = true;                            // Arnoldi starts from the eigenvectors of the last analysed point
   static void declare(SceneSchema& schema);
   static StabilityOptions from_scene(const Scene& scene);
 };
@@ -57,6 +58,7 @@ class StabilityAnalysis final : public PointAnalysis {
   SparseMatrix J_, B_;
   Vector F_;
   std::vector<EigenPair> spectrum_;
+  std::vector<std::vector<Eigen::VectorXcd>> previous_;  // per shift: the last point's eigenvectors
   double seconds_ = 0;
   long factorisations_ = 0, solves_ = 0;
 };

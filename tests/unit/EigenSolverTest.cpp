@@ -483,3 +483,52 @@ TEST(EigenSolver, ASpectrumIsOrderedByRealPartThenAConjugatePairByImaginaryPart)
   EXPECT_EQ(s[2].value.imag(), 2.0);
   EXPECT_EQ(s[3].value, std::complex<double>(far, -5.0));
 }
+
+// Warm start (EigenOptions::start): the eigenvalues nearest the shift of a clustered spectrum
+// (tridiagonal J with diagonal 1 + 2e-3 i and off-diagonal 1e-4, B = I, n = 400: the nu = 1/sigma
+// of OP differ by 0.2% from one to the next, so cold Arnoldi needs many restarts), at a point
+// moved from the first by a smooth change of the diagonal (2e-4 cos i). Started from the first
+// point's eigenvectors, ARPACK finds the same eigenvalues (against a dense solver, to 1e-10) in
+// fewer solves; started from unrelated vectors (those of the largest eigenvalues), the random part
+// of the start still leads it to the right ones.
+TEST(EigenSolver, AWarmStartFromANearbyPointsEigenvectorsFindsTheSameEigenvaluesInFewerSolves) {
+  const int n = 400;
+  auto clustered = [n](double wobble) {
+    Triplets t;
+    for (int i = 0; i < n; ++i) {
+      t.emplace_back(i, i, 1.0 + 2e-3 * i + wobble * std::cos(i));
+      if (i + 1 < n) {
+        t.emplace_back(i, i + 1, -1e-4);
+        t.emplace_back(i + 1, i, -1e-4);
+      }
+    }
+    return from_triplets(n, n, t);
+  };
+  Triplets identity;
+  for (int i = 0; i < n; ++i) identity.emplace_back(i, i, 1.0);
+  const SparseMatrix B = from_triplets(n, n, identity), J0 = clustered(0.0), J1 = clustered(2e-4);
+  const Eigen::MatrixXd J1_dense(J1);
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> dense(J1_dense);
+  std::vector<Complex> exact;
+  for (int i = 0; i < n; ++i) exact.emplace_back(dense.eigenvalues()[i], 0.0);
+
+  EigenSolver solver;
+  EigenOptions o;
+  o.count = 6;
+  o.vectors = true;
+  EigenResult first, cold, warm, unrelated;
+  ASSERT_TRUE(solver.solve(J0, B, o, first).is_ok());
+  ASSERT_TRUE(solver.solve(J1, B, o, cold).is_ok());
+  for (const auto& p : first.pairs) o.start.push_back(p.vector);
+  ASSERT_TRUE(solver.solve(J1, B, o, warm).is_ok());
+  o.start.clear();
+  for (int i = n - 6; i < n; ++i) o.start.push_back(Eigen::VectorXcd(dense.eigenvectors().col(i).cast<Complex>()));
+  ASSERT_TRUE(solver.solve(J1, B, o, unrelated).is_ok());
+
+  const auto want = nearest(exact, 0.0, 6);
+  EXPECT_LT(match_error(cold, want), 1e-10);
+  EXPECT_LT(match_error(warm, want), 1e-10);
+  EXPECT_LT(match_error(unrelated, want), 1e-10);
+  EXPECT_LT(warm.solves, cold.solves);
+  std::printf("  solves: cold %ld, warm %ld, from unrelated vectors %ld\n", cold.solves, warm.solves, unrelated.solves);
+}
