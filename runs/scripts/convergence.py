@@ -23,6 +23,7 @@ The figure: one panel per observable, the error against the run's time on log-lo
 curve per group."""
 
 import argparse
+import csv
 import math
 import os
 import sys
@@ -182,10 +183,12 @@ def main():
         fields = ["group", "observable", "mesh", "value", "extrapolated", "error", "published_error", "order",
                   "observed"] + [c for c, _ in COST]
         tmp = a.csv + ".part"
-        with open(tmp, "w") as f:
-            f.write(",".join(fields) + "\n")
+        with open(tmp, "w", newline="") as f:
+            # a group of several keys reads "a = 1, b = 2": the csv module quotes such cells
+            w = csv.writer(f, lineterminator="\n")
+            w.writerow(fields)
             for r in rows:
-                f.write(",".join(str(r.get(c, "")) for c in fields) + "\n")
+                w.writerow([str(r.get(c, "")) for c in fields])
         os.replace(tmp, a.csv)
     if a.figure:
         import matplotlib

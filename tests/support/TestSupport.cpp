@@ -171,9 +171,22 @@ std::vector<std::map<std::string, std::string>> read_table(const std::string& cs
   std::vector<std::string> header;
   std::vector<std::map<std::string, std::string>> rows;
   while (std::getline(in, line)) {
-    std::vector<std::string> cells;
-    std::stringstream ss(line);
-    for (std::string c; std::getline(ss, c, ',');) cells.push_back(c);
+    // RFC 4180 cells: a quoted cell may hold commas, and "" inside it is one quote
+    std::vector<std::string> cells(1);
+    bool quoted = false;
+    for (size_t i = 0; i < line.size(); ++i) {
+      const char ch = line[i];
+      if (quoted && ch == '"' && i + 1 < line.size() && line[i + 1] == '"') {
+        cells.back() += '"';
+        ++i;
+      } else if (ch == '"') {
+        quoted = !quoted;
+      } else if (ch == ',' && !quoted) {
+        cells.emplace_back();
+      } else {
+        cells.back() += ch;
+      }
+    }
     if (header.empty()) {
       header = cells;
       continue;
