@@ -4,7 +4,7 @@ of each mesh against the Richardson extrapolation of the finest ones (and agains
 value where there is one), the observed order, and the cost of each run.
 
     python3 runs/scripts/convergence.py STUDY/STUDY.h5 --mesh mesh.name --group fluid.formulation \\
-        --observables drag@0.5 drag@0.9 --published drag@0.5=118.83 drag@0.9=117.79 \\
+        --observables K@0.5 K@0.9 --published K@0.5=118.83 K@0.9=117.79 \\
         --csv conv.csv --markdown conv.md --figure conv.png
 
 Meshes are ordered by their number of unknowns n, with mesh size h = n^(-1/d) (d = --dimension,
