@@ -1,6 +1,7 @@
 #include "runs/study/StudyTable.hpp"
 
 #include <fmt/format.h>
+#include <toml++/toml.h>
 
 #include <algorithm>
 #include <cmath>
@@ -86,6 +87,27 @@ void collect_branch(const Study& study, const std::string& path, StudyRow& row) 
       row.number[k == 1 ? fmt::format("{}@{}", o, v) : fmt::format("{}@{}#{}", o, v, k)] = t.rows(i, t.column(o));
   }
   const long last = t.rows.rows() - 1;
+  // a requested stop at the bound the branch ends on is written as the end row, not as a stop:
+  // collected as the stop too (the stops are read from the scene the file stores)
+  if (!c.stops.empty() && crossings.count(t.rows(last, param)) == 0) {
+    std::vector<double> requested;
+    {
+      H5File f(path, H5File::Mode::Read);
+      if (f.exists("/scene")) {
+        try {
+          const toml::table scene = toml::parse(f.read_string("/scene"));
+          if (const auto* list = scene["continuation"]["stops"].as_array())
+            for (const auto& v : *list)
+              if (const auto x = v.value<double>()) requested.push_back(*x);
+        } catch (const toml::parse_error&) {
+          // keller wrote it; a file it cannot parse has no stops to add
+        }
+      }
+    }
+    const double v = t.rows(last, param);
+    if (std::find(requested.begin(), requested.end(), v) != requested.end())
+      for (const std::string& o : c.stops) row.number[fmt::format("{}@{}", o, v)] = t.rows(last, t.column(o));
+  }
   row.number["end_parameter"] = t.rows(last, param);
   for (const std::string& o : c.end) row.number["end:" + o] = t.rows(last, t.column(o));
   found.push_back(fmt::format("ended at {} = {:.7g} ({})", t.parameter, t.rows(last, param), t.status));

@@ -392,7 +392,32 @@ TEST(Study, EveryShippedStudyResolvesItsTasksAsDocumented) {
     }
   }
   EXPECT_EQ(paper_tasks, documented["paper/*.toml"]);
-  for (const auto& [name, tasks] : documented)
-    if (name != "paper/*.toml") EXPECT_TRUE(listed.count(name)) << name << " is documented but not shipped";
+  for (const auto& [name, tasks] : documented) {
+    if (name != "paper/*.toml") {
+      EXPECT_TRUE(listed.count(name)) << name << " is documented but not shipped";
+    }
+  }
   EXPECT_FALSE(fs::exists(dir + "/out"));  // listing writes nothing
+}
+
+// A requested stop on the bound where the branch ends is written as the end row; the study still
+// collects it as that stop (the cylinder's accuracy study stops at Wi = 0.9, its upper bound).
+TEST(Study, AStopOnTheBoundWhereTheBranchEndsIsCollected) {
+  const std::string dir = test::scratch_dir("study_stop_on_bound");
+  const std::string study = dir + "/bound.toml";
+  std::ofstream(study) << "[study]\nscene = \"" << test::source_path("runs/scenes/bratu1d_fold.toml") << "\"\n"
+                       << "[set]\n\"output.xdmf\" = false\n\"continuation.upper\" = 2.0\n"
+                       << "[grid]\n\"bratu.intervals\" = [16, 32]\n[collect]\nstops = [\"u_mid\"]\nend = [\"u_mid\"]\n";
+  const auto r = test::run_keller("study " + study + " -o " + dir + "/bound");
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  const auto rows = test::read_table(dir + "/bound/bound.csv");
+  ASSERT_EQ(rows.size(), 2u);
+  for (const auto& row : rows) {
+    EXPECT_EQ(std::stod(row.at("end_parameter")), 2.0);
+    ASSERT_TRUE(row.count("u_mid@2")) << "no column u_mid@2";
+    EXPECT_EQ(row.at("u_mid@2"), row.at("end:u_mid"));  // the same row
+    EXPECT_GT(std::stod(row.at("u_mid@1")), 0.0);
+    EXPECT_LT(std::stod(row.at("u_mid@1")), std::stod(row.at("u_mid@2")));  // u grows with lambda below the fold
+    EXPECT_FALSE(row.count("u_mid@3"));                                     // beyond the bound: not reached, no column
+  }
 }
