@@ -573,6 +573,7 @@ ContinuationResult Continuation::finish(StopCode code, std::string reason, const
   const SparseLU::Statistics& lu = kept_.system().lu().statistics();
   result_.nnz_lu = lu.nnz_lu;
   result_.lu_peak_bytes = lu.peak_memory_bytes;
+  result_.lu_backend = lu.backend;
   ContinuationTimings t = ev_.timings();
   t.factorisation = kept_.system().factor_seconds();
   t.solve = kept_.system().solve_seconds() - shared_solve_seconds_;

@@ -63,7 +63,8 @@ struct ContinuationResult {
   long probes = 0;              // of the factorisations: determinant probes for branch points (BranchPointMonitor)
   double renewal_cost = 0.0;    // the corrector's renewal cost at the end (chord iterations per factorisation)
   double nnz_lu = 0.0;          // nonzeros of L + U of the last factorisation (J's own under block elimination)
-  double lu_peak_bytes = 0.0;   // UMFPACK's peak memory for it (symbolic and numeric)
+  double lu_peak_bytes = 0.0;   // the LU's peak memory for it (SparseLU::Statistics)
+  std::string lu_backend;       // the sparse LU that made it: "umfpack" or "mumps"
   ContinuationTimings timings;
   BranchPoint last;
 };

@@ -17,8 +17,10 @@ struct RunSummary {
   int points = 0, rejected = 0;
   long factorisations = 0;
   double seconds = 0;  // wall time of the continuation (or of the solve)
-  // what the linear algebra cost: solves with the factorisations, nonzeros of L + U of the last
-  // factorisation (fill), UMFPACK's peak memory for it, and the time in factorisations and solves
+  // what the linear algebra cost: the sparse LU ("umfpack", "mumps"), solves with the
+  // factorisations, nonzeros of L + U of the last factorisation (fill), its peak memory, and the
+  // time in factorisations and solves
+  std::string lu_backend;
   long solves = 0;
   double nnz_lu = 0, lu_peak_mb = 0;
   double factor_seconds = 0, solve_seconds = 0;

@@ -101,8 +101,9 @@ int run_solve(const SolveArguments& args, RunSummary* out_summary) {
       res.residual_norm, res.iterations, res.factorisations, res.seconds, res.assembly_seconds, res.factor_seconds,
       res.solve_seconds, res.line_search_seconds);
   if (lu.factorisations > 0)
-    fmt::print("  LU: n = {}, nnz(A) = {}, nnz(L+U) = {:.0f} (fill {:.1f}x), ordering {}\n", lu.n, lu.nnz_matrix,
-               lu.nnz_lu, lu.nnz_lu / static_cast<double>(lu.nnz_matrix), lu.ordering_used);
+    fmt::print("  LU ({}): n = {}, nnz(A) = {}, nnz(L+U) = {:.0f} (fill {:.1f}x), ordering {}, peak {:.0f} MB\n",
+               lu.backend, lu.n, lu.nnz_matrix, lu.nnz_lu, lu.nnz_lu / static_cast<double>(lu.nnz_matrix),
+               lu.ordering_used, lu.peak_memory_bytes / kBytesPerMb);
   if (!res.converged()) {
     fmt::print(stderr, "keller: Newton failed: {}; no output written\n", res.status.describe());
     summary.exit_code = exit_code::numerical_failure;
@@ -156,6 +157,7 @@ int run_solve(const SolveArguments& args, RunSummary* out_summary) {
   summary.solves = lu.solves;
   summary.nnz_lu = lu.nnz_lu;
   summary.lu_peak_mb = lu.peak_memory_bytes / kBytesPerMb;
+  summary.lu_backend = lu.backend;
   summary.factor_seconds = res.factor_seconds;
   summary.solve_seconds = res.solve_seconds;
   return summary.exit_code;

@@ -99,6 +99,9 @@ void print_summary(const ContinuationResult& result) {
       tm.residuals, tm.observables, tm.analysis, tm.analyses, tm.output,
       tm.total - tm.factorisation - tm.solve - tm.jacobian - tm.parameter_derivative - tm.residual - tm.observables -
           tm.analysis - tm.output);
+  if (!result.lu_backend.empty())
+    fmt::print("LU: {}, nnz(L+U) = {:.4g}, peak {:.0f} MB\n", result.lu_backend, result.nnz_lu,
+               result.lu_peak_bytes / kBytesPerMb);
 }
 
 }  // namespace
@@ -463,6 +466,7 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
   summary.solves = result.timings.solves;
   summary.nnz_lu = result.nnz_lu;
   summary.lu_peak_mb = result.lu_peak_bytes / kBytesPerMb;
+  summary.lu_backend = result.lu_backend;
   summary.factor_seconds = result.timings.factorisation;
   summary.solve_seconds = result.timings.solve;
   signal_point("traced");

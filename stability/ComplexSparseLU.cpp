@@ -1,56 +1,18 @@
 #include "stability/ComplexSparseLU.hpp"
 
-#include <fmt/format.h>
 #include <umfpack.h>
 
 #include <algorithm>
 #include <stdexcept>
+
+#include "core/UmfpackLU.hpp"
 
 namespace keller {
 
 using ComplexVector = ComplexSparseLU::ComplexVector;
 using ComplexSparseMatrix = ComplexSparseLU::ComplexSparseMatrix;
 
-static_assert(UMFPACK_CONTROL == 20 && UMFPACK_INFO == 90, "UMFPACK array sizes changed");
-
-namespace {
-
-Status umfpack_status(int status, const char* what) {
-  switch (status) {
-    case UMFPACK_OK:
-    case UMFPACK_WARNING_determinant_underflow:
-    case UMFPACK_WARNING_determinant_overflow: return {};
-    case UMFPACK_WARNING_singular_matrix:
-      return {StatusCode::SingularMatrix, fmt::format("complex {}: matrix is singular", what)};
-    case UMFPACK_ERROR_out_of_memory:
-      return {StatusCode::LinearSolverError, fmt::format("complex {}: out of memory", what)};
-    default: return {StatusCode::LinearSolverError, fmt::format("complex {}: UMFPACK status {}", what, status)};
-  }
-}
-
-}  // namespace
-
-ComplexSparseLU::ComplexSparseLU(SparseLUOptions options) {
-  umfpack_zi_defaults(control_);
-  switch (options.ordering) {
-    case SparseLUOptions::Ordering::Amd: control_[UMFPACK_ORDERING] = UMFPACK_ORDERING_AMD; break;
-    case SparseLUOptions::Ordering::Metis: control_[UMFPACK_ORDERING] = UMFPACK_ORDERING_METIS; break;
-    case SparseLUOptions::Ordering::Cholmod: control_[UMFPACK_ORDERING] = UMFPACK_ORDERING_CHOLMOD; break;
-    case SparseLUOptions::Ordering::Best: control_[UMFPACK_ORDERING] = UMFPACK_ORDERING_BEST; break;
-  }
-  switch (options.scaling) {
-    case SparseLUOptions::Scaling::None: control_[UMFPACK_SCALE] = UMFPACK_SCALE_NONE; break;
-    case SparseLUOptions::Scaling::Sum: control_[UMFPACK_SCALE] = UMFPACK_SCALE_SUM; break;
-    case SparseLUOptions::Scaling::Max: control_[UMFPACK_SCALE] = UMFPACK_SCALE_MAX; break;
-  }
-  switch (options.strategy) {
-    case SparseLUOptions::Strategy::Auto: control_[UMFPACK_STRATEGY] = UMFPACK_STRATEGY_AUTO; break;
-    case SparseLUOptions::Strategy::Unsymmetric: control_[UMFPACK_STRATEGY] = UMFPACK_STRATEGY_UNSYMMETRIC; break;
-    case SparseLUOptions::Strategy::Symmetric: control_[UMFPACK_STRATEGY] = UMFPACK_STRATEGY_SYMMETRIC; break;
-  }
-  control_[UMFPACK_PIVOT_TOLERANCE] = options.pivot_tolerance;
-  control_[UMFPACK_IRSTEP] = options.refinement_steps;
-}
+ComplexSparseLU::ComplexSparseLU(SparseLUOptions options) { umfpack_control(options, control_); }
 
 ComplexSparseLU::~ComplexSparseLU() {
   free_numeric();
@@ -94,7 +56,7 @@ Status ComplexSparseLU::analyze(const ComplexSparseMatrix& A) {
     symbolic_ = nullptr;
     outer_.clear();
     inner_.clear();
-    return umfpack_status(st, "symbolic analysis");
+    return umfpack_status(st, "complex symbolic analysis");
   }
   return {};
 }
@@ -114,7 +76,7 @@ Status ComplexSparseLU::factorize(const ComplexSparseMatrix& A) {
   ++factorisations_;
   const int st = umfpack_zi_numeric(outer_.data(), inner_.data(), real_.data(), imag_.data(), symbolic_, &numeric_,
                                     control_, info_);
-  Status status = umfpack_status(st, "numeric factorisation");
+  Status status = umfpack_status(st, "complex numeric factorisation");
   if (st < 0) numeric_ = nullptr;
   if (!status.is_ok()) free_numeric();
   return status;
@@ -127,7 +89,7 @@ Status ComplexSparseLU::solve(const ComplexVector& b, ComplexVector& x) {
   Eigen::VectorXd xr(n_), xi(n_);
   const int st = umfpack_zi_solve(UMFPACK_A, outer_.data(), inner_.data(), real_.data(), imag_.data(), xr.data(),
                                   xi.data(), br.data(), bi.data(), numeric_, control_, info_);
-  Status status = umfpack_status(st, "solve");
+  Status status = umfpack_status(st, "complex solve");
   if (!status.is_ok()) return status;
   x.resize(n_);
   x.real() = xr;

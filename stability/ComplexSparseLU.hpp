@@ -2,6 +2,8 @@
 // imaginary parts in separate arrays), for shift-invert at a complex shift s, where J - s B is
 // complex although J and B are real. Same contract as core/SparseLU: the symbolic analysis is
 // kept while the pattern does not change, failures come back as a Status, never as an abort.
+// UMFPACK whatever linear_solver.backend says: complex shifts (Hopf points and curves) are a small
+// share of a run's factorisations, and MUMPS's complex arithmetic (zmumps) is not wired in.
 #pragma once
 
 #include <complex>
@@ -12,6 +14,7 @@
 
 #include "core/SparseLU.hpp"
 #include "core/Status.hpp"
+#include "core/UmfpackLU.hpp"
 
 namespace keller {
 
@@ -20,7 +23,8 @@ class ComplexSparseLU {
   using ComplexVector = Eigen::VectorXcd;
   using ComplexSparseMatrix = Eigen::SparseMatrix<std::complex<double>, Eigen::ColMajor, int>;
 
-  // Ordering, scaling, strategy, pivot tolerance and refinement steps as for the real LU.
+  // Ordering, scaling, strategy, pivot tolerance and refinement steps as for the real LU (the
+  // backend is ignored).
   explicit ComplexSparseLU(SparseLUOptions options = {});
   ~ComplexSparseLU();
   ComplexSparseLU(const ComplexSparseLU&) = delete;
@@ -41,7 +45,7 @@ class ComplexSparseLU {
   void free_numeric();
   void free_symbolic();
 
-  double control_[20];
+  double control_[kUmfpackControlSize];
   double info_[90];
   void* symbolic_ = nullptr;
   void* numeric_ = nullptr;

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -19,10 +20,11 @@
 namespace keller::bench {
 
 struct StepTiming {
+  std::string backend, ordering;  // of the LU
   int unknowns = 0;
   long nnz = 0;
   double nnz_lu = 0;
-  double residual = 0, assembly = 0, factor = 0, solve = 0;  // seconds
+  double residual = 0, assembly = 0, analysis = 0, factor = 0, solve = 0;  // seconds
   double lu_mb = 0, rss_mb = 0;
   double gflop = 0;  // of one numeric factorisation
 };
@@ -54,10 +56,13 @@ inline StepTiming time_newton_step(Problem& p, const Vector& u, const SparseLUOp
   SparseLU lu(lu_options);
   p.jacobian(u, F, J);
   lu.analyze(J);
+  s.analysis = lu.statistics().analyze_seconds;
   s.residual = median_time(repeat, [&] { p.residual(u, F); });
   s.assembly = median_time(repeat, [&] { p.jacobian(u, F, J); });
   s.factor = median_time(repeat, [&] { lu.factorize(J); });
   s.solve = median_time(repeat, [&] { lu.solve(F, x); });
+  s.backend = lu.statistics().backend;
+  s.ordering = lu.statistics().ordering_used;
   s.unknowns = p.size();
   s.nnz = J.nonZeros();
   s.nnz_lu = lu.statistics().nnz_lu;
@@ -70,19 +75,45 @@ inline StepTiming time_newton_step(Problem& p, const Vector& u, const SparseLUOp
 }
 
 inline void print_header() {
-  fmt::print("{:>6} {:>6} {:>8} {:>9} {:>10} {:>6} {:>9} {:>9} {:>9} {:>9} {:>7} {:>8} {:>8} {:>6} {:>7}\n", "mesh",
-             "elems", "unknowns", "nnz(J)", "nnz(L+U)", "fill", "resid ms", "assem ms", "factor ms", "solve ms",
-             "assem/f", "LU MB", "RSS MB", "GFlop", "GFlop/s");
+  fmt::print(
+      "{:>6} {:>6} {:>8} {:>9} {:>7} {:>10} {:>10} {:>6} {:>9} {:>9} {:>8} {:>9} {:>9} {:>7} {:>8} {:>8} {:>6} {:>7}\n",
+      "mesh", "elems", "unknowns", "nnz(J)", "backend", "ordering", "nnz(L+U)", "fill", "resid ms", "assem ms",
+      "analy ms", "factor ms", "solve ms", "assem/f", "LU MB", "RSS MB", "GFlop", "GFlop/s");
 }
 
 inline void print_row(const std::string& mesh, int elements, const StepTiming& s) {
   fmt::print(
-      "{:>6} {:>6} {:>8} {:>9} {:>10.0f} {:>6.2f} {:>9.2f} {:>9.2f} {:>9.2f} {:>9.2f} {:>7.2f} {:>8.1f} {:>8.1f} "
-      "{:>6.2f} {:>7.2f}\n",
-      mesh, elements, s.unknowns, s.nnz, s.nnz_lu, s.nnz_lu / static_cast<double>(s.nnz), 1e3 * s.residual,
-      1e3 * s.assembly, 1e3 * s.factor, 1e3 * s.solve, s.assembly / s.factor, s.lu_mb, s.rss_mb, s.gflop,
-      s.gflop / s.factor);
+      "{:>6} {:>6} {:>8} {:>9} {:>7} {:>10} {:>10.0f} {:>6.2f} {:>9.2f} {:>9.2f} {:>8.1f} {:>9.2f} {:>9.2f} {:>7.2f} "
+      "{:>8.1f} {:>8.1f} {:>6.2f} {:>7.2f}\n",
+      mesh, elements, s.unknowns, s.nnz, s.backend, s.ordering, s.nnz_lu, s.nnz_lu / static_cast<double>(s.nnz),
+      1e3 * s.residual, 1e3 * s.assembly, 1e3 * s.analysis, 1e3 * s.factor, 1e3 * s.solve, s.assembly / s.factor,
+      s.lu_mb, s.rss_mb, s.gflop, s.gflop / s.factor);
   std::fflush(stdout);
+}
+
+// "M1,M2" -> {"M1", "M2"}
+inline std::vector<std::string> split(const std::string& list) {
+  std::vector<std::string> out;
+  std::string item;
+  for (std::istringstream in(list); std::getline(in, item, ',');) out.push_back(item);
+  return out;
+}
+
+// "umfpack,mumps" -> the backends, in that order (each mesh is timed with each in turn, so that
+// their ratios come from one run).
+inline std::vector<SparseLUOptions::Backend> backends_from_list(const std::string& list) {
+  std::vector<SparseLUOptions::Backend> out;
+  for (const std::string& b : split(list)) out.push_back(backend_from_string(b));
+  return out;
+}
+
+// One row per backend for the problem at u.
+inline void time_and_print(const std::string& mesh, int elements, Problem& p, const Vector& u, SparseLUOptions lu,
+                           const std::vector<SparseLUOptions::Backend>& backends, int repeat) {
+  for (const SparseLUOptions::Backend b : backends) {
+    lu.backend = b;
+    print_row(mesh, elements, time_newton_step(p, u, lu, repeat));
+  }
 }
 
 }  // namespace keller::bench

@@ -5,9 +5,10 @@
 //
 // Usage: bench_channel [--meshes M1,M2,M3,M4,M5] [--ordering amd|metis|cholmod|best]
 //                      [--strategy auto|unsymmetric|symmetric] [--repeat N] [--re RE]
+//                      [--backend auto|umfpack|mumps[,...]]
+// --backend with a list times each mesh with each backend in turn (one row each).
 #include <fmt/format.h>
 
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -17,21 +18,10 @@
 
 using namespace keller;
 
-namespace {
-
-std::vector<std::string> split(const std::string& s) {
-  std::vector<std::string> out;
-  std::stringstream ss(s);
-  std::string item;
-  while (std::getline(ss, item, ',')) out.push_back(item);
-  return out;
-}
-
-}  // namespace
-
 int main(int argc, char** argv) {
   std::vector<std::string> meshes = {"M1", "M2", "M3", "M4", "M5"};
   SparseLUOptions lu_opt;
+  std::vector<SparseLUOptions::Backend> backends = {SparseLUOptions::Backend::Auto};
   int repeat = 5;
   double Re = 0.0;
   for (int i = 1; i < argc; ++i) {
@@ -41,11 +31,13 @@ int main(int argc, char** argv) {
       return argv[++i];
     };
     if (a == "--meshes")
-      meshes = split(next());
+      meshes = bench::split(next());
     else if (a == "--ordering")
       lu_opt.ordering = ordering_from_string(next());
     else if (a == "--strategy")
       lu_opt.strategy = strategy_from_string(next());
+    else if (a == "--backend")
+      backends = bench::backends_from_list(next());
     else if (a == "--repeat")
       repeat = std::stoi(next());
     else if (a == "--re")
@@ -65,7 +57,7 @@ int main(int argc, char** argv) {
     o.fluid.inertia = Re > 0;
     o.Gamma = 4.95e-4;
     ChannelProblem p(o);
-    bench::print_row(name, p.mesh().num_elements(), bench::time_newton_step(p, p.initial_guess(), lu_opt, repeat));
+    bench::time_and_print(name, p.mesh().num_elements(), p, p.initial_guess(), lu_opt, backends, repeat);
   }
   return 0;
 }

@@ -7,12 +7,13 @@
 // Usage: bench_collapsible [--meshes M1,M2,M3] [--fluid newtonian|oldroyd-b|fene-p|owens]
 //                          [--ordering amd|metis|cholmod|best] [--repeat N]
 //                          [--strategy auto|symmetric|unsymmetric] [--pivot-tolerance T]
-//                          [--dump-matrix PREFIX]
+//                          [--dump-matrix PREFIX] [--backend auto|umfpack|mumps[,...]]
+// --backend with a list times each mesh with each backend in turn (one row each), so that their ratios come
+// from one run.
 // --dump-matrix writes each mesh's Jacobian at the converged state as PREFIX_<mesh>.mtx (Matrix
 // Market), for factorising it with another sparse direct solver.
 #include <fmt/format.h>
 
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> meshes = {"M1", "M2", "M3"};
   FluidModel model = FluidModel::OldroydB;
   int repeat = 3;
+  std::vector<SparseLUOptions::Backend> backends = {SparseLUOptions::Backend::Auto};
   SparseLUOptions lu_opt;
   lu_opt.ordering = ordering_from_string("best");  // as in the collapsible scenes
   std::string dump;
@@ -36,10 +38,9 @@ int main(int argc, char** argv) {
       return argv[++i];
     };
     if (a == "--meshes") {
-      meshes.clear();
-      std::stringstream ss(next());
-      std::string m;
-      while (std::getline(ss, m, ',')) meshes.push_back(m);
+      meshes = bench::split(next());
+    } else if (a == "--backend") {
+      backends = bench::backends_from_list(next());
     } else if (a == "--fluid") {
       model = fluid_model_from_string(next());
     } else if (a == "--repeat") {
@@ -79,7 +80,7 @@ int main(int argc, char** argv) {
       fmt::print(stderr, "cannot write the Jacobian of {} to {}_{}.mtx\n", name, dump, name);
       return 1;
     }
-    bench::print_row(name, p.mesh().num_elements(), bench::time_newton_step(p, u, lu_opt, repeat));
+    bench::time_and_print(name, p.mesh().num_elements(), p, u, lu_opt, backends, repeat);
   }
   return 0;
 }

@@ -5,11 +5,13 @@
 //
 // Usage: bench_cylinder [--meshes C1,C2,C3,C4] [--log] [--repeat N] [--ordering amd|metis|cholmod|best]
 //                       [--strategy auto|unsymmetric|symmetric] [--dump-matrix PREFIX]
+//                       [--backend auto|umfpack|mumps[,...]]
+// --backend with a list times each mesh with each backend in turn (one row each), so that their ratios come
+// from one run.
 // --dump-matrix writes each mesh's Jacobian at the start of the step as PREFIX_<mesh>.mtx
 // (Matrix Market), for factorising it with another sparse direct solver.
 #include <fmt/format.h>
 
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -22,6 +24,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> meshes = {"C1", "C2", "C3", "C4"};
   bool log_form = false;
   int repeat = 3;
+  std::vector<SparseLUOptions::Backend> backends = {SparseLUOptions::Backend::Auto};
   SparseLUOptions lu_opt;
   std::string dump;
   for (int i = 1; i < argc; ++i) {
@@ -31,10 +34,9 @@ int main(int argc, char** argv) {
       return argv[++i];
     };
     if (a == "--meshes") {
-      meshes.clear();
-      std::stringstream ss(next());
-      std::string m;
-      while (std::getline(ss, m, ',')) meshes.push_back(m);
+      meshes = bench::split(next());
+    } else if (a == "--backend") {
+      backends = bench::backends_from_list(next());
     } else if (a == "--log") {
       log_form = true;
     } else if (a == "--repeat") {
@@ -67,7 +69,7 @@ int main(int argc, char** argv) {
         return 1;
       }
     }
-    bench::print_row(name, p.mesh().num_elements(), bench::time_newton_step(p, p.initial_guess(), lu_opt, repeat));
+    bench::time_and_print(name, p.mesh().num_elements(), p, p.initial_guess(), lu_opt, backends, repeat);
   }
   return 0;
 }

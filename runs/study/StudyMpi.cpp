@@ -137,6 +137,17 @@ bool under_mpi() { return std::getenv("OMPI_COMM_WORLD_SIZE") || std::getenv("PM
 
 int run_study_mpi(const Study& study, int& argc, char**& argv) {
   MPI_Init(&argc, &argv);
+  // MPI_Initialized is the MPI library's alone: false here means that MPI_Init was bound to the MPI
+  // stub of sequential MUMPS, which exports the same C symbol (the top-level CMakeLists.txt links
+  // libmpi ahead of MUMPS to prevent it)
+  int initialised = 0;
+  MPI_Initialized(&initialised);
+  if (!initialised) {
+    std::fprintf(stderr,
+                 "keller: error: MPI_Init did not reach the MPI library: this keller is linked with MUMPS's MPI stub "
+                 "ahead of libmpi (link MPI::MPI_C before MUMPS's libraries)\n");
+    return exit_code::usage;
+  }
   int rank = 0, size = 1;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   MPI_Comm_size(MPI_COMM_WORLD, &size);

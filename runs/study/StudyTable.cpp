@@ -148,6 +148,7 @@ StudyRow StudyTable::row(const Study& study, const StudyTask& task) {
   const bool current = record->hash == task.hash;
   row.text["status"] = current ? record->status : "changed";
   row.text["reason"] = record->summary.reason;
+  row.text["lu_backend"] = record->summary.lu_backend;
   const RunSummary& s = record->summary;
   row.number["exit_code"] = s.exit_code;
   row.number["unknowns"] = static_cast<double>(s.unknowns);
@@ -184,7 +185,7 @@ StudyTable StudyTable::collect(const Study& study) {
   for (const StudyTask& task : study.tasks()) t.rows_.push_back(row(study, task));
   t.text_columns_ = {"name"};
   for (const std::string& k : study.varied_keys()) t.text_columns_.push_back(k);
-  for (const char* c : {"status", "reason", "parameter"}) t.text_columns_.push_back(c);
+  for (const char* c : {"status", "reason", "parameter", "lu_backend"}) t.text_columns_.push_back(c);
   // the collected numbers in a fixed order: events, stops by observable and value, the end, the cost
   std::vector<std::string> events, stops, end;
   for (const std::string& e : study.collect().events) events.push_back("event:" + e);

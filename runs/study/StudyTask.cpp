@@ -111,6 +111,7 @@ std::optional<TaskRecord> read_task_record(const Study& study, const StudyTask& 
     s.rejected = static_cast<int>(t["rejected"].value_or(int64_t{0}));
     s.factorisations = static_cast<long>(t["factorisations"].value_or(int64_t{0}));
     s.seconds = t["seconds"].value_or(0.0);
+    s.lu_backend = t["lu_backend"].value_or(std::string());
     s.solves = static_cast<long>(t["solves"].value_or(int64_t{0}));
     s.nnz_lu = t["nnz_lu"].value_or(0.0);
     s.lu_peak_mb = t["lu_peak_mb"].value_or(0.0);
@@ -134,6 +135,7 @@ void write_task_record(const Study& study, const StudyTask& task, const TaskReco
                      quoted(r.hash), quoted(r.status), r.attempts, s.exit_code, quoted(s.reason), quoted(s.output));
     o << fmt::format("unknowns = {}\npoints = {}\nrejected = {}\nfactorisations = {}\nseconds = {:.17g}\n", s.unknowns,
                      s.points, s.rejected, s.factorisations, s.seconds);
+    o << fmt::format("lu_backend = {}\n", quoted(s.lu_backend));
     o << fmt::format("solves = {}\nnnz_lu = {:.17g}\nlu_peak_mb = {:.17g}\n", s.solves, s.nnz_lu, s.lu_peak_mb);
     o << fmt::format("factor_seconds = {:.17g}\nsolve_seconds = {:.17g}\n", s.factor_seconds, s.solve_seconds);
     o << fmt::format("process_seconds = {:.17g}\npeak_mb = {:.17g}\n", r.process_seconds, r.peak_mb);

@@ -1,0 +1,262 @@
+#include "core/MumpsLU.hpp"
+
+#include <dmumps_c.h>
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <mutex>
+#include <vector>
+
+namespace keller {
+
+namespace {
+
+// MUMPS's parameters, named after its user's guide (5.5): JOB values, ICNTL(7) orderings.
+constexpr int kJobInit = -1, kJobEnd = -2, kJobAnalyse = 1, kJobFactorise = 2, kJobSolve = 3;
+constexpr int kUseCommWorld = -987654;  // the Fortran MPI_COMM_WORLD of MUMPS's sequential MPI stub
+constexpr int kHostWorks = 1;           // PAR = 1: the (only) process takes part in the work
+constexpr int kUnsymmetric = 0;         // SYM = 0: general matrix, LU with threshold pivoting
+constexpr int kAmd = 0, kAmf = 2, kScotch = 3, kPord = 4, kMetis = 5, kQamd = 6;
+// INFO(1) < 0 codes
+constexpr int kStructurallySingular = -6, kNumericallySingular = -10;
+constexpr int kAllocationFailed = -13;
+// INFO(1) codes of a workspace MUMPS sized from its analysis and found too small during the
+// factorisation (delayed pivots grow the fronts): -8, -9, -14, -15, -17, -20. The answer the guide
+// gives is a larger ICNTL(14), the percentage added to the estimate; it is doubled up to
+// kWorkspaceRetries times (20% -> 640%), beyond which the matrix is hopeless for a direct solve.
+constexpr int kWorkspaceErrors[] = {-8, -9, -14, -15, -17, -20};
+constexpr int kWorkspaceRetries = 5;
+// `best`: the candidates, in this order, the most likely winner on the flow problems last (AMD:
+// fewest flops on the collapsible and cylinder matrices, docs/performance.md) so that it rarely
+// needs analysing twice. METIS is absent from Debian's sequential MUMPS, which then uses another
+// ordering (INFOG(7) says which), skipped when it is a candidate already tried.
+constexpr int kBestCandidates[] = {kMetis, kScotch, kPord, kAmf, kAmd};
+// MUMPS's memory statistics are in millions of bytes.
+constexpr double kBytesPerMumpsMb = 1e6;
+
+const char* ordering_name(int used) {
+  switch (used) {
+    case kAmd: return "amd";
+    case 1: return "given";
+    case kAmf: return "amf";
+    case kScotch: return "scotch";
+    case kPord: return "pord";
+    case kMetis: return "metis";
+    case kQamd: return "qamd";
+    default: return "other";
+  }
+}
+
+// INFOG entries that count beyond the range of an int are negative, in millions.
+double count(int v) { return v >= 0 ? static_cast<double>(v) : -1e6 * static_cast<double>(v); }
+
+int scaling_control(SparseLUOptions::Scaling s) {
+  switch (s) {
+    case SparseLUOptions::Scaling::None: return 0;
+    case SparseLUOptions::Scaling::Sum: return 77;  // MUMPS chooses (row and column, iterative)
+    case SparseLUOptions::Scaling::Max: return 4;   // rows and columns by their largest entries
+  }
+  return 77;
+}
+
+// The ordering the last analysis of a pattern chose, for the next instance that analyses the
+// same pattern with the same options (MUMPS cannot share an analysis between instances: the next
+// one repeats the symbolic phase with this ordering and skips the search of `best`).
+struct OrderingCache {
+  std::mutex mutex;
+  std::vector<int> outer, inner;
+  SparseLUOptions::Ordering ordering{};
+  SparseLUOptions::Scaling scaling{};
+  int chosen = -1;
+};
+
+OrderingCache& ordering_cache() {
+  static OrderingCache cache;
+  return cache;
+}
+
+class MumpsLU final : public LUBackend {
+ public:
+  explicit MumpsLU(const SparseLUOptions& options) : options_(options), id_(std::make_unique<DMUMPS_STRUC_C>()) {
+    *id_ = DMUMPS_STRUC_C{};
+    id_->job = kJobInit;
+    id_->par = kHostWorks;
+    id_->sym = kUnsymmetric;
+    id_->comm_fortran = kUseCommWorld;
+    dmumps_c(id_.get());
+    if (info(1) < 0) throw std::runtime_error(fmt::format("MUMPS initialisation failed: INFO(1) = {}", info(1)));
+    icntl(1) = icntl(2) = icntl(3) = -1;  // no output: failures come back as a Status
+    icntl(4) = 0;
+    icntl(5) = 0;   // assembled matrix
+    icntl(18) = 0;  // centralised on the host
+    icntl(8) = scaling_control(options.scaling);
+    icntl(33) = 1;  // the determinant with every factorisation (the continuation's branch points and folds)
+    cntl(1) = options.pivot_tolerance;
+    // refine until the componentwise backward error reaches rounding, as UMFPACK does (MUMPS's
+    // default stops at its square root)
+    cntl(2) = std::numeric_limits<double>::epsilon();
+  }
+
+  ~MumpsLU() override {
+    id_->job = kJobEnd;
+    dmumps_c(id_.get());
+  }
+  MumpsLU(const MumpsLU&) = delete;
+  MumpsLU& operator=(const MumpsLU&) = delete;
+
+  Status analyze(const CscView& A, bool& reused) override {
+    factorized_ = false;
+    analysed_ = false;
+    irn_.resize(static_cast<size_t>(A.nnz()));
+    jcn_.resize(static_cast<size_t>(A.nnz()));
+    for (int j = 0; j < A.n; ++j)
+      for (int k = A.outer[j]; k < A.outer[j + 1]; ++k) {
+        irn_[static_cast<size_t>(k)] = A.inner[k] + 1;
+        jcn_[static_cast<size_t>(k)] = j + 1;
+      }
+    id_->n = A.n;
+    id_->nnz = A.nnz();
+    id_->irn = irn_.data();
+    id_->jcn = jcn_.data();
+    id_->a = const_cast<double*>(A.values);  // MUMPS reads it (its interface is not const)
+    OrderingCache& cache = ordering_cache();
+    std::lock_guard<std::mutex> lock(cache.mutex);
+    reused = cache.chosen >= 0 && cache.ordering == options_.ordering && cache.scaling == options_.scaling &&
+             std::ssize(cache.outer) == A.n + 1 && std::equal(cache.outer.begin(), cache.outer.end(), A.outer) &&
+             std::ssize(cache.inner) == A.nnz() && std::equal(cache.inner.begin(), cache.inner.end(), A.inner);
+    Status st;
+    if (reused)
+      st = analyse_with(cache.chosen);
+    else if (options_.ordering == SparseLUOptions::Ordering::Best)
+      st = analyse_best();
+    else
+      st = analyse_with(options_.ordering == SparseLUOptions::Ordering::Metis ? kMetis : kAmd);
+    if (!st.is_ok()) return st;
+    analysed_ = true;
+    cache.outer.assign(A.outer, A.outer + A.n + 1);
+    cache.inner.assign(A.inner, A.inner + A.nnz());
+    cache.ordering = options_.ordering;
+    cache.scaling = options_.scaling;
+    cache.chosen = infog(7);
+    return {};
+  }
+
+  Status factorize(const CscView& A) override {
+    factorized_ = false;
+    id_->a = const_cast<double*>(A.values);
+    const int workspace = icntl(14);
+    Status st;
+    for (int attempt = 0; attempt <= kWorkspaceRetries; ++attempt) {
+      st = call(kJobFactorise, "numeric factorisation");
+      if (st.is_ok() ||
+          std::find(std::begin(kWorkspaceErrors), std::end(kWorkspaceErrors), info(1)) == std::end(kWorkspaceErrors))
+        break;
+      icntl(14) *= 2;
+    }
+    icntl(14) = workspace;
+    if (!st.is_ok()) {
+      det_sign_ = 0;
+      log_abs_det_ = -INFINITY;
+      return st;
+    }
+    factorized_ = true;
+    const double mantissa = rinfog(12);
+    det_sign_ = mantissa > 0 ? 1 : (mantissa < 0 ? -1 : 0);
+    log_abs_det_ = mantissa != 0 ? std::log(std::abs(mantissa)) + infog(34) * std::log(2.0) : -INFINITY;
+    return {};
+  }
+
+  Status solve(const CscView& A, const double* b, double* x, bool transpose, int refinement_steps) override {
+    std::copy(b, b + A.n, x);
+    id_->a = const_cast<double*>(A.values);  // refinement computes residuals with A
+    id_->rhs = x;
+    id_->nrhs = 1;
+    id_->lrhs = A.n;
+    icntl(9) = transpose ? 2 : 1;  // 1: A x = b, otherwise A^T x = b
+    icntl(10) = refinement_steps;  // > 0: at most this many steps, stopping at cntl(2)
+    icntl(20) = 0;                 // dense right-hand side
+    icntl(21) = 0;                 // the solution overwrites it
+    return call(kJobSolve, "solve");
+  }
+
+  bool factorized() const override { return factorized_; }
+
+  void determinant(int& sign, double& log_abs) const override {
+    sign = det_sign_;
+    log_abs = log_abs_det_;
+  }
+
+  void report(SparseLU::Statistics& s) const override {
+    s.backend = "mumps";
+    if (!analysed_) return;
+    s.ordering_used = ordering_name(infog(7));
+    s.nnz_lu = count(infog(29));
+    s.flops = rinfog(3);
+    s.numeric_bytes = count(infog(9)) * sizeof(double) + count(infog(10)) * sizeof(int);
+    // MUMPS counts its peak in whole MB (0 for a small matrix); it holds the factors at least
+    s.peak_memory_bytes = std::max(count(infog(22)) * kBytesPerMumpsMb, s.numeric_bytes);
+    s.rcond = std::numeric_limits<double>::quiet_NaN();
+  }
+
+ private:
+  // Fortran's 1-based names of MUMPS's arrays
+  int& icntl(int k) { return id_->icntl[k - 1]; }
+  double& cntl(int k) { return id_->cntl[k - 1]; }
+  int info(int k) const { return id_->info[k - 1]; }
+  int infog(int k) const { return id_->infog[k - 1]; }
+  double rinfog(int k) const { return id_->rinfog[k - 1]; }
+
+  Status call(int job, const char* what) {
+    id_->job = job;
+    dmumps_c(id_.get());
+    if (info(1) >= 0) return {};  // > 0: warnings (e.g. refinement stopped by its criterion)
+    const std::string codes = fmt::format("MUMPS INFO(1) = {}, INFO(2) = {}", info(1), info(2));
+    if (info(1) == kNumericallySingular || info(1) == kStructurallySingular)
+      return {StatusCode::SingularMatrix, fmt::format("{}: matrix is singular ({})", what, codes)};
+    if (info(1) == kAllocationFailed)
+      return {StatusCode::LinearSolverError, fmt::format("{}: out of memory ({})", what, codes)};
+    return {StatusCode::LinearSolverError, fmt::format("{}: {}", what, codes)};
+  }
+
+  Status analyse_with(int ordering) {
+    icntl(7) = ordering;
+    return call(kJobAnalyse, "symbolic analysis");
+  }
+
+  // Analyses with each candidate ordering and keeps the one with the fewest estimated flops of
+  // the factorisation (RINFOG(1)): flops, not fill, set the time on these matrices (on M2 AMD
+  // has 18% fewer entries than SCOTCH and 33% fewer flops).
+  Status analyse_best() {
+    std::vector<int> tried;
+    int best = -1, last = -1;
+    double best_flops = INFINITY;
+    for (int candidate : kBestCandidates) {
+      if (std::find(tried.begin(), tried.end(), candidate) != tried.end()) continue;
+      const Status st = analyse_with(candidate);
+      if (!st.is_ok()) continue;
+      last = infog(7);
+      tried.push_back(last);
+      if (rinfog(1) < best_flops) {
+        best_flops = rinfog(1);
+        best = last;
+      }
+    }
+    if (best < 0) return analyse_with(kAmd);  // every candidate failed: AMD's status says why
+    return best == last ? Status{} : analyse_with(best);
+  }
+
+  SparseLUOptions options_;
+  std::unique_ptr<DMUMPS_STRUC_C> id_;
+  std::vector<int> irn_, jcn_;  // 1-based triplets of the analysed pattern
+  bool analysed_ = false, factorized_ = false;
+  int det_sign_ = 0;
+  double log_abs_det_ = 0.0;
+};
+
+}  // namespace
+
+std::unique_ptr<LUBackend> make_mumps_lu(const SparseLUOptions& options) { return std::make_unique<MumpsLU>(options); }
+
+}  // namespace keller
