@@ -119,8 +119,8 @@ def main():
     ap.add_argument("--fenics-mesh", default="M2")
     ap.add_argument("--work", default="", help="folder for the outputs (default: a temporary one)")
     ap.add_argument("--skip-fenics", action="store_true")
-    ap.add_argument("--keller-only-set", nargs="*", default=[], metavar="KEY=VALUE",
-                    help="extra --set overrides for keller (solver settings)")
+    ap.add_argument("--keller-only-set", nargs="*", action="extend", default=[], metavar="KEY=VALUE",
+                    help="extra --set overrides for keller (solver settings); repeatable, the lists add up")
     args = ap.parse_args()
     work = args.work or tempfile.mkdtemp(prefix="cylinder_vs_fenics_")
     os.makedirs(work, exist_ok=True)
