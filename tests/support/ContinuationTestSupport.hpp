@@ -1,5 +1,6 @@
-// Helpers shared by the continuation engine tests (ContinuationTest, ContinuationChordTest):
-// options for the cubic, points on a circle, the kept-chord options and a trace from a guess.
+// Helpers shared by the continuation engine tests (ContinuationTest, ContinuationChordTest,
+// ContinuationKeptFactorisationTest): options for the cubic, points on a circle, the kept-chord
+// options, a trace from a guess, and small diagonal problems whose chord rates are known.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -109,5 +110,75 @@ inline void expect_dense_solution(const SparseMatrix& J, const Vector& b, const 
   EXPECT_NEAR(y, ref[n], 1e-12 * ref.cwiseAbs().maxCoeff());
   EXPECT_EQ(det_sign, A.determinant() > 0 ? 1 : -1);
 }
+
+// The Problem boilerplate of the small diagonal problems below: F_i depends on u_i and one
+// parameter "lambda" only; observable u0.
+class DiagonalProblem : public Problem {
+ public:
+  DiagonalProblem(std::string name, int n, double lambda0) : name_(std::move(name)), n_(n), pattern_(n, n) {
+    params_.add("lambda", lambda0, name_);
+    for (int i = 0; i < n; ++i) pattern_.insert(i, i) = 0.0;
+    pattern_.makeCompressed();
+  }
+  std::string name() const override { return name_; }
+  int size() const override { return n_; }
+  ParameterSet& parameters() override { return params_; }
+  const ParameterSet& parameters() const override { return params_; }
+  const SparseMatrix& jacobian_pattern() const override { return pattern_; }
+  Status residual(const Vector& u, Vector& F) override {
+    F.resize(n_);
+    for (int i = 0; i < n_; ++i) F[i] = f(i, u[i], lambda());
+    return {};
+  }
+  Status jacobian(const Vector& u, Vector& F, SparseMatrix& J) override {
+    residual(u, F);
+    J = pattern_;
+    for (int i = 0; i < n_; ++i) J.valuePtr()[i] = df_du(i, u[i], lambda());
+    return {};
+  }
+  Status parameter_derivative(int, const Vector& u, Vector& dF) override {
+    dF.resize(n_);
+    for (int i = 0; i < n_; ++i) dF[i] = df_dlambda(i, u[i], lambda());
+    return {};
+  }
+  std::vector<std::string> observable_names() const override { return {"u0"}; }
+  Status observables(const Vector& u, std::vector<double>& v) override {
+    v = {u[0]};
+    return {};
+  }
+  SolutionFields fields(const Vector&) const override { return {}; }
+
+ protected:
+  virtual double f(int i, double u, double lambda) const = 0;
+  virtual double df_du(int i, double u, double lambda) const = 0;
+  virtual double df_dlambda(int i, double u, double lambda) const = 0;
+  double lambda() const { return params_.value(0); }
+
+ private:
+  std::string name_;
+  int n_;
+  ParameterSet params_;
+  SparseMatrix pattern_;
+};
+
+// F_i = (1 + lambda) d_i u_i - 1, d_i = 1 + i: u_i = 1 / ((1 + lambda) d_i). With a factorisation
+// kept from lambda_b the chord contracts the error of a correction at lambda by exactly
+// |1 - (1 + lambda) / (1 + lambda_b)| per iteration.
+class ScaledLinear final : public DiagonalProblem {
+ public:
+  // scale multiplies F: its rounding floor is about 1e-16 x scale
+  explicit ScaledLinear(int n, double scale = 1.0) : DiagonalProblem("scaled-linear", n, 0.0), scale_(scale) {}
+  Vector initial_guess() override {
+    Vector u(size());
+    for (int i = 0; i < size(); ++i) u[i] = 1.0 / (1 + i);
+    return u;
+  }
+
+ private:
+  double f(int i, double u, double l) const override { return scale_ * ((1 + l) * (1 + i) * u - 1); }
+  double df_du(int i, double, double l) const override { return scale_ * (1 + l) * (1 + i); }
+  double df_dlambda(int i, double u, double) const override { return scale_ * (1 + i) * u; }
+  double scale_;
+};
 
 }  // namespace keller::test
