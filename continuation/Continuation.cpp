@@ -40,6 +40,12 @@ namespace {
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
+// Adds the seconds of its scope to a timing.
+struct ScopeSeconds {
+  double& to;
+  std::chrono::steady_clock::time_point t0 = std::chrono::steady_clock::now();
+  ~ScopeSeconds() { to += seconds_since(t0); }
+};
 ContinuationOptions validated(ContinuationOptions o) {
   o.validate();
   return o;
@@ -124,6 +130,18 @@ ContinuationResult Continuation::run(const Vector& u0, BranchObserver& observer,
     } else if (st.is_ok()) {
       st = kept_.adopt(factorised.lu, factorised.jacobian, factorised.at, start.lambda,
                        ev_.parameter_derivative_vector(), row);
+    }
+    if (st.is_ok()) {
+      // a start solved only to near the tolerance (a switch of an event curve) is finished on the
+      // adopted factorisation: a chord iteration or two instead of a solve of its own
+      kept_.set_reusable(true);
+      st = ev_.residual(start.u, F_start_);
+      if (st.is_ok() && F_start_.lpNorm<Eigen::Infinity>() > corrector_.tolerance()) {
+        double lambda = start.lambda;
+        const CorrectorResult r =
+            corrector_.correct(start.u, lambda, Constraint::parameter(start.lambda), Corrector::Kind::Located);
+        st = r.status;
+      }
     }
     if (st.is_ok()) st = tangents_.at_point(start, row, Vector(), 0.0, false, t);
     if (st.is_ok() && t.tl * options_.direction < 0) {
@@ -377,7 +395,9 @@ void Continuation::locate_crossings(const BranchPoint& cur, const BranchPoint& n
     } else if (c.target.kind == EventTarget::Value) {
       p = locator_.locate_value(cur, nxt, c.target.value, note);
     } else {
-      p = locator_.locate_root(cur, nxt, c.target, c.ga, c.gb, note);
+      const GradientFunction g = c.target.kind == EventTarget::Monitor ? gradient_of(c.target.monitor) : nullptr;
+      if (g) p = locator_.locate_by_newton(cur, nxt, g, c.ga, c.gb, note);
+      if (!p) p = locator_.locate_root(cur, nxt, c.target, c.ga, c.gb, note);
     }
     const size_t before = located.size();
     add_located(std::move(p), c.kind, c.label, c.end, cur, located, observer, note);
@@ -506,14 +526,38 @@ std::optional<Continuation::Finish> Continuation::report_segment(const BranchPoi
   return std::nullopt;
 }
 
+GradientFunction Continuation::gradient_of(int monitor) {
+  // the problem's monitors, then the stop observable's distance to stop_above, to stop_below
+  const int problem_monitors = static_cast<int>(problem_.monitor_names().size());
+  const bool stop = monitor >= problem_monitors;
+  if (stop ? !problem_.has_observable_gradient(stop_index_) : !problem_.has_monitor_gradient(monitor)) return nullptr;
+  const bool above = stop && monitor == problem_monitors && std::isfinite(options_.stop.above);
+  const double threshold = !stop ? 0.0 : (above ? options_.stop.above : options_.stop.below);
+  return [this, stop, monitor, threshold](const Vector& u, double lambda, double h, bool gradient, double& g,
+                                          Vector& gu, double& gl) {
+    const ScopeSeconds timed{ev_.timings().observables};
+    std::vector<double> v;
+    const auto value = [&](double l, double& out) {
+      Status st = ev_.set_parameter(l);
+      if (st.is_ok()) st = stop ? problem_.observables(u, v) : problem_.monitors(u, v);
+      if (st.is_ok()) out = v[static_cast<size_t>(stop ? stop_index_ : monitor)] - threshold;
+      return st;
+    };
+    Status st = value(lambda, g);
+    if (!st.is_ok() || !gradient) return st;
+    double plus = 0.0, minus = 0.0;
+    st = value(lambda + h, plus);
+    if (st.is_ok()) st = value(lambda - h, minus);
+    if (st.is_ok()) st = ev_.set_parameter(lambda);
+    if (!st.is_ok()) return st;
+    gl = (plus - minus) / (2.0 * h);
+    return stop ? problem_.observable_gradient(stop_index_, u, gu) : problem_.monitor_gradient(monitor, u, gu);
+  };
+}
+
 Status Continuation::evaluate(BranchPoint& p, bool analyse_point) {
   if (analyse_point && analysis_) analyse(p);
-  const auto t0 = std::chrono::steady_clock::now();
-  struct Add {
-    double& to;
-    std::chrono::steady_clock::time_point t0;
-    ~Add() { to += seconds_since(t0); }
-  } add{ev_.timings().observables, t0};
+  const ScopeSeconds timed{ev_.timings().observables};
   Status st = ev_.set_parameter(p.lambda);
   if (st.is_ok()) st = problem_.observables(p.u, p.observables);
   if (st.is_ok()) st = problem_.monitors(p.u, p.monitors);

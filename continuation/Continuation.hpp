@@ -149,6 +149,9 @@ class Continuation {
   // along p's tangent (0: the factorisation failed).
   int probe_determinant(BranchPoint& p);
   Status evaluate(BranchPoint& p, bool analyse_point);
+  // The monitor (index into BranchPoint::monitors) with its gradient, where the problem offers
+  // one (its zeros are then located by Newton); null where it does not.
+  GradientFunction gradient_of(int monitor);
   void analyse(BranchPoint& p);
   void report(BranchObserver& observer, BranchPoint& p);
   ContinuationResult finish(StopCode code, std::string reason, const BranchPoint& last, BranchObserver& observer);
@@ -172,6 +175,7 @@ class Continuation {
   PointAnalysis* analysis_ = nullptr;
   std::unique_ptr<SpectrumScheduler> spectra_;
   std::string analysis_note_;
+  Vector F_start_;  // the start's residual (a start adopted near the tolerance is corrected first)
   // a resumed branch starts on a point located as this kind (its first step does not locate it again)
   std::optional<PointKind> start_on_;
   bool adopted_ = false;               // the start's factorisation came from the solve of the start

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -11,6 +12,14 @@
 namespace keller {
 
 namespace {
+
+// A switch's state starts the next piece as it is where the new equations' residual is within
+// this factor of Newton's tolerance (its first step's corrector converges from there).
+constexpr double kSwitchResidual = 1e3;
+// A state this close to a switch's (relative, max norm) is the next piece's start: the run's
+// correction of the start moves it by about 1e-11 of |U| (M2), the piece's steps by far more than
+// 1e-8.
+constexpr double kSwitchNeighbourhood = 1e-8;
 
 int index_of(const std::vector<std::string>& names, const std::string& name, const std::string& what) {
   const auto it = std::find(names.begin(), names.end(), name);
@@ -113,14 +122,14 @@ Status EventCurveProblem::residual(const Vector& U, Vector& F) {
   return {};
 }
 
-Status EventCurveProblem::place_parameter_derivative(int p, const Vector& u, double& derivative) {
+Status EventCurveProblem::place_parameter_derivative(int p, int place, const Vector& u, double& derivative) {
   Vector d;
   const Status st = parameter_difference(
       p,
       [&](Vector& value) {
         std::vector<double> v;
         const Status s = inner_.monitor_places(monitor_, u, v);
-        if (s.is_ok()) value = Vector::Constant(1, v[static_cast<size_t>(place_)]);
+        if (s.is_ok()) value = Vector::Constant(1, v[static_cast<size_t>(place)]);
         return s;
       },
       d);
@@ -131,7 +140,7 @@ Status EventCurveProblem::place_parameter_derivative(int p, const Vector& u, dou
 Status EventCurveProblem::equations_parameter_derivative(int p, const Vector& U, Vector& d) {
   double mp = 0.0;
   Status st = set_p1(U);
-  if (st.is_ok()) st = place_parameter_derivative(p, U.head(n_), mp);
+  if (st.is_ok()) st = place_parameter_derivative(p, place_, U.head(n_), mp);
   d = Vector::Constant(1, mp);
   return st;
 }
@@ -151,7 +160,7 @@ Status EventCurveProblem::bordered_jacobian(const Vector& U, Vector& F, Bordered
   st = inner_.parameter_derivative(p1(), u, Fp1);
   if (st.is_ok()) st = inner_.monitor_place_gradient(monitor_, place_, u, gu);
   double gp1 = 0.0;
-  if (st.is_ok()) st = place_parameter_derivative(p1(), u, gp1);
+  if (st.is_ok()) st = place_parameter_derivative(p1(), place_, u, gp1);
   if (!st.is_ok()) return st;
   J.B.col(0) = Fp1;
   J.C.col(0) = gu;
@@ -165,18 +174,49 @@ Status EventCurveProblem::observables(const Vector& U, std::vector<double>& valu
   if (!st.is_ok()) return st;
   st = inner_.observables(U.head(n_), values);
   if (!st.is_ok()) return st;
-  // At the switch a piece starts from, the place it left is level with the followed one (not a new
-  // crossing): the margin there is that of the other places, so that a third one overtaking within
-  // the piece's first step is still a crossing.
-  const bool at_switch = switched_at_.size() == U.size() && switched_at_ == U;
-  double other = std::numeric_limits<double>::infinity();
-  for (size_t j = 0; j < v.size(); ++j)
-    if (static_cast<int>(j) != place_ && !(at_switch && static_cast<int>(j) == switched_from_))
-      other = std::min(other, v[j]);
-  const double margin = std::isfinite(other) ? other - v[static_cast<size_t>(place_)] : 1.0;
+  const int j = other_place(U, v);
+  const double margin = j >= 0 ? v[static_cast<size_t>(j)] - v[static_cast<size_t>(place_)] : 1.0;
   values.push_back(U[n_]);
   values.push_back(place_);
   values.push_back(margin);
+  return {};
+}
+
+int EventCurveProblem::other_place(const Vector& U, const std::vector<double>& v) const {
+  // At the switch a piece starts from, the place it left is level with the followed one (not a new
+  // crossing): the margin there is that of the other places, so that a third one overtaking within
+  // the piece's first step is still a crossing.
+  // (the piece's start is the switch's state or that state corrected by its run: within
+  // kSwitchNeighbourhood of it; a step of the piece moves far more)
+  const bool at_switch = switched_at_.size() == U.size() &&
+                         (U - switched_at_).lpNorm<Eigen::Infinity>() <=
+                             kSwitchNeighbourhood * std::max(1.0, switched_at_.lpNorm<Eigen::Infinity>());
+  int other = -1;
+  for (size_t j = 0; j < v.size(); ++j)
+    if (static_cast<int>(j) != place_ && !(at_switch && static_cast<int>(j) == switched_from_) &&
+        (other < 0 || v[j] < v[static_cast<size_t>(other)]))
+      other = static_cast<int>(j);
+  return other;
+}
+
+Status EventCurveProblem::observable_gradient(int observable, const Vector& U, Vector& gradient) {
+  if (observable != margin_index()) return CurveProblem::observable_gradient(observable, U, gradient);
+  std::vector<double> v;
+  Status st = place_values(U, v);
+  if (!st.is_ok()) return st;
+  const int j = other_place(U, v);
+  gradient = Vector::Zero(U.size());
+  if (j < 0) return {};  // one place: the margin is constant
+  const Vector u = U.head(n_);
+  Vector gj, gk;
+  double pj = 0.0, pk = 0.0;
+  st = inner_.monitor_place_gradient(monitor_, j, u, gj);
+  if (st.is_ok()) st = inner_.monitor_place_gradient(monitor_, place_, u, gk);
+  if (st.is_ok()) st = place_parameter_derivative(p1(), j, u, pj);
+  if (st.is_ok()) st = place_parameter_derivative(p1(), place_, u, pk);
+  if (!st.is_ok()) return st;
+  gradient.head(n_) = gj - gk;
+  gradient[n_] = pj - pk;
   return {};
 }
 
@@ -201,6 +241,18 @@ std::string EventCurveProblem::summary() const {
 }
 
 Status EventCurveProblem::solve_kept(Vector& U, const NewtonOptions& newton, const SparseLUOptions& lu) {
+  if (kept_.lu) {
+    // at a located switch the new place's value is the old one's to the location's accuracy: U
+    // nearly solves the new equations already, and Newton's first iteration would cost a Jacobian
+    // and the factorisation's adoption for a correction the piece's first step makes anyway (the
+    // switch is reported as the old piece's row, and the piece's start is not reported again)
+    const auto t0 = std::chrono::steady_clock::now();
+    Vector F;
+    const Status st = residual(U, F);
+    solve_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (st.is_ok() && F.lpNorm<Eigen::Infinity>() <= kSwitchResidual * newton.residual_tolerance * residual_scale())
+      return {};
+  }
   FixedParameterResult r = solve_here(U, newton, lu, kept_);
   kept_ = std::move(r.factorisation);
   solve_seconds_ += r.seconds;

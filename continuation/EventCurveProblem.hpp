@@ -34,6 +34,10 @@ class EventCurveProblem final : public CurveProblem {
   Status bordered_jacobian(const Vector& U, Vector& F, BorderedJacobian& J) override;
   std::vector<std::string> observable_names() const override { return curve_observable_names({"place", kMargin}); }
   Status observables(const Vector& U, std::vector<double>& values) override;
+  // The switch margin's gradient in U: that of m_j - m_k, j the place of the smallest value
+  // elsewhere (its switches are located by Newton).
+  bool has_observable_gradient(int observable) const override { return observable == margin_index(); }
+  Status observable_gradient(int observable, const Vector& U, Vector& gradient) override;
   std::vector<std::string> monitor_names() const override;
   Status monitors(const Vector& U, std::vector<double>& values) override;
   std::string summary() const override;
@@ -56,8 +60,12 @@ class EventCurveProblem final : public CurveProblem {
  private:
   Status equations_parameter_derivative(int p, const Vector& U, Vector& d) override;
   Status place_values(const Vector& U, std::vector<double>& values);
-  // d m_k / d p at U (p1 set from U) by central differences in the parameter p.
-  Status place_parameter_derivative(int p, const Vector& u, double& derivative);
+  // The place of the smallest value other than the followed one (and than the one just left, at
+  // the switch a piece starts from), -1 where there is none.
+  int other_place(const Vector& U, const std::vector<double>& values) const;
+  int margin_index() const { return static_cast<int>(inner_.observable_names().size()) + 2; }
+  // d m_place / d p at U (p1 set from U) by central differences in the parameter p.
+  Status place_parameter_derivative(int p, int place, const Vector& u, double& derivative);
   // U corrected at the present parameters (CurveProblem::solve_here), the chord on kept_ where
   // there is one; kept_ becomes the factorisation it ended with.
   Status solve_kept(Vector& U, const NewtonOptions& newton, const SparseLUOptions& lu);

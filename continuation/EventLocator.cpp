@@ -13,6 +13,13 @@ int sign_of(double x) { return x > 0 ? 1 : (x < 0 ? -1 : 0); }
 // Illinois: where the same end of the bracket is kept twice, the other end's value is scaled by
 // this (the secant then steps past the zero instead of creeping up on it).
 constexpr double kIllinoisFactor = 0.5;
+// Newton on a linearised function stops where its next move in lambda, predicted along a nearby
+// tangent, is below this part of the event tolerance: quadratic convergence makes the last
+// correction cheap, and the located value then is as good as the secant's settled trials.
+constexpr double kNewtonSettled = 0.01;
+// ... within this many corrections (it converges quadratically; where it does not, g is not
+// smooth there: a minimum whose place changes, and the secant takes over).
+constexpr int kNewtonCorrections = 6;
 }  // namespace
 
 const char* to_string(EventTarget t) {
@@ -214,6 +221,153 @@ std::optional<BranchPoint> EventLocator::locate_root(const BranchPoint& a, const
   note += fmt::format("not located to {} in {} iterations", options_.events.tolerance,
                       options_.events.max_location_iterations);
   return std::nullopt;
+}
+
+std::optional<BranchPoint> EventLocator::locate_by_newton(const BranchPoint& a, const BranchPoint& b,
+                                                          const GradientFunction& g, double ga, double gb,
+                                                          std::string& note) {
+  const bool arclength = options_.method == ContinuationOptions::Method::Arclength;
+  const BranchFunctional coordinate = [&](const Vector& u, double l, bool point) {
+    if (!arclength) return l;
+    return point ? norm_.dot(u - a.u, l - a.lambda, a.tu, a.tlambda) : norm_.dot(u, l, a.tu, a.tlambda);
+  };
+  const auto coord = [&](const Vector& u, double l) { return coordinate(u, l, true); };
+  const double length = coord(b.u, b.lambda);
+  // the difference step in lambda for g's derivative: a small part of the segment's
+  const double h = 1e-4 * std::max(std::abs(b.lambda - a.lambda), 1e-8 * (1.0 + std::abs(a.lambda)));
+  // g's slope along the branch at a point with a tangent: d/dc of g(u(c), lambda(c)), c the
+  // coordinate (the tangent is its derivative up to the coordinate's own scale)
+  Vector gu;
+  const auto slope = [&](const BranchPoint& q, double& value, double& ds) {
+    double gl = 0.0;
+    const Status st = g(q.u, q.lambda, h, true, value, gu, gl);
+    if (!st.is_ok()) return st;
+    const double dc = coordinate(q.tu, q.tlambda, false);
+    ds = dc != 0.0 ? (gu.dot(q.tu) + gl * q.tlambda) / dc : NAN;
+    return st;
+  };
+  // The prediction: the zero of the cubic Hermite interpolant of g along the segment (the
+  // bracket's values and the slopes at both ends), the secant's where the slopes are not to be had.
+  double xa = 0.0, xb = 0.0, value = 0.0;
+  Status st = slope(a, value, xa);
+  if (st.is_ok()) st = slope(b, value, xb);
+  if (!st.is_ok()) {
+    note += "the function's gradient failed: " + st.describe() + "; ";
+    return std::nullopt;
+  }
+  double tau = ga / (ga - gb);
+  if (std::isfinite(xa) && std::isfinite(xb) && length > 0) {
+    const auto cubic = [&](double t) {
+      const double h00 = (1 + 2 * t) * (1 - t) * (1 - t), h10 = t * (1 - t) * (1 - t), h01 = t * t * (3 - 2 * t),
+                   h11 = t * t * (t - 1);
+      return h00 * ga + h10 * length * xa + h01 * gb + h11 * length * xb;
+    };
+    double lo = 0.0, hi = 1.0, flo = ga;
+    for (int it = 0; it < 60; ++it) {  // bisection on the cubic (scalar: cheap)
+      const double mid = 0.5 * (lo + hi), fm = cubic(mid);
+      if ((fm < 0) == (flo < 0))
+        lo = mid, flo = fm;
+      else
+        hi = mid;
+    }
+    tau = 0.5 * (lo + hi);
+  }
+  const double floor = corrector_.residual_floor(a.residual, b.residual);
+  // Newton along the branch from a converged point p: F = 0 under g linearised at the last point,
+  // gu . (u - u0) + gl (lambda - l0) = -g, while its predicted move in lambda exceeds
+  // kNewtonSettled of the tolerance (the move is predicted along the nearer end's tangent, not p's own)
+  int solves = 0;
+  CorrectorResult r;
+  const auto refine = [&](BranchPoint& p) {
+    for (int it = 0; r.status.is_ok() && it <= kNewtonCorrections; ++it) {
+      double gv = 0.0, gl = 0.0;
+      st = g(p.u, p.lambda, h, true, gv, gu, gl);
+      if (!st.is_ok()) return false;
+      const BranchPoint& near = coord(p.u, p.lambda) < 0.5 * length ? a : b;
+      const double rate = gu.dot(near.tu) + gl * near.tlambda;  // g's change along that tangent
+      if (rate == 0.0) {
+        st = {StatusCode::SingularMatrix, "the function does not change along the branch"};
+        return false;
+      }
+      const double move = -gv / rate;
+      if (std::abs(move * near.tlambda) <= kNewtonSettled * options_.events.tolerance) return true;
+      if (it == kNewtonCorrections) break;
+      const Vector u0 = p.u;
+      Constraint c;
+      c.cu = gu;
+      c.cl = gl;
+      c.u0 = &u0;
+      c.l0 = p.lambda;
+      c.target = -gv;
+      // predicted to where the row holds (the corrector then starts from that move's residual,
+      // not from the converged point's rounding)
+      p.u += move * near.tu;
+      p.lambda += move * near.tlambda;
+      r = corrector_.correct(p.u, p.lambda, c, Corrector::Kind::Located, floor);
+      solves += r.iterations;
+    }
+    return false;
+  };
+  // From the cubic's zero corrected onto the branch under the arclength row (as a secant trial);
+  // where that finds the zero a starts on again (a piece of an event curve starting on a switch,
+  // where the place just left is level at a), from b.
+  BranchPoint p;
+  double along = NAN;
+  bool settled = false;
+  for (int start = 0; start < 2 && !settled; ++start) {
+    if (start == 0) {
+      double x = tau;
+      if (!hermite_point(a, b, coordinate, tau * length, p.u, p.lambda, x)) {
+        p.u = a.u + tau * (b.u - a.u);
+        p.lambda = a.lambda + tau * (b.lambda - a.lambda);
+      }
+      const Constraint onto =
+          arclength ? norm_.arclength(a, a.tu, a.tlambda, tau * length) : Constraint::parameter(p.lambda);
+      r = corrector_.correct(p.u, p.lambda, onto, Corrector::Kind::Located, floor);
+      solves += r.iterations;
+    } else {
+      p = BranchPoint{};
+      p.u = b.u;
+      p.lambda = b.lambda;
+      r = CorrectorResult{};
+    }
+    st = Status{};
+    settled = refine(p) && r.status.is_ok();
+    if (st.is_ok()) st = r.status;
+    along = length != 0.0 ? coord(p.u, p.lambda) / length : NAN;
+    if (!st.is_ok()) break;
+    if (settled && std::abs(p.lambda - a.lambda) <= options_.events.tolerance) {
+      note += "Newton on the linearised function found the zero the segment starts on; ";
+      settled = false;
+    }
+  }
+  p.iterations = solves;
+  p.residual = r.residual;
+  if (!st.is_ok() || !settled || !(along > 0.0 && along <= 1.0)) {
+    note += !st.is_ok() ? "Newton on the linearised function failed (" + st.describe() + "); "
+            : !settled  ? "Newton on the linearised function did not settle; "
+                        : fmt::format("Newton on the linearised function left the segment (at {:.3g} of it); ", along);
+    return std::nullopt;
+  }
+  const Constraint row =
+      arclength ? norm_.arclength(a, a.tu, a.tlambda, along * length) : Constraint::parameter(p.lambda);
+  Tangent t;
+  st = tangents_.at_point(p, row, a.tu, a.tlambda, false, t, along < 0.5 ? &a : &b);
+  if (st.is_ok()) {
+    p.tu = std::move(t.tu);
+    p.tlambda = t.tl;
+    p.det_sign = t.det_sign;
+    st = evaluate_(p, false);
+  }
+  if (!st.is_ok()) {
+    note += "at the located point: " + st.describe() + "; ";
+    return std::nullopt;
+  }
+  // the sign belongs to the arclength row only where the tangent factorised under it
+  p.bordered_det_sign = t.factorised ? kept_.determinant_sign() : 0;
+  p.s = a.s + along * (b.s - a.s);
+  p.step = b.step;
+  return p;
 }
 
 }  // namespace keller

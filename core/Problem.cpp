@@ -1,5 +1,6 @@
 #include "core/Problem.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -95,6 +96,22 @@ Status Problem::monitor_place_gradient(int monitor, int place, const Vector& u, 
     gradient[j] = (v1[static_cast<size_t>(place)] - v0[static_cast<size_t>(place)]) / h;
   }
   return {};
+}
+
+bool Problem::has_monitor_gradient(int) const { return false; }
+
+Status Problem::monitor_gradient(int monitor, const Vector& u, Vector& gradient) {
+  std::vector<double> v;
+  const Status st = monitor_places(monitor, u, v);
+  if (!st.is_ok()) return st;
+  const int place = static_cast<int>(std::min_element(v.begin(), v.end()) - v.begin());
+  return monitor_place_gradient(monitor, place, u, gradient);
+}
+
+bool Problem::has_observable_gradient(int) const { return false; }
+
+Status Problem::observable_gradient(int observable, const Vector&, Vector&) {
+  throw std::logic_error("problem '" + name() + "' has no gradient of observable " + std::to_string(observable));
 }
 
 }  // namespace keller

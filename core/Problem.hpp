@@ -92,6 +92,16 @@ class Problem {
   // The gradient in u of the monitor's value at one place. The default: one-sided differences,
   // unknown by unknown, of monitor_places (small problems only).
   virtual Status monitor_place_gradient(int monitor, int place, const Vector& u, Vector& gradient);
+  // Gradients in u of a monitor or an observable, where the problem has them cheaply: the engine
+  // then locates their zeros by Newton on F = 0 with the function linearised (a few chord
+  // iterations on the kept factorisation) instead of by secant trials along the branch.
+  // has_*: whether it offers one (default: none, the secant).
+  virtual bool has_monitor_gradient(int monitor) const;
+  // Default: the gradient at the place where the minimum sits (monitor_places,
+  // monitor_place_gradient).
+  virtual Status monitor_gradient(int monitor, const Vector& u, Vector& gradient);
+  virtual bool has_observable_gradient(int observable) const;
+  virtual Status observable_gradient(int observable, const Vector& u, Vector& gradient);
 
   // Fields of a solution for output.
   virtual SolutionFields fields(const Vector& u) const = 0;

@@ -85,6 +85,8 @@ class CollapsibleChannelProblem final : public Problem {
   // order), and its gradient by central differences in that node's conformation unknowns.
   Status monitor_places(int monitor, const Vector& u, std::vector<double>& values) override;
   Status monitor_place_gradient(int monitor, int place, const Vector& u, Vector& gradient) override;
+  // min_m1's gradient (at its place): its zero is located by Newton.
+  bool has_monitor_gradient(int monitor) const override { return options_.fluid.viscoelastic() && monitor == 0; }
   SolutionFields fields(const Vector& u) const override;
   std::string summary() const override;
 

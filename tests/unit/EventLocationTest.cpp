@@ -1,0 +1,160 @@
+// Zeros of monitors and stop observables whose gradient the problem offers, located by Newton on
+// F = 0 with the function linearised (Problem::has_monitor_gradient, has_observable_gradient),
+// against closed forms and against the secant trials used without a gradient; and a start solved
+// only to near the tolerance, finished on the factorisation it is given.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <iostream>
+
+#include "continuation/Continuation.hpp"
+#include "support/ContinuationTestSupport.hpp"
+#include "support/TestProblems.hpp"
+
+using namespace keller;
+using namespace keller::test;
+
+namespace {
+
+// u_i = exp(c_i lambda): F_i = u_i - exp(c_i lambda). Monitor and observable "u0 u1" - K, a
+// nonlinear function of the state that is exp((c_0 + c_1) lambda) - K on the branch: zero at
+// lambda = ln K / (c_0 + c_1).
+class ExponentialBranch final : public DiagonalProblem {
+ public:
+  enum class Gradient { None, Exact, Zero };
+  ExponentialBranch(double K, Gradient g) : DiagonalProblem("exponential", 4, 0.0), K_(K), gradient_(g) {}
+  static constexpr double c[4] = {0.7, 0.5, -0.3, 1.1};
+  static double zero_of(double K) { return std::log(K) / (c[0] + c[1]); }
+  Vector initial_guess() override { return Vector::Ones(4); }
+  std::vector<std::string> observable_names() const override { return {"u0 u1"}; }
+  Status observables(const Vector& u, std::vector<double>& v) override {
+    v = {u[0] * u[1]};
+    return {};
+  }
+  std::vector<std::string> monitor_names() const override { return {"u0 u1 - K"}; }
+  Status monitors(const Vector& u, std::vector<double>& v) override {
+    v = {u[0] * u[1] - K_};
+    return {};
+  }
+  bool has_monitor_gradient(int) const override { return gradient_ != Gradient::None; }
+  Status monitor_gradient(int, const Vector& u, Vector& g) override { return product_gradient(u, g); }
+  bool has_observable_gradient(int) const override { return gradient_ != Gradient::None; }
+  Status observable_gradient(int, const Vector& u, Vector& g) override { return product_gradient(u, g); }
+
+ private:
+  Status product_gradient(const Vector& u, Vector& g) const {
+    g = Vector::Zero(4);
+    if (gradient_ == Gradient::Exact) g[0] = u[1], g[1] = u[0];
+    return {};
+  }
+  double f(int i, double u, double l) const override { return u - std::exp(c[i] * l); }
+  double df_du(int, double, double) const override { return 1.0; }
+  double df_dlambda(int i, double, double l) const override { return -c[i] * std::exp(c[i] * l); }
+  double K_;
+  Gradient gradient_;
+};
+
+ContinuationOptions exponential_options() {
+  ContinuationOptions o;  // the defaults: the chord on a kept factorisation, block elimination
+  o.parameter = "lambda";
+  o.stop.lower = -1.0;
+  o.stop.upper = 2.0;
+  o.step.initial = 0.1;
+  o.step.max = 0.4;
+  o.events.tolerance = 1e-10;
+  return o;
+}
+
+struct Located {
+  BranchPoint event;
+  BranchPoint end;
+};
+
+Located trace(ExponentialBranch::Gradient g, const ContinuationOptions& o) {
+  ExponentialBranch problem(std::exp(1.2 * 0.9), g);  // the monitor's zero at lambda = 0.9
+  Continuation cont(problem, o);
+  RecordingObserver rec;
+  const ContinuationResult r = cont.run(problem.initial_guess(), rec);
+  EXPECT_EQ(r.code, o.stop.observable.empty() ? StopCode::UpperBound : StopCode::StopObservable) << r.reason;
+  Located out;
+  const auto events = rec.of_kind(PointKind::Event);
+  EXPECT_EQ(events.size(), 1u);
+  if (!events.empty()) out.event = *events[0];
+  if (!rec.points.empty()) out.end = rec.points.back();
+  return out;
+}
+
+}  // namespace
+
+// The monitor's zero to the event tolerance with and without its gradient; with it, in fewer
+// corrector solves than the secant's trials (each of which is corrected onto the branch).
+TEST(EventLocation, AMonitorWithAGradientIsLocatedByNewtonInFewerSolves) {
+  const ContinuationOptions o = exponential_options();
+  const double exact = ExponentialBranch::zero_of(std::exp(1.2 * 0.9));
+  const Located newton = trace(ExponentialBranch::Gradient::Exact, o);
+  const Located secant = trace(ExponentialBranch::Gradient::None, o);
+  std::cout << "the zero at lambda = " << exact << ": Newton " << newton.event.lambda << " in "
+            << newton.event.iterations << " solves, secant " << secant.event.lambda << " in " << secant.event.iterations
+            << "\n";
+  EXPECT_NEAR(newton.event.lambda, exact, o.events.tolerance);
+  EXPECT_NEAR(secant.event.lambda, exact, o.events.tolerance);
+  // the located state is on the branch (the corrector's tolerance) and at the zero
+  for (int i = 0; i < 4; ++i)
+    EXPECT_NEAR(newton.event.u[i], std::exp(ExponentialBranch::c[i] * newton.event.lambda), 1e-9);
+  EXPECT_NEAR(newton.event.monitors[0], 0.0, 1e-9);
+  EXPECT_LT(newton.event.iterations, secant.event.iterations);
+  // a unit tangent at the located point, along the branch: (u', 1) / |.| with u_i' = c_i u_i
+  EXPECT_GT(newton.event.tlambda, 0.0);
+  EXPECT_NEAR(newton.event.tu[0] / newton.event.tlambda, ExponentialBranch::c[0] * newton.event.u[0], 1e-6);
+}
+
+// A stop observable with a gradient: the branch ends on its threshold, located by Newton.
+TEST(EventLocation, AStopObservableWithAGradientEndsTheBranchOnItsThreshold) {
+  ContinuationOptions o = exponential_options();
+  o.stop.observable = "u0 u1";
+  o.stop.above = std::exp(1.2 * 1.4);  // reached at lambda = 1.4
+  const Located newton = trace(ExponentialBranch::Gradient::Exact, o);
+  const Located secant = trace(ExponentialBranch::Gradient::None, o);
+  EXPECT_EQ(newton.end.kind, PointKind::End);
+  EXPECT_NEAR(newton.end.lambda, 1.4, o.events.tolerance);
+  EXPECT_NEAR(secant.end.lambda, 1.4, o.events.tolerance);
+  EXPECT_NEAR(newton.end.observables[0], o.stop.above, 1e-9);
+  EXPECT_LT(newton.end.iterations, secant.end.iterations);
+}
+
+// A gradient that is useless (zero: the function seems not to change along the branch) is
+// caught and the secant locates the zero instead: the same point, not a failure.
+TEST(EventLocation, WhereNewtonCannotLocateTheSecantDoes) {
+  const ContinuationOptions o = exponential_options();
+  const Located fallback = trace(ExponentialBranch::Gradient::Zero, o);
+  const Located secant = trace(ExponentialBranch::Gradient::None, o);
+  EXPECT_NEAR(fallback.event.lambda, ExponentialBranch::zero_of(std::exp(1.2 * 0.9)), o.events.tolerance);
+  EXPECT_NEAR(fallback.event.lambda, secant.event.lambda, 1e-12);
+}
+
+// A run given a factorisation and a start that solves F only to about 1e-6 (a switch of an event
+// curve starts its next piece so): the start is corrected on that factorisation before the first
+// step, and is reported at the tolerance; without a correction its residual would stay 1e-6.
+TEST(EventLocation, AStartNearTheToleranceIsFinishedOnTheGivenFactorisation) {
+  ContinuationOptions o = exponential_options();
+  o.stop.max_steps = 3;
+  ExponentialBranch problem(10.0, ExponentialBranch::Gradient::Exact);
+  Continuation first(problem, o);
+  RecordingObserver rec1;
+  first.run(problem.initial_guess(), rec1);
+  const StartFactorisation f = first.factorisation();
+  ASSERT_TRUE(f.lu);
+  const BranchPoint& last = rec1.points.back();
+  problem.parameters().set("lambda", last.lambda);
+  Vector start = last.u;
+  start[2] += 1e-6;  // F_2 = 1e-6 there
+  Continuation second(problem, o);
+  RecordingObserver rec2;
+  const ContinuationResult r = second.run(start, rec2, f);
+  ASSERT_GE(rec2.points.size(), 2u) << r.reason;
+  const BranchPoint& s = rec2.points.front();
+  EXPECT_EQ(s.kind, PointKind::Start);
+  EXPECT_EQ(s.lambda, last.lambda);  // at the same parameter value
+  EXPECT_LE(s.residual, 1e-10);
+  EXPECT_NEAR(s.u[2], std::exp(ExponentialBranch::c[2] * last.lambda), 1e-10);
+}
