@@ -103,7 +103,8 @@ void Continuation::set_norm(const Vector& u0, double scale) {
   norm_ = ArclengthNorm(problem_.size(), scale, options_.theta);
 }
 
-ContinuationResult Continuation::run(const Vector& u0, BranchObserver& observer, const StartFactorisation& factorised) {
+ContinuationResult Continuation::run(const Vector& u0, BranchObserver& observer, const StartFactorisation& factorised,
+                                     const BranchPoint* near) {
   t_start_ = std::chrono::steady_clock::now();
   start_on_.reset();
   adopted_ = false;
@@ -117,20 +118,8 @@ ContinuationResult Continuation::run(const Vector& u0, BranchObserver& observer,
   Status st = {StatusCode::InvalidState, "no factorisation of the start's solve"};
   if (factorised.lu && options_.corrector.kept()) {
     // the tangent system [J F_p; 0 1] at the start, J's factorisation from the solve of the start
-    st = ev_.set_parameter(start.lambda);
-    if (st.is_ok()) st = ev_.parameter_derivative(start.u);
     const Constraint row = Constraint::parameter(0.0);
-    if (st.is_ok() && ev_.bordered()) {
-      // the border at the start on the factorised inner matrix
-      st = ev_.jacobian(start.u);
-      BorderedJacobian J = ev_.bordered_jacobian();
-      J.K = factorised.jacobian;
-      if (st.is_ok())
-        st = kept_.adopt(factorised.lu, J, factorised.at, start.lambda, ev_.parameter_derivative_vector(), row);
-    } else if (st.is_ok()) {
-      st = kept_.adopt(factorised.lu, factorised.jacobian, factorised.at, start.lambda,
-                       ev_.parameter_derivative_vector(), row);
-    }
+    st = kept_.adopt_at(ev_, factorised, start.u, start.lambda, row);
     if (st.is_ok()) {
       // a start solved only to near the tolerance (a switch of an event curve) is finished on the
       // adopted factorisation: a chord iteration or two instead of a solve of its own
@@ -143,7 +132,7 @@ ContinuationResult Continuation::run(const Vector& u0, BranchObserver& observer,
         st = r.status;
       }
     }
-    if (st.is_ok()) st = tangents_.at_point(start, row, Vector(), 0.0, false, t);
+    if (st.is_ok()) st = tangents_.at_point(start, row, Vector(), 0.0, false, t, near);
     if (st.is_ok() && t.tl * options_.direction < 0) {
       t.tu = -t.tu;
       t.tl = -t.tl;

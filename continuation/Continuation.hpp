@@ -78,7 +78,10 @@ class Continuation {
   // factorisation the solve of u0 left (block elimination with a kept factorisation only: the
   // start's tangent by iteration on it, a factorisation at u0 only where that does not converge;
   // for a problem with a border, the factorisation of its inner matrix, the border evaluated at u0).
-  ContinuationResult run(const Vector& u0, BranchObserver& observer, const StartFactorisation& factorised = {});
+  // near: a point close to u0 whose tangent starts that iteration (the switch an event curve's
+  // next piece starts from), or null.
+  ContinuationResult run(const Vector& u0, BranchObserver& observer, const StartFactorisation& factorised = {},
+                         const BranchPoint* near = nullptr);
   // Continues from a stored point (solution, tangent, step, arclength) of an earlier run.
   ContinuationResult resume(BranchPoint start, BranchObserver& observer);
   // Starts a new branch at a branch point bp (a stored point of an earlier run with the same

@@ -50,6 +50,14 @@ Status Evaluator::jacobian(const Vector& u) {
   return st;
 }
 
+Status Evaluator::border(const Vector& u, BorderedJacobian& J) {
+  const auto t0 = Clock::now();
+  const Status st = problem_.border(u, F_, J);
+  timings_.jacobian += since(t0);
+  if (st.is_ok()) floor_ = J.rounding_floor(u);  // (of K as it is: made nearby)
+  return st;
+}
+
 const SparseMatrix& Evaluator::jacobian_matrix() const {
   if (!assembled_) {
     J_ = JB_.assembled();

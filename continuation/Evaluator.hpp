@@ -5,6 +5,7 @@
 
 #include <string>
 
+#include "core/ConvergenceTest.hpp"
 #include "core/Problem.hpp"
 
 namespace keller {
@@ -31,6 +32,11 @@ class Evaluator {
   // J and F at u (into jacobian_matrix() or, for a problem with a border of its own,
   // bordered_jacobian(); residual_vector()); the rounding floor of J at u.
   Status jacobian(const Vector& u);
+  // F and the border of a problem with a border of its own at u, into J (Problem::border: K as it
+  // was), F into residual_vector(), the rounding floor of that J at u; timed with the Jacobians.
+  Status border(const Vector& u, BorderedJacobian& J);
+  // The rounding floor of J (made nearby: a factorisation adopted) at u, as if assembled there.
+  void set_rounding_floor(const SparseMatrix& J, const Vector& u) { floor_ = keller::rounding_floor(J, u); }
   // dF/dp at u (into parameter_derivative_vector()).
   Status parameter_derivative(const Vector& u);
   // J(u) v by central differences of the residual (two residuals instead of a Jacobian; error

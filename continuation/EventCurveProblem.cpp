@@ -146,17 +146,32 @@ Status EventCurveProblem::equations_parameter_derivative(int p, const Vector& U,
 }
 
 Status EventCurveProblem::bordered_jacobian(const Vector& U, Vector& F, BorderedJacobian& J) {
+  if (J.border_size() != 1 || J.inner_size() != n_) J = blocks();
+  Vector f;
+  Status st = set_p1(U);
+  if (st.is_ok()) st = inner_.jacobian(U.head(n_), f, J.K);
+  if (!st.is_ok()) return st;
+  return fill_border(U, f, F, J);
+}
+
+Status EventCurveProblem::border(const Vector& U, Vector& F, BorderedJacobian& J) {
+  if (J.border_size() != 1 || J.inner_size() != n_) return bordered_jacobian(U, F, J);
+  Vector f;
+  Status st = set_p1(U);
+  if (st.is_ok()) st = inner_.residual(U.head(n_), f);
+  if (!st.is_ok()) return st;
+  return fill_border(U, f, F, J);
+}
+
+Status EventCurveProblem::fill_border(const Vector& U, const Vector& f, Vector& F, BorderedJacobian& J) {
   std::vector<double> v;
   Status st = place_values(U, v);
   if (!st.is_ok()) return st;
   const Vector u = U.head(n_);
-  Vector f, Fp1, gu;
-  if (J.border_size() != 1 || J.inner_size() != n_) J = blocks();
-  st = inner_.jacobian(u, f, J.K);
-  if (!st.is_ok()) return st;
   F.resize(n_ + 1);
   F.head(n_) = f;
   F[n_] = v[static_cast<size_t>(place_)];
+  Vector Fp1, gu;
   st = inner_.parameter_derivative(p1(), u, Fp1);
   if (st.is_ok()) st = inner_.monitor_place_gradient(monitor_, place_, u, gu);
   double gp1 = 0.0;
@@ -287,10 +302,11 @@ ContinuationResult EventCurveProblem::trace(ContinuationOptions o, const NewtonO
   Vector U = U0;
   ContinuationResult total;
   int steps_left = o.stop.max_steps;
+  BranchPoint switched;  // the switch the present piece starts from (its tangent starts the piece's)
   for (bool first = true;; first = false) {
     Continuation run(*this, o, newton, lu);
     if (each_run) each_run(&run);
-    const ContinuationResult r = run.run(U, pieces, kept_);
+    const ContinuationResult r = run.run(U, pieces, kept_, first ? nullptr : &switched);
     if (each_run) each_run(nullptr);
     kept_ = run.factorisation();
     total.points += first ? r.points : r.points - 1;
@@ -313,6 +329,7 @@ ContinuationResult EventCurveProblem::trace(ContinuationOptions o, const NewtonO
     if (r.code != StopCode::StopObservable || !pieces.switched() || steps_left <= 0) break;
     // the next piece: from the switch, following the place the minimum moved to
     const BranchPoint sw = *pieces.switched();
+    switched = sw;
     U = sw.u;
     inner_.parameters().set(o.parameter, sw.lambda);
     int next = place_;

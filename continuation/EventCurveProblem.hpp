@@ -32,6 +32,7 @@ class EventCurveProblem final : public CurveProblem {
   // [J F_p1; m_k,u^T m_k,p1]: the inner J bordered by one column and row.
   int border_size() const override { return 1; }
   Status bordered_jacobian(const Vector& U, Vector& F, BorderedJacobian& J) override;
+  Status border(const Vector& U, Vector& F, BorderedJacobian& J) override;
   std::vector<std::string> observable_names() const override { return curve_observable_names({"place", kMargin}); }
   Status observables(const Vector& U, std::vector<double>& values) override;
   // The switch margin's gradient in U: that of m_j - m_k, j the place of the smallest value
@@ -64,6 +65,8 @@ class EventCurveProblem final : public CurveProblem {
   // the switch a piece starts from), -1 where there is none.
   int other_place(const Vector& U, const std::vector<double>& values) const;
   int margin_index() const { return static_cast<int>(inner_.observable_names().size()) + 2; }
+  // F (f the inner residual) and the border of the Jacobian at U.
+  Status fill_border(const Vector& U, const Vector& f, Vector& F, BorderedJacobian& J);
   // d m_place / d p at U (p1 set from U) by central differences in the parameter p.
   Status place_parameter_derivative(int p, int place, const Vector& u, double& derivative);
   // U corrected at the present parameters (CurveProblem::solve_here), the chord on kept_ where

@@ -27,19 +27,7 @@ FixedParameterResult solve_at_fixed_parameter(Problem& problem, const std::strin
   const Constraint row = Constraint::parameter(value);
   if (near.lu) {
     // the chord starts on the nearby factorisation, the border evaluated at u
-    Status st = ev.set_parameter(value);
-    if (st.is_ok()) st = ev.jacobian(u);
-    if (st.is_ok()) st = ev.parameter_derivative(u);
-    if (st.is_ok()) {
-      if (ev.bordered()) {
-        BorderedJacobian J = ev.bordered_jacobian();
-        J.K = near.jacobian;
-        st = kept.adopt(near.lu, J, near.at, value, ev.parameter_derivative_vector(), row);
-      } else {
-        st = kept.adopt(near.lu, near.jacobian, near.at, value, ev.parameter_derivative_vector(), row);
-      }
-    }
-    kept.set_reusable(st.is_ok());
+    kept.set_reusable(kept.adopt_at(ev, near, u, value, row).is_ok());
   }
   const CorrectorResult r = corrector.correct(u, value, row, Corrector::Kind::Located);
   FixedParameterResult out;

@@ -33,6 +33,26 @@ Status KeptFactorisation::adopt(std::shared_ptr<SparseLU> lu, const SparseMatrix
   return remember(system_.adopt(std::move(lu), J, Fp, c.cu, c.cl), u_j, lambda);
 }
 
+Status KeptFactorisation::adopt_at(Evaluator& ev, const StartFactorisation& near, const Vector& u, double lambda,
+                                   const Constraint& c) {
+  Status st = ev.set_parameter(lambda);
+  if (st.is_ok()) st = ev.parameter_derivative(u);
+  if (!st.is_ok()) return st;
+  if (!ev.bordered()) {
+    ev.set_rounding_floor(near.jacobian, u);
+    return adopt(near.lu, near.jacobian, near.at, lambda, ev.parameter_derivative_vector(), c);
+  }
+  BorderedJacobian J;
+  J.K = near.jacobian;
+  const int nk = static_cast<int>(J.K.rows()), m = ev.problem().border_size();
+  J.B = Matrix::Zero(nk, m);
+  J.C = Matrix::Zero(nk, m);
+  J.D = Matrix::Zero(m, m);
+  st = ev.border(u, J);
+  if (!st.is_ok()) return st;
+  return adopt(near.lu, J, near.at, lambda, ev.parameter_derivative_vector(), c);
+}
+
 Status KeptFactorisation::adopt(std::shared_ptr<SparseLU> lu, const BorderedJacobian& J, const Vector& u_j,
                                 double lambda, const Vector& Fp, const Constraint& c) {
   return remember(system_.adopt(std::move(lu), J, Fp, c.cu, c.cl), u_j, lambda);

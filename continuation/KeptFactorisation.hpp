@@ -41,6 +41,10 @@ class KeptFactorisation {
   // the border that of the point.
   Status adopt(std::shared_ptr<SparseLU> lu, const BorderedJacobian& J, const Vector& u_j, double lambda,
                const Vector& Fp, const Constraint& c);
+  // near (another run's factorisation) at the point (u, lambda): the parameter set there, F_p and,
+  // for a problem with a border, the border evaluated at u (Problem::border, not the inner
+  // Jacobian), then adopt().
+  Status adopt_at(Evaluator& ev, const StartFactorisation& near, const Vector& u, double lambda, const Constraint& c);
   // J's (the inner matrix's) factorisation in use, the matrix and where it was made; empty where
   // block elimination is not in use.
   StartFactorisation inner_factorisation() const;

@@ -45,6 +45,9 @@ class Problem {
   // F(u) and the Jacobian in bordered form, K with the pattern inner_pattern() (its border may be
   // wider than border_size() where that is 0). The default throws (a problem without a border).
   virtual Status bordered_jacobian(const Vector& u, Vector& F, BorderedJacobian& J);
+  // F(u) and the border alone (J's B, C and D; K as it was): what a factorisation of K made
+  // nearby needs to be used at u. The default: bordered_jacobian, K included.
+  virtual Status border(const Vector& u, Vector& F, BorderedJacobian& J) { return bordered_jacobian(u, F, J); }
   // The pattern of K where border_size() > 0; else the Jacobian's own.
   virtual const SparseMatrix& inner_pattern() const { return jacobian_pattern(); }
   // Unknowns that are parameters of an inner problem (an augmented problem's p1): the stepper
