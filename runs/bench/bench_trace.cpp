@@ -225,14 +225,15 @@ int main(int argc, char** argv) {
   const int ncv = std::min(sopt.ncv > 0 ? sopt.ncv : std::max(2 * sopt.count + 1, 20), problem->size());
   const double point_s = plain.seconds / std::max(plain.rows - 1, 1);
   fmt::print(
-      "\nmonitoring adds {:+.0f}% (issue 6's goal: <= +25%): {} spectra in {:.2f} s, {} eigen-solver factorisations, "
+      "\nmonitoring adds {:+.0f}% (issue 22's goal: <= +50%): {} spectra in {:.2f} s, {} eigen-solver factorisations, "
       "{:.0f} solves per spectrum at {:.1f} ms each\n",
       100.0 * (with.seconds - plain.seconds) / plain.seconds, with.spectra, with.eig_seconds, with.eig_factorisations,
       with.spectra ? static_cast<double>(with.eig_solves) / with.spectra : 0.0, 1e3 * solve_s);
   fmt::print(
       "a spectrum costs at least one Arnoldi basis, ncv = {} solves = {:.2f} s = {:.0f}% of a point "
-      "({:.2f} s); the 25% goal allows {:.0f} solves per point\n",
-      ncv, ncv * solve_s, 100.0 * ncv * solve_s / point_s, point_s, solve_s > 0 ? 0.25 * point_s / solve_s : 0.0);
+      "({:.2f} s); the 50% goal allows {:.0f} solves per point, {:.0f} on this branch\n",
+      ncv, ncv * solve_s, 100.0 * ncv * solve_s / point_s, point_s, solve_s > 0 ? 0.5 * point_s / solve_s : 0.0,
+      solve_s > 0 ? 0.5 * plain.seconds / solve_s : 0.0);
   fmt::print("{}\n", machine());
   return 0;
 }
