@@ -54,20 +54,27 @@ PerturbationOptions perturbation_options_from(const Scene& scene) {
 struct Reference {
   Vector state;
   std::optional<StoredMode> mode;
+  Vector differential;  // 1 for the unknowns with a time derivative (B's nonzero columns at the state)
 };
 
 // The deviation from the reference, and with a mode its components along Re phi and Im phi (least
-// squares: d ~ a Re phi + b Im phi, so that z = a - i b evolves as exp(-sigma t) in the linear regime).
+// squares: d ~ a Re phi + b Im phi, so that z = a - i b evolves as exp(-sigma t) in the linear regime)
+// over the differential unknowns: BDF2's values of algebraic unknowns of index above one (the
+// solid's pressure when the wall has inertia) need not follow the mode.
 TimeColumns reference_columns(const Reference& ref) {
   TimeColumns c;
   c.names = {"deviation"};
   if (ref.mode) c.names.insert(c.names.end(), {"mode_re", "mode_im", "mode_amplitude"});
   c.values = [&ref](const Vector& u) {
-    const Vector d = u - ref.state;
+    Vector d = u - ref.state;
     std::vector<double> v = {d.lpNorm<Eigen::Infinity>()};
     if (!ref.mode) return v;
-    const Vector& p = ref.mode->re;
-    const Vector& q = ref.mode->im;
+    Vector p = ref.mode->re, q = ref.mode->im;
+    if (ref.differential.size() == d.size()) {
+      d = d.cwiseProduct(ref.differential);
+      p = p.cwiseProduct(ref.differential);
+      q = q.cwiseProduct(ref.differential);
+    }
     const double pp = p.squaredNorm(), pq = p.dot(q), qq = q.squaredNorm(), pd = p.dot(d), qd = q.dot(d);
     const double det = pp * qq - pq * pq;
     double a = pp > 0.0 ? pd / pp : 0.0, b = 0.0;
@@ -319,6 +326,10 @@ int run_evolve(const EvolveArguments& args, RunSummary* out_summary) {
     }
     if (B.nonZeros() == 0 || B.coeffs().cwiseAbs().maxCoeff() == 0.0)
       fmt::print("note: B = 0 (no row carries a time derivative): every step is the steady state\n");
+    ref.differential = Vector::Zero(ref.state.size());
+    for (int k = 0; k < B.outerSize(); ++k)
+      for (SparseMatrix::InnerIterator it(B, k); it; ++it)
+        if (it.value() != 0.0) ref.differential[it.col()] = 1.0;
   }
   if (!seed && popt.kind == "computed") {
     StoredMode mode;

@@ -32,6 +32,10 @@ void CollapsibleOptions::declare(SceneSchema& s) {
            "quasi-statically, no kinematics); moving-wall: the physical form, time derivatives at fixed points (ALE) "
            "and v = dx/dt on the interface",
            {"fixed-wall", "moving-wall"});
+  s.real("dynamics.wall_density_ratio", 0.0,
+         "rho_s / rho: > 0 gives the wall inertia (the wall velocity becomes an unknown; needs mass_matrix = "
+         "\"moving-wall\" and parameters.Re > 0); 0: the wall is quasi-static",
+         Range::non_negative());
 }
 
 CollapsibleOptions CollapsibleOptions::from_scene(const Scene& scene) {
@@ -44,11 +48,25 @@ CollapsibleOptions CollapsibleOptions::from_scene(const Scene& scene) {
   o.Gamma = scene.real("parameters.Gamma");
   o.Pe = scene.real("parameters.Pe");
   o.moving_wall_dynamics = scene.string("dynamics.mass_matrix") == "moving-wall";
+  o.wall_density_ratio = scene.real("dynamics.wall_density_ratio");
+  o.validate();
   return o;
+}
+
+void CollapsibleOptions::validate() const {
+  if (wall_density_ratio > 0 && !moving_wall_dynamics)
+    throw std::invalid_argument(
+        "dynamics.wall_density_ratio > 0 needs dynamics.mass_matrix = \"moving-wall\" (the wall's inertia "
+        "belongs to the physical time-dependent form)");
+  if (wall_density_ratio > 0 && !(fluid.Re > 0))
+    throw std::invalid_argument(
+        "dynamics.wall_density_ratio > 0 needs parameters.Re > 0 (the wall's inertia is the density ratio times "
+        "the fluid's, Re / Gamma)");
 }
 
 CollapsibleChannelProblem::CollapsibleChannelProblem(const CollapsibleOptions& options)
     : options_(options), mesh_(build_channel_mesh(options.geometry, options.mesh, true)) {
+  options_.validate();
   const ChannelGeometry& g = options_.geometry;
   iGamma_ =
       params_.add("Gamma", options_.Gamma, "wall elasticity parameter (the mean inflow velocity)", Range::positive());
@@ -65,6 +83,12 @@ CollapsibleChannelProblem::CollapsibleChannelProblem(const CollapsibleOptions& o
       std::make_unique<SolidWall>(mesh_, WallGeometry{g.upstream_length, g.upstream_length + g.deformable_length, 1.0},
                                   g.thickness, options_.Pe, params_);
   motion_ = std::make_unique<FluidMeshMotion>(mesh_, "fluid", options_.motion);
+  if (options_.wall_density_ratio > 0) {
+    // rho_s W^2 G / eta0^2 = (rho_s / rho) Re / Gamma: the fluid's inertia coefficient times the ratio
+    const int iRe = params_.index("Re"), iG = iGamma_;
+    const double ratio = options_.wall_density_ratio;
+    wall_->set_inertia([ratio, iRe, iG](const ParameterSet& p) { return ratio * p.value(iRe) / p.value(iG); });
+  }
 
   // the node positions are shared: the solid's equilibrium governs its nodes (the interface
   // included), the mesh equations the other fluid nodes

@@ -46,9 +46,15 @@ struct CollapsibleOptions {
   // kinematics; true: the physical form, time derivatives at fixed points of space (ALE: the nodal
   // rate minus xdot . grad) and the kinematic condition v = dx/dt on the interface.
   bool moving_wall_dynamics = false;
+  // rho_s / rho of the wall and the fluid: > 0 gives the wall inertia (density ratio x Re / Gamma in
+  // units of eta0 / G) and the wall velocity as an unknown; 0: the quasi-static wall. Needs the
+  // moving-wall form and Re > 0.
+  double wall_density_ratio = 0.0;
 
   static void declare(SceneSchema& schema);
   static CollapsibleOptions from_scene(const Scene& scene);
+  // Throws std::invalid_argument (naming the keys) for a combination the problem cannot build.
+  void validate() const;
 };
 
 class CollapsibleChannelProblem final : public Problem {

@@ -9,8 +9,10 @@
 
 #include "core/ElementGeometry.hpp"
 #include "core/KernelTerm.hpp"
+#include "core/RateConstraintTerm.hpp"
 #include "problems/kernels/FollowerPressureKernel.hpp"
 #include "problems/kernels/NeoHookeanSolidKernel.hpp"
+#include "problems/kernels/SolidInertiaTerm.hpp"
 
 namespace keller {
 
@@ -37,7 +39,11 @@ SolidWall::SolidWall(const Mesh& mesh, WallGeometry geometry, double t0, double 
             [&](int a, int b) { return mesh.node(a)[0] < mesh.node(b)[0]; });
 }
 
-std::vector<FieldSpec> SolidWall::fields() const { return {{"solid_pressure", Basis::P1Disc, {"pi"}, {"solid"}}}; }
+std::vector<FieldSpec> SolidWall::fields() const {
+  std::vector<FieldSpec> f = {{"solid_pressure", Basis::P1Disc, {"pi"}, {"solid"}}};
+  if (density_) f.push_back({"wall_velocity", Basis::Q2, {"wx", "wy"}, {"solid"}});
+  return f;
+}
 
 std::vector<int> SolidWall::position_nodes() const {
   std::set<int> nodes;
@@ -56,6 +62,15 @@ void SolidWall::build(const ComponentBuild& b) {
   terms_.push_back(std::make_shared<KernelTerm<FollowerPressureKernel>>(
       FollowerPressureKernel(*mesh_, dofs, mesh_->boundary("wall_top"), iPe_), params));
   const int fx = dofs.field_index("position");
+  if (density_) {
+    terms_.push_back(std::make_shared<SolidInertiaTerm>(*mesh_, dofs, elements_, &reference_, params, density_));
+    // w = dx/dt at every node of the solid (w = 0 where the sides are clamped)
+    auto kinematics = std::make_shared<RateConstraintTerm>("wall kinematics");
+    const int fw = dofs.field_index("wall_velocity");
+    for (int n : position_nodes())
+      for (int c = 0; c < 2; ++c) kinematics->add(dofs.node_dof(fw, n, c), dofs.node_dof(fx, n, c));
+    terms_.push_back(kinematics);
+  }
   std::set<int> clamped;
   for (const char* side : {"wall_left", "wall_right"})
     for (int n : mesh_->boundary_nodes(side)) clamped.insert(n);

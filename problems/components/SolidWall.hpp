@@ -7,6 +7,7 @@
 #pragma once
 
 #include <array>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -38,7 +39,14 @@ class SolidWall final : public Component {
   SolidWall& operator=(const SolidWall&) = delete;
 
   std::string name() const override { return "solid wall"; }
-  // The solid's field besides the shared "position": the P1-discontinuous pressure pi.
+  // Wall inertia in the time-dependent form, its density rho* (a function of the parameters, in
+  // the problem's units): the wall velocity w becomes an unknown (a field of its own, rows w =
+  // dx/dt) and rho* dw/dt enters the equilibrium rows (SolidInertiaTerm). Before build(); without
+  // it the solid is quasi-static and has no w.
+  void set_inertia(std::function<double(const ParameterSet&)> density) { density_ = std::move(density); }
+  bool has_inertia() const { return static_cast<bool>(density_); }
+  // The solid's fields besides the shared "position": the P1-discontinuous pressure pi, and the
+  // wall velocity (Q2) where the wall has inertia.
   std::vector<FieldSpec> fields() const override;
   // Solid element and follower-load terms, and the clamps (x = X(t) on wall_left, wall_right).
   void build(const ComponentBuild& build) override;
@@ -75,6 +83,7 @@ class SolidWall final : public Component {
   std::vector<int> elements_;
   std::vector<int> interface_nodes_;
   const DofMap* dofs_ = nullptr;
+  std::function<double(const ParameterSet&)> density_;
   std::vector<std::shared_ptr<const Term>> terms_;
 };
 

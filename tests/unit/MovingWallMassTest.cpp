@@ -5,9 +5,11 @@
 // kinematic rows v = dx/dt of the interface, and the steady Jacobian of the moving-wall form.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <iostream>
 #include <random>
 
+#include "core/Newton.hpp"
 #include "core/RateConstraintTerm.hpp"
 #include "problems/channel/CollapsibleChannelProblem.hpp"
 #include "support/TestSupport.hpp"
@@ -79,6 +81,52 @@ std::vector<char> position_unknowns(const CollapsibleChannelProblem& problem) {
   return out;
 }
 
+// B's columns against central differences of the time terms R(udot) = B(u) udot (time_residual):
+// every column flagged in `every` and every other one of the rest; the largest error relative to
+// each row's largest entry, and the largest entry of B in a flagged column of an unflagged row.
+struct DifferenceCheck {
+  double worst = 0.0, worst_of = 0.0, coupling = 0.0;
+  int checked = 0, columns_of = 0;
+};
+
+DifferenceCheck check_against_differences(CollapsibleChannelProblem& problem, const Vector& u,
+                                          const std::vector<char>& every) {
+  DifferenceCheck out;
+  SparseMatrix B;
+  EXPECT_TRUE(problem.mass_matrix(u, B).is_ok());
+  const Eigen::MatrixXd Bd = Eigen::MatrixXd(B);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> U(-1, 1);
+  Vector udot(problem.size());
+  for (long i = 0; i < udot.size(); ++i) udot[i] = U(rng);
+  const Eigen::VectorXd row_scale = Bd.cwiseAbs().rowwise().maxCoeff();
+  Vector Rp, Rm;
+  for (int j = 0; j < problem.size(); ++j) {
+    const bool flagged = every[static_cast<size_t>(j)];
+    if (!flagged && j % 2 != 0) continue;
+    const double h = 1e-3;
+    Vector up = udot, um = udot;
+    up[j] += h;
+    um[j] -= h;
+    EXPECT_TRUE(problem.time_residual(u, up, Rp).is_ok());
+    EXPECT_TRUE(problem.time_residual(u, um, Rm).is_ok());
+    const Vector column = (Rp - Rm) / (2.0 * h);
+    for (int i = 0; i < problem.size(); ++i) {
+      if (row_scale[i] == 0.0 && column[i] == 0.0) continue;
+      const double e = std::abs(column[i] - Bd(i, j)) / std::max(row_scale[i], 1e-300);
+      out.worst = std::max(out.worst, e);
+      if (flagged) out.worst_of = std::max(out.worst_of, e);
+    }
+    ++out.checked;
+    if (flagged) ++out.columns_of;
+  }
+  for (int j = 0; j < problem.size(); ++j)
+    if (every[static_cast<size_t>(j)])
+      for (int i = 0; i < problem.size(); ++i)
+        if (!every[static_cast<size_t>(i)]) out.coupling = std::max(out.coupling, std::abs(Bd(i, j)));
+  return out;
+}
+
 }  // namespace
 
 // B's columns against central differences of R(udot) = B(u) udot, the time terms assembled from the
@@ -91,48 +139,12 @@ TEST(MovingWallMass, MatchesFiniteDifferencesOfTheTimeTerms) {
     SCOPED_TRACE(f.name);
     CollapsibleChannelProblem problem(coarse(f, true));
     const Vector u = perturbed_state(problem, f);
-    SparseMatrix B;
-    ASSERT_TRUE(problem.mass_matrix(u, B).is_ok());
-    const Eigen::MatrixXd Bd = Eigen::MatrixXd(B);
-    const std::vector<char> is_position = position_unknowns(problem);
-    std::mt19937 rng(3);
-    std::uniform_real_distribution<double> U(-1, 1);
-    Vector udot(problem.size());
-    for (long i = 0; i < udot.size(); ++i) udot[i] = U(rng);
-    Eigen::VectorXd row_scale = Bd.cwiseAbs().rowwise().maxCoeff();
-    double worst = 0.0, worst_position = 0.0;
-    int checked = 0, position_columns = 0;
-    Vector Rp, Rm;
-    for (int j = 0; j < problem.size(); ++j) {
-      const bool position = is_position[static_cast<size_t>(j)];
-      if (!position && j % 2 != 0) continue;
-      const double h = 1e-3;
-      Vector up = udot, um = udot;
-      up[j] += h;
-      um[j] -= h;
-      ASSERT_TRUE(problem.time_residual(u, up, Rp).is_ok());
-      ASSERT_TRUE(problem.time_residual(u, um, Rm).is_ok());
-      const Vector column = (Rp - Rm) / (2.0 * h);
-      for (int i = 0; i < problem.size(); ++i) {
-        const double e = std::abs(column[i] - Bd(i, j)) / std::max(row_scale[i], 1e-300);
-        if (row_scale[i] == 0.0 && column[i] == 0.0) continue;
-        worst = std::max(worst, e);
-        if (position) worst_position = std::max(worst_position, e);
-      }
-      ++checked;
-      if (position) ++position_columns;
-    }
-    // the ALE terms are there: B has entries in the position columns of flow rows
-    double ale = 0.0;
-    for (int j = 0; j < problem.size(); ++j)
-      if (is_position[static_cast<size_t>(j)])
-        for (int i = 0; i < problem.size(); ++i)
-          if (!is_position[static_cast<size_t>(i)]) ale = std::max(ale, std::abs(Bd(i, j)));
-    std::cout << f.name << ": " << problem.size() << " unknowns, " << checked << " columns (" << position_columns
-              << " of positions), max relative error " << worst << " (positions " << worst_position
-              << "), largest ALE entry " << ale << "\n";
-    EXPECT_LT(worst, 1e-9);
-    EXPECT_GT(ale, 0.0);
+    const DifferenceCheck c = check_against_differences(problem, u, position_unknowns(problem));
+    std::cout << f.name << ": " << problem.size() << " unknowns, " << c.checked << " columns (" << c.columns_of
+              << " of positions), max relative error " << c.worst << " (positions " << c.worst_of
+              << "), largest ALE entry " << c.coupling << "\n";
+    EXPECT_LT(c.worst, 1e-9);
+    EXPECT_GT(c.coupling, 0.0);
   }
 }
 
@@ -237,5 +249,121 @@ TEST(MovingWallMass, TheSteadyProblemIsUnchanged) {
     EXPECT_EQ((Fm - Ff).lpNorm<Eigen::Infinity>(), 0.0);
     const auto jc = test::check_problem_jacobian(moving, u);
     EXPECT_LT(jc.max_relative_error, 1e-6);
+  }
+}
+
+namespace {
+
+// coarse() with the wall's inertia: rho_s / rho = ratio.
+CollapsibleOptions with_wall_inertia(const Fluid& f, double ratio) {
+  CollapsibleOptions o = coarse(f, true);
+  o.wall_density_ratio = ratio;
+  return o;
+}
+
+std::vector<char> field_unknowns(const CollapsibleChannelProblem& problem, const std::string& field) {
+  const DofMap& d = problem.dofs();
+  const int fi = d.field_index(field);
+  std::vector<char> out(static_cast<size_t>(problem.size()), 0);
+  for (int n = 0; n < problem.mesh().num_nodes(); ++n)
+    for (int c = 0; c < d.num_components(fi); ++c)
+      if (d.node_dof(fi, n, c) >= 0) out[static_cast<size_t>(d.node_dof(fi, n, c))] = 1;
+  return out;
+}
+
+}  // namespace
+
+// The wall's inertia: B's wall-velocity columns (rho* dw/dt in the solid's rows) and the kinematic
+// rows w = dx/dt against differences of the time terms, for a Newtonian and an Oldroyd-B fluid.
+TEST(MovingWallMass, WallInertiaMatchesFiniteDifferencesOfTheTimeTerms) {
+  for (const Fluid& f : {kFluids[0], kFluids[1]}) {
+    SCOPED_TRACE(f.name);
+    CollapsibleChannelProblem problem(with_wall_inertia(f, 3.0));
+    const Vector u = perturbed_state(problem, f);
+    const std::vector<char> w = field_unknowns(problem, "wall_velocity");
+    const DifferenceCheck c = check_against_differences(problem, u, w);
+    std::cout << f.name << " with wall inertia: " << problem.size() << " unknowns, " << c.columns_of
+              << " wall-velocity columns, max relative error " << c.worst << ", largest inertia entry " << c.coupling
+              << "\n";
+    EXPECT_LT(c.worst, 1e-9);
+    EXPECT_GT(c.coupling, 0.0);  // rho* dw/dt is in the solid's rows
+    // the kinematic rows: R = -dx/dt for w = dx/dt, one per wall-velocity unknown
+    int kinematic = 0;
+    for (const auto& t : problem.assembler().terms())
+      if (t->name() == "wall kinematics") kinematic += t->num_items();
+    EXPECT_EQ(kinematic, static_cast<int>(std::count(w.begin(), w.end(), 1)));
+  }
+}
+
+// rho* is the density ratio times the fluid's inertia coefficient Re / Gamma: the consistent mass
+// matrices of the solid's elements sum to rho* times the wall's reference area L t (the Q2 shape
+// functions sum to one; the 3x3 Gauss rule is exact on the affine reference shapes), at two
+// thicknesses (the reference shape follows t).
+TEST(MovingWallMass, WallInertiaIsTheDensityRatioTimesReOverGammaOverTheArea) {
+  const double ratio = 2.5;
+  for (double t : {0.4, 0.15}) {
+    CollapsibleOptions o = with_wall_inertia(kFluids[0], ratio);
+    o.geometry.thickness = t;
+    CollapsibleChannelProblem problem(o);
+    const double expected = ratio * o.fluid.Re / o.Gamma * 5.0 * t;
+    double total = 0.0;
+    int terms = 0;
+    for (const auto& term : problem.assembler().terms()) {
+      if (term->name() != "solid-inertia") continue;
+      ++terms;
+      std::vector<double> B(static_cast<size_t>(term->local_rows() * term->local_size()));
+      for (int item = 0; item < term->num_items(); ++item) {
+        ASSERT_TRUE(term->mass(item, nullptr, B.data()).is_ok());
+        for (int a = 0; a < 9; ++a)
+          for (int b = 0; b < 9; ++b) total += B[static_cast<size_t>(a * term->local_size() + 18 + b)];
+      }
+    }
+    ASSERT_EQ(terms, 1);
+    EXPECT_NEAR(total, expected, 1e-12 * expected) << "t = " << t;
+  }
+}
+
+// The steady problem does not see the wall's inertia: the same steady state (w = 0) and observables
+// as without it, to Newton's tolerance.
+TEST(MovingWallMass, WallInertiaLeavesTheSteadyStateUnchanged) {
+  // (the Dynamics tests' channel: Newtonian, Re = 1, Gamma = 4.95e-4, Pe = 0.04)
+  CollapsibleOptions o;
+  o.mesh = test::custom_channel_mesh(5, 10, 5, 4, 2);
+  o.Gamma = 4.95e-4;
+  o.Pe = 0.04;
+  o.fluid.model = FluidModel::Newtonian;
+  o.fluid.Re = 1.0;
+  o.fluid.inertia = true;
+  o.moving_wall_dynamics = true;
+  CollapsibleChannelProblem plain(o);
+  o.wall_density_ratio = 10.0;
+  CollapsibleChannelProblem heavy(o);
+  Vector up = plain.initial_guess(), uh = heavy.initial_guess();
+  ASSERT_TRUE(NewtonSolver(plain).solve(up).converged());
+  ASSERT_TRUE(NewtonSolver(heavy).solve(uh).converged());
+  std::vector<double> op, oh;
+  ASSERT_TRUE(plain.observables(up, op).is_ok());
+  ASSERT_TRUE(heavy.observables(uh, oh).is_ok());
+  ASSERT_EQ(op.size(), oh.size());
+  for (size_t k = 0; k < op.size(); ++k) EXPECT_NEAR(oh[k], op[k], 1e-9 * std::max(1.0, std::abs(op[k]))) << k;
+  const std::vector<char> w = field_unknowns(heavy, "wall_velocity");
+  for (int i = 0; i < heavy.size(); ++i)
+    if (w[static_cast<size_t>(i)]) EXPECT_EQ(uh[i], 0.0);
+}
+
+// A density ratio without the moving-wall form, or without fluid inertia, is refused naming the key.
+TEST(MovingWallMass, WallInertiaNeedsTheMovingWallFormAndFluidInertia) {
+  CollapsibleOptions fixed = with_wall_inertia(kFluids[0], 1.0);
+  fixed.moving_wall_dynamics = false;
+  CollapsibleOptions stokes = with_wall_inertia(kFluids[0], 1.0);
+  stokes.fluid.Re = 0.0;
+  stokes.fluid.inertia = false;
+  for (const CollapsibleOptions& o : {fixed, stokes}) {
+    try {
+      CollapsibleChannelProblem problem(o);
+      ADD_FAILURE() << "built";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("dynamics.wall_density_ratio"), std::string::npos) << e.what();
+    }
   }
 }
