@@ -17,6 +17,11 @@ void WallOptions::declare(SceneSchema& s) {
          Range::between(SolidWall::min_thickness, SolidWall::max_thickness));
   s.real("parameters.Pe", 0.04, "external pressure on the top of the wall (units of G)");
   s.real("parameters.Pin", 0.0, "uniform pressure on the bottom of the wall (units of G)");
+  s.section("dynamics", "the time-dependent form B du/dt = -F (stability, keller evolve): docs/dynamics.md");
+  s.real("dynamics.inertia", 0.0,
+         "the wall's density rho_s W^2 G / eta0^2: > 0 gives it inertia (the wall velocity an unknown); 0: "
+         "quasi-static, no time-dependent form",
+         Range::non_negative());
 }
 
 WallOptions WallOptions::from_scene(const Scene& scene) {
@@ -26,6 +31,7 @@ WallOptions WallOptions::from_scene(const Scene& scene) {
   o.mesh = channel_mesh_spec_from(scene);
   o.Pe = scene.real("parameters.Pe");
   o.Pin = scene.real("parameters.Pin");
+  o.inertia = scene.real("dynamics.inertia");
   return o;
 }
 
@@ -36,6 +42,10 @@ WallProblem::WallProblem(const WallOptions& options)
       std::make_unique<SolidWall>(mesh_, WallGeometry{g.upstream_length, g.upstream_length + g.deformable_length, 1.0},
                                   g.thickness, options_.Pe, params_);
   iPin_ = params_.add("Pin", options_.Pin, "uniform pressure on the bottom of the wall (units of G)");
+  if (options_.inertia > 0) {
+    const double rho = options_.inertia;
+    wall_->set_inertia([rho](const ParameterSet&) { return rho; });
+  }
   ComposedSystem system =
       Composition().share({"position", Basis::Q2, {"x", "y"}, {"solid"}}).add(*wall_).build(mesh_, params_, "clamps");
   dofs_ = std::move(system.dofs);
@@ -49,6 +59,16 @@ WallProblem::WallProblem(const WallOptions& options)
   observables_.add("dy_max", [this](const Vector& u) { return wall_->max_deflection(u)[1]; });
   observables_.add("area_change", [this](const Vector& u) { return wall_->area(u) - wall_->reference_area(); });
   observables_.add("min_detF", [this](const Vector& u) { return wall_->min_jacobian(u); });
+}
+
+Status WallProblem::mass_matrix(const Vector& u, SparseMatrix& B) {
+  if (!wall_->has_inertia()) return Problem::mass_matrix(u, B);
+  return assembler_->mass_matrix(u, B);
+}
+
+Status WallProblem::time_residual(const Vector& u, const Vector& udot, Vector& R) {
+  if (!wall_->has_inertia()) return Problem::time_residual(u, udot, R);
+  return assembler_->time_residual(u, udot, R);
 }
 
 Vector WallProblem::initial_guess() {

@@ -25,6 +25,9 @@ struct WallOptions {
   ChannelMeshSpec mesh;
   double Pe = 0.04;
   double Pin = 0.0;
+  // The wall's density rho_s W^2 G / eta0^2 (time in eta0 / G): > 0 gives it inertia and the
+  // time-dependent form B du/dt = -F (the wall velocity an unknown); 0: quasi-static, no such form.
+  double inertia = 0.0;
 
   static void declare(SceneSchema& schema);
   static WallOptions from_scene(const Scene& scene);
@@ -46,6 +49,9 @@ class WallProblem final : public Problem {
   Status parameter_derivative(int p, const Vector& u, Vector& dF) override {
     return assembler_->parameter_derivative(p, u, dF);
   }
+  // With inertia: rho* dw/dt in the equilibrium rows and w = dx/dt (else: none, Problem's default).
+  Status mass_matrix(const Vector& u, SparseMatrix& B) override;
+  Status time_residual(const Vector& u, const Vector& udot, Vector& R) override;
   Vector initial_guess() override;
   std::vector<std::string> observable_names() const override { return observables_.names(); }
   Status observables(const Vector& u, std::vector<double>& values) override;
