@@ -112,6 +112,10 @@ hid_t link_create_plist() {
 }
 }  // namespace
 
+void H5File::remove(const std::string& object) {
+  if (H5Ldelete(file_, object.c_str(), H5P_DEFAULT) < 0) fail(path_, "cannot remove " + object);
+}
+
 void H5File::write_string(const std::string& dataset, const std::string& value) {
   Handle type(vlen_string_type(), H5Tclose);
   Handle space(H5Screate(H5S_SCALAR), H5Sclose);

@@ -24,6 +24,8 @@ class H5File {
   hid_t id() const { return file_; }
   const std::string& path() const { return path_; }
   bool exists(const std::string& object) const;
+  // Removes the link to a group or dataset (ReadWrite); throws where there is none.
+  void remove(const std::string& object);
   // Creates a group and any missing parents.
   void create_group(const std::string& group);
 

@@ -450,6 +450,15 @@ std::string Scene::canonical_values(const std::vector<std::string>& keys) const 
   return out;
 }
 
+std::string Scene::canonical_defaults(const std::vector<std::string>& keys) const {
+  std::string out;
+  for (const auto& k : schema_.keys()) {
+    if (!keys.empty() && std::find(keys.begin(), keys.end(), k.path) == keys.end()) continue;
+    out += fmt::format("{} = {}\n", k.path, format_value(k.default_value));
+  }
+  return out;
+}
+
 std::string Scene::resolved_toml() const {
   std::string out = fmt::format("# resolved scene from {}\n", source_);
   for (const auto& [name, doc] : schema_.sections()) {

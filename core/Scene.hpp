@@ -106,6 +106,8 @@ class Scene {
   // "section.key = value" line each, in declaration order, no comments. Two scenes that resolve
   // to the same values give the same text, however the files were written.
   std::string canonical_values(const std::vector<std::string>& keys = {}) const;
+  // The same lines with every key's default instead of its value.
+  std::string canonical_defaults(const std::vector<std::string>& keys = {}) const;
   const SceneSchema& schema() const { return schema_; }
 
  private:

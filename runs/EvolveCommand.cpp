@@ -182,8 +182,9 @@ class TimeObservers final : public TimeObserver {
 };
 
 // The unfinished run of this very command at `work`, to be continued (continues_unfinished).
-std::optional<TimeSeed> unfinished_run(const std::string& work, const std::string& record, bool fresh) {
-  if (!continues_unfinished(work, record, fresh, "time series", "steps", [](const std::string& path) {
+std::optional<TimeSeed> unfinished_run(const std::string& work, const std::string& record, const std::string& defaults,
+                                       bool fresh) {
+  if (!continues_unfinished(work, record, defaults, fresh, "time series", "steps", [](const std::string& path) {
         const TimeTable t = read_time_table(path);
         return std::pair<long, std::string>(t.rows.rows(), t.status);
       }))
@@ -266,7 +267,7 @@ int run_evolve(const EvolveArguments& args, RunSummary* out_summary) {
   Reference ref;
   std::vector<std::string> warnings;
   try {
-    seed = unfinished_run(work, record, args.fresh);
+    seed = unfinished_run(work, record, loaded.defaults(), args.fresh);
     if (seed) {
       ref = read_reference(work);
     } else if (from) {

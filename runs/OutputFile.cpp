@@ -40,8 +40,13 @@ std::map<std::string, std::string> record_lines(const std::string& record) {
 
 }  // namespace
 
-std::string record_difference(const std::string& stored, const std::string& now) {
-  const auto a = record_lines(stored), b = record_lines(now);
+bool records_agree(const std::string& stored, const std::string& now, const std::string& defaults) {
+  if (stored == now) return true;
+  return record_difference(stored, now, defaults).empty();
+}
+
+std::string record_difference(const std::string& stored, const std::string& now, const std::string& defaults) {
+  const auto a = record_lines(stored), b = record_lines(now), d = record_lines(defaults);
   std::string out;
   auto add = [&](const std::string& s) { out += (out.empty() ? "" : "; ") + s; };
   for (const auto& [key, value] : a) {
@@ -51,8 +56,12 @@ std::string record_difference(const std::string& stored, const std::string& now)
     else if (it->second != value)
       add(fmt::format("{} = {} in the file, {} in this scene", key, value, it->second));
   }
-  for (const auto& [key, value] : b)
-    if (!a.count(key)) add(fmt::format("{} = {} in this scene, not in the file", key, value));
+  for (const auto& [key, value] : b) {
+    if (a.count(key)) continue;
+    const auto def = d.find(key);
+    if (def != d.end() && def->second == value) continue;  // added since, at its default
+    add(fmt::format("{} = {} in this scene, not in the file", key, value));
+  }
   return out;
 }
 
@@ -63,8 +72,8 @@ void declare_run_outputs(RunFiles& files, const std::string& out, const std::str
   if (with_fields) files.output("XDMF file", xdmf_path_for(out));
 }
 
-bool continues_unfinished(const std::string& work, const std::string& record, bool fresh, const std::string& what,
-                          const std::string& unit, const UnfinishedTable& table) {
+bool continues_unfinished(const std::string& work, const std::string& record, const std::string& defaults, bool fresh,
+                          const std::string& what, const std::string& unit, const UnfinishedTable& table) {
   if (!std::filesystem::exists(work)) return false;
   long rows = 0;
   std::string status, stored;
@@ -84,12 +93,12 @@ bool continues_unfinished(const std::string& work, const std::string& record, bo
     fmt::print("note: --fresh: the unfinished {} in '{}' ({} {}) is discarded\n", what, work, rows, unit);
     return false;
   }
-  if (stored != record)
+  if (!records_agree(stored, record, defaults))
     throw std::invalid_argument(fmt::format(
         "'{}' holds the unfinished {} ({} {}) of another run ({}); move it away to keep it, or pass --fresh to "
         "discard it",
         work, what, rows, unit,
-        stored.empty() ? "no record of its run" : "it differs in: " + record_difference(stored, record)));
+        stored.empty() ? "no record of its run" : "it differs in: " + record_difference(stored, record, defaults)));
   return true;
 }
 

@@ -22,9 +22,14 @@ std::string xdmf_path_for(const std::string& h5_path);
 // A 64-bit FNV-1a hash of a text, as 16 hexadecimal digits.
 std::string text_hash(const std::string& text);
 
-// What differs between two records of "key = value" lines (Scene::canonical_values), e.g.
-// 'fluid.model = "fene-p" in the file, "oldroyd-b" in this scene'; empty when they agree.
-std::string record_difference(const std::string& stored, const std::string& now);
+// Whether a record of "key = value" lines (Scene::canonical_values) stored in a file agrees with
+// the present one: every key in both the same, none only in the file, and a key only in the present
+// one (added to keller after the file was written) at its default (`defaults`: the lines of
+// Scene::canonical_defaults), which keeps the physics the file was made with.
+bool records_agree(const std::string& stored, const std::string& now, const std::string& defaults);
+// What differs between them, e.g. 'fluid.model = "fene-p" in the file, "oldroyd-b" in this scene'
+// (keys only in the present record at their defaults left out); empty when they agree.
+std::string record_difference(const std::string& stored, const std::string& now, const std::string& defaults = "");
 
 // The outputs of a run written to OUT.part and renamed to OUT when complete, with its fields added
 // to OUT.fields.part first and an XDMF file beside it (`with_fields`); `what` names OUT in messages
@@ -35,11 +40,11 @@ void declare_run_outputs(RunFiles& files, const std::string& out, const std::str
 // (saying why on the terminal) where there is no file, it cannot be read, its run ended by itself,
 // or `fresh` discards it. `table` reads its rows and status ("running" while a writer ran;
 // "interrupted ..." for a stopped run), and `what` and `unit` name them ("branch", "rows"). The
-// record of its run (/problem/run) must be `record`: else std::invalid_argument, an unfinished run
-// of another command is never overwritten.
+// record of its run (/problem/run) must agree with `record` (records_agree, `defaults` the scene's):
+// else std::invalid_argument, an unfinished run of another command is never overwritten.
 using UnfinishedTable = std::function<std::pair<long, std::string>(const std::string& path)>;
-bool continues_unfinished(const std::string& work, const std::string& record, bool fresh, const std::string& what,
-                          const std::string& unit, const UnfinishedTable& table);
+bool continues_unfinished(const std::string& work, const std::string& record, const std::string& defaults, bool fresh,
+                          const std::string& what, const std::string& unit, const UnfinishedTable& table);
 
 // Writes /scene (resolved TOML), /problem (attributes name, summary, unknowns, physics_hash),
 // /problem/physics (LoadedScene::physics()) and /problem/parameters (an attribute per parameter).

@@ -24,6 +24,8 @@ struct LoadedScene {
   std::vector<std::string> physics_keys;
   // physics_keys with their values (Scene::canonical_values), as stored in every output file.
   std::string physics() const { return scene.canonical_values(physics_keys); }
+  // The defaults of every key, in the same form (records_agree: keys added since a file was written).
+  std::string defaults() const { return scene.canonical_defaults(); }
 };
 
 // Reads problem.type, builds the schema (common keys, the type's keys, and `extra` for the

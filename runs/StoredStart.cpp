@@ -70,8 +70,8 @@ StoredPoint read_stored_start(const StoredStart& start, const LoadedScene& scene
   const std::string physics = scene.physics();
   if (stored.header.physics.empty())
     refusals.push_back("it holds no record of its physics (written by an older keller)");
-  else if (stored.header.physics != physics)
-    refusals.push_back("its physics differs: " + record_difference(stored.header.physics, physics));
+  else if (!records_agree(stored.header.physics, physics, scene.defaults()))
+    refusals.push_back("its physics differs: " + record_difference(stored.header.physics, physics, scene.defaults()));
   for (const Parameter& p : problem.parameters().list()) {
     if (p.name == parameter) continue;  // the run's own parameter starts at the point's value
     if (start.curve && p.name == stored.table.parameter) continue;  // an unknown of the curve

@@ -53,12 +53,14 @@ struct Unfinished {
 };
 
 // The unfinished run of this very command at `work`, to be continued (continues_unfinished).
-std::optional<Unfinished> unfinished_run(const std::string& work, const std::string& record, bool fresh) {
+std::optional<Unfinished> unfinished_run(const std::string& work, const std::string& record,
+                                         const std::string& defaults, bool fresh) {
   BranchTable t;
-  const bool continues = continues_unfinished(work, record, fresh, "branch", "rows", [&](const std::string& path) {
-    t = read_branch_table(path);
-    return std::pair<long, std::string>(t.rows.rows(), t.status);
-  });
+  const bool continues =
+      continues_unfinished(work, record, defaults, fresh, "branch", "rows", [&](const std::string& path) {
+        t = read_branch_table(path);
+        return std::pair<long, std::string>(t.rows.rows(), t.status);
+      });
   if (!continues) return {};
   Unfinished u;
   u.seed = read_branch_seed(work);
@@ -198,7 +200,7 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
   bool other_parameter = false;  // a restart from a branch traced in another parameter
   std::vector<std::string> warnings;
   try {
-    unfinished = unfinished_run(work, record, args.fresh);
+    unfinished = unfinished_run(work, record, loaded.defaults(), args.fresh);
     if (unfinished) {
       start = unfinished->point;
       copt.state_scale = unfinished->state_scale;

@@ -15,6 +15,7 @@
 
 #include "continuation/BranchFile.hpp"
 #include "core/H5File.hpp"
+#include "runs/OutputFile.hpp"
 #include "support/TestSupport.hpp"
 
 using namespace keller;
@@ -190,6 +191,48 @@ TEST(OutputSafety, StoredStartsBelongToTheScene) {
                        "/forced.h5 --force --switch " + dir + "/pf.h5:" + std::to_string(regular));
   EXPECT_NE(r.err.find("keller: warning:"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("(--force)"), std::string::npos) << r.err;
+}
+
+// A key added to keller after a file was written is not in the file's records: at its default it
+// keeps the physics the file was made with, so a start from the file is not refused for it (at
+// another value it is), and neither is the continuation of an unfinished run. A key the file has
+// and the scene does not, or a value that differs, still is.
+TEST(OutputSafety, AKeyAddedSinceAFileWasWrittenAtItsDefaultIsNotADifference) {
+  const std::string defaults = "a.x = 1\nb.y = \"auto\"\n";
+  EXPECT_TRUE(records_agree("a.x = 1\n", "a.x = 1\nb.y = \"auto\"\n", defaults));
+  EXPECT_EQ(record_difference("a.x = 1\n", "a.x = 1\nb.y = \"auto\"\n", defaults), "");
+  EXPECT_FALSE(records_agree("a.x = 1\n", "a.x = 1\nb.y = \"mumps\"\n", defaults));
+  EXPECT_EQ(record_difference("a.x = 1\n", "a.x = 1\nb.y = \"mumps\"\n", defaults),
+            "b.y = \"mumps\" in this scene, not in the file");
+  EXPECT_FALSE(records_agree("a.x = 2\n", "a.x = 1\n", defaults));
+  EXPECT_FALSE(records_agree("a.x = 1\nc.z = 3\n", "a.x = 1\n", defaults));  // a key removed since
+  EXPECT_FALSE(records_agree("a.x = 1\n", "a.x = 1\nd.w = 5\n", defaults));  // not a key with a default
+
+  // through the driver: the file's record without one of its keys, as keller wrote it before the key
+  const std::string dir = test::scratch_dir("safety_new_key");
+  const std::string brusselator = test::source_path("runs/scenes/brusselator1d_hopf.toml") +
+                                  " --set brusselator.intervals=8 --set stability.enabled=false";
+  auto r = test::run_keller("trace " + brusselator + " --set continuation.max_steps=3 -o " + dir + "/bz.h5");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string key = "brusselator.length";  // 1 by default
+  {
+    H5File f(dir + "/bz.h5", H5File::Mode::ReadWrite);
+    std::string physics = f.read_string("/problem/physics");
+    const auto at = physics.find(key + " = ");
+    ASSERT_NE(at, std::string::npos) << physics;
+    physics.erase(at, physics.find('\n', at) + 1 - at);
+    ASSERT_FALSE(physics.empty());
+    f.remove("/problem/physics");
+    f.write_string("/problem/physics", physics);
+  }
+  r = test::run_keller("trace " + brusselator + " --set continuation.max_steps=2 -o " + dir + "/a.h5 --restart " + dir +
+                       "/bz.h5:last");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err.find("physics differs"), std::string::npos) << r.err;
+  r = test::run_keller("trace " + brusselator + " --set continuation.max_steps=2 --set " + key + "=0.5 -o " + dir +
+                       "/b.h5 --restart " + dir + "/bz.h5:last");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find(key + " = 0.5 in this scene, not in the file"), std::string::npos) << r.err;
 }
 
 // Items 10-15: what the user types costs a message naming the key, never a result or a silent

@@ -348,7 +348,9 @@ TEST(MovingWallMass, WallInertiaLeavesTheSteadyStateUnchanged) {
   for (size_t k = 0; k < op.size(); ++k) EXPECT_NEAR(oh[k], op[k], 1e-9 * std::max(1.0, std::abs(op[k]))) << k;
   const std::vector<char> w = field_unknowns(heavy, "wall_velocity");
   for (int i = 0; i < heavy.size(); ++i)
-    if (w[static_cast<size_t>(i)]) EXPECT_EQ(uh[i], 0.0);
+    if (w[static_cast<size_t>(i)]) {
+      EXPECT_EQ(uh[i], 0.0);
+    }
 }
 
 // A density ratio without the moving-wall form, or without fluid inertia, is refused naming the key.
