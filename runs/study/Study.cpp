@@ -272,6 +272,7 @@ Study Study::load(const std::string& path, const std::string& folder) {
       // validated like --set, before any task runs
       try {
         const LoadedScene loaded = load_scene(t.scene, declare_trace_keys, t.overrides);
+        t.defaults = loaded.defaults();
         if (s.kind_ == "trace") {
           ContinuationOptions::from_scene(loaded.scene);
           TraceArguments a;

@@ -26,7 +26,8 @@ struct StudyTask {
   std::vector<std::pair<std::string, std::string>> varied;  // the overrides that tell tasks apart (key, TOML value)
   std::vector<std::string> overrides;                       // every "key=value" applied to the scene
   std::string record;                                       // what defines the run (resolved scene, start, kind)
-  std::string hash;                                         // of the record: a task is done for this hash only
+  std::string hash;                                         // of the record (task_current)
+  std::string defaults;                                     // every key's default (records_agree)
   std::string label() const;                                // "fluid.model=fene-p, parameters.Gamma=0.000495"
 };
 

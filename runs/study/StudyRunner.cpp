@@ -83,7 +83,7 @@ pid_t spawn_task(const Study& study, const StudyTask& task, int blas_threads) {
 }
 
 TaskRecord finished_task(const Study& study, const StudyTask& task, int status) {
-  if (auto r = read_task_record(study, task); r && r->hash == task.hash) return *r;
+  if (auto r = read_task_record(study, task); r && task_current(study, task, *r)) return *r;
   TaskRecord died;
   died.hash = task.hash;
   died.status = "died";

@@ -145,7 +145,7 @@ StudyRow StudyTable::row(const Study& study, const StudyTask& task) {
     row.text["status"] = "missing";
     return row;
   }
-  const bool current = record->hash == task.hash;
+  const bool current = task_current(study, task, *record);
   row.text["status"] = current ? record->status : "changed";
   row.text["reason"] = record->summary.reason;
   row.text["lu_backend"] = record->summary.lu_backend;

@@ -56,8 +56,8 @@ TaskRecord run_study_task(const Study& study, const StudyTask& task) {
   fs::create_directories(fs::path(study.task_output(task)).parent_path());
   const std::string out = study.task_output(task), work = PendingFile::temporary_for(out);
   // what another version of this task left is not this task's: it goes
-  if (fs::exists(out) && stored_record(out) != task.record) remove_output(out);
-  if (fs::exists(work) && stored_record(work) != task.record) fs::remove(work);
+  if (fs::exists(out) && !records_agree(stored_record(out), task.record, task.defaults)) remove_output(out);
+  if (fs::exists(work) && !records_agree(stored_record(work), task.record, task.defaults)) fs::remove(work);
   TaskRecord record;
   record.hash = task.hash;
   try {
@@ -144,9 +144,15 @@ void write_task_record(const Study& study, const StudyTask& task, const TaskReco
   file.commit();
 }
 
+bool task_current(const Study& study, const StudyTask& task, const TaskRecord& record) {
+  if (record.hash == task.hash) return true;
+  const std::string out = study.task_output(task);
+  return fs::exists(out) && records_agree(stored_record(out), task.record, task.defaults);
+}
+
 bool task_done(const Study& study, const StudyTask& task) {
   const auto r = read_task_record(study, task);
-  return r && r->status == "done" && r->hash == task.hash && fs::exists(study.task_output(task));
+  return r && r->status == "done" && task_current(study, task, *r) && fs::exists(study.task_output(task));
 }
 
 }  // namespace keller

@@ -31,7 +31,11 @@ TaskRecord run_study_task(const Study& study, const StudyTask& task);
 std::optional<TaskRecord> read_task_record(const Study& study, const StudyTask& task);
 // Writes a record atomically.
 void write_task_record(const Study& study, const StudyTask& task, const TaskRecord& record);
-// Done for its current hash, with its output in place.
+// Whether a record belongs to the task as it is now: the same hash, or an output whose run record
+// agrees with the task's (records_agree: keys added to keller since, at their defaults, are no
+// change).
+bool task_current(const Study& study, const StudyTask& task, const TaskRecord& record);
+// Done as the task is now, with its output in place.
 bool task_done(const Study& study, const StudyTask& task);
 
 }  // namespace keller

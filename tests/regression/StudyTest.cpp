@@ -20,6 +20,8 @@
 #include <thread>
 
 #include "continuation/BranchFile.hpp"
+#include "core/H5File.hpp"
+#include "runs/OutputFile.hpp"
 #include "runs/study/StudyRunner.hpp"
 #include "support/TestSupport.hpp"
 
@@ -166,6 +168,45 @@ TEST(Study, AKilledStudyRunsOnlyWhatWasUnfinished) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("8 done before, 4 to run"), std::string::npos) << r.out;
   EXPECT_EQ(count(r.out, "continuation.stop_above=3.5"), 4) << r.out;
+}
+
+// A study run by a keller that did not have a key yet (its records and hashes without it) is done
+// for a keller that has it at its default: the tasks are not run again. (The key here,
+// linear_solver.pivot_tolerance, stands in for one added since; it is at its default in the study.)
+TEST(Study, TasksDoneBeforeAKeyExistedAreDoneAtItsDefault) {
+  const std::string dir = test::scratch_dir("study_new_key");
+  const std::string study = bratu_study(dir);
+  auto r = test::run_keller("study " + study + " --jobs 2 -o " + dir + "/s");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string line_of = "linear_solver.pivot_tolerance = ";
+  int rewritten = 0;
+  for (const auto& e : fs::directory_iterator(dir + "/s/tasks")) {
+    if (e.path().extension() != ".h5") continue;
+    std::string run;
+    {
+      H5File f(e.path().string(), H5File::Mode::ReadWrite);
+      run = f.read_string("/problem/run");
+      const auto at = run.find(line_of);
+      ASSERT_NE(at, std::string::npos) << run;
+      run.erase(at, run.find('\n', at) + 1 - at);
+      f.remove("/problem/run");
+      f.write_string("/problem/run", run);
+    }
+    // the task's record as that keller wrote it: the hash of its record without the key
+    fs::path toml = e.path();
+    toml.replace_extension(".toml");
+    std::string text = contents(toml.string());
+    const auto at = text.find("hash = \"");
+    ASSERT_NE(at, std::string::npos) << text;
+    text.replace(at + 8, 16, text_hash(run));
+    std::ofstream(toml) << text;
+    ++rewritten;
+  }
+  ASSERT_EQ(rewritten, 12);
+  r = test::run_keller("study " + study + " --jobs 2 -o " + dir + "/s");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("12 done before, 0 to run"), std::string::npos) << r.out;
+  EXPECT_EQ(count(r.out, "] task "), 0) << r.out;
 }
 
 TEST(Study, AFailedTaskIsRecordedAndTheOthersComplete) {
