@@ -10,32 +10,6 @@
 
 namespace keller {
 
-const char* to_string(PointKind k) {
-  switch (k) {
-    case PointKind::Regular: return "point";
-    case PointKind::Start: return "start";
-    case PointKind::Requested: return "requested";
-    case PointKind::Event: return "event";
-    case PointKind::Fold: return "fold";
-    case PointKind::BranchPoint: return "branch-point";
-    case PointKind::End: return "end";
-    case PointKind::Hopf: return "hopf";
-  }
-  return "?";
-}
-
-const char* to_string(StopCode c) {
-  switch (c) {
-    case StopCode::UpperBound: return "upper-bound";
-    case StopCode::LowerBound: return "lower-bound";
-    case StopCode::StopObservable: return "stop-observable";
-    case StopCode::MaxSteps: return "max-steps";
-    case StopCode::StepFloor: return "step-floor";
-    case StopCode::Interrupted: return "interrupted";
-  }
-  return "?";
-}
-
 namespace {
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -124,8 +98,9 @@ ContinuationResult Continuation::run(const Vector& u0, BranchObserver& observer,
       // a start solved only to near the tolerance (a switch of an event curve) is finished on the
       // adopted factorisation: a chord iteration or two instead of a solve of its own
       kept_.set_reusable(true);
-      st = ev_.residual(start.u, F_start_);
-      if (st.is_ok() && F_start_.lpNorm<Eigen::Infinity>() > corrector_.tolerance()) {
+      Vector F;
+      st = ev_.residual(start.u, F);
+      if (st.is_ok() && F.lpNorm<Eigen::Infinity>() > corrector_.tolerance()) {
         double lambda = start.lambda;
         const CorrectorResult r =
             corrector_.correct(start.u, lambda, Constraint::parameter(start.lambda), Corrector::Kind::Located);
@@ -518,30 +493,9 @@ std::optional<Continuation::Finish> Continuation::report_segment(const BranchPoi
 GradientFunction Continuation::gradient_of(int monitor) {
   // the problem's monitors, then the stop observable's distance to stop_above, to stop_below
   const int problem_monitors = static_cast<int>(problem_.monitor_names().size());
-  const bool stop = monitor >= problem_monitors;
-  if (stop ? !problem_.has_observable_gradient(stop_index_) : !problem_.has_monitor_gradient(monitor)) return nullptr;
-  const bool above = stop && monitor == problem_monitors && std::isfinite(options_.stop.above);
-  const double threshold = !stop ? 0.0 : (above ? options_.stop.above : options_.stop.below);
-  return [this, stop, monitor, threshold](const Vector& u, double lambda, double h, bool gradient, double& g,
-                                          Vector& gu, double& gl) {
-    const ScopeSeconds timed{ev_.timings().observables};
-    std::vector<double> v;
-    const auto value = [&](double l, double& out) {
-      Status st = ev_.set_parameter(l);
-      if (st.is_ok()) st = stop ? problem_.observables(u, v) : problem_.monitors(u, v);
-      if (st.is_ok()) out = v[static_cast<size_t>(stop ? stop_index_ : monitor)] - threshold;
-      return st;
-    };
-    Status st = value(lambda, g);
-    if (!st.is_ok() || !gradient) return st;
-    double plus = 0.0, minus = 0.0;
-    st = value(lambda + h, plus);
-    if (st.is_ok()) st = value(lambda - h, minus);
-    if (st.is_ok()) st = ev_.set_parameter(lambda);
-    if (!st.is_ok()) return st;
-    gl = (plus - minus) / (2.0 * h);
-    return stop ? problem_.observable_gradient(stop_index_, u, gu) : problem_.monitor_gradient(monitor, u, gu);
-  };
+  if (monitor < problem_monitors) return ev_.gradient_function(monitor, false, 0.0);
+  const bool above = monitor == problem_monitors && std::isfinite(options_.stop.above);
+  return ev_.gradient_function(stop_index_, true, above ? options_.stop.above : options_.stop.below);
 }
 
 Status Continuation::evaluate(BranchPoint& p, bool analyse_point) {

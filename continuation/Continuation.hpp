@@ -178,7 +178,6 @@ class Continuation {
   PointAnalysis* analysis_ = nullptr;
   std::unique_ptr<SpectrumScheduler> spectra_;
   std::string analysis_note_;
-  Vector F_start_;  // the start's residual (a start adopted near the tolerance is corrected first)
   // a resumed branch starts on a point located as this kind (its first step does not locate it again)
   std::optional<PointKind> start_on_;
   bool adopted_ = false;               // the start's factorisation came from the solve of the start

@@ -58,6 +58,34 @@ Status Evaluator::border(const Vector& u, BorderedJacobian& J) {
   return st;
 }
 
+GradientFunction Evaluator::gradient_function(int index, bool observable, double threshold) {
+  if (observable ? !problem_.has_observable_gradient(index) : !problem_.has_monitor_gradient(index)) return nullptr;
+  return [this, index, observable, threshold](const Vector& u, double lambda, double h, bool gradient, double& g,
+                                              Vector& gu, double& gl) {
+    const auto t0 = Clock::now();
+    std::vector<double> v;
+    const auto value = [&](double l, double& out) {
+      Status st = set_parameter(l);
+      if (st.is_ok()) st = observable ? problem_.observables(u, v) : problem_.monitors(u, v);
+      if (st.is_ok()) out = v[static_cast<size_t>(index)] - threshold;
+      return st;
+    };
+    Status st = value(lambda, g);
+    double plus = 0.0, minus = 0.0;
+    if (st.is_ok() && gradient) {
+      st = value(lambda + h, plus);
+      if (st.is_ok()) st = value(lambda - h, minus);
+      if (st.is_ok()) st = set_parameter(lambda);
+      if (st.is_ok()) {
+        gl = (plus - minus) / (2.0 * h);
+        st = observable ? problem_.observable_gradient(index, u, gu) : problem_.monitor_gradient(index, u, gu);
+      }
+    }
+    timings_.observables += since(t0);
+    return st;
+  };
+}
+
 const SparseMatrix& Evaluator::jacobian_matrix() const {
   if (!assembled_) {
     J_ = JB_.assembled();

@@ -3,12 +3,18 @@
 // and counted (where a run's time goes), and the rounding floor of the last assembled Jacobian.
 #pragma once
 
+#include <functional>
 #include <string>
 
 #include "core/ConvergenceTest.hpp"
 #include "core/Problem.hpp"
 
 namespace keller {
+
+// A function of the branch with its gradient: its value g at (u, lambda) and, where gradient is
+// true, its derivatives in u (gu) and in lambda (gl, by differences with step h).
+using GradientFunction =
+    std::function<Status(const Vector& u, double lambda, double h, bool gradient, double& g, Vector& gu, double& gl)>;
 
 // Where a run's time went (seconds, wall clock): the speed floor is the factorisations.
 struct ContinuationTimings {
@@ -35,6 +41,10 @@ class Evaluator {
   // F and the border of a problem with a border of its own at u, into J (Problem::border: K as it
   // was), F into residual_vector(), the rounding floor of that J at u; timed with the Jacobians.
   Status border(const Vector& u, BorderedJacobian& J);
+  // The problem's monitor `index` (observable: its observable), minus threshold, with its gradient
+  // (Problem::monitor_gradient, observable_gradient; in lambda by central differences), timed
+  // with the observables; null where the problem offers no gradient.
+  GradientFunction gradient_function(int index, bool observable, double threshold);
   // The rounding floor of J (made nearby: a factorisation adopted) at u, as if assembled there.
   void set_rounding_floor(const SparseMatrix& J, const Vector& u) { floor_ = keller::rounding_floor(J, u); }
   // dF/dp at u (into parameter_derivative_vector()).

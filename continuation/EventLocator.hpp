@@ -43,11 +43,6 @@ struct Target {
   }
 };
 
-// A function of the branch with its gradient: its value g at (u, lambda) and, where gradient is
-// true, its derivatives in u (gu) and in lambda (gl, by differences with step h).
-using GradientFunction =
-    std::function<Status(const Vector& u, double lambda, double h, bool gradient, double& g, Vector& gu, double& gl)>;
-
 class EventLocator {
  public:
   // The observables and monitors of a corrected point, and its analysis where asked; the note
@@ -67,11 +62,12 @@ class EventLocator {
   std::optional<BranchPoint> locate_root(const BranchPoint& a, const BranchPoint& b, const Target& target, double ga,
                                          double gb, std::string& note);
   // The zero of g on the segment a -> b (ga = g(a), gb = g(b) of opposite signs) by Newton on
-  // F = 0, g = 0: from the secant's zero on the cubic through a and b, each correction solves
-  // F = 0 under g linearised at the last point (a border row of the kept factorisation, as the
-  // arclength row), until a correction moves lambda by at most the event tolerance. Nothing (and
-  // a note) where a correction fails, it does not settle, or it leaves the segment: the caller
-  // then falls back to locate_root.
+  // F = 0, g = 0: from the zero of g's cubic Hermite interpolant along the segment, corrected onto
+  // the branch under the arclength row, each correction solves F = 0 under g linearised at the
+  // last point (a border row of the kept factorisation, as the arclength row), until the next
+  // move in lambda would be below 1e-2 of the event tolerance. Nothing (and a note) where a
+  // correction fails, it does not settle in a few corrections, it finds the zero a starts on, or
+  // it leaves the segment: the caller then falls back to locate_root.
   std::optional<BranchPoint> locate_by_newton(const BranchPoint& a, const BranchPoint& b, const GradientFunction& g,
                                               double ga, double gb, std::string& note);
   // The point of the segment a -> b at fraction tau of its arclength (natural: of its parameter

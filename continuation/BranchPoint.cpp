@@ -1,0 +1,19 @@
+#include "continuation/BranchPoint.hpp"
+
+namespace keller {
+
+const char* to_string(PointKind k) {
+  switch (k) {
+    case PointKind::Regular: return "point";
+    case PointKind::Start: return "start";
+    case PointKind::Requested: return "requested";
+    case PointKind::Event: return "event";
+    case PointKind::Fold: return "fold";
+    case PointKind::BranchPoint: return "branch-point";
+    case PointKind::End: return "end";
+    case PointKind::Hopf: return "hopf";
+  }
+  return "?";
+}
+
+}  // namespace keller
