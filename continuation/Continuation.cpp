@@ -64,6 +64,12 @@ Continuation::Continuation(Problem& problem, ContinuationOptions options, Newton
 
 Continuation::~Continuation() = default;
 
+StartFactorisation Continuation::factorisation() const {
+  StartFactorisation f = kept_.inner_factorisation();
+  if (f.lu) f.renewal_cost = corrector_.renewal_cost();
+  return f;
+}
+
 void Continuation::set_analysis(PointAnalysis* analysis) {
   analysis_ = analysis;
   spectra_ = std::make_unique<SpectrumScheduler>(analysis);
@@ -232,6 +238,7 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
       landing_failed = step.land.has_value();
       ++result_.rejected;
       observer.on_rejected(step.point.lambda, ds, step.status);
+      if (step.zero_at_start) continue;  // (the same step again, without landing)
       ds = steps_.after_failure(ds);
       if (steps_.below_floor(ds))
         return finish(StopCode::StepFloor,
@@ -262,25 +269,73 @@ Continuation::Step Continuation::attempt(const BranchPoint& cur, const BranchPoi
   Vector du;
   double dl = 0;
   predictor_.direction(cur, prev, du, dl);
-  Prediction pr = predictor_.predict(cur, prev, du, dl, ds, landing_allowed);
+  // the stop observable's zero, where no stop or bound comes before it (up to the zero, which may
+  // lie beyond the planned step): the step's row is the function linearised at cur
+  std::optional<ZeroLanding> zero = landing_allowed ? plan_zero(cur, du, dl, ds) : std::nullopt;
+  const double reach = zero ? std::max(1.0, zero->land.fraction) : 1.0;
+  Prediction pr = predictor_.predict(cur, prev, du, dl, reach * ds, landing_allowed);
+  if (zero && pr.land && pr.land->fraction * reach <= zero->land.fraction) zero.reset();
+  if (zero) {
+    const double at = zero->land.fraction * ds;
+    pr.u = cur.u + at * du;
+    pr.lambda = cur.lambda + at * dl;
+    pr.constraint = Constraint{};
+    pr.constraint.cu = zero->gu;
+    pr.constraint.cl = zero->gl;
+    pr.constraint.u0 = &cur.u;
+    pr.constraint.l0 = cur.lambda;
+    pr.constraint.target = -zero->value;
+    pr.land = zero->land;
+  }
   s.land = pr.land;
+  const bool landed = pr.land.has_value();
   nxt.u = std::move(pr.u);
   nxt.lambda = pr.lambda;
   const long factorisations = kept_.count();
-  const CorrectorResult r = corrector_.correct(nxt.u, nxt.lambda, pr.constraint, Corrector::Kind::Step,
-                                               corrector_.residual_floor(cur.residual, prev ? prev->residual : 0.0));
+  const double floor = corrector_.residual_floor(cur.residual, prev ? prev->residual : 0.0);
+  const CorrectorResult r = corrector_.correct(nxt.u, nxt.lambda, pr.constraint, Corrector::Kind::Step, floor);
   Status st = r.status;
   nxt.iterations = r.iterations;
   nxt.residual = r.residual;
   s.outcome.iterations = r.iterations;
-  s.outcome.landed = s.land.has_value();
+  s.outcome.landed = landed;
   s.outcome.stale = options_.corrector.kept() && !r.refactored && r.iterations > steps_.target_iterations();
+  if (st.is_ok() && zero) {
+    // the linearised zero, settled by Newton on the function itself; where that does not settle,
+    // the point reached is an ordinary row of the branch (a zero it stepped over is located)
+    const Vector u_landed = nxt.u;
+    const double lambda_landed = nxt.lambda;
+    // the branch ends here: where the step made no factorisation, the sign of det for branch
+    // points at its end would need one (a probe); Newton's first correction makes it instead
+    if (options_.events.branch_points && kept_.count() == factorisations) kept_.set_reusable(false);
+    int solves = 0;
+    CorrectorResult settling;
+    Status gst;
+    const bool settled = locator_.settle(
+                             nxt, zero->g, zero->h, [&](const BranchPoint&) -> const BranchPoint& { return cur; },
+                             floor, solves, settling, gst) &&
+                         settling.status.is_ok();
+    nxt.iterations += solves;
+    if (settled && solves > 0) nxt.residual = settling.residual;
+    if (settled && std::abs(nxt.lambda - cur.lambda) <= options_.events.tolerance) {
+      // the zero the step starts on (a function that is not continuous there: an event curve's
+      // piece starts where the place just left is level with the followed one): an ordinary step
+      s.zero_at_start = true;
+      s.status = {StatusCode::NotConverged, "the landing found the zero the step starts on"};
+      return s;
+    }
+    if (!settled) {
+      nxt.u = u_landed;
+      nxt.lambda = lambda_landed;
+      s.land.reset();
+    }
+  }
   const bool analyse_now = spectra_->due(step_number, options_.stop.max_steps);
   // a point about to be analysed gets J's factorisation at itself (block elimination): the
   // tangent is then exact and the analysis solves with it instead of factorising J again
   const bool share = analyse_now && options_.corrector.block_elimination && analysis_->uses_j_factorisation();
   Constraint c = pr.constraint;
-  if (st.is_ok() && s.land) {
+  if (st.is_ok() && landed) {
     // the tangent (and the sign of det of the bordered matrix, for branch points) under the
     // pseudo-arclength row, as at every other point of the branch
     c = norm_.arclength(cur, du, dl, ds);
@@ -291,7 +346,7 @@ Continuation::Step Continuation::attempt(const BranchPoint& cur, const BranchPoi
   // of the tangent and passes for a branch point)
   Tangent t;
   if (st.is_ok())
-    st = tangents_.at_point(nxt, c, cur.tu, cur.tlambda, share || (s.land && !options_.corrector.kept()), t);
+    st = tangents_.at_point(nxt, c, cur.tu, cur.tlambda, share || (landed && !options_.corrector.kept()), t);
   if (st.is_ok()) {
     nxt.tu = std::move(t.tu);
     nxt.tlambda = t.tl;
@@ -312,7 +367,7 @@ Continuation::Step Continuation::attempt(const BranchPoint& cur, const BranchPoi
   // the sign of det of the bordered matrix where J was factorised during this step
   s.sampled = arclength && kept_.count() > factorisations;
   nxt.bordered_det_sign = s.sampled ? kept_.determinant_sign() : 0;
-  nxt.s = arclength && !s.land ? cur.s + ds : cur.s + norm_.distance(cur, nxt);
+  nxt.s = arclength && !landed ? cur.s + ds : cur.s + norm_.distance(cur, nxt);
   return s;
 }
 
@@ -353,7 +408,8 @@ void Continuation::locate_crossings(const BranchPoint& cur, const BranchPoint& n
     std::string note;
     if (c.at_next) {
       p = nxt;
-      p->iterations = 0;
+      // (the row of a step that landed on the zero; else the step's own row is reported too)
+      if (!(step.land && step.land->monitor >= 0)) p->iterations = 0;
     } else if (c.same_as >= 0 && zero_of[static_cast<size_t>(c.same_as)]) {
       p = zero_of[static_cast<size_t>(c.same_as)];
     } else if (c.target.kind == EventTarget::Value) {
@@ -488,6 +544,32 @@ std::optional<Continuation::Finish> Continuation::report_segment(const BranchPoi
   if (!next_reported) report_next();
   if (step.land && step.land->end) return Finish{*step.land->end, bound_reached(nxt), nxt};
   return std::nullopt;
+}
+
+std::optional<Continuation::ZeroLanding> Continuation::plan_zero(const BranchPoint& cur, const Vector& du, double dl,
+                                                                 double ds) {
+  if (!options_.events.land_on_zeros || options_.method != ContinuationOptions::Method::Arclength || stop_index_ < 0)
+    return std::nullopt;
+  std::optional<ZeroLanding> best;
+  // the stop observable's distance to stop_above, to stop_below (after the problem's monitors)
+  for (size_t m = problem_.monitor_names().size(); m < monitor_names_.size() && m < cur.monitors.size(); ++m) {
+    ZeroLanding z;
+    z.g = gradient_of(static_cast<int>(m));
+    if (!z.g) return std::nullopt;
+    // the difference step in lambda for the function's derivative: a small part of the step's
+    z.h = 1e-4 * std::max(std::abs(ds * dl), 1e-8 * (1.0 + std::abs(cur.lambda)));
+    if (!z.g(cur.u, cur.lambda, z.h, true, z.value, z.gu, z.gl).is_ok()) continue;
+    const std::optional<double> fraction = plan_zero_landing(z.value, z.gu.dot(du) + z.gl * dl, ds, options_.step.max);
+    if (!fraction || (best && best->land.fraction <= *fraction)) continue;
+    z.land.fraction = *fraction;
+    z.land.value = NAN;
+    z.land.kind = PointKind::End;
+    z.land.label = monitor_names_[m];
+    z.land.end = StopCode::StopObservable;
+    z.land.monitor = static_cast<int>(m);
+    best = std::move(z);
+  }
+  return best;
 }
 
 GradientFunction Continuation::gradient_of(int monitor) {

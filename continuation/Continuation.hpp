@@ -106,7 +106,8 @@ class Continuation {
   const BorderedSystem& bordered() const { return kept_.system(); }
   // The kept factorisation of J (of the inner matrix, for a problem with a border) where the run
   // ended, for another run to start on (empty where there is none: full mode, a fallback).
-  StartFactorisation factorisation() const { return kept_.inner_factorisation(); }
+  // (with the renewal cost the run measured)
+  StartFactorisation factorisation() const;
 
  private:
   // An attempted step: the point it reached (if any) and what the step controller needs.
@@ -115,7 +116,17 @@ class Continuation {
     BranchPoint point;
     std::optional<Landing> land;
     StepOutcome outcome;
-    bool sampled = false;  // J was factorised during the step (its determinant sign is known)
+    bool sampled = false;        // J was factorised during the step (its determinant sign is known)
+    bool zero_at_start = false;  // it landed on the zero it starts on (tried again without landing)
+  };
+  // A step that lands on the stop observable's zero: the function with its value and gradient at
+  // the step's start, and where the step lands.
+  struct ZeroLanding {
+    GradientFunction g;
+    double h = 0.0;  // the difference step in lambda for its derivative
+    double value = 0.0, gl = 0.0;
+    Vector gu;
+    Landing land;
   };
   struct Finish {
     StopCode code;
@@ -152,6 +163,9 @@ class Continuation {
   // along p's tangent (0: the factorisation failed).
   int probe_determinant(BranchPoint& p);
   Status evaluate(BranchPoint& p, bool analyse_point);
+  // The stop observable's zero the step of size ds from cur along (du, dl) lands on, where it
+  // has a gradient and plan_zero_landing lands there.
+  std::optional<ZeroLanding> plan_zero(const BranchPoint& cur, const Vector& du, double dl, double ds);
   // The monitor (index into BranchPoint::monitors) with its gradient, where the problem offers
   // one (its zeros are then located by Newton); null where it does not.
   GradientFunction gradient_of(int monitor);

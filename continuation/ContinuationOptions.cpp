@@ -70,6 +70,9 @@ void ContinuationOptions::declare(SceneSchema& s) {
   s.boolean("continuation.land_on_values", true,
             "arclength: shorten a step whose predictor crosses a stop or a bound so that it lands on it (one "
             "correction instead of two, no step beyond a bound); false: locate such points after the step");
+  s.boolean("continuation.land_on_zeros", true,
+            "arclength: a step whose linear prediction of the stop observable crosses its threshold (where the problem "
+            "gives the observable's gradient) lands on that zero; false: locate it after the step");
   s.real("continuation.event_tolerance", 1e-8, "events and folds are located to this tolerance in the parameter",
          Range::positive());
   s.integer("continuation.max_location_iterations", 60, "corrector solves allowed to locate one event",
@@ -118,6 +121,7 @@ ContinuationOptions ContinuationOptions::from_scene(const Scene& sc) {
 
   o.events.stops = sc.real_list("continuation.stops");
   o.events.land_on_values = sc.boolean("continuation.land_on_values");
+  o.events.land_on_zeros = sc.boolean("continuation.land_on_zeros");
   o.events.tolerance = sc.real("continuation.event_tolerance");
   o.events.max_location_iterations = static_cast<int>(sc.integer("continuation.max_location_iterations"));
   o.events.folds = sc.boolean("continuation.detect_folds");

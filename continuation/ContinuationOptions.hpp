@@ -63,6 +63,11 @@ struct EventOptions {
   // on it (one correction instead of a step past it and a located one; never a step beyond a
   // bound). Off: such points are located after the step that crosses them.
   bool land_on_values = true;
+  // Pseudo-arclength: a step whose linear prediction of the stop observable (where the problem
+  // gives its gradient) crosses its threshold lands on it: the step's row is the function
+  // linearised, then Newton settles its zero (the step and its location in one). Off: the zero is
+  // located after the step that crosses it.
+  bool land_on_zeros = true;
   double tolerance = 1e-8;  // absolute, in the parameter
   int max_location_iterations = 60;
   bool folds = true;

@@ -34,8 +34,13 @@ std::vector<Crossing> detect_crossings(const BranchPoint& cur, const BranchPoint
   for (size_t k = 0; k < cur.monitors.size() && k < nxt.monitors.size(); ++k) {
     const double gc = cur.monitors[k], gn = nxt.monitors[k];
     // a zero exactly at nxt (a step that landed on a stop where a monitor vanishes) is this
-    // step's, located at nxt itself; the next step starts on it and does not count it again
-    const bool at_next = gn == 0.0 && gc != 0.0;
+    // step's, located at nxt itself; the next step starts on it and does not count it again. So
+    // is the zero a step landed on (its value there is rounding, of either sign), and that of any
+    // monitor that is the same function.
+    const bool landed_zero = land && land->monitor >= 0 && static_cast<size_t>(land->monitor) < nxt.monitors.size() &&
+                             gc != 0.0 && gc == cur.monitors[static_cast<size_t>(land->monitor)] &&
+                             gn == nxt.monitors[static_cast<size_t>(land->monitor)];
+    const bool at_next = (gn == 0.0 && gc != 0.0) || landed_zero;
     if (!(gc * gn < 0) && !at_next) continue;
     const bool stop = k >= problem_monitors;
     Crossing c;

@@ -273,41 +273,13 @@ std::optional<BranchPoint> EventLocator::locate_by_newton(const BranchPoint& a, 
     tau = 0.5 * (lo + hi);
   }
   const double floor = corrector_.residual_floor(a.residual, b.residual);
-  // Newton along the branch from a converged point p: F = 0 under g linearised at the last point,
-  // gu . (u - u0) + gl (lambda - l0) = -g, while its predicted move in lambda exceeds
-  // kNewtonSettled of the tolerance (the move is predicted along the nearer end's tangent, not p's own)
+  // the move of each correction is predicted along the tangent of the segment's nearer end
+  const auto nearer = [&](const BranchPoint& q) -> const BranchPoint& {
+    return coord(q.u, q.lambda) < 0.5 * length ? a : b;
+  };
   int solves = 0;
   CorrectorResult r;
-  const auto refine = [&](BranchPoint& p) {
-    for (int it = 0; r.status.is_ok() && it <= kNewtonCorrections; ++it) {
-      double gv = 0.0, gl = 0.0;
-      st = g(p.u, p.lambda, h, true, gv, gu, gl);
-      if (!st.is_ok()) return false;
-      const BranchPoint& near = coord(p.u, p.lambda) < 0.5 * length ? a : b;
-      const double rate = gu.dot(near.tu) + gl * near.tlambda;  // g's change along that tangent
-      if (rate == 0.0) {
-        st = {StatusCode::SingularMatrix, "the function does not change along the branch"};
-        return false;
-      }
-      const double move = -gv / rate;
-      if (std::abs(move * near.tlambda) <= kNewtonSettled * options_.events.tolerance) return true;
-      if (it == kNewtonCorrections) break;
-      const Vector u0 = p.u;
-      Constraint c;
-      c.cu = gu;
-      c.cl = gl;
-      c.u0 = &u0;
-      c.l0 = p.lambda;
-      c.target = -gv;
-      // predicted to where the row holds (the corrector then starts from that move's residual,
-      // not from the converged point's rounding)
-      p.u += move * near.tu;
-      p.lambda += move * near.tlambda;
-      r = corrector_.correct(p.u, p.lambda, c, Corrector::Kind::Located, floor);
-      solves += r.iterations;
-    }
-    return false;
-  };
+  const auto refine = [&](BranchPoint& p) { return settle(p, g, h, nearer, floor, solves, r, st); };
   // From the cubic's zero corrected onto the branch under the arclength row (as a secant trial);
   // where that finds the zero a starts on again (a piece of an event curve starting on a switch,
   // where the place just left is level at a), from b.
@@ -368,6 +340,42 @@ std::optional<BranchPoint> EventLocator::locate_by_newton(const BranchPoint& a, 
   p.s = a.s + along * (b.s - a.s);
   p.step = b.step;
   return p;
+}
+
+bool EventLocator::settle(BranchPoint& p, const GradientFunction& g, double h, const NearerPoint& nearer, double floor,
+                          int& solves, CorrectorResult& r, Status& st) {
+  // F = 0 under g linearised at the last point, gu . (u - u0) + gl (lambda - l0) = -g, while its
+  // predicted move in lambda (along the nearer point's tangent, not p's own) exceeds
+  // kNewtonSettled of the tolerance
+  Vector gu;
+  for (int it = 0; r.status.is_ok() && it <= kNewtonCorrections; ++it) {
+    double gv = 0.0, gl = 0.0;
+    st = g(p.u, p.lambda, h, true, gv, gu, gl);
+    if (!st.is_ok()) return false;
+    const BranchPoint& near = nearer(p);
+    const double rate = gu.dot(near.tu) + gl * near.tlambda;  // g's change along that tangent
+    if (rate == 0.0) {
+      st = {StatusCode::SingularMatrix, "the function does not change along the branch"};
+      return false;
+    }
+    const double move = -gv / rate;
+    if (std::abs(move * near.tlambda) <= kNewtonSettled * options_.events.tolerance) return true;
+    if (it == kNewtonCorrections) break;
+    const Vector u0 = p.u;
+    Constraint c;
+    c.cu = gu;
+    c.cl = gl;
+    c.u0 = &u0;
+    c.l0 = p.lambda;
+    c.target = -gv;
+    // predicted to where the row holds (the corrector then starts from that move's residual,
+    // not from the converged point's rounding)
+    p.u += move * near.tu;
+    p.lambda += move * near.tlambda;
+    r = corrector_.correct(p.u, p.lambda, c, Corrector::Kind::Located, floor);
+    solves += r.iterations;
+  }
+  return false;
 }
 
 }  // namespace keller

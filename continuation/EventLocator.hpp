@@ -70,6 +70,16 @@ class EventLocator {
   // it leaves the segment: the caller then falls back to locate_root.
   std::optional<BranchPoint> locate_by_newton(const BranchPoint& a, const BranchPoint& b, const GradientFunction& g,
                                               double ga, double gb, std::string& note);
+  // The branch's point whose tangent predicts the moves of settle's corrections from p.
+  using NearerPoint = std::function<const BranchPoint&(const BranchPoint& p)>;
+  // Newton on F = 0, g = 0 from p, a converged point of the branch: each correction solves F = 0
+  // under g linearised at the last point (a border row of the kept factorisation), from the move
+  // predicted along nearer(p)'s tangent, until the next move in lambda would be below 1e-2 of the
+  // event tolerance (true: settled). h: the difference step in lambda for g's derivative; floor:
+  // the corrector's residual floor; solves counts the corrector's iterations, r is the last
+  // correction's result (its status ok on entry), st the failure of g's evaluation.
+  bool settle(BranchPoint& p, const GradientFunction& g, double h, const NearerPoint& nearer, double floor, int& solves,
+              CorrectorResult& r, Status& st);
   // The point of the segment a -> b at fraction tau of its arclength (natural: of its parameter
   // change), corrected, predicted from the known points lo and hi around it; exact_tangent: its
   // tangent and the determinant from a factorisation at the point itself.

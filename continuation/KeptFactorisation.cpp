@@ -35,6 +35,7 @@ Status KeptFactorisation::adopt(std::shared_ptr<SparseLU> lu, const SparseMatrix
 
 Status KeptFactorisation::adopt_at(Evaluator& ev, const StartFactorisation& near, const Vector& u, double lambda,
                                    const Constraint& c) {
+  adopted_renewal_cost_ = near.renewal_cost;
   Status st = ev.set_parameter(lambda);
   if (st.is_ok()) st = ev.parameter_derivative(u);
   if (!st.is_ok()) return st;
@@ -82,7 +83,7 @@ SparseLU* KeptFactorisation::j_factorisation_at(const Vector& u, double lambda) 
 
 double KeptFactorisation::measured_renewal_cost(const ContinuationTimings& t) const {
   const BorderedSystem::Totals lu = system_.totals();
-  if (lu.factorisations == 0 || lu.solves == 0 || t.jacobians == 0 || t.residuals == 0) return 0.0;
+  if (lu.factorisations == 0 || lu.solves == 0 || t.jacobians == 0 || t.residuals == 0) return adopted_renewal_cost_;
   const double renewal = t.jacobian / t.jacobians +
                          (t.parameter_derivatives ? t.parameter_derivative / t.parameter_derivatives : 0.0) +
                          lu.factor_seconds / lu.factorisations;

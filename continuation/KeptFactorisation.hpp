@@ -19,7 +19,8 @@ namespace keller {
 struct StartFactorisation {
   std::shared_ptr<SparseLU> lu;
   SparseMatrix jacobian;
-  Vector at;  // the iterate where it was made
+  Vector at;                  // the iterate where it was made
+  double renewal_cost = 0.0;  // the renewal cost the run that made it measured (0: none)
 };
 
 class KeptFactorisation {
@@ -72,10 +73,12 @@ class KeptFactorisation {
   const BorderedSystem& system() const { return system_; }
 
   // What a renewal (Jacobian, dF/dp, factorisation) costs in chord iterations (residual and solve),
-  // from the run's mean times so far; 0 while either is unmeasured.
+  // from the run's mean times so far; while either is unmeasured, what the run whose factorisation
+  // was adopted measured (StartFactorisation::renewal_cost), else 0.
   double measured_renewal_cost(const ContinuationTimings& t) const;
 
  private:
+  double adopted_renewal_cost_ = 0.0;
   Status factorise(const Vector& u, double lambda);
   // Where J was factorised (u, lambda) after a factorisation or adoption that returned st.
   Status remember(const Status& st, const Vector& u, double lambda);

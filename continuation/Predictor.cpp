@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -39,6 +40,13 @@ std::optional<Landing> plan_landing(const LandingQuery& q, const std::vector<dou
   consider(lower, -1, PointKind::End, "lower", StopCode::LowerBound);
   for (double v : stops) consider(v, 0, PointKind::Requested, fmt::format("{} = {}", parameter, v), std::nullopt);
   return best;
+}
+
+std::optional<double> plan_zero_landing(double g, double slope, double ds, double max_step) {
+  if (!(ds > 0) || !std::isfinite(g) || !std::isfinite(slope) || !(g * slope < 0)) return std::nullopt;
+  const double at = -g / slope;  // the predicted distance to the zero along the direction
+  if (!(at > kZeroNearest * ds) || !(at <= kZeroReach * ds) || !(at <= std::max(ds, max_step))) return std::nullopt;
+  return at / ds;
 }
 
 void Predictor::direction(const BranchPoint& cur, const BranchPoint* prev, Vector& du, double& dl) const {

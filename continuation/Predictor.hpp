@@ -15,13 +15,14 @@
 
 namespace keller {
 
-// A stop or a bound the next step lands on.
+// A stop or a bound the next step lands on, or the zero of a stop observable's threshold.
 struct Landing {
-  double value = 0.0;     // the parameter value
+  double value = 0.0;     // the parameter value (a stop or a bound)
   double fraction = 0.0;  // of the planned step
   PointKind kind = PointKind::Requested;
   std::string label;
-  std::optional<StopCode> end;  // set where landing there ends the branch (a bound)
+  std::optional<StopCode> end;  // set where landing there ends the branch (a bound, a stop observable)
+  int monitor = -1;             // a zero: the monitor (index into BranchPoint::monitors) that vanishes there
 };
 
 // What plan_landing needs to know of the branch so far.
@@ -40,6 +41,16 @@ struct LandingQuery {
 // upwards, the lower one downwards). Stops are labelled "<parameter> = <value>".
 std::optional<Landing> plan_landing(const LandingQuery& q, const std::vector<double>& stops, double lower, double upper,
                                     const std::string& parameter);
+
+// Where a step lands on the zero of a function along the branch, as a fraction of the planned
+// step ds: g its value at the step's start, slope its derivative along the step's unit direction
+// there. At the zero predicted linearly, where it lies ahead (g and slope of opposite signs),
+// beyond kZeroNearest of the step (nearer, the step crosses it and it is located: a landing there
+// would repeat a zero the start sits on, within rounding), within kZeroReach of the step and within
+// max_step (further, the step would be longer than the step control allows).
+std::optional<double> plan_zero_landing(double g, double slope, double ds, double max_step);
+inline constexpr double kZeroNearest = 1e-3;
+inline constexpr double kZeroReach = 1.25;
 
 struct Prediction {
   Vector u;

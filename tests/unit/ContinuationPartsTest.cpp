@@ -253,6 +253,30 @@ TEST(Predictor, TheLandingPlanFromStopsAndAPredictedStep) {
   EXPECT_FALSE(plan_landing(q, {1.0}, -INFINITY, INFINITY, "p"));
 }
 
+// Where a step lands on a function's zero (its value g and its slope along the step at the
+// start, as fractions of the planned step ds): the linear prediction -g / slope where the zero is
+// ahead, beyond 1e-3 of the step, within 1.25 of it and within the largest step.
+TEST(Predictor, TheZeroLandingPlanFromAValueAndASlope) {
+  // g = 1 falling at 10 per unit along the step: zero at 0.1, half the step of 0.2
+  auto f = plan_zero_landing(1.0, -10.0, 0.2, 1.0);
+  ASSERT_TRUE(f);
+  EXPECT_DOUBLE_EQ(*f, 0.5);
+  EXPECT_DOUBLE_EQ(*plan_zero_landing(-1.0, 10.0, 0.2, 1.0), 0.5);  // from below alike
+  EXPECT_FALSE(plan_zero_landing(1.0, 10.0, 0.2, 1.0));             // moving away from the zero
+  EXPECT_FALSE(plan_zero_landing(1.0, 0.0, 0.2, 1.0));              // not moving
+  // beyond the planned step, within 1.25 of it: 0.24 = 1.2 ds lands; 0.26 = 1.3 ds does not
+  EXPECT_NEAR(*plan_zero_landing(0.24, -1.0, 0.2, 1.0), 1.2, 1e-12);
+  EXPECT_FALSE(plan_zero_landing(0.26, -1.0, 0.2, 1.0));
+  // ... nor beyond the largest step (ds already at it)
+  EXPECT_FALSE(plan_zero_landing(0.24, -1.0, 0.2, 0.2));
+  EXPECT_TRUE(plan_zero_landing(0.2, -1.0, 0.2, 0.2));
+  // a zero within 1e-3 of the step (the point sits on it, within rounding) is not landed on
+  EXPECT_FALSE(plan_zero_landing(1e-5, -1.0, 0.2, 1.0));
+  EXPECT_TRUE(plan_zero_landing(1e-3, -1.0, 0.2, 1.0));
+  EXPECT_FALSE(plan_zero_landing(NAN, -1.0, 0.2, 1.0));
+  EXPECT_FALSE(plan_zero_landing(1.0, -10.0, 0.0, 1.0));
+}
+
 namespace {
 
 BranchPoint point(double s, double lambda, double tlambda, std::vector<double> monitors) {
@@ -303,6 +327,23 @@ TEST(EventDetector, TheCrossingsOfASegment) {
   ASSERT_EQ(z.size(), 4u);  // the bound, the stop, monitor 0 and its threshold
   EXPECT_TRUE(z[2].at_next);
   EXPECT_TRUE(z[3].at_next);
+  // a step that landed on the threshold's zero: its value there is rounding, of either sign (here
+  // the sign it started with, no crossing by sign), and the zero is nxt's, with that of monitor
+  // 0, the same function
+  Landing zero;
+  zero.monitor = 2;
+  zero.end = StopCode::StopObservable;
+  zero.value = NAN;
+  for (double rounding : {1e-15, -1e-15}) {
+    const BranchPoint landed = point(1.0, 1.4, 0.8, {rounding, -1.0, rounding});
+    const auto l = detect_crossings(cur, landed, zero, o, names, 2);
+    ASSERT_EQ(l.size(), 3u) << rounding;  // the stop at 1.2, monitor 0 and its threshold
+    EXPECT_EQ(l[1].target.monitor, 0);
+    EXPECT_TRUE(l[1].at_next);
+    EXPECT_EQ(l[2].target.monitor, 2);
+    EXPECT_TRUE(l[2].at_next);
+    EXPECT_EQ(l[2].end, StopCode::StopObservable);
+  }
 }
 
 // Located points come in order along the branch; an event that is also the located end of the

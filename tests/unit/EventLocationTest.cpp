@@ -84,6 +84,20 @@ Located trace(ExponentialBranch::Gradient g, const ContinuationOptions& o) {
   return out;
 }
 
+// Three steps of the branch of problem: the factorisation the run hands on, and its last point.
+struct ShortRun {
+  StartFactorisation factorisation;
+  BranchPoint last;
+};
+ShortRun three_steps(ExponentialBranch& problem) {
+  ContinuationOptions o = exponential_options();
+  o.stop.max_steps = 3;
+  Continuation run(problem, o);
+  RecordingObserver rec;
+  run.run(problem.initial_guess(), rec);
+  return {run.factorisation(), rec.points.back()};
+}
+
 }  // namespace
 
 // The monitor's zero to the event tolerance with and without its gradient; with it, in fewer
@@ -108,11 +122,13 @@ TEST(EventLocation, AMonitorWithAGradientIsLocatedByNewtonInFewerSolves) {
   EXPECT_NEAR(newton.event.tu[0] / newton.event.tlambda, ExponentialBranch::c[0] * newton.event.u[0], 1e-6);
 }
 
-// A stop observable with a gradient: the branch ends on its threshold, located by Newton.
+// A stop observable with a gradient: the branch ends on its threshold, located by Newton (the
+// step that crosses it not landing on it).
 TEST(EventLocation, AStopObservableWithAGradientEndsTheBranchOnItsThreshold) {
   ContinuationOptions o = exponential_options();
   o.stop.observable = "u0 u1";
   o.stop.above = std::exp(1.2 * 1.4);  // reached at lambda = 1.4
+  o.events.land_on_zeros = false;
   const Located newton = trace(ExponentialBranch::Gradient::Exact, o);
   const Located secant = trace(ExponentialBranch::Gradient::None, o);
   EXPECT_EQ(newton.end.kind, PointKind::End);
@@ -139,12 +155,10 @@ TEST(EventLocation, AStartNearTheToleranceIsFinishedOnTheGivenFactorisation) {
   ContinuationOptions o = exponential_options();
   o.stop.max_steps = 3;
   ExponentialBranch problem(10.0, ExponentialBranch::Gradient::Exact);
-  Continuation first(problem, o);
-  RecordingObserver rec1;
-  first.run(problem.initial_guess(), rec1);
-  const StartFactorisation f = first.factorisation();
+  const ShortRun first = three_steps(problem);
+  const StartFactorisation& f = first.factorisation;
   ASSERT_TRUE(f.lu);
-  const BranchPoint& last = rec1.points.back();
+  const BranchPoint& last = first.last;
   problem.parameters().set("lambda", last.lambda);
   Vector start = last.u;
   start[2] += 1e-6;  // F_2 = 1e-6 there
@@ -157,4 +171,54 @@ TEST(EventLocation, AStartNearTheToleranceIsFinishedOnTheGivenFactorisation) {
   EXPECT_EQ(s.lambda, last.lambda);  // at the same parameter value
   EXPECT_LE(s.residual, 1e-10);
   EXPECT_NEAR(s.u[2], std::exp(ExponentialBranch::c[2] * last.lambda), 1e-10);
+}
+
+// A step predicted to cross the stop observable's threshold lands on it: its row is the
+// function linearised at the step's start (u0 u1 is exp(1.2 lambda) on the branch: the linear
+// prediction falls short, and Newton settles the zero). The end is the step's own row, at the
+// threshold to the event tolerance, in fewer corrector solves than a step past it and its location.
+TEST(EventLocation, AStepLandsOnTheStopObservablesThreshold) {
+  ContinuationOptions o = exponential_options();
+  o.stop.observable = "u0 u1";
+  o.stop.above = std::exp(1.2 * 1.4);  // reached at lambda = 1.4
+  long solves[2] = {0, 0};
+  for (const bool land : {true, false}) {
+    o.events.land_on_zeros = land;
+    ExponentialBranch problem(std::exp(1.2 * 0.9), ExponentialBranch::Gradient::Exact);
+    Continuation cont(problem, o);
+    RecordingObserver rec;
+    const ContinuationResult r = cont.run(problem.initial_guess(), rec);
+    ASSERT_EQ(r.code, StopCode::StopObservable) << r.reason;
+    const BranchPoint& end = rec.points.back();
+    EXPECT_EQ(end.kind, PointKind::End);
+    EXPECT_NEAR(end.lambda, 1.4, o.events.tolerance) << land;
+    EXPECT_NEAR(end.observables[0], o.stop.above, 1e-9) << land;
+    for (int i = 0; i < 4; ++i) EXPECT_NEAR(end.u[i], std::exp(ExponentialBranch::c[i] * end.lambda), 1e-9);
+    // the landed end is the step's row: it reports the step's corrector iterations
+    if (land) {
+      EXPECT_GT(end.iterations, 0);
+    }
+    solves[land ? 0 : 1] = r.timings.solves;
+  }
+  std::cout << "corrector and tangent solves: landing " << solves[0] << ", a step past the threshold and its location "
+            << solves[1] << "\n";
+  EXPECT_LT(solves[0], solves[1]);
+}
+
+// The renewal cost a run measured goes with the factorisation it hands on: a run (an event
+// curve's next piece) that adopts it uses that cost until it has measured its own, instead of
+// renewing at its first slow chord as if a renewal cost nothing.
+TEST(EventLocation, AnAdoptedFactorisationBringsItsRenewalCost) {
+  ExponentialBranch problem(10.0, ExponentialBranch::Gradient::Exact);
+  const ShortRun first = three_steps(problem);
+  StartFactorisation f = first.factorisation;
+  ASSERT_TRUE(f.lu);
+  EXPECT_GT(f.renewal_cost, 0.0);
+  f.renewal_cost = 17.0;
+  const BranchPoint& last = first.last;
+  Evaluator ev(problem, problem.parameters().index("lambda"), "lambda");
+  KeptFactorisation kept(problem, {}, true);
+  EXPECT_EQ(kept.measured_renewal_cost(ev.timings()), 0.0);  // nothing measured, nothing adopted
+  ASSERT_TRUE(kept.adopt_at(ev, f, last.u, last.lambda, Constraint::parameter(last.lambda)).is_ok());
+  EXPECT_EQ(kept.measured_renewal_cost(ev.timings()), 17.0);
 }
