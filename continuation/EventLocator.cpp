@@ -282,12 +282,16 @@ std::optional<BranchPoint> EventLocator::locate_by_newton(const BranchPoint& a, 
   const auto refine = [&](BranchPoint& p) { return settle(p, g, h, nearer, floor, solves, r, st); };
   // From the cubic's zero corrected onto the branch under the arclength row (as a secant trial);
   // where that finds the zero a starts on again (a piece of an event curve starting on a switch,
-  // where the place just left is level at a), from b.
+  // where the place just left is level at a), from b; and the other way round.
   BranchPoint p;
   double along = NAN;
   bool settled = false;
+  // A segment from the run's start begins from b: where the run starts on a zero of g's kind (an
+  // event curve's piece starts on a switch, where the place just left is level with the followed
+  // one), Newton from between the ends finds that zero first.
+  const bool b_first = a.kind == PointKind::Start;
   for (int start = 0; start < 2 && !settled; ++start) {
-    if (start == 0) {
+    if ((start == 0) != b_first) {
       double x = tau;
       if (!hermite_point(a, b, coordinate, tau * length, p.u, p.lambda, x)) {
         p.u = a.u + tau * (b.u - a.u);
