@@ -357,6 +357,17 @@ Status CollapsibleChannelProblem::monitors(const Vector& u, std::vector<double>&
   return {};
 }
 
+bool CollapsibleChannelProblem::has_observable_gradient(int observable) const {
+  const std::vector<std::string> names = observable_names();
+  return has_monitor_gradient(0) && observable >= 0 && observable < static_cast<int>(names.size()) &&
+         names[static_cast<size_t>(observable)] == "min_m1";
+}
+
+Status CollapsibleChannelProblem::observable_gradient(int observable, const Vector& u, Vector& gradient) {
+  if (!has_observable_gradient(observable)) return Problem::observable_gradient(observable, u, gradient);
+  return monitor_gradient(0, u, gradient);
+}
+
 Status CollapsibleChannelProblem::monitor_places(int monitor, const Vector& u, std::vector<double>& values) {
   if (!options_.fluid.viscoelastic() || monitor != 0)
     throw std::out_of_range("collapsible channel: no monitor " + std::to_string(monitor));

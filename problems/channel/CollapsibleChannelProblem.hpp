@@ -93,6 +93,10 @@ class CollapsibleChannelProblem final : public Problem {
   Status monitor_place_gradient(int monitor, int place, const Vector& u, Vector& gradient) override;
   // min_m1's gradient (at its place): its zero is located by Newton.
   bool has_monitor_gradient(int monitor) const override { return options_.fluid.viscoelastic() && monitor == 0; }
+  // The observable min_m1 is that monitor, with its gradient: a branch that stops on it lands
+  // its last step on the zero.
+  bool has_observable_gradient(int observable) const override;
+  Status observable_gradient(int observable, const Vector& u, Vector& gradient) override;
   SolutionFields fields(const Vector& u) const override;
   std::string summary() const override;
 

@@ -14,8 +14,7 @@ using namespace keller;
 
 namespace {
 
-void check(FluidModel model, bool log_form) {
-  SCOPED_TRACE(std::string(to_string(model)) + (log_form ? " log" : ""));
+CollapsibleOptions coarse_options(FluidModel model, bool log_form) {
   CollapsibleOptions o;
   o.mesh.name = "custom";
   o.mesh.nx_upstream = 1;
@@ -33,7 +32,11 @@ void check(FluidModel model, bool log_form) {
   o.fluid.Re = 0.01;  // inertia on, so dF/dRe is checked too (and Re = 0 sits on its bound)
   o.fluid.inertia = true;
   o.fluid.profile = model == FluidModel::Newtonian ? ProfileKind::Parabolic : ProfileKind::FullyDeveloped;
-  CollapsibleChannelProblem problem(o);
+  return o;
+}
+
+// The initial guess with every unknown perturbed (the conformation drawn anew, positive definite).
+Vector perturbed_state(CollapsibleChannelProblem& problem, FluidModel model, bool log_form) {
   Vector u = problem.initial_guess();
   const DofMap& d = problem.dofs();
   std::mt19937 rng(7);
@@ -54,6 +57,14 @@ void check(FluidModel model, bool log_form) {
         if (d.node_dof(fm, n, k) >= 0)
           u[d.node_dof(fm, n, k)] = log_form ? 0.4 * U(rng) : (k == 1 ? 0.3 * U(rng) : 1.2 + 0.4 * U(rng));
   }
+  return u;
+}
+
+void check(FluidModel model, bool log_form) {
+  SCOPED_TRACE(std::string(to_string(model)) + (log_form ? " log" : ""));
+  CollapsibleChannelProblem problem(coarse_options(model, log_form));
+  const Vector u = perturbed_state(problem, model, log_form);
+  const DofMap& d = problem.dofs();
   const auto jc = test::check_problem_jacobian(problem, u);
   std::cout << to_string(model) << (log_form ? " log" : "") << ": " << problem.size()
             << " unknowns, Jacobian max relative error " << jc.max_relative_error << " (row "
@@ -73,3 +84,38 @@ TEST(CollapsibleJacobian, OldroydB) { check(FluidModel::OldroydB, false); }
 TEST(CollapsibleJacobian, OldroydBLogConformation) { check(FluidModel::OldroydB, true); }
 TEST(CollapsibleJacobian, FeneP) { check(FluidModel::FeneP, false); }
 TEST(CollapsibleJacobian, Owens) { check(FluidModel::Owens, false); }
+
+// The observable min_m1 has the monitor's gradient (a branch that stops on it lands its last
+// step on the zero): the same vector, and against central differences of the observable along a
+// random direction at a state where the minimum's node is unique (the perturbed conformation).
+// Step 1e-6: the difference's truncation error is 1e-12 of the curvature, its rounding 1e-10.
+TEST(CollapsibleJacobian, MinM1ObservableGradientAgainstDifferences) {
+  CollapsibleChannelProblem problem(coarse_options(FluidModel::OldroydB, false));
+  const Vector u = perturbed_state(problem, FluidModel::OldroydB, false);
+  const std::vector<std::string> names = problem.observable_names();
+  int index = -1;
+  for (size_t k = 0; k < names.size(); ++k) {
+    if (names[k] == "min_m1")
+      index = static_cast<int>(k);
+    else
+      EXPECT_FALSE(problem.has_observable_gradient(static_cast<int>(k))) << names[k];
+  }
+  ASSERT_GE(index, 0);
+  ASSERT_TRUE(problem.has_observable_gradient(index));
+  Vector g, gm;
+  ASSERT_TRUE(problem.observable_gradient(index, u, g).is_ok());
+  ASSERT_TRUE(problem.monitor_gradient(0, u, gm).is_ok());
+  EXPECT_EQ((g - gm).lpNorm<Eigen::Infinity>(), 0.0);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> U(-1, 1);
+  Vector v(u.size());
+  for (int i = 0; i < v.size(); ++i) v[i] = U(rng);
+  const double h = 1e-6;
+  const double fd = (problem.observable("min_m1", u + h * v) - problem.observable("min_m1", u - h * v)) / (2 * h);
+  std::cout << "d min_m1 along v: gradient " << g.dot(v) << ", differences " << fd << "\n";
+  EXPECT_NEAR(g.dot(v), fd, 1e-6 * std::max(1.0, std::abs(fd)));
+  // a Newtonian fluid has no conformation: no gradient
+  CollapsibleChannelProblem newtonian(coarse_options(FluidModel::Newtonian, false));
+  for (int k = 0; k < static_cast<int>(newtonian.observable_names().size()); ++k)
+    EXPECT_FALSE(newtonian.has_observable_gradient(k));
+}
