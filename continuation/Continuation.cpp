@@ -24,8 +24,6 @@ ContinuationOptions validated(ContinuationOptions o) {
   o.validate();
   return o;
 }
-// A critical eigenvalue whose imaginary part is below this (relative to 1 + |locator|) is real.
-constexpr double kRealEigenvalue = 1e-8;
 }  // namespace
 
 Continuation::Continuation(Problem& problem, ContinuationOptions options, NewtonOptions newton, SparseLUOptions lu)
@@ -43,6 +41,7 @@ Continuation::Continuation(Problem& problem, ContinuationOptions options, Newton
           corrector_, tangents_, kept_, norm_, options_,
           [this](BranchPoint& p, bool analyse_point) { return evaluate(p, analyse_point); },
           [this]() { return analysis_note_; }),
+      lander_(ev_, locator_, options_),
       spectra_(std::make_unique<SpectrumScheduler>(nullptr)) {
   if (!options_.stop.observable.empty()) {
     const auto names = problem_.observable_names();
@@ -60,6 +59,7 @@ Continuation::Continuation(Problem& problem, ContinuationOptions options, Newton
     if (std::isfinite(options_.stop.above)) monitor_names_.push_back(options_.stop.observable + " > stop_above");
     if (std::isfinite(options_.stop.below)) monitor_names_.push_back(options_.stop.observable + " < stop_below");
   }
+  lander_.configure(stop_index_, static_cast<int>(problem_.monitor_names().size()), monitor_names_);
 }
 
 Continuation::~Continuation() = default;
@@ -271,22 +271,11 @@ Continuation::Step Continuation::attempt(const BranchPoint& cur, const BranchPoi
   predictor_.direction(cur, prev, du, dl);
   // the stop observable's zero, where no stop or bound comes before it (up to the zero, which may
   // lie beyond the planned step): the step's row is the function linearised at cur
-  std::optional<ZeroLanding> zero = landing_allowed ? plan_zero(cur, du, dl, ds) : std::nullopt;
+  std::optional<ZeroLanding> zero = landing_allowed ? lander_.plan(cur, du, dl, ds) : std::nullopt;
   const double reach = zero ? std::max(1.0, zero->land.fraction) : 1.0;
   Prediction pr = predictor_.predict(cur, prev, du, dl, reach * ds, landing_allowed);
   if (zero && pr.land && pr.land->fraction * reach <= zero->land.fraction) zero.reset();
-  if (zero) {
-    const double at = zero->land.fraction * ds;
-    pr.u = cur.u + at * du;
-    pr.lambda = cur.lambda + at * dl;
-    pr.constraint = Constraint{};
-    pr.constraint.cu = zero->gu;
-    pr.constraint.cl = zero->gl;
-    pr.constraint.u0 = &cur.u;
-    pr.constraint.l0 = cur.lambda;
-    pr.constraint.target = -zero->value;
-    pr.land = zero->land;
-  }
+  if (zero) ZeroLander::predict(*zero, cur, du, dl, ds, pr);
   s.land = pr.land;
   const bool landed = pr.land.has_value();
   nxt.u = std::move(pr.u);
@@ -308,15 +297,10 @@ Continuation::Step Continuation::attempt(const BranchPoint& cur, const BranchPoi
     // the branch ends here: where the step made no factorisation, the sign of det for branch
     // points at its end would need one (a probe); Newton's first correction makes it instead
     if (options_.events.branch_points && kept_.count() == factorisations) kept_.set_reusable(false);
-    int solves = 0;
-    CorrectorResult settling;
-    Status gst;
-    const bool settled = locator_.settle(
-                             nxt, zero->g, zero->h, [&](const BranchPoint&) -> const BranchPoint& { return cur; },
-                             floor, solves, settling, gst) &&
-                         settling.status.is_ok();
-    nxt.iterations += solves;
-    if (settled && solves > 0) nxt.residual = settling.residual;
+    const ZeroLander::Settled z = lander_.settle(*zero, cur, nxt, floor);
+    const bool settled = z.settled;
+    nxt.iterations += z.solves;
+    if (settled && z.solves > 0) nxt.residual = z.residual;
     if (settled && std::abs(nxt.lambda - cur.lambda) <= options_.events.tolerance) {
       // the zero the step starts on (a function that is not continuous there: an event curve's
       // piece starts where the place just left is level with the followed one): an ordinary step
@@ -369,215 +353,6 @@ Continuation::Step Continuation::attempt(const BranchPoint& cur, const BranchPoi
   nxt.bordered_det_sign = s.sampled ? kept_.determinant_sign() : 0;
   nxt.s = arclength && !landed ? cur.s + ds : cur.s + norm_.distance(cur, nxt);
   return s;
-}
-
-std::vector<LocatedPoint> Continuation::locate_on(BranchPoint& cur, BranchPoint& nxt, const Step& step, bool last_step,
-                                                  BranchObserver& observer) {
-  std::vector<LocatedPoint> located;
-  locate_crossings(cur, nxt, step, located, observer);
-  const bool ends =
-      (step.land && step.land->end) ||
-      std::any_of(located.begin(), located.end(), [](const LocatedPoint& l) { return l.end.has_value(); });
-  locate_branch_points(cur, nxt, ends || last_step, located, observer);
-  // a branch that ends on this step: its last stretch is checked too (analysis every N points)
-  if (analysis_ && !nxt.analysed && ends) analyse(nxt);
-  if (analysis_ && nxt.analysed) locate_stability_change(cur, nxt, located, observer);
-  if (analysis_ && !analysis_note_.empty()) {
-    observer.on_note(fmt::format("after row {}: {}", cur.index, analysis_note_));
-    analysis_note_.clear();
-  }
-  if (start_on_ && cur.kind == PointKind::Start) {
-    // the zero the start sits on, found again (its function's sign there is rounding)
-    std::erase_if(located, [&](const LocatedPoint& l) {
-      return l.point.kind == *start_on_ && std::abs(l.point.lambda - cur.lambda) <= options_.events.tolerance;
-    });
-  }
-  start_on_.reset();
-  order_located(located, nxt.s - cur.s, options_.events.tolerance);
-  return located;
-}
-
-void Continuation::locate_crossings(const BranchPoint& cur, const BranchPoint& nxt, const Step& step,
-                                    std::vector<LocatedPoint>& located, BranchObserver& observer) {
-  const std::vector<Crossing> crossings =
-      detect_crossings(cur, nxt, step.land, options_, monitor_names_, problem_.monitor_names().size(), turning_);
-  std::vector<std::optional<BranchPoint>> zero_of(crossings.size());  // the points located for each
-  for (size_t k = 0; k < crossings.size(); ++k) {
-    const Crossing& c = crossings[k];
-    std::optional<BranchPoint> p;
-    std::string note;
-    if (c.at_next) {
-      p = nxt;
-      // (the row of a step that landed on the zero; else the step's own row is reported too)
-      if (!(step.land && step.land->monitor >= 0)) p->iterations = 0;
-    } else if (c.same_as >= 0 && zero_of[static_cast<size_t>(c.same_as)]) {
-      p = zero_of[static_cast<size_t>(c.same_as)];
-    } else if (c.target.kind == EventTarget::Value) {
-      p = locator_.locate_value(cur, nxt, c.target.value, note);
-    } else {
-      const GradientFunction g = c.target.kind == EventTarget::Monitor ? gradient_of(c.target.monitor) : nullptr;
-      if (g) p = locator_.locate_by_newton(cur, nxt, g, c.ga, c.gb, note);
-      if (!p) p = locator_.locate_root(cur, nxt, c.target, c.ga, c.gb, note);
-    }
-    const size_t before = located.size();
-    add_located(std::move(p), c.kind, c.label, c.end, cur, located, observer, note);
-    if (located.size() > before) zero_of[k] = located.back().point;  // (analysed, if it was)
-  }
-}
-
-int Continuation::probe_determinant(BranchPoint& p) {
-  ++result_.probes;
-  const Status st = kept_.factorise_at(ev_, p.u, p.lambda, norm_.tangent_row(p.tu, p.tlambda));
-  if (!st.is_ok()) return 0;
-  kept_.set_reusable(true);
-  p.bordered_det_sign = kept_.determinant_sign();
-  return p.bordered_det_sign;
-}
-
-void Continuation::locate_branch_points(const BranchPoint& cur, BranchPoint& nxt, bool last,
-                                        std::vector<LocatedPoint>& located, BranchObserver& observer) {
-  if (options_.method != ContinuationOptions::Method::Arclength || !options_.events.branch_points) return;
-  // the sign belongs to nxt itself where J was factorised there (or by Newton's last iteration),
-  // else to an iterate of its step
-  bool exact = kept_.made_at(nxt.u, nxt.lambda) || options_.corrector.method == CorrectorOptions::Method::Newton;
-  if (branch_points_.needs_probe(nxt, last)) exact = probe_determinant(nxt) != 0;
-  const auto pair = branch_points_.accepted(nxt, exact, [this](BranchPoint& q) { return probe_determinant(q); });
-  if (!pair) return;
-  std::string note;
-  const Target target{EventTarget::BranchPoint, -1, 0.0};
-  std::optional<BranchPoint> p = locator_.locate_root(pair->first, pair->second, target, pair->first.bordered_det_sign,
-                                                      pair->second.bordered_det_sign, note);
-  add_located(std::move(p), PointKind::BranchPoint, "det sign change", std::nullopt, cur, located, observer, note);
-}
-
-void Continuation::locate_stability_change(BranchPoint& cur, BranchPoint& nxt, std::vector<LocatedPoint>& located,
-                                           BranchObserver& observer) {
-  // a real eigenvalue through zero is a fold where the parameter turns, else a branch point; a
-  // complex pair through the imaginary axis a Hopf point. Where the engine located the same fold
-  // or branch point on this step itself, that point says so instead.
-  const auto change = spectra_->change_at(cur, nxt, [this](BranchPoint& q) { analyse(q); });
-  if (!change) return;
-  if (!change->bracketed) {
-    observer.on_note(fmt::format("{} between rows {} and {} (not located: analysis every {} points)",
-                                 change->description, change->from_row, next_index_, spectra_->every()));
-    return;
-  }
-  const BranchPoint& a = *change->a;
-  const BranchPoint& b = *change->b;
-  const bool fold = a.tlambda * b.tlambda < 0;
-  std::string note;
-  const Target target{EventTarget::StabilityChange, -1, 0.0};
-  std::optional<BranchPoint> p = locator_.locate_root(a, b, target, a.locator, b.locator, note);
-  if (!p) {
-    add_located(std::nullopt, PointKind::Event, change->description, std::nullopt, cur, located, observer, note);
-    return;
-  }
-  const double scale = 1.0 + std::abs(p->locator);
-  const bool complex = std::abs(p->critical_imag) > kRealEigenvalue * scale;
-  const PointKind kind = complex ? PointKind::Hopf : (fold ? PointKind::Fold : PointKind::BranchPoint);
-  std::string label = complex ? fmt::format("omega = {:.8g}, {}", std::abs(p->critical_imag), change->description)
-                              : fmt::format("eigenvalue crosses zero, {}", change->description);
-  if (!change->this_step)
-    label +=
-        fmt::format(" (bracketed by bisection between {} = {:.8g} and {:.8g})", options_.parameter, a.lambda, b.lambda);
-  auto same = change->this_step ? std::find_if(located.begin(), located.end(),
-                                               [&](const LocatedPoint& l) { return l.point.kind == kind; })
-                                : located.end();
-  if (same != located.end()) {
-    same->point.label += ", " + label;
-  } else {
-    add_located(std::move(p), kind, std::move(label), std::nullopt, cur, located, observer, note);
-  }
-}
-
-void Continuation::add_located(std::optional<BranchPoint> p, PointKind kind, std::string label,
-                               std::optional<StopCode> end, const BranchPoint& after,
-                               std::vector<LocatedPoint>& located, BranchObserver& observer, std::string& note) {
-  if (!p) {
-    observer.on_note(
-        fmt::format("{} '{}' detected after row {} but not located: {}", to_string(kind), label, after.index, note));
-    return;
-  }
-  // located points get their spectrum with every point analysed (with every N > 1 they cost
-  // one spectrum each, more than the branch's own: left out)
-  if (analysis_ && !p->analysed && spectra_->every() == 1) analyse(*p);
-  p->kind = kind;
-  p->label = std::move(label);
-  located.push_back({std::move(*p), end});
-}
-
-std::optional<Continuation::Finish> Continuation::report_segment(const BranchPoint& cur, BranchPoint& nxt,
-                                                                 const Step& step, std::vector<LocatedPoint>& located,
-                                                                 BranchObserver& observer) {
-  auto bound_reached = [&](const BranchPoint& p) {
-    return fmt::format("reached the {} bound {} = {:.10g}", p.label, options_.parameter, p.lambda);
-  };
-  const double near = kSamePointFraction * std::abs(nxt.s - cur.s);
-  bool next_reported = false;
-  auto report_next = [&]() {
-    next_reported = true;
-    nxt.index = next_index_++;
-    nxt.save = nxt.index % options_.save_every == 0;
-    if (step.land) {
-      nxt.kind = step.land->kind;
-      nxt.label = step.land->label;
-      nxt.save = true;
-    }
-    spectra_->reported(nxt);
-    branch_points_.reported(nxt);
-    report(observer, nxt);
-  };
-  for (LocatedPoint& l : located) {
-    // an end found at a landed stop itself comes after the stop's row
-    if (l.end && step.land && !step.land->end && std::abs(l.point.s - nxt.s) <= near) report_next();
-    l.point.index = next_index_++;
-    l.point.save = true;
-    report(observer, l.point);
-    if (l.end) {
-      const std::string why =
-          *l.end == StopCode::StopObservable
-              ? fmt::format("{} crossed at {} = {:.10g}", l.point.label, options_.parameter, l.point.lambda)
-              : bound_reached(l.point);
-      return Finish{*l.end, why, l.point};
-    }
-  }
-  if (!next_reported) report_next();
-  if (step.land && step.land->end) return Finish{*step.land->end, bound_reached(nxt), nxt};
-  return std::nullopt;
-}
-
-std::optional<Continuation::ZeroLanding> Continuation::plan_zero(const BranchPoint& cur, const Vector& du, double dl,
-                                                                 double ds) {
-  if (!options_.events.land_on_zeros || options_.method != ContinuationOptions::Method::Arclength || stop_index_ < 0)
-    return std::nullopt;
-  std::optional<ZeroLanding> best;
-  // the stop observable's distance to stop_above, to stop_below (after the problem's monitors)
-  for (size_t m = problem_.monitor_names().size(); m < monitor_names_.size() && m < cur.monitors.size(); ++m) {
-    ZeroLanding z;
-    z.g = gradient_of(static_cast<int>(m));
-    if (!z.g) return std::nullopt;
-    // the difference step in lambda for the function's derivative: a small part of the step's
-    z.h = 1e-4 * std::max(std::abs(ds * dl), 1e-8 * (1.0 + std::abs(cur.lambda)));
-    if (!z.g(cur.u, cur.lambda, z.h, true, z.value, z.gu, z.gl).is_ok()) continue;
-    const std::optional<double> fraction = plan_zero_landing(z.value, z.gu.dot(du) + z.gl * dl, ds, options_.step.max);
-    if (!fraction || (best && best->land.fraction <= *fraction)) continue;
-    z.land.fraction = *fraction;
-    z.land.value = NAN;
-    z.land.kind = PointKind::End;
-    z.land.label = monitor_names_[m];
-    z.land.end = StopCode::StopObservable;
-    z.land.monitor = static_cast<int>(m);
-    best = std::move(z);
-  }
-  return best;
-}
-
-GradientFunction Continuation::gradient_of(int monitor) {
-  // the problem's monitors, then the stop observable's distance to stop_above, to stop_below
-  const int problem_monitors = static_cast<int>(problem_.monitor_names().size());
-  if (monitor < problem_monitors) return ev_.gradient_function(monitor, false, 0.0);
-  const bool above = monitor == problem_monitors && std::isfinite(options_.stop.above);
-  return ev_.gradient_function(stop_index_, true, above ? options_.stop.above : options_.stop.below);
 }
 
 Status Continuation::evaluate(BranchPoint& p, bool analyse_point) {

@@ -2,8 +2,9 @@
 // any Problem: the stepper. Its trace loop reads as the algorithm and delegates each job to a part:
 // Predictor (direction, landing on stops and bounds), Corrector (Newton or the chord on a kept
 // factorisation, Anderson mixing, Deuflhard's test), TangentSolver, StepController,
-// detect_crossings and EventLocator (values, monitors, folds), BranchPointMonitor (branch points
-// from determinant signs), SpectrumScheduler (the point analysis every N points), and
+// detect_crossings and EventLocator (values, monitors, folds), ZeroLander (a step landed on the
+// stop observable's threshold), BranchPointMonitor (branch points from determinant signs),
+// SpectrumScheduler (the point analysis every N points), and
 // branch_direction (branch switching); KeptFactorisation is the factorisation they share and
 // ArclengthNorm the norm and constraints. Every point is reported to a BranchObserver as it is
 // accepted. Numerical failures shrink the step; they never end the run except through the
@@ -31,6 +32,7 @@
 #include "continuation/StepController.hpp"
 #include "continuation/StopCode.hpp"
 #include "continuation/TangentSolver.hpp"
+#include "continuation/ZeroLander.hpp"
 #include "core/Newton.hpp"
 #include "core/PointAnalysis.hpp"
 #include "core/Problem.hpp"
@@ -119,15 +121,6 @@ class Continuation {
     bool sampled = false;        // J was factorised during the step (its determinant sign is known)
     bool zero_at_start = false;  // it landed on the zero it starts on (tried again without landing)
   };
-  // A step that lands on the stop observable's zero: the function with its value and gradient at
-  // the step's start, and where the step lands.
-  struct ZeroLanding {
-    GradientFunction g;
-    double h = 0.0;  // the difference step in lambda for its derivative
-    double value = 0.0, gl = 0.0;
-    Vector gu;
-    Landing land;
-  };
   struct Finish {
     StopCode code;
     std::string reason;
@@ -163,12 +156,6 @@ class Continuation {
   // along p's tangent (0: the factorisation failed).
   int probe_determinant(BranchPoint& p);
   Status evaluate(BranchPoint& p, bool analyse_point);
-  // The stop observable's zero the step of size ds from cur along (du, dl) lands on, where it
-  // has a gradient and plan_zero_landing lands there.
-  std::optional<ZeroLanding> plan_zero(const BranchPoint& cur, const Vector& du, double dl, double ds);
-  // The monitor (index into BranchPoint::monitors) with its gradient, where the problem offers
-  // one (its zeros are then located by Newton); null where it does not.
-  GradientFunction gradient_of(int monitor);
   void analyse(BranchPoint& p);
   void report(BranchObserver& observer, BranchPoint& p);
   ContinuationResult finish(StopCode code, std::string reason, const BranchPoint& last, BranchObserver& observer);
@@ -188,6 +175,7 @@ class Continuation {
   Predictor predictor_;
   StepController steps_;
   EventLocator locator_;
+  ZeroLander lander_;
   BranchPointMonitor branch_points_;
   PointAnalysis* analysis_ = nullptr;
   std::unique_ptr<SpectrumScheduler> spectra_;

@@ -1,0 +1,195 @@
+// Continuation's location of what a step crossed (bounds, stops, monitors and thresholds, folds,
+// turns, branch points, changes of the analysis's count) and the report of the located points and
+// the step's own in order along the branch: the locate-and-report part of a step (the trace loop,
+// the step and the start are in Continuation.cpp).
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "continuation/Continuation.hpp"
+
+namespace keller {
+
+namespace {
+// A critical eigenvalue whose imaginary part is below this (relative to 1 + |locator|) is real.
+constexpr double kRealEigenvalue = 1e-8;
+}  // namespace
+
+std::vector<LocatedPoint> Continuation::locate_on(BranchPoint& cur, BranchPoint& nxt, const Step& step, bool last_step,
+                                                  BranchObserver& observer) {
+  std::vector<LocatedPoint> located;
+  locate_crossings(cur, nxt, step, located, observer);
+  const bool ends =
+      (step.land && step.land->end) ||
+      std::any_of(located.begin(), located.end(), [](const LocatedPoint& l) { return l.end.has_value(); });
+  locate_branch_points(cur, nxt, ends || last_step, located, observer);
+  // a branch that ends on this step: its last stretch is checked too (analysis every N points)
+  if (analysis_ && !nxt.analysed && ends) analyse(nxt);
+  if (analysis_ && nxt.analysed) locate_stability_change(cur, nxt, located, observer);
+  if (analysis_ && !analysis_note_.empty()) {
+    observer.on_note(fmt::format("after row {}: {}", cur.index, analysis_note_));
+    analysis_note_.clear();
+  }
+  if (start_on_ && cur.kind == PointKind::Start) {
+    // the zero the start sits on, found again (its function's sign there is rounding)
+    std::erase_if(located, [&](const LocatedPoint& l) {
+      return l.point.kind == *start_on_ && std::abs(l.point.lambda - cur.lambda) <= options_.events.tolerance;
+    });
+  }
+  start_on_.reset();
+  order_located(located, nxt.s - cur.s, options_.events.tolerance);
+  return located;
+}
+
+void Continuation::locate_crossings(const BranchPoint& cur, const BranchPoint& nxt, const Step& step,
+                                    std::vector<LocatedPoint>& located, BranchObserver& observer) {
+  const std::vector<Crossing> crossings =
+      detect_crossings(cur, nxt, step.land, options_, monitor_names_, problem_.monitor_names().size(), turning_);
+  std::vector<std::optional<BranchPoint>> zero_of(crossings.size());  // the points located for each
+  for (size_t k = 0; k < crossings.size(); ++k) {
+    const Crossing& c = crossings[k];
+    std::optional<BranchPoint> p;
+    std::string note;
+    if (c.at_next) {
+      p = nxt;
+      // (the row of a step that landed on the zero; else the step's own row is reported too)
+      if (!(step.land && step.land->monitor >= 0)) p->iterations = 0;
+    } else if (c.same_as >= 0 && zero_of[static_cast<size_t>(c.same_as)]) {
+      p = zero_of[static_cast<size_t>(c.same_as)];
+    } else if (c.target.kind == EventTarget::Value) {
+      p = locator_.locate_value(cur, nxt, c.target.value, note);
+    } else {
+      const GradientFunction g =
+          c.target.kind == EventTarget::Monitor ? lander_.gradient_of(c.target.monitor) : nullptr;
+      if (g) p = locator_.locate_by_newton(cur, nxt, g, c.ga, c.gb, note);
+      if (!p) p = locator_.locate_root(cur, nxt, c.target, c.ga, c.gb, note);
+    }
+    const size_t before = located.size();
+    add_located(std::move(p), c.kind, c.label, c.end, cur, located, observer, note);
+    if (located.size() > before) zero_of[k] = located.back().point;  // (analysed, if it was)
+  }
+}
+
+int Continuation::probe_determinant(BranchPoint& p) {
+  ++result_.probes;
+  const Status st = kept_.factorise_at(ev_, p.u, p.lambda, norm_.tangent_row(p.tu, p.tlambda));
+  if (!st.is_ok()) return 0;
+  kept_.set_reusable(true);
+  p.bordered_det_sign = kept_.determinant_sign();
+  return p.bordered_det_sign;
+}
+
+void Continuation::locate_branch_points(const BranchPoint& cur, BranchPoint& nxt, bool last,
+                                        std::vector<LocatedPoint>& located, BranchObserver& observer) {
+  if (options_.method != ContinuationOptions::Method::Arclength || !options_.events.branch_points) return;
+  // the sign belongs to nxt itself where J was factorised there (or by Newton's last iteration),
+  // else to an iterate of its step
+  bool exact = kept_.made_at(nxt.u, nxt.lambda) || options_.corrector.method == CorrectorOptions::Method::Newton;
+  if (branch_points_.needs_probe(nxt, last)) exact = probe_determinant(nxt) != 0;
+  const auto pair = branch_points_.accepted(nxt, exact, [this](BranchPoint& q) { return probe_determinant(q); });
+  if (!pair) return;
+  std::string note;
+  const Target target{EventTarget::BranchPoint, -1, 0.0};
+  std::optional<BranchPoint> p = locator_.locate_root(pair->first, pair->second, target, pair->first.bordered_det_sign,
+                                                      pair->second.bordered_det_sign, note);
+  add_located(std::move(p), PointKind::BranchPoint, "det sign change", std::nullopt, cur, located, observer, note);
+}
+
+void Continuation::locate_stability_change(BranchPoint& cur, BranchPoint& nxt, std::vector<LocatedPoint>& located,
+                                           BranchObserver& observer) {
+  // a real eigenvalue through zero is a fold where the parameter turns, else a branch point; a
+  // complex pair through the imaginary axis a Hopf point. Where the engine located the same fold
+  // or branch point on this step itself, that point says so instead.
+  const auto change = spectra_->change_at(cur, nxt, [this](BranchPoint& q) { analyse(q); });
+  if (!change) return;
+  if (!change->bracketed) {
+    observer.on_note(fmt::format("{} between rows {} and {} (not located: analysis every {} points)",
+                                 change->description, change->from_row, next_index_, spectra_->every()));
+    return;
+  }
+  const BranchPoint& a = *change->a;
+  const BranchPoint& b = *change->b;
+  const bool fold = a.tlambda * b.tlambda < 0;
+  std::string note;
+  const Target target{EventTarget::StabilityChange, -1, 0.0};
+  std::optional<BranchPoint> p = locator_.locate_root(a, b, target, a.locator, b.locator, note);
+  if (!p) {
+    add_located(std::nullopt, PointKind::Event, change->description, std::nullopt, cur, located, observer, note);
+    return;
+  }
+  const double scale = 1.0 + std::abs(p->locator);
+  const bool complex = std::abs(p->critical_imag) > kRealEigenvalue * scale;
+  const PointKind kind = complex ? PointKind::Hopf : (fold ? PointKind::Fold : PointKind::BranchPoint);
+  std::string label = complex ? fmt::format("omega = {:.8g}, {}", std::abs(p->critical_imag), change->description)
+                              : fmt::format("eigenvalue crosses zero, {}", change->description);
+  if (!change->this_step)
+    label +=
+        fmt::format(" (bracketed by bisection between {} = {:.8g} and {:.8g})", options_.parameter, a.lambda, b.lambda);
+  auto same = change->this_step ? std::find_if(located.begin(), located.end(),
+                                               [&](const LocatedPoint& l) { return l.point.kind == kind; })
+                                : located.end();
+  if (same != located.end()) {
+    same->point.label += ", " + label;
+  } else {
+    add_located(std::move(p), kind, std::move(label), std::nullopt, cur, located, observer, note);
+  }
+}
+
+void Continuation::add_located(std::optional<BranchPoint> p, PointKind kind, std::string label,
+                               std::optional<StopCode> end, const BranchPoint& after,
+                               std::vector<LocatedPoint>& located, BranchObserver& observer, std::string& note) {
+  if (!p) {
+    observer.on_note(
+        fmt::format("{} '{}' detected after row {} but not located: {}", to_string(kind), label, after.index, note));
+    return;
+  }
+  // located points get their spectrum with every point analysed (with every N > 1 they cost
+  // one spectrum each, more than the branch's own: left out)
+  if (analysis_ && !p->analysed && spectra_->every() == 1) analyse(*p);
+  p->kind = kind;
+  p->label = std::move(label);
+  located.push_back({std::move(*p), end});
+}
+
+std::optional<Continuation::Finish> Continuation::report_segment(const BranchPoint& cur, BranchPoint& nxt,
+                                                                 const Step& step, std::vector<LocatedPoint>& located,
+                                                                 BranchObserver& observer) {
+  auto bound_reached = [&](const BranchPoint& p) {
+    return fmt::format("reached the {} bound {} = {:.10g}", p.label, options_.parameter, p.lambda);
+  };
+  const double near = kSamePointFraction * std::abs(nxt.s - cur.s);
+  bool next_reported = false;
+  auto report_next = [&]() {
+    next_reported = true;
+    nxt.index = next_index_++;
+    nxt.save = nxt.index % options_.save_every == 0;
+    if (step.land) {
+      nxt.kind = step.land->kind;
+      nxt.label = step.land->label;
+      nxt.save = true;
+    }
+    spectra_->reported(nxt);
+    branch_points_.reported(nxt);
+    report(observer, nxt);
+  };
+  for (LocatedPoint& l : located) {
+    // an end found at a landed stop itself comes after the stop's row
+    if (l.end && step.land && !step.land->end && std::abs(l.point.s - nxt.s) <= near) report_next();
+    l.point.index = next_index_++;
+    l.point.save = true;
+    report(observer, l.point);
+    if (l.end) {
+      const std::string why =
+          *l.end == StopCode::StopObservable
+              ? fmt::format("{} crossed at {} = {:.10g}", l.point.label, options_.parameter, l.point.lambda)
+              : bound_reached(l.point);
+      return Finish{*l.end, why, l.point};
+    }
+  }
+  if (!next_reported) report_next();
+  if (step.land && step.land->end) return Finish{*step.land->end, bound_reached(nxt), nxt};
+  return std::nullopt;
+}
+
+}  // namespace keller
