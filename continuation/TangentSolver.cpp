@@ -21,8 +21,9 @@ constexpr int kStallIterations = 3;
 constexpr double kRiseAboveLeast = 10.0;
 // Plain Richardson must at least halve the residual at every iteration.
 constexpr double kPlainFall = 0.5;
-// Converged also needs the last correction below this fraction of the tangent (arclength norm):
-// the correction estimates the error the residual test cannot see where the system is stiff
+// Converged also needs the error left after the last correction (its length times the factor by
+// which the corrections fall) below this fraction of the tangent (arclength norm): the correction
+// estimates the error the residual test cannot see where the system is stiff
 // (|J| of 1e9 on a fine 1D mesh: a residual of 1e-9 |J| |z| then leaves the tangent 20 degrees off
 // near a fold, and the finite-difference J v is not exact enough to go further).
 constexpr double kTangentCorrection = 1e-6;
@@ -31,6 +32,10 @@ constexpr double kTangentCorrection = 1e-6;
 TangentSolver::TangentSolver(Evaluator& ev, KeptFactorisation& kept, const ArclengthNorm& norm,
                              const ContinuationOptions& options)
     : ev_(ev), kept_(kept), norm_(norm), options_(options) {}
+
+double TangentSolver::error_left(double correction, double previous) {
+  return correction < previous ? correction * (correction / previous) : correction;
+}
 
 Status TangentSolver::unit(Vector v, double mu, const Vector& tu_prev, double tl_prev, Tangent& t) const {
   // (v, mu) solves [J F_p; c^T d] (v, mu) = (0, 1). Cramer: mu = det(J) / det(bordered), so this
@@ -136,7 +141,7 @@ bool TangentSolver::by_iteration(const BranchPoint& p, const Constraint& c, cons
   const int depth =
       options_.corrector.method == CorrectorOptions::Method::Chord ? options_.corrector.anderson_depth : 0;
   AndersonMixer mixer(depth);
-  double best = INFINITY, first = INFINITY;
+  double best = INFINITY, first = INFINITY, last_correction = 0.0;
   int it_best = -1;
   bool converged = false;
   for (int it = 0; it < limit; ++it) {
@@ -146,7 +151,9 @@ bool TangentSolver::by_iteration(const BranchPoint& p, const Constraint& c, cons
     mixer.mix(v, mu, dv, dmu);
     v += dv;
     mu += dmu;
-    const bool small_correction = norm_.norm(dv, dmu) <= kTangentCorrection * norm_.norm(v, mu);
+    const double correction = norm_.norm(dv, dmu);
+    const bool small_correction = error_left(correction, last_correction) <= kTangentCorrection * norm_.norm(v, mu);
+    last_correction = correction;
     st = ev_.jacobian_times(p.u, v, jv);
     if (!st.is_ok()) break;
     rf = -(jv + Fp * mu);

@@ -37,6 +37,10 @@ class TangentSolver {
   Status from_factorisation(const Vector& tu_prev, double tl_prev, Tangent& t);
   // Solves spent on tangents by iteration.
   long iterations() const { return iterations_; }
+  // The error an iteration's tangent is estimated to have: the length of its correction times
+  // the factor by which the corrections fall (correction / previous, where that is below 1), the
+  // correction itself where they do not fall or at the first (previous 0).
+  static double error_left(double correction, double previous);
 
  private:
   // The tangent system at p solved by iteration on the kept factorisation; false where it does

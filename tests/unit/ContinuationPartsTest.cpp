@@ -15,6 +15,7 @@
 #include "continuation/Predictor.hpp"
 #include "continuation/SpectrumScheduler.hpp"
 #include "continuation/StepController.hpp"
+#include "continuation/TangentSolver.hpp"
 #include "core/ConvergenceTest.hpp"
 #include "core/RenewalPolicy.hpp"
 
@@ -293,6 +294,28 @@ BranchPoint point(double s, double lambda, double tlambda, std::vector<double> m
 // The crossings of a segment, in order: the upper bound, requested values (not the one landed on),
 // monitors (the problem's are events, the stop thresholds ends; the same function twice is one
 // search), folds.
+// A tangent iteration's error after its correction: on a linear iteration converging at rate r the
+// error after a correction of length c is about r c, and r is the ratio of successive corrections
+// (c_k = r c_{k-1}); so 1e-5 after 1e-4 leaves 1e-6. Where the corrections do not fall (the first,
+// or an accelerated iteration that rose) nothing is assumed: the correction itself.
+TEST(TangentSolver, TheErrorLeftFromTheFallOfTheCorrections) {
+  EXPECT_DOUBLE_EQ(TangentSolver::error_left(1e-5, 1e-4), 1e-6);
+  EXPECT_DOUBLE_EQ(TangentSolver::error_left(6.8e-6, 7.1e-5), 6.8e-6 * 6.8e-6 / 7.1e-5);
+  EXPECT_DOUBLE_EQ(TangentSolver::error_left(0.3, 0.0), 0.3);     // the first correction
+  EXPECT_DOUBLE_EQ(TangentSolver::error_left(2e-5, 1e-5), 2e-5);  // a rise
+  EXPECT_DOUBLE_EQ(TangentSolver::error_left(1e-5, 1e-5), 1e-5);  // no fall
+  // (a geometric sequence of corrections at rate 1/8 from 1: below 1e-6 one correction earlier
+  // than the correction itself)
+  int with_fall = -1, plain = -1;
+  for (int k = 1; k < 12; ++k) {
+    const double c = std::pow(0.125, k), previous = std::pow(0.125, k - 1);
+    if (with_fall < 0 && TangentSolver::error_left(c, previous) <= 1e-6) with_fall = k;
+    if (plain < 0 && c <= 1e-6) plain = k;
+  }
+  EXPECT_EQ(with_fall, 6);  // 8^-7 = 4.8e-7
+  EXPECT_EQ(plain, 7);
+}
+
 TEST(EventDetector, TheCrossingsOfASegment) {
   ContinuationOptions o;
   o.parameter = "p";
