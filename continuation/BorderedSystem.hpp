@@ -102,6 +102,8 @@ class BorderedSystem {
   bool schur();
   // Takes lu as the inner factorisation (the values set already) and eliminates the borders on it.
   Status adopt_inner(std::shared_ptr<SparseLU> lu);
+  // X_ = K^-1 Bt_ on the inner factorisation in use.
+  Status solve_borders();
   Status solve_block(const Vector& f, double g, Vector& x, double& y);
   // Back to J's own factorisation object (its adopted statistics kept).
   void release_adopted();
