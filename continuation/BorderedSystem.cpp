@@ -152,10 +152,20 @@ Status BorderedSystem::adopt_inner(std::shared_ptr<SparseLU> lu) {
   return {};
 }
 
-void BorderedSystem::release_adopted() {
+void BorderedSystem::release_adopted(bool take_over) {
   if (lu_j_ == own_j_) return;
   adopted_solves_ += lu_j_->statistics().solves - adopted_base_.solves;
   adopted_solve_seconds_ += lu_j_->statistics().solve_seconds - adopted_base_.solve_seconds;
+  if (take_over) {
+    // (our own factorisations and solves so far kept in the adopted counts)
+    const SparseLU::Statistics& o = own_j_->statistics();
+    earlier_own_factorisations_ += o.factorisations - own_base_.factorisations;
+    earlier_own_factor_seconds_ += o.factor_seconds - own_base_.factor_seconds;
+    adopted_solves_ += o.solves - own_base_.solves;
+    adopted_solve_seconds_ += o.solve_seconds - own_base_.solve_seconds;
+    own_j_ = lu_j_;
+    own_base_ = own_j_->statistics();
+  }
   lu_j_ = own_j_;
 }
 
@@ -163,10 +173,10 @@ BorderedSystem::Totals BorderedSystem::totals() const {
   Totals t;
   const SparseLU::Statistics& f = lu_.statistics();
   const SparseLU::Statistics& o = own_j_->statistics();
-  t.factorisations = f.factorisations + o.factorisations;
-  t.factor_seconds = f.factor_seconds + o.factor_seconds;
-  t.solves = f.solves + o.solves + adopted_solves_;
-  t.solve_seconds = f.solve_seconds + o.solve_seconds + adopted_solve_seconds_;
+  t.factorisations = f.factorisations + o.factorisations - own_base_.factorisations + earlier_own_factorisations_;
+  t.factor_seconds = f.factor_seconds + o.factor_seconds - own_base_.factor_seconds + earlier_own_factor_seconds_;
+  t.solves = f.solves + o.solves - own_base_.solves + adopted_solves_;
+  t.solve_seconds = f.solve_seconds + o.solve_seconds - own_base_.solve_seconds + adopted_solve_seconds_;
   if (lu_j_ != own_j_) {
     t.solves += lu_j_->statistics().solves - adopted_base_.solves;
     t.solve_seconds += lu_j_->statistics().solve_seconds - adopted_base_.solve_seconds;
@@ -176,7 +186,11 @@ BorderedSystem::Totals BorderedSystem::totals() const {
 
 Status BorderedSystem::factorize() {
   block_ok_ = false;
-  release_adopted();  // (an adopted factorisation belongs to its maker: ours is refactorised)
+  // an adopted factorisation belongs to its maker, and ours is refactorised; but one its maker has
+  // let go of (we hold the only reference) is refactorised as ours, with the symbolic analysis it
+  // has (a new one costs a third of a numeric factorisation on M2)
+  const bool take_over = lu_j_ != own_j_ && lu_j_.use_count() == 1;
+  release_adopted(take_over);
   if (mode_ == Mode::Block) {
     Status st = lu_j_->factorize(K_);
     if (st.is_ok()) st = solve_borders();

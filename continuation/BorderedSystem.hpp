@@ -106,7 +106,8 @@ class BorderedSystem {
   Status solve_borders();
   Status solve_block(const Vector& f, double g, Vector& x, double& y);
   // Back to J's own factorisation object (its adopted statistics kept).
-  void release_adopted();
+  // take_over: the adopted one becomes our own instead.
+  void release_adopted(bool take_over = false);
   int nk_, m_, n_;  // inner size, the problem's borders, nk_ + m_
   long nnz_k_;
   Mode mode_;
@@ -119,11 +120,15 @@ class BorderedSystem {
   Matrix X_, S_;
   Eigen::FullPivLU<Matrix> S_lu_;
   // J's factorisation in use: its own (own_j_), or one adopted, whose statistics count from the
-  // adoption on (adopted_base_; solves only: it is refactorised as our own)
+  // adoption on (adopted_base_; solves only: it is refactorised as our own). An adopted one that
+  // nobody else holds any more becomes our own at the next factorisation (its symbolic analysis
+  // kept), its statistics counted from then on (own_base_).
   std::shared_ptr<SparseLU> own_j_, lu_j_;
-  SparseLU::Statistics adopted_base_;
-  long adopted_solves_ = 0;  // solves with earlier adopted factorisations
+  SparseLU::Statistics adopted_base_, own_base_;
+  long adopted_solves_ = 0;  // solves with earlier adopted factorisations (and an earlier own one's)
   double adopted_solve_seconds_ = 0;
+  long earlier_own_factorisations_ = 0;  // with own factorisation objects given up for one taken over
+  double earlier_own_factor_seconds_ = 0;
   bool block_ok_ = false;  // the last factorize() took the block path
   long fallbacks_ = 0;
 };

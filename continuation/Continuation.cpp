@@ -83,7 +83,7 @@ void Continuation::set_norm(const Vector& u0, double scale) {
   norm_ = ArclengthNorm(problem_.size(), scale, options_.theta);
 }
 
-ContinuationResult Continuation::run(const Vector& u0, BranchObserver& observer, const StartFactorisation& factorised,
+ContinuationResult Continuation::run(const Vector& u0, BranchObserver& observer, StartFactorisation factorised,
                                      const BranchPoint* near) {
   t_start_ = std::chrono::steady_clock::now();
   start_on_.reset();
@@ -100,6 +100,7 @@ ContinuationResult Continuation::run(const Vector& u0, BranchObserver& observer,
     // the tangent system [J F_p; 0 1] at the start, J's factorisation from the solve of the start
     const Constraint row = Constraint::parameter(0.0);
     st = kept_.adopt_at(ev_, factorised, start.u, start.lambda, row);
+    factorised = {};  // (held by the kept factorisation alone, where the caller handed it over)
     if (st.is_ok()) {
       // a start solved only to near the tolerance (a switch of an event curve) is finished on the
       // adopted factorisation: a chord iteration or two instead of a solve of its own

@@ -81,8 +81,9 @@ class Continuation {
   // start's tangent by iteration on it, a factorisation at u0 only where that does not converge;
   // for a problem with a border, the factorisation of its inner matrix, the border evaluated at u0).
   // near: a point close to u0 whose tangent starts that iteration (the switch an event curve's
-  // next piece starts from), or null.
-  ContinuationResult run(const Vector& u0, BranchObserver& observer, const StartFactorisation& factorised = {},
+  // next piece starts from), or null. A factorisation handed over (moved in, nobody else holding
+  // it) is refactorised as the run's own at its first renewal, keeping its symbolic analysis.
+  ContinuationResult run(const Vector& u0, BranchObserver& observer, StartFactorisation factorised = {},
                          const BranchPoint* near = nullptr);
   // Continues from a stored point (solution, tangent, step, arclength) of an earlier run.
   ContinuationResult resume(BranchPoint start, BranchObserver& observer);

@@ -306,7 +306,7 @@ ContinuationResult EventCurveProblem::trace(ContinuationOptions o, const NewtonO
   for (bool first = true;; first = false) {
     Continuation run(*this, o, newton, lu);
     if (each_run) each_run(&run);
-    const ContinuationResult r = run.run(U, pieces, kept_, first ? nullptr : &switched);
+    const ContinuationResult r = run.run(U, pieces, std::move(kept_), first ? nullptr : &switched);
     if (each_run) each_run(nullptr);
     kept_ = run.factorisation();
     total.points += first ? r.points : r.points - 1;

@@ -451,7 +451,7 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
              : unfinished              ? run->resume(*start, *observer)
              : from && from->switching ? run->switch_branch(*start, args.switch_direction, *observer)
              : start                   ? run->resume(*start, *observer)
-                                       : run->run(u0, *observer, start_factorisation);
+                                       : run->run(u0, *observer, std::move(start_factorisation));
     InterruptGuard::forward_to(nullptr);
     file->close();
   }

@@ -90,6 +90,45 @@ TEST(BorderedSystem, NewBorderRowWithoutRefactorising) {
   EXPECT_FALSE(full.set_row(c2, d2).is_ok());
 }
 
+// An adopted factorisation belongs to its maker: the next factorisation is made in the system's
+// own object and leaves the maker's as it was. One its maker has let go of (the system holds the
+// only reference: a run handed it over) is refactorised in place, with its symbolic analysis; its
+// earlier factorisation is not counted as the system's.
+TEST(BorderedSystem, AnAdoptedFactorisationLetGoOfIsRefactorisedAsItsOwn) {
+  const int n = 12;
+  const SparseMatrix J1 = random_matrix(n, 3, false);
+  SparseMatrix J2 = J1;
+  J2.coeffs() *= 1.5;
+  const Vector b = Vector::LinSpaced(n, 1.0, 2.0), c = Vector::LinSpaced(n, -1.0, 0.5), f = Vector::Ones(n);
+  const double d = 0.3, g = -0.7;
+  for (bool let_go : {false, true}) {
+    SCOPED_TRACE(let_go ? "let go of" : "kept by its maker");
+    auto lu = std::make_shared<SparseLU>();
+    ASSERT_TRUE(lu->factorize(J1).is_ok());
+    SparseLU* const made = lu.get();
+    BorderedSystem bs(J1, {}, BorderedSystem::Mode::Block);
+    ASSERT_TRUE(bs.adopt(lu, J1, b, c, d).is_ok());
+    if (let_go) lu.reset();
+    bs.set(J2, b, c, d);
+    ASSERT_TRUE(bs.factorize().is_ok());
+    EXPECT_EQ(bs.inner_lu().get() == made, let_go);
+    EXPECT_EQ(made->statistics().analyses + made->statistics().analyses_reused, 1);
+    EXPECT_EQ(bs.totals().factorisations, 1);  // the system's own, not the maker's
+    Vector x;
+    double y = 0;
+    ASSERT_TRUE(bs.solve(f, g, x, y).is_ok());
+    expect_dense_solution(J2, b, c, d, f, g, x, y, bs.determinant_sign());
+    if (!let_go) {  // the maker's factorisation is still J1's
+      Vector x1;
+      ASSERT_TRUE(lu->solve(f, x1).is_ok());
+      EXPECT_LT((J1 * x1 - f).cwiseAbs().maxCoeff(), 1e-12);
+      EXPECT_EQ(made->statistics().factorisations, 1);
+    } else {
+      EXPECT_EQ(made->statistics().factorisations, 2);
+    }
+  }
+}
+
 // A problem with a border of its own (an augmented problem: K bordered by m = 2 dense columns and
 // rows): all borders, the problem's and the continuation's row, eliminated together on K's
 // factorisation give the dense solution and the sign of the whole determinant, also after a new
