@@ -25,8 +25,11 @@ constexpr double kPlainFall = 0.5;
 // which the corrections fall) below this fraction of the tangent (arclength norm): the correction
 // estimates the error the residual test cannot see where the system is stiff
 // (|J| of 1e9 on a fine 1D mesh: a residual of 1e-9 |J| |z| then leaves the tangent 20 degrees off
-// near a fold, and the finite-difference J v is not exact enough to go further).
-constexpr double kTangentCorrection = 1e-6;
+// near a fold, and the finite-difference J v is not exact enough to go further). 1e-4 rad is far
+// below what the tangent's uses see: the predictor's error from it is 1e-4 ds against ds^2 / 2 of
+// the branch's curvature, the row needs only to be transversal, and folds and events found with
+// it are located by Newton on their own functions.
+constexpr double kTangentCorrection = 1e-4;
 }  // namespace
 
 TangentSolver::TangentSolver(Evaluator& ev, KeptFactorisation& kept, const ArclengthNorm& norm,
