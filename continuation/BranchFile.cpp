@@ -21,6 +21,18 @@ constexpr const char* kKinds = "0 point, 1 start, 2 requested, 3 event, 4 fold, 
 
 }  // namespace
 
+std::vector<std::string> branch_table_columns(const std::string& parameter, const std::vector<std::string>& observables,
+                                              const std::vector<std::string>& monitors,
+                                              const std::vector<std::string>& analysis) {
+  std::vector<std::string> c = {"row", "kind", "s", parameter};
+  c.insert(c.end(), observables.begin(), observables.end());
+  for (const auto& m : monitors) c.push_back("monitor:" + m);
+  c.insert(c.end(), analysis.begin(), analysis.end());
+  for (const char* name : {"iterations", "step", "seconds", "det_sign", "tangent_parameter", "saved_slot"})
+    c.push_back(name);
+  return c;
+}
+
 BranchFile::BranchFile(const std::string& path, const Problem& problem, const ContinuationOptions& options,
                        const std::vector<std::string>& monitor_names, double state_scale,
                        const std::function<void(H5File&)>& header, const std::vector<std::string>& analysis_columns,
@@ -32,12 +44,7 @@ BranchFile::BranchFile(const std::string& path, const Problem& problem, const Co
   file_ = std::make_unique<H5File>(part, H5File::Mode::Create);
   if (header) header(*file_);
   file_->create_group("/branch");
-  columns_ = {"row", "kind", "s", options.parameter};
-  for (const auto& o : problem.observable_names()) columns_.push_back(o);
-  for (const auto& m : monitor_names) columns_.push_back("monitor:" + m);
-  for (const auto& a : analysis_columns) columns_.push_back(a);
-  for (const char* c : {"iterations", "step", "seconds", "det_sign", "tangent_parameter", "saved_slot"})
-    columns_.push_back(c);
+  columns_ = branch_table_columns(options.parameter, problem.observable_names(), monitor_names, analysis_columns);
   file_->set_attribute("/branch", "parameter", options.parameter);
   file_->set_attribute("/branch", "columns", join_names(columns_));
   file_->set_attribute("/branch", "observables", join_names(problem.observable_names()));

@@ -38,6 +38,13 @@ struct BranchSeed {
 // if there is none.
 BranchSeed read_branch_seed(const std::string& path);
 
+// The columns of a branch table: row, kind, s, the parameter, the observables, monitor:NAME for
+// each monitor, the analysis's columns, then iterations, step, seconds, det_sign,
+// tangent_parameter, saved_slot.
+std::vector<std::string> branch_table_columns(const std::string& parameter, const std::vector<std::string>& observables,
+                                              const std::vector<std::string>& monitors,
+                                              const std::vector<std::string>& analysis);
+
 class BranchFile final : public BranchObserver {
  public:
   // Creates `path` (replacing it), lets `header` write what precedes the branch (scene, mesh),

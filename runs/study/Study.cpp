@@ -3,17 +3,21 @@
 #include <fmt/format.h>
 
 #include <toml++/toml.h>
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <set>
 #include <sstream>
 
+#include "continuation/BranchFile.hpp"
 #include "continuation/ContinuationOptions.hpp"
 #include "core/Scene.hpp"
 #include "runs/OutputFile.hpp"
 #include "runs/SceneLoader.hpp"
 #include "runs/SolveCommand.hpp"
 #include "runs/TraceCommand.hpp"
+#include "stability/StabilityAnalysis.hpp"
 
 namespace keller {
 
@@ -288,6 +292,64 @@ Study Study::load(const std::string& path, const std::string& folder) {
       s.tasks_.push_back(std::move(t));
     }
   return s;
+}
+
+void Study::check_collect() const {
+  std::set<std::string> checked;  // physics (scene and the keys that shape the problem)
+  for (const StudyTask& t : tasks_) {
+    std::vector<std::string> observables, monitors, columns;
+    try {
+      const LoadedScene loaded = load_scene(t.scene, declare_trace_keys, t.overrides);
+      if (!checked.insert(loaded.scene.source() + "\n" + loaded.physics()).second) continue;
+      const std::unique_ptr<Problem> problem = loaded.type->build(loaded.scene);
+      observables = problem->observable_names();
+      monitors = problem->monitor_names();
+      if (kind_ == "trace") {
+        // (the monitors' columns below: a run adds its stop observable's threshold to them)
+        const StabilityOptions stability = StabilityOptions::from_scene(loaded.scene);
+        columns = branch_table_columns(
+            ContinuationOptions::from_scene(loaded.scene).parameter, observables, {},
+            stability.enabled ? StabilityAnalysis(stability).column_names() : std::vector<std::string>{});
+      }
+    } catch (const std::exception&) {
+      continue;  // a problem that cannot be built fails when its task runs, and says why there
+    }
+    const auto has = [](const std::vector<std::string>& v, const std::string& n) {
+      return std::find(v.begin(), v.end(), n) != v.end();
+    };
+    // a branch table's monitor columns: monitor:NAME, NAME a monitor or a stop observable's threshold
+    const auto monitor_column = [&](const std::string& n) {
+      if (n.rfind("monitor:", 0) != 0) return false;
+      const std::string m = n.substr(8);
+      if (has(monitors, m)) return true;
+      for (const auto& o : observables)
+        if (m.rfind(o + " < ", 0) == 0 || m.rfind(o + " > ", 0) == 0) return true;
+      return false;
+    };
+    const auto column = [&](const std::string& n) {
+      return has(observables, n) || (kind_ == "trace" && (has(columns, n) || monitor_column(n)));
+    };
+    const auto event = [&](const std::string& n) {
+      return n == "fold" || n == "branch-point" || n == "hopf" || has(monitors, n) || has(observables, n);
+    };
+    const auto check = [&](const char* key, const std::vector<std::string>& names, const auto& known,
+                           const std::string& what) {
+      for (const std::string& n : names)
+        if (!known(n))
+          throw SceneError(fmt::format("{}: [collect] {} names '{}', which task {} ({}) will not have; {}", path_, key,
+                                       n, t.index, t.label(), what));
+    };
+    const std::string listed = fmt::format("its observables: {}", fmt::join(observables, ", "));
+    if (kind_ == "trace") {
+      check("events", collect_.events, event,
+            fmt::format("events are fold, branch-point, hopf, a monitor ({}) or a stop observable",
+                        monitors.empty() ? "none" : fmt::format("{}", fmt::join(monitors, ", "))));
+      check("stops", collect_.stops, column, listed);
+    } else if (!collect_.events.empty() || !collect_.stops.empty()) {
+      throw SceneError(fmt::format("{}: [collect] events and stops are a trace's; a solve collects only end", path_));
+    }
+    check("end", collect_.end, column, listed);
+  }
 }
 
 }  // namespace keller

@@ -43,6 +43,11 @@ class Study {
   // (like --set). Throws SceneError naming the file, the key and, for a task, the task.
   // `folder`: where the tasks' files go ("" : <study stem> in the current directory).
   static Study load(const std::string& path, const std::string& folder = "");
+  // The names [collect] asks for, against what the tasks' outputs will hold (for a trace: the
+  // branch table's columns, its problem's monitors and fold, branch-point, hopf for events; for a
+  // solve: the problem's observables), before any task runs: one problem built per physics.
+  // Throws SceneError naming the file, the key, the name and a task that lacks it.
+  void check_collect() const;
 
   const std::string& path() const { return path_; }
   const std::string& name() const { return name_; }  // the study file's stem

@@ -44,6 +44,14 @@ int run_study_command(const StudyArguments& args, int& argc, char**& argv) {
            : r.status == "interrupted" ? exit_code::interrupted
                                        : exit_code::numerical_failure;
   }
+  // what [collect] names, against the tasks' problems: before any task runs (or a table of
+  // nothing after all of them)
+  try {
+    study.check_collect();
+  } catch (const SceneError& e) {
+    fmt::print(stderr, "keller: error: {}\n", e.what());
+    return exit_code::usage;
+  }
   if (args.action == "collect") {
     write_study_table(study);
     return exit_code::ok;

@@ -281,6 +281,16 @@ TEST(Study, ABadStudyFileStopsBeforeAnyTask) {
        "bad.toml:4: [grid] key 'bratu.intervals' must be a non-empty list"},
       {"[study]\nscene = \"" + scene + "\"\n[solve]\n", "bad.toml:3: unknown section [solve]"},
       {"[study]\ntask = \"trace\"\n", "key 'study.scene' (the base scene) is missing"},
+      // names the tasks' branch files will not have: found before any task runs
+      {"[study]\nscene = \"" + scene + "\"\n[collect]\nstops = [\"u_mdi\"]\n",
+       "bad.toml: [collect] stops names 'u_mdi', which task 0 (the base scene) will not have; its observables: "},
+      {"[study]\nscene = \"" + scene +
+           "\"\n[grid]\n\"bratu.intervals\" = [16, 24]\n[collect]\nevents = "
+           "[\"fold\", \"u_top\"]\n",
+       "bad.toml: [collect] events names 'u_top', which task 0 (bratu.intervals=16) will not have; events are fold, "
+       "branch-point, hopf, a monitor"},
+      {"[study]\nscene = \"" + scene + "\"\n[collect]\nend = [\"u_mid\", \"sigma1_re\"]\n",
+       "[collect] end names 'sigma1_re'"},  // (a stability column, without stability)
   };
   for (const auto& [text, expected] : cases) {
     SCOPED_TRACE(text);
@@ -439,6 +449,22 @@ TEST(Study, EveryShippedStudyResolvesItsTasksAsDocumented) {
     }
   }
   EXPECT_FALSE(fs::exists(dir + "/out"));  // listing writes nothing
+}
+
+// What every shipped study's [collect] names is in its tasks' outputs (the check a study run makes
+// before its first task; a renamed observable fails here, not after hours of tasks).
+TEST(Study, EveryShippedStudyCollectsNamesItsTasksHave) {
+  const std::string dir = test::scratch_dir("study_shipped_collect");
+  int studies = 0;
+  for (const char* folder : {"runs/studies", "runs/paper"})
+    for (const auto& entry : fs::directory_iterator(test::source_path(folder))) {
+      if (entry.path().extension() != ".toml") continue;
+      SCOPED_TRACE(entry.path().string());
+      const Study study = Study::load(entry.path().string(), dir + "/out");
+      EXPECT_NO_THROW(study.check_collect());
+      ++studies;
+    }
+  EXPECT_GE(studies, 5);
 }
 
 // A requested stop on the bound where the branch ends is written as the end row; the study still
