@@ -277,6 +277,7 @@ Continuation::Step Continuation::attempt(const BranchPoint& cur, const BranchPoi
   Prediction pr = predictor_.predict(cur, prev, du, dl, reach * ds, landing_allowed);
   if (zero && pr.land && pr.land->fraction * reach <= zero->land.fraction) zero.reset();
   if (zero) ZeroLander::predict(*zero, cur, du, dl, ds, pr);
+  if (prev) predictor_.bend(cur, *prev, du, dl, pr);
   s.land = pr.land;
   const bool landed = pr.land.has_value();
   nxt.u = std::move(pr.u);

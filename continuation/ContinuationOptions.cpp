@@ -13,7 +13,9 @@ void ContinuationOptions::declare(SceneSchema& s) {
   s.string("continuation.parameter", "", "named parameter to continue in (one of the problem's parameters)");
   s.string("continuation.method", "arclength", "pseudo-arclength (passes folds) or natural parameter steps",
            {"arclength", "natural"});
-  s.string("continuation.predictor", "tangent", "predictor direction", {"tangent", "secant"});
+  s.string("continuation.predictor", "cubic",
+           "predictor: along the tangent, the secant, or the cubic through the last two points and their tangents",
+           {"tangent", "secant", "cubic"});
   s.string("continuation.direction", "increase", "initial direction of the parameter", {"increase", "decrease"});
   s.real("continuation.theta", 0.5, "weight of the state (vs the parameter) in the arclength norm",
          Range{0.0, 1.0, true, true});
@@ -88,7 +90,10 @@ ContinuationOptions ContinuationOptions::from_scene(const Scene& sc) {
   o.parameter = sc.string("continuation.parameter");
   if (o.parameter.empty()) throw sc.error("continuation.parameter", "a branch needs a parameter to continue in");
   o.method = sc.string("continuation.method") == "natural" ? Method::Natural : Method::Arclength;
-  o.predictor = sc.string("continuation.predictor") == "secant" ? Predictor::Secant : Predictor::Tangent;
+  const std::string predictor = sc.string("continuation.predictor");
+  o.predictor = predictor == "secant"    ? Predictor::Secant
+                : predictor == "tangent" ? Predictor::Tangent
+                                         : Predictor::Cubic;
   o.direction = sc.string("continuation.direction") == "decrease" ? -1 : +1;
   o.theta = sc.real("continuation.theta");
   o.state_scale = sc.real("continuation.state_scale");

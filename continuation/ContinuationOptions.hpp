@@ -89,11 +89,13 @@ struct StopOptions {
 
 struct ContinuationOptions {
   enum class Method { Arclength, Natural };
-  enum class Predictor { Tangent, Secant };
+  // Tangent: along the unit tangent; Secant: along the chord from the previous point; Cubic: along
+  // the cubic through the previous point and this one with their tangents (Predictor::bend).
+  enum class Predictor { Tangent, Secant, Cubic };
 
   std::string parameter;              // named parameter of the problem
   Method method = Method::Arclength;  // Keller's pseudo-arclength, or natural (parameter) steps
-  Predictor predictor = Predictor::Tangent;
+  Predictor predictor = Predictor::Cubic;
   int direction = +1;  // initial sign of the parameter change
   // Arclength norm |(du, dp)|^2 = theta |du|^2 / (n s^2) + (1 - theta) dp^2, s the state scale
   // (root mean square of the starting solution, or 1 if that is zero) so that states of any

@@ -59,4 +59,38 @@ bool hermite_point(const BranchPoint& a, const BranchPoint& b, const BranchFunct
   return true;
 }
 
+namespace {
+bool has_tangents(const BranchPoint& a, const BranchPoint& b) {
+  return b.s > a.s && std::isfinite(b.s - a.s) && a.tu.size() == a.u.size() && b.tu.size() == b.u.size() &&
+         a.u.size() == b.u.size();
+}
+}  // namespace
+
+bool hermite_extrapolate(const BranchPoint& a, const BranchPoint& b, double sigma, Vector& u, double& lambda) {
+  if (!has_tangents(a, b) || !std::isfinite(sigma)) return false;
+  const double h = b.s - a.s;
+  const HermiteBasis w = basis(1.0 + sigma / h);
+  u = w.h00 * a.u + (w.h10 * h) * a.tu + w.h01 * b.u + (w.h11 * h) * b.tu;
+  lambda = w.h00 * a.lambda + (w.h10 * h) * a.tlambda + w.h01 * b.lambda + (w.h11 * h) * b.tlambda;
+  return true;
+}
+
+std::optional<double> hermite_extrapolate_to(const BranchPoint& a, const BranchPoint& b, double sigma0, double value) {
+  if (!has_tangents(a, b) || !std::isfinite(sigma0)) return std::nullopt;
+  const double h = b.s - a.s;
+  const auto lambda_at = [&](const HermiteBasis& w) {
+    return w.h00 * a.lambda + (w.h10 * h) * a.tlambda + w.h01 * b.lambda + (w.h11 * h) * b.tlambda;
+  };
+  double x = 1.0 + sigma0 / h;
+  for (int it = 0; it < kCubicNewtonSteps; ++it) {
+    const double d = lambda_at(basis_derivative(x));
+    if (!(std::abs(d) > 0)) return std::nullopt;
+    const double dx = (lambda_at(basis(x)) - value) / d;
+    x -= dx;
+    if (!std::isfinite(x)) return std::nullopt;
+    if (std::abs(dx) <= kFractionStep * std::max(1.0, std::abs(x))) return (x - 1.0) * h;
+  }
+  return std::nullopt;
+}
+
 }  // namespace keller

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <functional>
+#include <optional>
 
 #include "continuation/BranchPoint.hpp"
 
@@ -18,5 +19,12 @@ using BranchFunctional = std::function<double(const Vector&, double, bool)>;
 // a point lacks its tangent.
 bool hermite_point(const BranchPoint& a, const BranchPoint& b, const BranchFunctional& g, double target, Vector& u,
                    double& lambda, double& x);
+
+// The cubic through a and b (a.s < b.s) continued beyond b by sigma of arclength: (u, lambda) at
+// s = b.s + sigma. False, with u and lambda untouched, where a point lacks its tangent.
+bool hermite_extrapolate(const BranchPoint& a, const BranchPoint& b, double sigma, Vector& u, double& lambda);
+// The sigma beyond b where the continued cubic's parameter equals value, by Newton from sigma0;
+// nullopt where Newton does not converge.
+std::optional<double> hermite_extrapolate_to(const BranchPoint& a, const BranchPoint& b, double sigma0, double value);
 
 }  // namespace keller

@@ -5,6 +5,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
+
+#include "continuation/Hermite.hpp"
 
 namespace keller {
 
@@ -40,6 +43,10 @@ std::optional<Landing> plan_landing(const LandingQuery& q, const std::vector<dou
   consider(lower, -1, PointKind::End, "lower", StopCode::LowerBound);
   for (double v : stops) consider(v, 0, PointKind::Requested, fmt::format("{} = {}", parameter, v), std::nullopt);
   return best;
+}
+
+bool use_cubic(double turn_degrees, double sigma, double h) {
+  return turn_degrees <= kCubicMaxTurn && sigma > 0 && h > 0 && sigma <= kCubicReach * h;
 }
 
 std::optional<double> plan_zero_landing(double g, double slope, double ds, double max_step) {
@@ -96,6 +103,28 @@ Prediction Predictor::predict(const BranchPoint& cur, const BranchPoint* prev, c
     p.constraint = Constraint::parameter(p.lambda);
   }
   return p;
+}
+
+void Predictor::bend(const BranchPoint& cur, const BranchPoint& prev, const Vector& du, double dl,
+                     Prediction& p) const {
+  if (options_.predictor != ContinuationOptions::Predictor::Cubic ||
+      options_.method != ContinuationOptions::Method::Arclength || prev.tu.size() != cur.tu.size())
+    return;
+  const double cosine = std::clamp(norm_.dot(prev.tu, prev.tlambda, cur.tu, cur.tlambda), -1.0, 1.0);
+  const double turn = std::acos(cosine) * 180.0 / std::numbers::pi;
+  double sigma = norm_.dot(p.u - cur.u, p.lambda - cur.lambda, du, dl);  // how far along the direction
+  const bool fixed = p.land && std::isfinite(p.land->value);             // a stop or bound: the parameter's value
+  if (fixed) {
+    const std::optional<double> at = hermite_extrapolate_to(prev, cur, sigma, p.land->value);
+    if (!at) return;
+    sigma = *at;
+  }
+  if (!use_cubic(turn, sigma, cur.s - prev.s)) return;
+  Vector u;
+  double lambda = 0.0;
+  if (!hermite_extrapolate(prev, cur, sigma, u, lambda)) return;
+  p.u = std::move(u);
+  if (!fixed) p.lambda = lambda;
 }
 
 }  // namespace keller

@@ -52,6 +52,15 @@ std::optional<double> plan_zero_landing(double g, double slope, double ds, doubl
 inline constexpr double kZeroNearest = 1e-3;
 inline constexpr double kZeroReach = 1.25;
 
+// Whether a prediction sigma beyond the current point follows the cubic through the previous point
+// and this one (h apart, their tangents turn degrees): where the branch bends little between them
+// (turn at most kCubicMaxTurn) and sigma lies ahead within kCubicReach of h. Where the tangent
+// turns fast (27 degrees in one step where a measured branch leaves its start) the cubic
+// overshoots, and beyond twice its base it extrapolates too far.
+bool use_cubic(double turn_degrees, double sigma, double h);
+inline constexpr double kCubicMaxTurn = 10.0;
+inline constexpr double kCubicReach = 2.0;
+
 struct Prediction {
   Vector u;
   double lambda = 0.0;
@@ -68,6 +77,11 @@ class Predictor {
   // landing of this step failed (its retries are ordinary steps).
   Prediction predict(const BranchPoint& cur, const BranchPoint* prev, const Vector& du, double dl, double ds,
                      bool landing_allowed) const;
+  // The cubic predictor (options.predictor Cubic, pseudo-arclength): the prediction p along (du, dl)
+  // from cur moved onto the cubic through prev and cur with their tangents, at the same distance
+  // along the direction (at a stop or bound, where the cubic takes its value), where use_cubic
+  // allows; the row is kept. The corrector then starts O(ds^3) off the branch instead of O(ds^2).
+  void bend(const BranchPoint& cur, const BranchPoint& prev, const Vector& du, double dl, Prediction& p) const;
 
  private:
   const ContinuationOptions& options_;

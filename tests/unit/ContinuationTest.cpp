@@ -5,11 +5,13 @@
 #include <Eigen/Dense>
 #include <cmath>
 #include <iostream>
+#include <optional>
 #include <random>
 
 #include "continuation/BorderedSystem.hpp"
 #include "continuation/Continuation.hpp"
 #include "continuation/Hermite.hpp"
+#include "continuation/Predictor.hpp"
 #include "core/ConvergenceTest.hpp"
 #include "problems/analytic/Bratu1DProblem.hpp"
 #include "problems/analytic/Pitchfork1DProblem.hpp"
@@ -509,4 +511,92 @@ TEST(Hermite, NoPointWhereTheCubicMissesTheTarget) {
   BranchPoint no_tangent = at(1.9);
   no_tangent.tu.resize(0);
   EXPECT_FALSE(hermite_point(at(1.3), no_tangent, parameter, 0.95, u, lambda, x));
+}
+
+// The cubic continued beyond its second point (the cubic predictor): a cubic curve exactly, and the
+// parameter's value found on it; on the circle by arclength the prediction's error falls as h^4
+// (a step as long as the base: s = b.s + h), against h^2 for the tangent's straight line.
+TEST(Hermite, ExtrapolatesACubicExactlyAndACircleAtFourthOrder) {
+  auto at = [](double s) {
+    BranchPoint p;
+    p.s = s;
+    p.u = Vector(2);
+    p.u << 1 + 2 * s - s * s * s, s * s;
+    p.lambda = s + 0.5 * s * s * s;
+    p.tu = Vector(2);
+    p.tu << 2 - 3 * s * s, 2 * s;
+    p.tlambda = 1 + 1.5 * s * s;
+    return p;
+  };
+  const BranchPoint a = at(0.2), b = at(0.5), want = at(1.1);
+  Vector u;
+  double lambda = 0;
+  ASSERT_TRUE(hermite_extrapolate(a, b, 0.6, u, lambda));
+  EXPECT_NEAR((u - want.u).lpNorm<Eigen::Infinity>(), 0.0, 1e-13);
+  EXPECT_NEAR(lambda, want.lambda, 1e-13);
+  const std::optional<double> sigma = hermite_extrapolate_to(a, b, 0.3, want.lambda);  // from a guess
+  ASSERT_TRUE(sigma.has_value());
+  EXPECT_NEAR(*sigma, 0.6, 1e-13);
+  double previous = NAN, previous_line = NAN;
+  for (double h : {0.2, 0.1, 0.05, 0.025}) {
+    const BranchPoint p = circle_point(0.3), c = circle_point(0.3 + h), exact = circle_point(0.3 + 2 * h);
+    ASSERT_TRUE(hermite_extrapolate(p, c, h, u, lambda));
+    const double error = std::hypot(u[0] - exact.u[0], lambda - exact.lambda);
+    const double line = std::hypot(c.u[0] + h * c.tu[0] - exact.u[0], c.lambda + h * c.tlambda - exact.lambda);
+    if (std::isfinite(previous)) {
+      EXPECT_NEAR(std::log2(previous / error), 4.0, 0.3);
+      EXPECT_NEAR(std::log2(previous_line / line), 2.0, 0.3);
+    }
+    EXPECT_LT(error, 0.1 * line);
+    previous = error;
+    previous_line = line;
+  }
+  BranchPoint no_tangent = circle_point(0.5);
+  no_tangent.tu.resize(0);
+  EXPECT_FALSE(hermite_extrapolate(circle_point(0.3), no_tangent, 0.1, u, lambda));
+  EXPECT_FALSE(hermite_extrapolate_to(circle_point(0.3), no_tangent, 0.1, 0.5).has_value());
+}
+
+// The cubic predictor on the fold problem with Newton's corrector and steps of at most 0.15: the
+// same folds to 1e-10 with fewer corrector iterations per point than the tangent's straight line
+// (each iteration of Newton there is one factorisation).
+TEST(Continuation, TheCubicPredictorStartsTheCorrectorCloser) {
+  auto trace = [](ContinuationOptions::Predictor predictor, RecordingObserver& rec) {
+    CubicProblem problem(-2.0);
+    ContinuationOptions o = cubic_options();
+    o.predictor = predictor;
+    o.step.initial = o.step.max = 0.15;
+    Continuation cont(problem, o);
+    return cont.run(problem.initial_guess(), rec);
+  };
+  RecordingObserver line, cubic;
+  const ContinuationResult r0 = trace(ContinuationOptions::Predictor::Tangent, line);
+  const ContinuationResult r1 = trace(ContinuationOptions::Predictor::Cubic, cubic);
+  ASSERT_EQ(r0.code, StopCode::UpperBound);
+  ASSERT_EQ(r1.code, StopCode::UpperBound);
+  for (const RecordingObserver* rec : {&line, &cubic}) {
+    ASSERT_EQ(rec->of_kind(PointKind::Fold).size(), 2u);
+    EXPECT_NEAR(rec->of_kind(PointKind::Fold)[0]->lambda, 2.0, 1e-10);
+    EXPECT_NEAR(rec->of_kind(PointKind::Fold)[1]->lambda, -2.0, 1e-10);
+  }
+  auto iterations = [](const RecordingObserver& rec) {
+    int n = 0, points = 0;
+    for (const BranchPoint& p : rec.points)
+      if (p.kind == PointKind::Regular) n += p.iterations, ++points;
+    return static_cast<double>(n) / std::max(points, 1);
+  };
+  std::cout << "corrector iterations per regular point: tangent " << iterations(line) << ", cubic " << iterations(cubic)
+            << "\n";
+  EXPECT_LT(iterations(cubic), iterations(line));
+}
+
+// Where the predictor follows the cubic: a tangent that turned little over the last step, a
+// prediction ahead and within twice the last step.
+TEST(Predictor, TheCubicWhereTheBranchBendsLittleAndNotFarBeyondItsBase) {
+  EXPECT_TRUE(use_cubic(3.0, 0.1, 0.1));
+  EXPECT_TRUE(use_cubic(kCubicMaxTurn, 2.0, 1.0));
+  EXPECT_FALSE(use_cubic(27.0, 0.1, 0.1));  // the tangent turned fast
+  EXPECT_FALSE(use_cubic(3.0, 0.21, 0.1));  // beyond twice the base
+  EXPECT_FALSE(use_cubic(3.0, -0.1, 0.1));  // behind
+  EXPECT_FALSE(use_cubic(3.0, 0.1, 0.0));   // no base
 }
