@@ -75,22 +75,28 @@ bool hermite_extrapolate(const BranchPoint& a, const BranchPoint& b, double sigm
   return true;
 }
 
-std::optional<double> hermite_extrapolate_to(const BranchPoint& a, const BranchPoint& b, double sigma0, double value) {
+std::optional<double> hermite_extrapolate_to(const BranchPoint& a, const BranchPoint& b, const BranchFunctional& g,
+                                             double target, double sigma0) {
   if (!has_tangents(a, b) || !std::isfinite(sigma0)) return std::nullopt;
   const double h = b.s - a.s;
-  const auto lambda_at = [&](const HermiteBasis& w) {
-    return w.h00 * a.lambda + (w.h10 * h) * a.tlambda + w.h01 * b.lambda + (w.h11 * h) * b.tlambda;
-  };
+  // g is affine: along the cubic it is the cubic with g's values and slopes at the ends
+  const double ga = g(a.u, a.lambda, true), gb = g(b.u, b.lambda, true);
+  const double sa = h * g(a.tu, a.tlambda, false), sb = h * g(b.tu, b.tlambda, false);
+  const auto g_at = [&](const HermiteBasis& w) { return w.h00 * ga + w.h10 * sa + w.h01 * gb + w.h11 * sb; };
   double x = 1.0 + sigma0 / h;
+  // (Newton until its step is at rounding; near the root rounding of g - target makes it wander,
+  // so the answer is judged by the cubic's value there, as hermite_point's is)
   for (int it = 0; it < kCubicNewtonSteps; ++it) {
-    const double d = lambda_at(basis_derivative(x));
-    if (!(std::abs(d) > 0)) return std::nullopt;
-    const double dx = (lambda_at(basis(x)) - value) / d;
+    const double d = g_at(basis_derivative(x));
+    if (!(std::abs(d) > 0)) break;
+    const double dx = (g_at(basis(x)) - target) / d;
+    if (!std::isfinite(dx)) return std::nullopt;
     x -= dx;
-    if (!std::isfinite(x)) return std::nullopt;
-    if (std::abs(dx) <= kFractionStep * std::max(1.0, std::abs(x))) return (x - 1.0) * h;
+    if (std::abs(dx) <= kFractionStep * std::max(1.0, std::abs(x))) break;
   }
-  return std::nullopt;
+  const double scale = std::max({std::abs(ga), std::abs(gb), std::abs(target), std::numeric_limits<double>::min()});
+  if (!std::isfinite(x) || std::abs(g_at(basis(x)) - target) > kCubicMatch * scale) return std::nullopt;
+  return (x - 1.0) * h;
 }
 
 }  // namespace keller

@@ -23,8 +23,9 @@ bool hermite_point(const BranchPoint& a, const BranchPoint& b, const BranchFunct
 // The cubic through a and b (a.s < b.s) continued beyond b by sigma of arclength: (u, lambda) at
 // s = b.s + sigma. False, with u and lambda untouched, where a point lacks its tangent.
 bool hermite_extrapolate(const BranchPoint& a, const BranchPoint& b, double sigma, Vector& u, double& lambda);
-// The sigma beyond b where the continued cubic's parameter equals value, by Newton from sigma0;
-// nullopt where Newton does not converge.
-std::optional<double> hermite_extrapolate_to(const BranchPoint& a, const BranchPoint& b, double sigma0, double value);
+// The sigma beyond b where g along the continued cubic equals target, by Newton from sigma0 (the
+// cubic then takes it to 1e-12 of the values' scale); nullopt where Newton does not get there.
+std::optional<double> hermite_extrapolate_to(const BranchPoint& a, const BranchPoint& b, const BranchFunctional& g,
+                                             double target, double sigma0);
 
 }  // namespace keller

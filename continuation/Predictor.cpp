@@ -112,17 +112,26 @@ void Predictor::bend(const BranchPoint& cur, const BranchPoint& prev, const Vect
     return;
   const double cosine = std::clamp(norm_.dot(prev.tu, prev.tlambda, cur.tu, cur.tlambda), -1.0, 1.0);
   const double turn = std::acos(cosine) * 180.0 / std::numbers::pi;
-  double sigma = norm_.dot(p.u - cur.u, p.lambda - cur.lambda, du, dl);  // how far along the direction
-  const bool fixed = p.land && std::isfinite(p.land->value);             // a stop or bound: the parameter's value
-  if (fixed) {
-    const std::optional<double> at = hermite_extrapolate_to(prev, cur, sigma, p.land->value);
-    if (!at) return;
-    sigma = *at;
+  // how far along: as far as the straight prediction went on the arclength row (the cubic meets that
+  // row O(ds^3) from there); at a landing, where the cubic meets the step's row (a stop's or bound's
+  // parameter value, a zero's linearised function), if that is near the straight prediction's (not a
+  // root of the cubic beyond a fold)
+  const double straight = norm_.dot(p.u - cur.u, p.lambda - cur.lambda, du, dl);
+  std::optional<double> sigma = straight;
+  if (p.land) {
+    const Constraint& c = p.constraint;
+    const BranchFunctional row = [&c](const Vector& v, double l, bool point) {
+      if (point) return c.value(v, l);
+      return (c.cu.size() ? c.cu.dot(v) : 0.0) + c.cl * l;
+    };
+    sigma = hermite_extrapolate_to(prev, cur, row, 0.0, straight);
+    if (sigma && !(std::abs(*sigma - straight) <= kCubicLandingShift * straight)) return;
   }
-  if (!use_cubic(turn, sigma, cur.s - prev.s)) return;
+  if (!sigma || !use_cubic(turn, *sigma, cur.s - prev.s)) return;
+  const bool fixed = p.land && std::isfinite(p.land->value);  // a stop or bound: the parameter's value
   Vector u;
   double lambda = 0.0;
-  if (!hermite_extrapolate(prev, cur, sigma, u, lambda)) return;
+  if (!hermite_extrapolate(prev, cur, *sigma, u, lambda)) return;
   p.u = std::move(u);
   if (!fixed) p.lambda = lambda;
 }

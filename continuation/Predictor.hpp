@@ -60,6 +60,9 @@ inline constexpr double kZeroReach = 1.25;
 bool use_cubic(double turn_degrees, double sigma, double h);
 inline constexpr double kCubicMaxTurn = 10.0;
 inline constexpr double kCubicReach = 2.0;
+// At a landing, the cubic's point on the step's row is taken within this fraction of the straight
+// prediction's distance (beyond, Newton on the cubic found a root past a fold).
+inline constexpr double kCubicLandingShift = 0.25;
 
 struct Prediction {
   Vector u;
@@ -78,8 +81,8 @@ class Predictor {
   Prediction predict(const BranchPoint& cur, const BranchPoint* prev, const Vector& du, double dl, double ds,
                      bool landing_allowed) const;
   // The cubic predictor (options.predictor Cubic, pseudo-arclength): the prediction p along (du, dl)
-  // from cur moved onto the cubic through prev and cur with their tangents, at the same distance
-  // along the direction (at a stop or bound, where the cubic takes its value), where use_cubic
+  // from cur moved onto the cubic through prev and cur with their tangents, where the cubic meets
+  // p's row (the arclength row, a stop's value, a zero's linearised function), where use_cubic
   // allows; the row is kept. The corrector then starts O(ds^3) off the branch instead of O(ds^2).
   void bend(const BranchPoint& cur, const BranchPoint& prev, const Vector& du, double dl, Prediction& p) const;
 

@@ -534,7 +534,8 @@ TEST(Hermite, ExtrapolatesACubicExactlyAndACircleAtFourthOrder) {
   ASSERT_TRUE(hermite_extrapolate(a, b, 0.6, u, lambda));
   EXPECT_NEAR((u - want.u).lpNorm<Eigen::Infinity>(), 0.0, 1e-13);
   EXPECT_NEAR(lambda, want.lambda, 1e-13);
-  const std::optional<double> sigma = hermite_extrapolate_to(a, b, 0.3, want.lambda);  // from a guess
+  const BranchFunctional parameter = [](const Vector&, double l, bool) { return l; };
+  const std::optional<double> sigma = hermite_extrapolate_to(a, b, parameter, want.lambda, 0.3);  // from a guess
   ASSERT_TRUE(sigma.has_value());
   EXPECT_NEAR(*sigma, 0.6, 1e-13);
   double previous = NAN, previous_line = NAN;
@@ -554,7 +555,62 @@ TEST(Hermite, ExtrapolatesACubicExactlyAndACircleAtFourthOrder) {
   BranchPoint no_tangent = circle_point(0.5);
   no_tangent.tu.resize(0);
   EXPECT_FALSE(hermite_extrapolate(circle_point(0.3), no_tangent, 0.1, u, lambda));
-  EXPECT_FALSE(hermite_extrapolate_to(circle_point(0.3), no_tangent, 0.1, 0.5).has_value());
+  EXPECT_FALSE(hermite_extrapolate_to(circle_point(0.3), no_tangent, parameter, 0.5, 0.1).has_value());
+  // where the continued cubic takes a value, on curves that are not cubics, for parameters of size 1
+  // and 100 and bases of 0.1 and 1e-3: found every time, to 1e-12 of the values (Newton's step
+  // near the root is rounding, which a test on the step alone took for no convergence)
+  for (double size : {1.0, 100.0})
+    for (double h : {0.1, 1e-3})
+      for (int k = 0; k < 50; ++k) {
+        const double s0 = 0.024 * k;  // (below the circle's top, where lambda = sin s has a maximum)
+        BranchPoint p = circle_point(s0), q = circle_point(s0 + h);
+        for (BranchPoint* x : {&p, &q}) x->lambda = size * (1.0 + x->lambda), x->tlambda *= size;
+        const double target = size * (1.0 + std::sin(s0 + 1.7 * h));
+        const std::optional<double> at = hermite_extrapolate_to(p, q, parameter, target, 0.5 * h);
+        ASSERT_TRUE(at.has_value()) << "size " << size << ", h " << h << ", s0 " << s0;
+        ASSERT_TRUE(hermite_extrapolate(p, q, *at, u, lambda));
+        EXPECT_LE(std::abs(lambda - target), 1e-12 * std::abs(target));
+      }
+}
+
+// The cubic predictor at a landing on a stop: on the unit circle (parametrised by the arclength
+// of the norm, wu = wl = 1/2), a step from s = 0.5 whose straight prediction crosses lambda =
+// sin(0.56) lands there, and bend puts the state on the cubic where it takes that value: the
+// parameter exactly the stop's, the state within 1e-5 of the circle's (2.5e-6: a step of 0.06 to
+// the fourth), the straight line's more than 1e-3 off.
+TEST(Predictor, TheCubicPredictsALandingOnAStopOnTheBranch) {
+  const double r2 = std::sqrt(2.0);
+  const auto at = [&](double t) {  // t: the angle; s = t / sqrt(2) in the norm
+    BranchPoint p;
+    p.s = t / r2;
+    p.u = Vector::Constant(1, std::cos(t));
+    p.lambda = std::sin(t);
+    p.tu = Vector::Constant(1, -r2 * std::sin(t));
+    p.tlambda = r2 * std::cos(t);
+    return p;
+  };
+  ContinuationOptions o;
+  o.parameter = "lambda";
+  o.predictor = ContinuationOptions::Predictor::Cubic;
+  const double stop = std::sin(0.56);
+  o.events.stops = {stop};
+  const ArclengthNorm norm(1, 1.0, 0.5);
+  const Predictor predictor(o, norm);
+  const BranchPoint prev = at(0.44), cur = at(0.5);
+  ASSERT_NEAR(norm.norm(cur.tu, cur.tlambda), 1.0, 1e-14);
+  Prediction p = predictor.predict(cur, &prev, cur.tu, cur.tlambda, 0.08 / r2, true);
+  ASSERT_TRUE(p.land.has_value());
+  ASSERT_EQ(p.land->value, stop);
+  const double exact = std::cos(0.56), straight = std::abs(p.u[0] - exact);
+  predictor.bend(cur, prev, cur.tu, cur.tlambda, p);
+  EXPECT_EQ(p.lambda, stop);
+  EXPECT_LT(std::abs(p.u[0] - exact), 1e-5);
+  EXPECT_GT(straight, 1e-3);
+  // a tangent predictor leaves it on the straight line
+  o.predictor = ContinuationOptions::Predictor::Tangent;
+  Prediction q = predictor.predict(cur, &prev, cur.tu, cur.tlambda, 0.08 / r2, true);
+  predictor.bend(cur, prev, cur.tu, cur.tlambda, q);
+  EXPECT_NEAR(std::abs(q.u[0] - exact), straight, 1e-15);
 }
 
 // The cubic predictor on the fold problem with Newton's corrector and steps of at most 0.15: the
