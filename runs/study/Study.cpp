@@ -4,9 +4,11 @@
 
 #include <toml++/toml.h>
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -295,21 +297,35 @@ Study Study::load(const std::string& path, const std::string& folder) {
 }
 
 void Study::check_collect() const {
-  std::set<std::string> checked;  // physics (scene and the keys that shape the problem)
+  // what shapes the names: the physics (the problem's observables and monitors), and for a trace
+  // the parameter, the stop observable and its thresholds, and the stability columns
+  std::set<std::string> checked;
   for (const StudyTask& t : tasks_) {
     std::vector<std::string> observables, monitors, columns;
+    std::string stop;  // the stop observable, whose crossing of its threshold is an event too
     try {
       const LoadedScene loaded = load_scene(t.scene, declare_trace_keys, t.overrides);
-      if (!checked.insert(loaded.scene.source() + "\n" + loaded.physics()).second) continue;
+      std::string key = loaded.scene.source() + "\n" + loaded.physics();
+      std::optional<ContinuationOptions> o;
+      StabilityOptions stability;
+      if (kind_ == "trace") {
+        o = ContinuationOptions::from_scene(loaded.scene);
+        stop = o->stop.observable;
+        stability = StabilityOptions::from_scene(loaded.scene);
+        key += fmt::format("\n{}\n{}\n{}\n{}\n{}", o->parameter, stop, std::isfinite(o->stop.above),
+                           std::isfinite(o->stop.below), stability.enabled ? stability.count : -1);
+      }
+      if (!checked.insert(key).second) continue;
       const std::unique_ptr<Problem> problem = loaded.type->build(loaded.scene);
       observables = problem->observable_names();
       monitors = problem->monitor_names();
-      if (kind_ == "trace") {
-        // (the monitors' columns below: a run adds its stop observable's threshold to them)
-        const StabilityOptions stability = StabilityOptions::from_scene(loaded.scene);
-        columns = branch_table_columns(
-            ContinuationOptions::from_scene(loaded.scene).parameter, observables, {},
-            stability.enabled ? StabilityAnalysis(stability).column_names() : std::vector<std::string>{});
+      if (o) {
+        // the run's monitors: the problem's, then the stop observable's thresholds (Continuation)
+        if (!stop.empty() && std::isfinite(o->stop.above)) monitors.push_back(stop + " > stop_above");
+        if (!stop.empty() && std::isfinite(o->stop.below)) monitors.push_back(stop + " < stop_below");
+        const std::vector<std::string> analysis =
+            stability.enabled ? StabilityAnalysis(stability).column_names() : std::vector<std::string>{};
+        columns = branch_table_columns(o->parameter, observables, monitors, analysis);
       }
     } catch (const std::exception&) {
       continue;  // a problem that cannot be built fails when its task runs, and says why there
@@ -317,20 +333,9 @@ void Study::check_collect() const {
     const auto has = [](const std::vector<std::string>& v, const std::string& n) {
       return std::find(v.begin(), v.end(), n) != v.end();
     };
-    // a branch table's monitor columns: monitor:NAME, NAME a monitor or a stop observable's threshold
-    const auto monitor_column = [&](const std::string& n) {
-      if (n.rfind("monitor:", 0) != 0) return false;
-      const std::string m = n.substr(8);
-      if (has(monitors, m)) return true;
-      for (const auto& o : observables)
-        if (m.rfind(o + " < ", 0) == 0 || m.rfind(o + " > ", 0) == 0) return true;
-      return false;
-    };
-    const auto column = [&](const std::string& n) {
-      return has(observables, n) || (kind_ == "trace" && (has(columns, n) || monitor_column(n)));
-    };
+    const auto column = [&](const std::string& n) { return has(observables, n) || has(columns, n); };
     const auto event = [&](const std::string& n) {
-      return n == "fold" || n == "branch-point" || n == "hopf" || has(monitors, n) || has(observables, n);
+      return n == "fold" || n == "branch-point" || n == "hopf" || has(monitors, n) || (!stop.empty() && n == stop);
     };
     const auto check = [&](const char* key, const std::vector<std::string>& names, const auto& known,
                            const std::string& what) {
@@ -342,8 +347,9 @@ void Study::check_collect() const {
     const std::string listed = fmt::format("its observables: {}", fmt::join(observables, ", "));
     if (kind_ == "trace") {
       check("events", collect_.events, event,
-            fmt::format("events are fold, branch-point, hopf, a monitor ({}) or a stop observable",
-                        monitors.empty() ? "none" : fmt::format("{}", fmt::join(monitors, ", "))));
+            fmt::format("events are fold, branch-point, hopf, a monitor ({}) or the stop observable ({})",
+                        monitors.empty() ? "none" : fmt::format("{}", fmt::join(monitors, ", ")),
+                        stop.empty() ? "none" : stop));
       check("stops", collect_.stops, column, listed);
     } else if (!collect_.events.empty() || !collect_.stops.empty()) {
       throw SceneError(fmt::format("{}: [collect] events and stops are a trace's; a solve collects only end", path_));

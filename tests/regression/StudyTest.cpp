@@ -291,6 +291,12 @@ TEST(Study, ABadStudyFileStopsBeforeAnyTask) {
        "branch-point, hopf, a monitor"},
       {"[study]\nscene = \"" + scene + "\"\n[collect]\nend = [\"u_mid\", \"sigma1_re\"]\n",
        "[collect] end names 'sigma1_re'"},  // (a stability column, without stability)
+      // an observable that is not the stop observable (u_mid) has no located zero, and no threshold
+      {"[study]\nscene = \"" + scene + "\"\n[collect]\nevents = [\"u_max\"]\n",
+       "[collect] events names 'u_max', which task 0 (the base scene) will not have; events are fold, branch-point, "
+       "hopf, a monitor (u_mid > stop_above) or the stop observable (u_mid)"},
+      {"[study]\nscene = \"" + scene + "\"\n[collect]\nend = [\"monitor:u_max > stop_above\"]\n",
+       "[collect] end names 'monitor:u_max > stop_above'"},
   };
   for (const auto& [text, expected] : cases) {
     SCOPED_TRACE(text);
@@ -449,6 +455,26 @@ TEST(Study, EveryShippedStudyResolvesItsTasksAsDocumented) {
     }
   }
   EXPECT_FALSE(fs::exists(dir + "/out"));  // listing writes nothing
+}
+
+// Names of every kind a branch table has pass the check: an observable, the parameter, the stop's
+// threshold monitor, a column of the engine's, the stability columns where stability is on, the
+// stop observable as an event.
+TEST(Study, TheCollectCheckTakesEveryColumnABranchTableHas) {
+  const std::string dir = test::scratch_dir("study_collect_names");
+  const std::string path = dir + "/names.toml";
+  std::ofstream(path) << "[study]\nscene = \"" << test::source_path("runs/scenes/bratu1d_fold.toml")
+                      << "\"\n[set]\n\"stability.enabled\" = true\n\"stability.count\" = 2\n[collect]\n"
+                      << "events = [\"fold\", \"u_mid\", \"branch-point\"]\n"
+                      << "stops = [\"u_max\", \"monitor:u_mid > stop_above\", \"det_sign\", \"sigma2_re\"]\n"
+                      << "end = [\"lambda\", \"unstable\", \"tangent_parameter\"]\n";
+  const Study study = Study::load(path, dir + "/out");
+  EXPECT_NO_THROW(study.check_collect());
+  // sigma3_re: beyond stability.count
+  std::ofstream(path) << "[study]\nscene = \"" << test::source_path("runs/scenes/bratu1d_fold.toml")
+                      << "\"\n[set]\n\"stability.enabled\" = true\n\"stability.count\" = 2\n[collect]\n"
+                      << "end = [\"sigma3_re\"]\n";
+  EXPECT_THROW(Study::load(path, dir + "/out").check_collect(), SceneError);
 }
 
 // What every shipped study's [collect] names is in its tasks' outputs (the check a study run makes
