@@ -30,11 +30,21 @@ constexpr double kPlainFall = 0.5;
 // the branch's curvature, the row needs only to be transversal, and folds and events found with
 // it are located by Newton on their own functions.
 constexpr double kTangentCorrection = 1e-4;
+// ... and the sign of its parameter part certain (folds are found from it): that part's error
+// below kSignMargin of its size, or, where the part is itself that small (at a fold), the error
+// below kTangentSignCorrection of the tangent.
+constexpr double kSignMargin = 0.5;
+constexpr double kTangentSignCorrection = 1e-6;
 }  // namespace
 
 TangentSolver::TangentSolver(Evaluator& ev, KeptFactorisation& kept, const ArclengthNorm& norm,
                              const ContinuationOptions& options)
     : ev_(ev), kept_(kept), norm_(norm), options_(options) {}
+
+bool TangentSolver::accurate(double error, double size, double mu_error, double mu) {
+  if (!(error <= kTangentCorrection * size)) return false;
+  return mu_error < kSignMargin * std::abs(mu) || error <= kTangentSignCorrection * size;
+}
 
 double TangentSolver::error_left(double correction, double previous) {
   return correction < previous ? correction * (correction / previous) : correction;
@@ -155,7 +165,10 @@ bool TangentSolver::by_iteration(const BranchPoint& p, const Constraint& c, cons
     v += dv;
     mu += dmu;
     const double correction = norm_.norm(dv, dmu);
-    const bool small_correction = error_left(correction, last_correction) <= kTangentCorrection * norm_.norm(v, mu);
+    const double error = error_left(correction, last_correction);
+    // (the parameter part's error: its share of the correction, falling as the whole does)
+    const double mu_error = correction > 0 ? error * std::abs(dmu) / correction : 0.0;
+    const bool small_correction = accurate(error, norm_.norm(v, mu), mu_error, mu);
     last_correction = correction;
     st = ev_.jacobian_times(p.u, v, jv);
     if (!st.is_ok()) break;

@@ -41,6 +41,10 @@ class TangentSolver {
   // the factor by which the corrections fall (correction / previous, where that is below 1), the
   // correction itself where they do not fall or at the first (previous 0).
   static double error_left(double correction, double previous);
+  // Whether a tangent (v, mu) of length size with that error (and mu_error in its parameter part)
+  // is accurate enough: error within 1e-4 of size, and the sign of mu certain (mu_error below half
+  // of |mu|) or, where mu is about as small as its error, error within 1e-6 of size.
+  static bool accurate(double error, double size, double mu_error, double mu);
 
  private:
   // The tangent system at p solved by iteration on the kept factorisation; false where it does

@@ -316,6 +316,18 @@ TEST(TangentSolver, TheErrorLeftFromTheFallOfTheCorrections) {
   EXPECT_EQ(plain, 7);
 }
 
+// A tangent is accurate with its error within 1e-4 of its length and the sign of its parameter part
+// certain; near a fold, where that part is as small as its error, only with the error within 1e-6
+// (the tolerance the whole tangent had before).
+TEST(TangentSolver, AccurateWhereTheParameterPartsSignIsCertain) {
+  EXPECT_TRUE(TangentSolver::accurate(5e-5, 1.0, 5e-5, 0.7));    // far from a fold
+  EXPECT_FALSE(TangentSolver::accurate(2e-4, 1.0, 1e-5, 0.7));   // too far off
+  EXPECT_FALSE(TangentSolver::accurate(5e-5, 1.0, 5e-5, 8e-5));  // the sign of mu uncertain
+  EXPECT_TRUE(TangentSolver::accurate(5e-7, 1.0, 5e-7, 8e-7));   // ... unless the error is 1e-6
+  EXPECT_TRUE(TangentSolver::accurate(5e-5, 1.0, 1e-5, 8e-5));   // mu's own error small enough
+  EXPECT_TRUE(TangentSolver::accurate(5e-4, 10.0, 5e-4, 3.0));   // relative to the length
+}
+
 TEST(EventDetector, TheCrossingsOfASegment) {
   ContinuationOptions o;
   o.parameter = "p";
