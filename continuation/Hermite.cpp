@@ -28,64 +28,34 @@ constexpr int kCubicNewtonSteps = 30;
 constexpr double kFractionStep = 1e-15;
 constexpr double kCubicMatch = 1e-12;
 
-}  // namespace
-
-bool hermite_point(const BranchPoint& a, const BranchPoint& b, const BranchFunctional& g, double target, Vector& u,
-                   double& lambda, double& x) {
-  const double h = b.s - a.s;
-  if (!(h > 0) || !std::isfinite(h) || a.tu.size() != a.u.size() || b.tu.size() != b.u.size() ||
-      a.u.size() != b.u.size())
-    return false;
-  // g is linear, so g along the cubic is the cubic with g's values and slopes at the ends
-  const double ga = g(a.u, a.lambda, true), gb = g(b.u, b.lambda, true);
-  const double sa = h * g(a.tu, a.tlambda, false), sb = h * g(b.tu, b.tlambda, false);
-  auto g_at = [&](const HermiteBasis& w) { return w.h00 * ga + w.h10 * sa + w.h01 * gb + w.h11 * sb; };
-  double t = (target - ga) / (gb - ga);  // the chord's answer starts Newton's iteration
-  if (!std::isfinite(t)) return false;
-  for (int it = 0; it < kCubicNewtonSteps; ++it) {
-    const double d = g_at(basis_derivative(t));
-    if (!(std::abs(d) > 0)) return false;
-    const double dt = (g_at(basis(t)) - target) / d;
-    t -= dt;
-    if (!std::isfinite(t)) return false;
-    if (std::abs(dt) <= kFractionStep) break;
-  }
-  const double scale = std::max({std::abs(ga), std::abs(gb), std::abs(target), std::numeric_limits<double>::min()});
-  if (!(t >= 0.0 && t <= 1.0) || std::abs(g_at(basis(t)) - target) > kCubicMatch * scale) return false;
-  const HermiteBasis w = basis(t);
-  u = w.h00 * a.u + (w.h10 * h) * a.tu + w.h01 * b.u + (w.h11 * h) * b.tu;
-  lambda = w.h00 * a.lambda + (w.h10 * h) * a.tlambda + w.h01 * b.lambda + (w.h11 * h) * b.tlambda;
-  x = t;
-  return true;
-}
-
-namespace {
+// Both points have tangents of the states' size, and b lies beyond a along the branch.
 bool has_tangents(const BranchPoint& a, const BranchPoint& b) {
   return b.s > a.s && std::isfinite(b.s - a.s) && a.tu.size() == a.u.size() && b.tu.size() == b.u.size() &&
          a.u.size() == b.u.size();
 }
-}  // namespace
 
-bool hermite_extrapolate(const BranchPoint& a, const BranchPoint& b, double sigma, Vector& u, double& lambda) {
-  if (!has_tangents(a, b) || !std::isfinite(sigma)) return false;
+// The point at x (0 at a, 1 at b, beyond 1 past b) on the cubic through a and b.
+void cubic_at(const BranchPoint& a, const BranchPoint& b, double x, Vector& u, double& lambda) {
   const double h = b.s - a.s;
-  const HermiteBasis w = basis(1.0 + sigma / h);
+  const HermiteBasis w = basis(x);
   u = w.h00 * a.u + (w.h10 * h) * a.tu + w.h01 * b.u + (w.h11 * h) * b.tu;
   lambda = w.h00 * a.lambda + (w.h10 * h) * a.tlambda + w.h01 * b.lambda + (w.h11 * h) * b.tlambda;
-  return true;
 }
 
-std::optional<double> hermite_extrapolate_to(const BranchPoint& a, const BranchPoint& b, const BranchFunctional& g,
-                                             double target, double sigma0) {
-  if (!has_tangents(a, b) || !std::isfinite(sigma0)) return std::nullopt;
+// Where g along the cubic through a and b equals target, by Newton from x0 (none: from the chord
+// between the ends' values): the x where the cubic
+// takes it to kCubicMatch of the values' scale, or nullopt. (Newton stops where its step is at
+// rounding; near the root, rounding of g - target can make it wander instead, so the answer is
+// judged by the cubic's value there.) g is affine, so along the cubic it is the cubic with g's
+// values and slopes at the ends.
+std::optional<double> cubic_root(const BranchPoint& a, const BranchPoint& b, const BranchFunctional& g, double target,
+                                 std::optional<double> x0) {
   const double h = b.s - a.s;
-  // g is affine: along the cubic it is the cubic with g's values and slopes at the ends
   const double ga = g(a.u, a.lambda, true), gb = g(b.u, b.lambda, true);
   const double sa = h * g(a.tu, a.tlambda, false), sb = h * g(b.tu, b.tlambda, false);
   const auto g_at = [&](const HermiteBasis& w) { return w.h00 * ga + w.h10 * sa + w.h01 * gb + w.h11 * sb; };
-  double x = 1.0 + sigma0 / h;
-  // (Newton until its step is at rounding; near the root rounding of g - target makes it wander,
-  // so the answer is judged by the cubic's value there, as hermite_point's is)
+  double x = x0 ? *x0 : (target - ga) / (gb - ga);
+  if (!std::isfinite(x)) return std::nullopt;
   for (int it = 0; it < kCubicNewtonSteps; ++it) {
     const double d = g_at(basis_derivative(x));
     if (!(std::abs(d) > 0)) break;
@@ -96,7 +66,34 @@ std::optional<double> hermite_extrapolate_to(const BranchPoint& a, const BranchP
   }
   const double scale = std::max({std::abs(ga), std::abs(gb), std::abs(target), std::numeric_limits<double>::min()});
   if (!std::isfinite(x) || std::abs(g_at(basis(x)) - target) > kCubicMatch * scale) return std::nullopt;
-  return (x - 1.0) * h;
+  return x;
+}
+
+}  // namespace
+
+bool hermite_point(const BranchPoint& a, const BranchPoint& b, const BranchFunctional& g, double target, Vector& u,
+                   double& lambda, double& x) {
+  if (!has_tangents(a, b)) return false;
+  const std::optional<double> t = cubic_root(a, b, g, target, std::nullopt);
+  if (!t || !(*t >= 0.0 && *t <= 1.0)) return false;
+  cubic_at(a, b, *t, u, lambda);
+  x = *t;
+  return true;
+}
+
+bool hermite_extrapolate(const BranchPoint& a, const BranchPoint& b, double sigma, Vector& u, double& lambda) {
+  if (!has_tangents(a, b) || !std::isfinite(sigma)) return false;
+  cubic_at(a, b, 1.0 + sigma / (b.s - a.s), u, lambda);
+  return true;
+}
+
+std::optional<double> hermite_extrapolate_to(const BranchPoint& a, const BranchPoint& b, const BranchFunctional& g,
+                                             double target, double sigma0) {
+  if (!has_tangents(a, b) || !std::isfinite(sigma0)) return std::nullopt;
+  const double h = b.s - a.s;
+  const std::optional<double> x = cubic_root(a, b, g, target, 1.0 + sigma0 / h);
+  if (!x) return std::nullopt;
+  return (*x - 1.0) * h;
 }
 
 }  // namespace keller
