@@ -55,10 +55,7 @@ Continuation::Continuation(Problem& problem, ContinuationOptions options, Newton
   }
   monitor_names_ = problem_.monitor_names();
   turning_ = problem_.turning_unknowns();
-  if (stop_index_ >= 0) {
-    if (std::isfinite(options_.stop.above)) monitor_names_.push_back(options_.stop.observable + " > stop_above");
-    if (std::isfinite(options_.stop.below)) monitor_names_.push_back(options_.stop.observable + " < stop_below");
-  }
+  for (const std::string& m : options_.stop.threshold_monitor_names()) monitor_names_.push_back(m);
   lander_.configure(stop_index_, static_cast<int>(problem_.monitor_names().size()), monitor_names_);
 }
 

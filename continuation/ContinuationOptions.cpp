@@ -85,6 +85,14 @@ void ContinuationOptions::declare(SceneSchema& s) {
             "the corrector makes, bracketed by factorising at points in between)");
 }
 
+std::vector<std::string> StopOptions::threshold_monitor_names() const {
+  std::vector<std::string> names;
+  if (observable.empty()) return names;
+  if (std::isfinite(above)) names.push_back(observable + " > stop_above");
+  if (std::isfinite(below)) names.push_back(observable + " < stop_below");
+  return names;
+}
+
 ContinuationOptions ContinuationOptions::from_scene(const Scene& sc) {
   ContinuationOptions o;
   o.parameter = sc.string("continuation.parameter");

@@ -85,6 +85,9 @@ struct StopOptions {
   std::string observable;  // ends where this observable crosses above / below
   double above = std::numeric_limits<double>::infinity();
   double below = -std::numeric_limits<double>::infinity();
+  // The monitors a run adds for the stop observable's thresholds ("OBS > stop_above", "OBS <
+  // stop_below", where set; none without a stop observable), after the problem's own.
+  std::vector<std::string> threshold_monitor_names() const;
 };
 
 struct ContinuationOptions {

@@ -321,8 +321,7 @@ void Study::check_collect() const {
       monitors = problem->monitor_names();
       if (o) {
         // the run's monitors: the problem's, then the stop observable's thresholds (Continuation)
-        if (!stop.empty() && std::isfinite(o->stop.above)) monitors.push_back(stop + " > stop_above");
-        if (!stop.empty() && std::isfinite(o->stop.below)) monitors.push_back(stop + " < stop_below");
+        for (const std::string& m : o->stop.threshold_monitor_names()) monitors.push_back(m);
         const std::vector<std::string> analysis =
             stability.enabled ? StabilityAnalysis(stability).column_names() : std::vector<std::string>{};
         columns = branch_table_columns(o->parameter, observables, monitors, analysis);
