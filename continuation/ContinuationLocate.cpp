@@ -14,6 +14,9 @@ namespace keller {
 namespace {
 // A critical eigenvalue whose imaginary part is below this (relative to 1 + |locator|) is real.
 constexpr double kRealEigenvalue = 1e-8;
+// A zero of a stop observable with smooth pieces is located on at most this many of them (each
+// on the part of the segment before the last one's zero).
+constexpr int kPieceLocations = 4;
 }  // namespace
 
 std::vector<LocatedPoint> Continuation::locate_on(BranchPoint& cur, BranchPoint& nxt, const Step& step, bool last_step,
@@ -60,15 +63,54 @@ void Continuation::locate_crossings(const BranchPoint& cur, const BranchPoint& n
     } else if (c.target.kind == EventTarget::Value) {
       p = locator_.locate_value(cur, nxt, c.target.value, note);
     } else {
-      const GradientFunction g =
-          c.target.kind == EventTarget::Monitor ? lander_.gradient_of(c.target.monitor) : nullptr;
-      if (g) p = locator_.locate_by_newton(cur, nxt, g, c.ga, c.gb, note);
-      if (!p) p = locator_.locate_root(cur, nxt, c.target, c.ga, c.gb, note);
+      p = locate_zero(cur, nxt, c, note);
     }
     const size_t before = located.size();
     add_located(std::move(p), c.kind, c.label, c.end, cur, located, observer, note);
     if (located.size() > before) zero_of[k] = located.back().point;  // (analysed, if it was)
   }
+}
+
+std::optional<BranchPoint> Continuation::locate_zero(const BranchPoint& cur, const BranchPoint& nxt, const Crossing& c,
+                                                     std::string& note) {
+  const GradientFunction g = c.target.kind == EventTarget::Monitor ? lander_.gradient_of(c.target.monitor) : nullptr;
+  const auto locate = [&](const BranchPoint& b, double ga, double gb) {
+    std::optional<BranchPoint> p;
+    if (g) p = locator_.locate_by_newton(cur, b, g, ga, gb, note);
+    if (!p) p = locator_.locate_root(cur, b, c.target, ga, gb, note);
+    return p;
+  };
+  const int observable = c.target.kind == EventTarget::Monitor ? lander_.observable_of(c.target.monitor) : -1;
+  if (observable < 0 || !g) return locate(nxt, c.ga, c.gb);
+  // A stop observable that is the smallest of smooth pieces (the switch margin of an event curve,
+  // the nearest of many places): where the smallest changes near its zero (a place far away
+  // overtaking a level neighbour), Newton linearises the wrong piece and the secant creeps along
+  // the level one. Held to the piece smallest at the segment's end, it is smooth; where another
+  // piece is below that one at the zero found, that one crossed first, before it.
+  const double h = 1e-4 * std::max(std::abs(nxt.lambda - cur.lambda), 1e-8 * (1.0 + std::abs(cur.lambda)));
+  const auto held_value = [&](const BranchPoint& q, double& v) {
+    Vector gu;
+    double gl = 0.0;
+    return g(q.u, q.lambda, h, false, v, gu, gl).is_ok();
+  };
+  BranchPoint end = nxt;  // the segment cur -> end holds the first crossing
+  double g_end = c.gb;
+  for (int k = 0; k < kPieceLocations; ++k) {
+    if (!problem_.hold_piece(observable, &end.u)) break;
+    double ga = 0.0, gb = 0.0, at_zero = 0.0;
+    std::optional<BranchPoint> p;
+    // (a piece that does not change sign on the segment: the observable itself, below)
+    if (held_value(cur, ga) && held_value(end, gb) && ga * gb < 0) p = locate(end, ga, gb);
+    if (p && !held_value(*p, at_zero)) p.reset();
+    problem_.hold_piece(observable, nullptr);
+    if (!p || !evaluate(*p, false).is_ok()) break;
+    const double value = c.target.of(*p);  // the observable, no piece held
+    if (value >= 0.0 || value >= at_zero || std::abs(p->lambda - end.lambda) <= options_.events.tolerance) return p;
+    end = std::move(*p);
+    g_end = value;
+  }
+  problem_.hold_piece(observable, nullptr);
+  return locate(end, c.ga, g_end);
 }
 
 int Continuation::probe_determinant(BranchPoint& p) {

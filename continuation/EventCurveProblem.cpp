@@ -197,7 +197,18 @@ Status EventCurveProblem::observables(const Vector& U, std::vector<double>& valu
   return {};
 }
 
+bool EventCurveProblem::hold_piece(int observable, const Vector* at) {
+  if (observable != margin_index()) return false;
+  held_ = -1;
+  if (!at) return true;
+  std::vector<double> v;
+  if (!place_values(*at, v).is_ok()) return false;
+  held_ = other_place(*at, v);
+  return held_ >= 0;
+}
+
 int EventCurveProblem::other_place(const Vector& U, const std::vector<double>& v) const {
+  if (held_ >= 0) return held_;
   // At the switch a piece starts from, the place it left is level with the followed one (not a new
   // crossing): the margin there is that of the other places, so that a third one overtaking within
   // the piece's first step is still a crossing.
@@ -345,6 +356,7 @@ ContinuationResult EventCurveProblem::trace(ContinuationOptions o, const NewtonO
                                  place_, next, o.parameter, sw.lambda));
     const int from = place_;
     place_ = next;
+    held_ = -1;
     if (!solve_kept(U, newton, lu).is_ok()) {
       total.reason = "event curve: no solution on the new place's piece at the switch";
       total.code = StopCode::StepFloor;

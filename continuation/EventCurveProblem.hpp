@@ -39,6 +39,8 @@ class EventCurveProblem final : public CurveProblem {
   // elsewhere (its switches are located by Newton).
   bool has_observable_gradient(int observable) const override { return observable == margin_index(); }
   Status observable_gradient(int observable, const Vector& U, Vector& gradient) override;
+  // The switch margin held: m_j - m_k, j the place of the smallest value elsewhere at `at`.
+  bool hold_piece(int observable, const Vector* at) override;
   std::vector<std::string> monitor_names() const override;
   Status monitors(const Vector& U, std::vector<double>& values) override;
   std::string summary() const override;
@@ -75,6 +77,7 @@ class EventCurveProblem final : public CurveProblem {
 
   int monitor_;
   int place_ = 0;
+  int held_ = -1;  // the other place the switch margin is held to (hold_piece), -1: none
   // the state of the switch a piece starts from, and the place it left there
   Vector switched_at_;
   int switched_from_ = -1;

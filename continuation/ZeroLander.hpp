@@ -36,6 +36,9 @@ class ZeroLander {
   // The monitor (index into BranchPoint::monitors) with its gradient, where the problem offers
   // one (its zeros are then located by Newton, and a threshold's landed on); null where it does not.
   GradientFunction gradient_of(int monitor);
+  // The observable a monitor is the threshold of (the stop observable's index), -1 for the
+  // problem's own monitors.
+  int observable_of(int monitor) const { return monitor >= problem_monitors_ ? stop_index_ : -1; }
   // The threshold's zero a step of size ds from cur along the unit direction (du, dl) lands on.
   std::optional<ZeroLanding> plan(const BranchPoint& cur, const Vector& du, double dl, double ds);
   // The step's prediction: at the predicted zero, under the function linearised at cur (which

@@ -114,4 +114,6 @@ Status Problem::observable_gradient(int observable, const Vector&, Vector&) {
   throw std::logic_error("problem '" + name() + "' has no gradient of observable " + std::to_string(observable));
 }
 
+bool Problem::hold_piece(int, const Vector*) { return false; }
+
 }  // namespace keller

@@ -105,6 +105,12 @@ class Problem {
   virtual Status monitor_gradient(int monitor, const Vector& u, Vector& gradient);
   virtual bool has_observable_gradient(int observable) const;
   virtual Status observable_gradient(int observable, const Vector& u, Vector& gradient);
+  // An observable that is the smallest of several smooth functions (a margin to the nearest of
+  // many places) is only piecewise smooth, and where the smallest changes near its zero, Newton
+  // and the secant lose their speed there. Held (at = the point), it is the function smallest
+  // at that point alone, with its gradient, until released (at = null); the engine holds it to
+  // locate a zero it stepped over. False where the observable has no such pieces (the default).
+  virtual bool hold_piece(int observable, const Vector* at);
 
   // Fields of a solution for output.
   virtual SolutionFields fields(const Vector& u) const = 0;

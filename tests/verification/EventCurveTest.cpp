@@ -14,58 +14,61 @@ using namespace keller;
 
 namespace {
 
-// F_0 = u0 + u0^3 / 3 - (1 - a + b), F_1 = u1 + u1^3 / 3 - (1 - a - b); the monitor "min u" is the
-// minimum over the two places u0, u1. Its zero as a rises: u0 = 0 at a = 1 + b for b < 0, u1 = 0 at
-// a = 1 - b for b > 0: the event curve a = 1 - |b|, whose minimum moves from place 0 to place 1 at
-// b = 0 (a kink of the curve in (a, b)). The places' gradients are the default differences.
-class TwoPlaceProblem final : public Problem {
+// F_i = u_i + u_i^3 / 3 - (1 - a + c_i b + e_i), i = 0 .. n-1; the monitor "min u" is the minimum
+// over the n places u_i. With c = (1, -1), e = 0 (two places): its zero as a rises is u0 = 0 at
+// a = 1 + b for b < 0, u1 = 0 at a = 1 - b for b > 0: the event curve a = 1 - |b|, whose minimum
+// moves from place 0 to place 1 at b = 0 (a kink of the curve in (a, b)). The places' gradients
+// are the default differences.
+class PlacesProblem final : public Problem {
  public:
-  TwoPlaceProblem(double a, double b) : pattern_(2, 2) {
+  PlacesProblem(double a, double b, std::vector<double> c, std::vector<double> e)
+      : c_(std::move(c)), e_(std::move(e)), pattern_(size(), size()) {
     params_.add("a", a, "load");
     params_.add("b", b, "asymmetry");
-    pattern_.insert(0, 0) = 0.0;
-    pattern_.insert(1, 1) = 0.0;
+    for (int i = 0; i < size(); ++i) pattern_.insert(i, i) = 0.0;
     pattern_.makeCompressed();
   }
-  std::string name() const override { return "two-place"; }
-  int size() const override { return 2; }
+  std::string name() const override { return "places"; }
+  int size() const override { return static_cast<int>(c_.size()); }
   ParameterSet& parameters() override { return params_; }
   const ParameterSet& parameters() const override { return params_; }
   const SparseMatrix& jacobian_pattern() const override { return pattern_; }
   Status residual(const Vector& u, Vector& F) override {
     const double a = params_.value(0), b = params_.value(1);
-    F.resize(2);
-    F[0] = u[0] + u[0] * u[0] * u[0] / 3.0 - (1.0 - a + b);
-    F[1] = u[1] + u[1] * u[1] * u[1] / 3.0 - (1.0 - a - b);
+    F.resize(size());
+    for (int i = 0; i < size(); ++i)
+      F[i] = u[i] + u[i] * u[i] * u[i] / 3.0 - (1.0 - a + c_[static_cast<size_t>(i)] * b + e_[static_cast<size_t>(i)]);
     return {};
   }
   Status jacobian(const Vector& u, Vector& F, SparseMatrix& J) override {
     residual(u, F);
     J = pattern_;
-    J.coeffRef(0, 0) = 1.0 + u[0] * u[0];
-    J.coeffRef(1, 1) = 1.0 + u[1] * u[1];
+    for (int i = 0; i < size(); ++i) J.coeffRef(i, i) = 1.0 + u[i] * u[i];
     return {};
   }
   Status parameter_derivative(int p, const Vector&, Vector& dF) override {
-    dF = p == 0 ? Vector::Ones(2) : Vector(Eigen::Vector2d(-1.0, 1.0));
+    dF = p == 0 ? Vector::Ones(size()) : Vector(-Eigen::Map<const Vector>(c_.data(), size()));
     return {};
   }
-  Vector initial_guess() override { return Vector::Ones(2); }
+  Vector initial_guess() override { return Vector::Ones(size()); }
   std::vector<std::string> monitor_names() const override { return {"min u"}; }
   Status monitors(const Vector& u, std::vector<double>& v) override {
-    v = {std::min(u[0], u[1])};
+    v = {u.minCoeff()};
     return {};
   }
   Status monitor_places(int, const Vector& u, std::vector<double>& v) override {
-    v = {u[0], u[1]};
+    v.assign(u.data(), u.data() + u.size());
     return {};
   }
   SolutionFields fields(const Vector&) const override { return {}; }
 
  private:
+  std::vector<double> c_, e_;
   ParameterSet params_;
   SparseMatrix pattern_;
 };
+
+PlacesProblem two_places(double a, double b) { return PlacesProblem(a, b, {1.0, -1.0}, {0.0, 0.0}); }
 
 // F = u + u^3 / 3 + b^2 - a with the monitor "u": its zero is the event curve a = b^2, which
 // turns in a (the unknown p1 of the curve) at b = 0, a minimum.
@@ -124,7 +127,7 @@ TEST(EventCurve, TurnsInTheUnknownParameterAreLocated) {
 // with the followed value the minimum (margin >= 0) and the monitor zero; one switch, at b = 0 to
 // 1e-10 (the location tolerance), from place 0 to place 1.
 TEST(EventCurve, MinimumOverPlacesFollowsItsPlaceAndSwitches) {
-  TwoPlaceProblem p(0.5, -0.5);
+  PlacesProblem p = two_places(0.5, -0.5);
   EventCurveProblem curve(p, "a", "min u");
   Vector U = curve.state(Eigen::Vector2d(0.01, 0.5), 0.52);
   NewtonOptions tight;
@@ -169,4 +172,101 @@ TEST(EventCurve, MinimumOverPlacesFollowsItsPlaceAndSwitches) {
   EXPECT_NEAR(rec.points.back().lambda, 0.5, 1e-12);
   EXPECT_EQ(curve.place(), 1);
   std::cout << rec.points.size() << " points; " << r.reason << "\n";
+}
+
+// Three places, c = (1, 1, -3), e = (0, 0.001, 0): place 1 stays level with place 0 (0.001 above
+// it along the curve), and place 2, far above at b = -0.5, falls to it at b = 0: the event curve
+// a = 1 + b, then a = 1 - 3 b, with the minimum moving from place 0 to place 2 at b = 0. The switch
+// margin min(u1, u2) - u0 is level at about 0.001 until b = -0.00025 and falls to zero within the
+// last 0.00025 before the switch: the step that crosses it (without landing on it) leaves a margin
+// whose Newton linearises the level piece and whose secant creeps along it (23 corrector
+// iterations). Held to place 2's piece it is smooth: corrected onto the step's row from its cubic
+// interpolant's zero, then one or two Newton corrections of a chord iteration or two: at most 6.
+TEST(EventCurve, APlaceOvertakingALevelOneIsLocatedOnItsOwnPiece) {
+  PlacesProblem p(0.5, -0.5, {1.0, 1.0, -3.0}, {0.0, 0.001, 0.0});
+  EventCurveProblem curve(p, "a", "min u");
+  Vector U = curve.state(Eigen::Vector3d(0.01, 0.02, 1.5), 0.52);
+  NewtonOptions tight;
+  tight.residual_tolerance = 1e-12;
+  ASSERT_TRUE(curve.start(U, tight).is_ok());
+  ASSERT_EQ(curve.place(), 0);
+  ContinuationOptions o = in_b_to_half();
+  o.events.land_on_zeros = false;  // (a step crosses the switch)
+  test::RecordingObserver rec;
+  const ContinuationResult r = curve.trace(o, tight, {}, U, rec);
+  ASSERT_EQ(r.code, StopCode::UpperBound) << r.reason;
+  const int a = static_cast<int>(curve.observable_names().size()) - 3;
+  std::vector<const BranchPoint*> switches;
+  for (const BranchPoint& q : rec.points) {
+    EXPECT_NEAR(q.observables[a], std::min(1.0 + q.lambda, 1.0 - 3.0 * q.lambda), 1e-10) << "b = " << q.lambda;
+    if (q.kind == PointKind::Event && q.label == "switch") switches.push_back(&q);
+  }
+  ASSERT_EQ(switches.size(), 1u);
+  EXPECT_NEAR(switches[0]->lambda, 0.0, 1e-10);
+  EXPECT_NEAR(switches[0]->observables[a], 1.0, 1e-10);
+  EXPECT_EQ(curve.place(), 2);  // not the level place 1
+  EXPECT_LE(switches[0]->iterations, 6);
+}
+
+// Four places, c = (1, 1, -3, -20), e = (0, 0.001, 0, 0.0105): as above, and place 3 falls to place
+// 0 at b = 0.0005, just after place 2, but is far below it at the end of the step that crosses
+// both. The event curve is a = min(1 + b, 1 - 3 b, 1.0105 - 20 b): the minimum moves from place 0
+// to place 2 at b = 0, then to place 3 at b = 0.0105 / 17. Held to the piece smallest at the step's
+// end (place 3), the margin's zero is at b = 0.0005, where place 2 is below place 0 already: the
+// first crossing lies before it, and is found on place 2's piece.
+TEST(EventCurve, WhereTwoPlacesOvertakeInOneStepTheFirstIsTheSwitch) {
+  PlacesProblem p(0.5, -0.5, {1.0, 1.0, -3.0, -20.0}, {0.0, 0.001, 0.0, 0.0105});
+  EventCurveProblem curve(p, "a", "min u");
+  Vector U = curve.state(Eigen::Vector4d(0.01, 0.02, 1.5, 2.0), 0.52);
+  NewtonOptions tight;
+  tight.residual_tolerance = 1e-12;
+  ASSERT_TRUE(curve.start(U, tight).is_ok());
+  ASSERT_EQ(curve.place(), 0);
+  ContinuationOptions o = in_b_to_half();
+  o.stop.upper = 0.05;
+  o.events.land_on_zeros = false;  // (steps cross the switches)
+  test::RecordingObserver rec;
+  const ContinuationResult r = curve.trace(o, tight, {}, U, rec);
+  ASSERT_EQ(r.code, StopCode::UpperBound) << r.reason;
+  const int a = static_cast<int>(curve.observable_names().size()) - 3, place = a + 1;
+  std::vector<const BranchPoint*> switches;
+  for (const BranchPoint& q : rec.points) {
+    const double b = q.lambda;
+    EXPECT_NEAR(q.observables[a], std::min({1.0 + b, 1.0 - 3.0 * b, 1.0105 - 20.0 * b}), 1e-10) << "b = " << b;
+    if (q.kind == PointKind::Event && q.label == "switch") switches.push_back(&q);
+  }
+  ASSERT_EQ(switches.size(), 2u);
+  EXPECT_NEAR(switches[0]->lambda, 0.0, 1e-10);
+  EXPECT_EQ(switches[0]->observables[place], 0.0);  // (the row ends the piece on the place it leaves)
+  EXPECT_NEAR(switches[1]->lambda, 0.0105 / 17.0, 1e-10);
+  EXPECT_EQ(switches[1]->observables[place], 2.0);
+  EXPECT_EQ(curve.place(), 3);
+}
+
+// The switch margin held to one piece (Problem::hold_piece): m_j - m_k with j the place of the
+// smallest other value where it was held, its gradient that piece's, until released.
+TEST(EventCurve, TheSwitchMarginIsHeldToThePieceSmallestWhereItWasHeld) {
+  PlacesProblem p(0.5, -0.5, {1.0, 1.0, -3.0}, {0.0, 0.01, 0.0});
+  EventCurveProblem curve(p, "a", "min u");
+  Vector U = curve.state(Eigen::Vector3d(0.0, 0.01, 1.5), 0.5);
+  ASSERT_TRUE(curve.start(U, {}).is_ok());
+  const int margin = static_cast<int>(curve.observable_names().size()) - 1;
+  const auto margin_at = [&](const Vector& X) {
+    std::vector<double> v;
+    EXPECT_TRUE(curve.observables(X, v).is_ok());
+    return v[static_cast<size_t>(margin)];
+  };
+  Vector V = U;  // where place 2 is the smallest other: u2 below u1
+  V[2] = 0.005;
+  EXPECT_NEAR(margin_at(U), U[1] - U[0], 1e-15);   // place 1, the smallest other at U
+  EXPECT_FALSE(curve.hold_piece(margin - 1, &V));  // (the place observable has no pieces)
+  ASSERT_TRUE(curve.hold_piece(margin, &V));
+  EXPECT_NEAR(margin_at(U), U[2] - U[0], 1e-15);  // place 2's piece, at U too
+  Vector g;
+  ASSERT_TRUE(curve.observable_gradient(margin, U, g).is_ok());
+  EXPECT_NEAR(g[2], 1.0, 1e-6);  // (the places' gradients by one-sided differences)
+  EXPECT_NEAR(g[1], 0.0, 1e-6);
+  EXPECT_NEAR(g[0], -1.0, 1e-6);
+  ASSERT_TRUE(curve.hold_piece(margin, nullptr));
+  EXPECT_NEAR(margin_at(U), U[1] - U[0], 1e-15);
 }
