@@ -87,11 +87,10 @@ std::optional<BranchPoint> Continuation::locate_zero(const BranchPoint& cur, con
   // overtaking a level neighbour), Newton linearises the wrong piece and the secant creeps along
   // the level one. Held to the piece smallest at the segment's end, it is smooth; where another
   // piece is below that one at the zero found, that one crossed first, before it.
-  const double h = 1e-4 * std::max(std::abs(nxt.lambda - cur.lambda), 1e-8 * (1.0 + std::abs(cur.lambda)));
-  const auto held_value = [&](const BranchPoint& q, double& v) {
+  const auto held_value = [&](const BranchPoint& q, double& v) {  // (the value alone: no difference step)
     Vector gu;
     double gl = 0.0;
-    return g(q.u, q.lambda, h, false, v, gu, gl).is_ok();
+    return g(q.u, q.lambda, 0.0, false, v, gu, gl).is_ok();
   };
   BranchPoint end = nxt;  // the segment cur -> end holds the first crossing
   double g_end = c.gb;
