@@ -27,10 +27,10 @@ void CollapsibleOptions::declare(SceneSchema& s) {
          Range::between(SolidWall::min_thickness, SolidWall::max_thickness));
   s.real("parameters.Pe", 0.04, "external pressure on the top of the wall (units of G)");
   s.section("dynamics", "the time-dependent form B du/dt = -F (stability, keller evolve): docs/dynamics.md");
-  s.string("dynamics.mass_matrix", "fixed-wall",
+  s.string("dynamics.mass_matrix", "moving-wall",
+           "moving-wall: the physical form, time derivatives at fixed points (ALE) and v = dx/dt on the interface; "
            "fixed-wall: time derivatives of the flow fields at the nodes, v = 0 on the interface (the wall follows "
-           "quasi-statically, no kinematics); moving-wall: the physical form, time derivatives at fixed points (ALE) "
-           "and v = dx/dt on the interface",
+           "quasi-statically, no kinematics: growth rates and frequencies not those of the coupled system)",
            {"fixed-wall", "moving-wall"});
   s.real("dynamics.wall_density_ratio", 0.0,
          "rho_s / rho: > 0 gives the wall inertia (the wall velocity becomes an unknown; needs mass_matrix = "

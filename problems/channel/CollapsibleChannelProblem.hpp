@@ -45,7 +45,7 @@ struct CollapsibleOptions {
   // the nodes and no slip (v = 0) on the interface, the wall adjusting quasi-statically without
   // kinematics; true: the physical form, time derivatives at fixed points of space (ALE: the nodal
   // rate minus xdot . grad) and the kinematic condition v = dx/dt on the interface.
-  bool moving_wall_dynamics = false;
+  bool moving_wall_dynamics = true;
   // rho_s / rho of the wall and the fluid: > 0 gives the wall inertia (density ratio x Re / Gamma in
   // units of eta0 / G) and the wall velocity as an unknown; 0: the quasi-static wall. Needs the
   // moving-wall form and Re > 0.
