@@ -45,6 +45,7 @@ struct BranchPoint {
   bool analysed = false;
   std::vector<double> analysis;
   int count = -1;
+  int analysis_width = 0;  // what the analysis computed (PointAnalysisResult::width)
   double locator = 0.0;
   double critical_imag = 0.0;
   Vector critical_re, critical_im;

@@ -392,11 +392,15 @@ void Continuation::analyse(BranchPoint& p) {
   p.analysis = std::move(r.columns);
   p.analysis.resize(analysis_->column_names().size(), NAN);
   p.count = st.is_ok() ? r.count : -1;
+  p.analysis_width = r.width;
   p.locator = r.locator;
   p.critical_imag = r.critical_imag;
   p.critical_re = std::move(r.critical_re);
   p.critical_im = std::move(r.critical_im);
-  if (!st.is_ok()) analysis_note_ = "analysis failed: " + st.describe();
+  if (!st.is_ok())
+    analysis_note_ = "analysis failed: " + st.describe();
+  else if (!r.note.empty())
+    analysis_note_ = std::move(r.note);
 }
 
 void Continuation::report(BranchObserver& observer, BranchPoint& p) {

@@ -186,6 +186,10 @@ class Continuation {
   PointAnalysis* analysis_ = nullptr;
   std::unique_ptr<SpectrumScheduler> spectra_;
   std::string analysis_note_;
+  std::string last_analysis_note_;
+  std::vector<std::pair<PointKind, std::string>>
+      unlocated_;  // this step's points detected but not located  // the note said after the last analysed point (not
+                   // said again while it lasts)
   // a resumed branch starts on a point located as this kind (its first step does not locate it again)
   std::optional<PointKind> start_on_;
   bool adopted_ = false;               // the start's factorisation came from the solve of the start

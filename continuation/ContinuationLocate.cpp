@@ -17,6 +17,9 @@ constexpr double kRealEigenvalue = 1e-8;
 // A zero of a stop observable with smooth pieces is located on at most this many of them (each
 // on the part of the segment before the last one's zero).
 constexpr int kPieceLocations = 4;
+// A point the engine located on the same step (a fold, a branch point by the determinant) within
+// this many event tolerances of a located change of the count is the same point.
+constexpr double kSameCrossing = 100.0;
 }  // namespace
 
 std::vector<LocatedPoint> Continuation::locate_on(BranchPoint& cur, BranchPoint& nxt, const Step& step, bool last_step,
@@ -30,9 +33,20 @@ std::vector<LocatedPoint> Continuation::locate_on(BranchPoint& cur, BranchPoint&
   // a branch that ends on this step: its last stretch is checked too (analysis every N points)
   if (analysis_ && !nxt.analysed && ends) analyse(nxt);
   if (analysis_ && nxt.analysed) locate_stability_change(cur, nxt, located, observer);
+  // what was detected but not located, unless the step located a point of its kind after all (a
+  // branch point the determinant's sign could not narrow down, located by the spectrum)
+  for (const auto& [kind, note] : unlocated_)
+    if (std::none_of(located.begin(), located.end(), [&](const LocatedPoint& l) { return l.point.kind == kind; }))
+      observer.on_note(note);
+  unlocated_.clear();
   if (analysis_ && !analysis_note_.empty()) {
-    observer.on_note(fmt::format("after row {}: {}", cur.index, analysis_note_));
+    // (the same note at successive points is said once)
+    if (analysis_note_ != last_analysis_note_)
+      observer.on_note(fmt::format("after row {}: {}", cur.index, analysis_note_));
+    last_analysis_note_ = std::move(analysis_note_);
     analysis_note_.clear();
+  } else if (nxt.analysed) {
+    last_analysis_note_.clear();
   }
   if (start_on_ && cur.kind == PointKind::Start) {
     // the zero the start sits on, found again (its function's sign there is rounding)
@@ -141,7 +155,25 @@ void Continuation::locate_stability_change(BranchPoint& cur, BranchPoint& nxt, s
                                            BranchObserver& observer) {
   // a real eigenvalue through zero is a fold where the parameter turns, else a branch point; a
   // complex pair through the imaginary axis a Hopf point. Where the engine located the same fold
-  // or branch point on this step itself, that point says so instead.
+  // or branch point on this step itself, that point says so instead. A change of the count by more
+  // than one crossing explains (two real eigenvalues, or pairs, crossing within one step) is
+  // located crossing by crossing: each from the last one located to the end of the bracket.
+  // The analysis widened at nxt (more eigenvalues, where the unstable ones reached the edge of its
+  // set): cur's count came from the narrower set and may have missed eigenvalues that crossed and
+  // moved out of it within the step before. cur is analysed again, and a count it had wrong is
+  // said, loudly: that change is not located.
+  if (cur.analysed && cur.count >= 0 && nxt.analysis_width > cur.analysis_width) {
+    const int reported = cur.count;
+    analyse(cur);
+    if (cur.count >= 0 && cur.count != reported) {
+      observer.on_note(fmt::format(
+          "row {} has {} {}, not {}: the analysis there computed too few eigenvalues to see them (it now computes "
+          "{}); the change before row {} is not located (a smaller continuation.max_step or a larger "
+          "stability.count locates it)",
+          cur.index, cur.count, analysis_->count_name(), reported, nxt.analysis_width, cur.index));
+      spectra_->reported(cur);
+    }
+  }
   const auto change = spectra_->change_at(cur, nxt, [this](BranchPoint& q) { analyse(q); });
   if (!change) return;
   if (!change->bracketed) {
@@ -149,31 +181,55 @@ void Continuation::locate_stability_change(BranchPoint& cur, BranchPoint& nxt, s
                                  change->description, change->from_row, next_index_, spectra_->every()));
     return;
   }
-  const BranchPoint& a = *change->a;
   const BranchPoint& b = *change->b;
-  const bool fold = a.tlambda * b.tlambda < 0;
-  std::string note;
+  BranchPoint a = *change->a;
+  const int direction = b.count > a.count ? 1 : -1;
   const Target target{EventTarget::StabilityChange, -1, 0.0};
-  std::optional<BranchPoint> p = locator_.locate_root(a, b, target, a.locator, b.locator, note);
-  if (!p) {
-    add_located(std::nullopt, PointKind::Event, change->description, std::nullopt, cur, located, observer, note);
-    return;
-  }
-  const double scale = 1.0 + std::abs(p->locator);
-  const bool complex = std::abs(p->critical_imag) > kRealEigenvalue * scale;
-  const PointKind kind = complex ? PointKind::Hopf : (fold ? PointKind::Fold : PointKind::BranchPoint);
-  std::string label = complex ? fmt::format("omega = {:.8g}, {}", std::abs(p->critical_imag), change->description)
-                              : fmt::format("eigenvalue crosses zero, {}", change->description);
-  if (!change->this_step)
-    label +=
-        fmt::format(" (bracketed by bisection between {} = {:.8g} and {:.8g})", options_.parameter, a.lambda, b.lambda);
-  auto same = change->this_step ? std::find_if(located.begin(), located.end(),
-                                               [&](const LocatedPoint& l) { return l.point.kind == kind; })
-                                : located.end();
-  if (same != located.end()) {
-    same->point.label += ", " + label;
-  } else {
-    add_located(std::move(p), kind, std::move(label), std::nullopt, cur, located, observer, note);
+  for (int crossings = 0; a.count != b.count && crossings < std::abs(b.count - change->a->count); ++crossings) {
+    std::string note;
+    std::optional<BranchPoint> p = locator_.locate_root(a, b, target, a.locator, b.locator, note);
+    if (!p) {
+      add_located(std::nullopt, PointKind::Event, fmt::format("{} {} -> {}", analysis_->count_name(), a.count, b.count),
+                  std::nullopt, cur, located, observer, note);
+      return;
+    }
+    const double scale = 1.0 + std::abs(p->locator);
+    const bool complex = std::abs(p->critical_imag) > kRealEigenvalue * scale;
+    const int after =
+        std::clamp(a.count + direction * (complex ? 2 : 1), std::min(a.count, b.count), std::max(a.count, b.count));
+    // the parameter turns on the bracket: the fold where this is its only crossing, else the
+    // crossing where the engine located the fold
+    const auto near_p = [&](const LocatedPoint& l) {
+      return std::abs(l.point.lambda - p->lambda) <=
+             kSameCrossing * options_.events.tolerance * (1.0 + std::abs(p->lambda));
+    };
+    const bool turns = a.tlambda * b.tlambda < 0;
+    const bool fold = turns && (after == b.count && crossings == 0
+                                    ? true
+                                    : std::any_of(located.begin(), located.end(), [&](const LocatedPoint& l) {
+                                        return l.point.kind == PointKind::Fold && near_p(l);
+                                      }));
+    const std::string crossing = fmt::format("{} {} -> {}", analysis_->count_name(), a.count, after);
+    const PointKind kind = complex ? PointKind::Hopf : (fold ? PointKind::Fold : PointKind::BranchPoint);
+    std::string label = complex ? fmt::format("omega = {:.8g}, {}", std::abs(p->critical_imag), crossing)
+                                : fmt::format("eigenvalue crosses zero, {}", crossing);
+    if (!change->this_step)
+      label += fmt::format(" (bracketed by bisection between {} = {:.8g} and {:.8g})", options_.parameter,
+                           change->a->lambda, b.lambda);
+    // the rest of the change lies beyond this crossing: the next bracket starts on its far side
+    // (its locator unknown there, so the search starts by bisection of the count)
+    BranchPoint next = *p;
+    next.count = after;
+    next.locator = NAN;
+    auto same = change->this_step
+                    ? std::find_if(located.begin(), located.end(),
+                                   [&](const LocatedPoint& l) { return l.point.kind == kind && near_p(l); })
+                    : located.end();
+    if (same != located.end())
+      same->point.label += ", " + label;
+    else
+      add_located(std::move(p), kind, std::move(label), std::nullopt, cur, located, observer, note);
+    a = std::move(next);
   }
 }
 
@@ -181,8 +237,8 @@ void Continuation::add_located(std::optional<BranchPoint> p, PointKind kind, std
                                std::optional<StopCode> end, const BranchPoint& after,
                                std::vector<LocatedPoint>& located, BranchObserver& observer, std::string& note) {
   if (!p) {
-    observer.on_note(
-        fmt::format("{} '{}' detected after row {} but not located: {}", to_string(kind), label, after.index, note));
+    unlocated_.emplace_back(kind, fmt::format("{} '{}' detected after row {} but not located: {}", to_string(kind),
+                                              label, after.index, note));
     return;
   }
   // located points get their spectrum with every point analysed (with every N > 1 they cost

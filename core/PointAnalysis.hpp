@@ -21,6 +21,10 @@ struct PointAnalysisResult {
   double locator = 0.0;             // e.g. Re(sigma) of the eigenvalue nearest the imaginary axis
   double critical_imag = 0.0;       // its imaginary part (0: real)
   Vector critical_re, critical_im;  // its eigenvector (empty when not computed)
+  std::string note;                 // what the caller should tell the user of this analysis (empty: nothing)
+  // How much the analysis computed (e.g. eigenvalues over all shifts); where it grew since an
+  // earlier point, that point's count may have missed what the wider analysis sees.
+  int width = 0;
 };
 
 class PointAnalysis {

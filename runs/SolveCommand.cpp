@@ -3,7 +3,9 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <cmath>
 #include <filesystem>
+#include <optional>
 
 #include "continuation/StartSolver.hpp"
 #include "core/Newton.hpp"
@@ -15,8 +17,41 @@
 #include "runs/OutputFile.hpp"
 #include "runs/SceneLoader.hpp"
 #include "runs/TraceCommand.hpp"
+#include "stability/StabilityAnalysis.hpp"
 
 namespace keller {
+
+namespace {
+
+// The count of unstable eigenvalues a StabilityAnalysis reports (its `unstable` column: neutral ones not counted).
+long unstable_count(const PointAnalysisResult& r) { return std::lround(r.columns[r.columns.size() - 2]); }
+
+// The spectrum of a state on the terminal: each eigenvalue, its growth rate -Re sigma, its residual.
+void print_spectrum(const std::vector<EigenPair>& spectrum, const PointAnalysisResult& r) {
+  if (spectrum.empty()) {
+    fmt::print("stability: no finite eigenvalue (no row of the problem has a time derivative: B = 0)\n");
+    return;
+  }
+  const long unstable = unstable_count(r);
+  fmt::print("stability: {} unstable of the {} eigenvalues of J phi = sigma B phi computed nearest the shifts{}\n",
+             unstable, spectrum.size(), unstable > 0 ? " (UNSTABLE)" : " (stable)");
+  fmt::print("  {:>4} {:>17} {:>17} {:>10}\n", "k", "Re sigma", "Im sigma", "residual");
+  for (size_t i = 0; i < spectrum.size(); ++i)
+    fmt::print("  {:>4} {:>17.10e} {:>17.10e} {:>10.2e}\n", i + 1, spectrum[i].value.real(), spectrum[i].value.imag(),
+               spectrum[i].residual);
+  if (!r.note.empty()) fmt::print("note: {}\n", r.note);
+}
+
+// /solution/stability: the eigenvalues by real part (Re, Im, residual) and the count of unstable ones.
+void write_spectrum(H5File& file, const std::string& path, const std::vector<EigenPair>& spectrum, long unstable) {
+  std::vector<double> rows;
+  for (const EigenPair& p : spectrum) rows.insert(rows.end(), {p.value.real(), p.value.imag(), p.residual});
+  file.write_matrix(path, rows.data(), static_cast<long>(spectrum.size()), 3);
+  file.set_attribute(path, "columns", std::string("sigma_re,sigma_im,residual"));
+  file.set_attribute(path, "unstable", unstable);
+}
+
+}  // namespace
 
 std::string solve_run_record(const LoadedScene& loaded) { return loaded.scene.canonical_values() + "start = solve\n"; }
 
@@ -52,9 +87,15 @@ int run_solve(const SolveArguments& args, RunSummary* out_summary) {
   } catch (const std::exception& e) {
     return fail(exit_code::usage, e.what());
   }
+  StabilityOptions stability;
+  try {
+    stability = StabilityOptions::from_scene(loaded.scene);
+  } catch (const SceneError& e) {
+    return fail(exit_code::usage, e.what());
+  }
   std::vector<std::string> ignored;
   for (const auto& [section, doc] : loaded.scene.schema().sections())
-    if (section == "continuation" || section == "stability")
+    if (section == "continuation" || (section == "stability" && !stability.enabled))
       for (const std::string& key : loaded.scene.schema().keys_in(section))
         if (loaded.scene.given(section + "." + key)) {
           ignored.push_back("[" + section + "]");
@@ -66,6 +107,7 @@ int run_solve(const SolveArguments& args, RunSummary* out_summary) {
                fmt::join(ignored, " and "), ignored.size() > 1 ? "are" : "is");
   try {
     problem = loaded.type->build(loaded.scene);
+    if (stability.enabled) stability.check_size(loaded.scene, problem->size());
   } catch (const SceneError& e) {
     return fail(exit_code::usage, e.what());
   } catch (const std::exception& e) {
@@ -119,6 +161,23 @@ int run_solve(const SolveArguments& args, RunSummary* out_summary) {
     for (size_t i = 0; i < names.size(); ++i) fmt::print("  {} = {:.10g}\n", names[i], obs[i]);
   }
 
+  // the spectrum of the state, where the scene asks for it
+  std::optional<StabilityAnalysis> analysis;
+  long unstable = 0;
+  if (stability.enabled) {
+    analysis.emplace(stability, sparse_lu_options_from(scene));
+    PointAnalysisResult r;
+    const Status st = analysis->analyse(*problem, u, r);
+    if (!st.is_ok()) {
+      fmt::print(stderr, "keller: the stability analysis failed: {}; no output written\n", st.describe());
+      summary.exit_code = exit_code::numerical_failure;
+      summary.reason = "stability analysis failed: " + st.describe();
+      return summary.exit_code;
+    }
+    print_spectrum(analysis->spectrum(), r);
+    unstable = unstable_count(r);
+  }
+
   try {
     PendingFile pending(out);
     SolutionFields f;
@@ -136,6 +195,7 @@ int run_solve(const SolveArguments& args, RunSummary* out_summary) {
                          std::string("iteration,residual_norm,update_norm,step_length,seconds,assembly_seconds,"
                                      "factor_seconds,solve_seconds"));
       file.set_attribute("/solution/newton", "final_residual_norm", res.residual_norm);
+      if (analysis) write_spectrum(file, "/solution/stability", analysis->spectrum(), unstable);
       f = problem->fields(u);
       if (f.mesh) write_mesh(file, "/mesh", *f.mesh);
       file.close();

@@ -187,6 +187,7 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
     if (!problem->parameters().has(copt.parameter))
       throw loaded.scene.error("continuation.parameter", "unknown parameter '" + copt.parameter +
                                                              "'; this problem has: " + problem->parameters().names());
+    if (sopt.enabled) sopt.check_size(loaded.scene, problem->size());
   } catch (const SceneError& e) {
     return fail(exit_code::usage, e.what());
   } catch (const std::exception& e) {

@@ -1,5 +1,7 @@
 #include "stability/StabilityAnalysis.hpp"
 
+#include "stability/SpectrumEdge.hpp"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -53,6 +55,13 @@ StabilityOptions StabilityOptions::from_scene(const Scene& sc) {
   return o;
 }
 
+void StabilityOptions::check_size(const Scene& sc, long n) const {
+  if (count > n - 2)
+    throw sc.error("stability.count",
+                   fmt::format("{} eigenvalues asked for, but a problem of {} unknowns has at most {} to give", count,
+                               n, std::max(n - 2, 0L)));
+}
+
 StabilityAnalysis::StabilityAnalysis(StabilityOptions options, SparseLUOptions lu)
     : options_(std::move(options)), solver_(lu) {}
 
@@ -86,6 +95,8 @@ Status StabilityAnalysis::analyse(Problem& problem, const Vector& u, PointAnalys
   out.critical_imag = 0.0;
   out.critical_re.resize(0);
   out.critical_im.resize(0);
+  out.note.clear();
+  out.width = 0;
   spectrum_.clear();
   if (J_.size() == 0) J_ = problem.jacobian_pattern();
   Status st = problem.jacobian(u, F_, J_);
@@ -101,20 +112,44 @@ Status StabilityAnalysis::analyse(Problem& problem, const Vector& u, PointAnalys
   std::vector<EigenPair> all;
   Status worst;
   previous_.resize(options_.shifts.size());
+  const int n = static_cast<int>(u.size());
+  counts_.resize(options_.shifts.size(), std::min(k, n - 2));
+  const int cap = std::min(n - 2, std::max(kGrowthCap * k, kGrowthFloor));
   for (size_t shift = 0; shift < options_.shifts.size(); ++shift) {
     const auto& s = options_.shifts[shift];
     EigenOptions eo;
     if (options_.warm_start) eo.start = previous_[shift];
-    eo.count = std::min(k, static_cast<int>(u.size()) - 2);
     eo.shift = s;
     eo.vectors = true;
     eo.residual_tolerance = options_.residual_tolerance;
     eo.tolerance = options_.arpack_tolerance;
-    if (options_.ncv > 0) eo.ncv = std::min(options_.ncv, static_cast<int>(u.size()));
     EigenResult r;
-    st = solver_.solve(J_, B_, eo, r, factorised_j);  // used at s = 0 only
-    factorisations_ += r.factorisations;
-    solves_ += r.solves;
+    // the set grows (and stays grown along the branch) until its unstable eigenvalues lie inside it
+    for (int& count = counts_[shift];;) {
+      eo.count = count;
+      // (a basis the scene sets is kept for the count it asked for, widened for a grown one)
+      if (options_.ncv > 0)
+        eo.ncv = std::min(count > std::min(k, n - 2) ? std::max(options_.ncv, 2 * count + 1) : options_.ncv, n);
+      r = EigenResult{};
+      st = solver_.solve(J_, B_, eo, r, factorised_j);  // used at s = 0 only
+      factorisations_ += r.factorisations;
+      solves_ += r.solves;
+      std::vector<std::complex<double>> values;
+      for (const EigenPair& p : r.pairs) values.push_back(p.value);
+      const int next = st.is_ok() ? count_to_separate(values, s, count, cap) : count;
+      if (next == count) {
+        if (st.is_ok() && !spectrum_edge_separated(values, s, count))
+          out.note = fmt::format(
+              "all {} eigenvalues computed nearest the shift {} that are farthest from it are unstable: the "
+              "count of unstable eigenvalues may miss some beyond them",
+              count, fmt::format("{}{:+}i", s.real(), s.imag()));
+        break;
+      }
+      count = next;
+      if (options_.warm_start)
+        for (const EigenPair& p : r.pairs)
+          if (p.accurate && p.vector.size()) eo.start.push_back(p.vector);
+    }
     // A shift almost at an eigenvalue (at a located fold or branch point, s = 0 is one) makes OP's
     // spectrum span many orders of magnitude and the other pairs inaccurate: once more from a
     // shift moved left by a quarter of the spread of those found.
@@ -133,6 +168,7 @@ Status StabilityAnalysis::analyse(Problem& problem, const Vector& u, PointAnalys
         r = std::move(r2);
       }
     }
+    out.width += counts_[shift];
     if (!st.is_ok() && r.pairs.empty()) return st;
     if (!st.is_ok()) worst = st;
     previous_[shift].clear();

@@ -5,7 +5,9 @@
 // among those computed, and the critical eigenvalue (nearest the imaginary axis) with its
 // eigenvector, so that the continuation engine detects and locates where the count changes.
 // Eigenvalues far from every shift are not computed: a count is "among the eigenvalues nearest
-// the shifts", as in every shift-invert monitor.
+// the shifts", as in every shift-invert monitor; where the farthest of those computed are
+// unstable, more are computed (SpectrumEdge), so that an unstable eigenvalue moving away from the
+// shift stays counted.
 // A problem without dynamics (B = 0: no row carries a time derivative) has no finite
 // eigenvalue: count 0, columns NaN.
 #pragma once
@@ -32,6 +34,9 @@ struct StabilityOptions {
   bool warm_start = true;                            // Arnoldi starts from the eigenvectors of the last analysed point
   static void declare(SceneSchema& schema);
   static StabilityOptions from_scene(const Scene& scene);
+  // Throws SceneError (naming stability.count) where count does not fit a problem of n unknowns
+  // (ARPACK finds at most n - 2 eigenvalues).
+  void check_size(const Scene& scene, long n) const;
 };
 
 class StabilityAnalysis final : public PointAnalysis {
@@ -59,6 +64,9 @@ class StabilityAnalysis final : public PointAnalysis {
   Vector F_;
   std::vector<EigenPair> spectrum_;
   std::vector<std::vector<Eigen::VectorXcd>> previous_;  // per shift: the last point's eigenvectors
+  std::vector<int> counts_;  // per shift: eigenvalues computed (count, grown where the set's edge was unstable)
+  // the grown set's cap: kGrowthCap times count, at least kGrowthFloor (and at most n - 2)
+  static constexpr int kGrowthCap = 8, kGrowthFloor = 32;
   double seconds_ = 0;
   long factorisations_ = 0, solves_ = 0;
 };

@@ -2,8 +2,10 @@
 // engine): eigenvalues crossing zero at a fold and at pitchforks with known locations, a Hopf
 // point with a known location and frequency, branch switching onto the bifurcated branch, and
 // the spectrum of the collapsible channel on a coarse mesh.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <iomanip>
@@ -196,21 +198,28 @@ TEST(Stability, BrusselatorHopfLocatedWithItsFrequency) {
   }
 }
 
-// The collapsible channel on a coarse mesh at the reference parameters. Newtonian Stokes flow
-// has no dynamics (B = 0): no finite eigenvalue, never an infinite one passed off as finite.
-// With inertia (Re = 1) and for Oldroyd-B (Wi = 0.1) the eigenvalues nearest zero come with
-// residuals below the tolerance and the states are stable.
+// The collapsible channel on a coarse mesh at the reference parameters. In its physical form (the
+// default) even Newtonian Stokes flow has finite eigenvalues: the wall relaxing through the
+// viscous fluid. In the fixed-wall form Newtonian Stokes flow has no dynamics (B = 0): no finite
+// eigenvalue, never an infinite one passed off as finite. With inertia (Re = 1) and for Oldroyd-B
+// (Wi = 0.1) the eigenvalues nearest zero come with residuals below the tolerance and the states
+// are stable.
 TEST(Stability, CollapsibleChannelSpectraOnACoarseMesh) {
   struct Case {
     const char* name;
     FluidModel model;
     double Re;
+    bool moving_wall;
   };
-  for (const Case c :
-       {Case{"newtonian Re = 0", FluidModel::Newtonian, 0.0}, Case{"newtonian Re = 1", FluidModel::Newtonian, 1.0},
-        Case{"oldroyd-b", FluidModel::OldroydB, 0.0}}) {
+  for (const Case c : {Case{"newtonian Re = 0", FluidModel::Newtonian, 0.0, true},
+                       Case{"newtonian Re = 0, fixed wall", FluidModel::Newtonian, 0.0, false},
+                       Case{"newtonian Re = 1", FluidModel::Newtonian, 1.0, true},
+                       Case{"newtonian Re = 1, fixed wall", FluidModel::Newtonian, 1.0, false},
+                       Case{"oldroyd-b", FluidModel::OldroydB, 0.0, true},
+                       Case{"oldroyd-b, fixed wall", FluidModel::OldroydB, 0.0, false}}) {
     SCOPED_TRACE(c.name);
     CollapsibleOptions o;
+    o.moving_wall_dynamics = c.moving_wall;
     o.mesh.name = "custom";
     o.mesh.nx_upstream = 3;
     o.mesh.nx_deformable = 6;
@@ -234,7 +243,7 @@ TEST(Stability, CollapsibleChannelSpectraOnACoarseMesh) {
     PointAnalysisResult res;
     const Status st = analysis.analyse(problem, u, res);
     ASSERT_TRUE(st.is_ok()) << st.describe();
-    if (c.Re == 0 && c.model == FluidModel::Newtonian) {
+    if (c.Re == 0 && c.model == FluidModel::Newtonian && !c.moving_wall) {
       EXPECT_EQ(res.count, 0);
       EXPECT_TRUE(analysis.spectrum().empty());
       EXPECT_TRUE(std::isnan(res.columns[0]));
@@ -335,4 +344,100 @@ TEST(Stability, SpectrumReusesTheContinuationsFactorisation) {
   std::cout << "eigen-solver factorisations: full " << runs[0].eigen_factorisations << ", block "
             << runs[1].eigen_factorisations << " (" << accepted << " accepted points analysed)\n";
   EXPECT_LE(runs[1].eigen_factorisations, runs[0].eigen_factorisations - accepted);
+}
+
+// Turing modes of the Brusselator (D_v = 10 D_u): on every grid the uniform state's mode k (cosine,
+// mu_k = (4/h^2) sin^2(k pi h / 2L) of the discrete -d^2/dx^2) has a real eigenvalue through zero
+// where det of its 2 x 2 linearisation vanishes, b_k = (1 + D_u mu_k)(a^2 + D_v mu_k) / (D_v mu_k).
+// On (0, 20) with 40 intervals seven modes cross between b = 2.5 and 3.6, 0.065 apart at the
+// closest.
+namespace {
+
+Brusselator1DOptions turing_brusselator() {
+  Brusselator1DOptions bo;
+  bo.intervals = 40;
+  bo.length = 20.0;
+  bo.a = 2.0;
+  bo.b = 2.5;
+  bo.D_u = 1.0;
+  bo.D_v = 10.0;
+  return bo;
+}
+
+std::vector<double> turing_crossings(const Brusselator1DOptions& bo, double below) {
+  std::vector<double> b;
+  const double h = bo.length / bo.intervals;
+  for (int k = 1; k <= bo.intervals; ++k) {
+    const double mu = 4.0 / (h * h) * std::pow(std::sin(k * M_PI * h / (2.0 * bo.length)), 2);
+    const double bk = (1.0 + bo.D_u * mu) * (bo.a * bo.a + bo.D_v * mu) / (bo.D_v * mu);
+    if (bk > bo.b && bk < below) b.push_back(bk);
+  }
+  std::sort(b.begin(), b.end());
+  return b;
+}
+
+Traced trace_turing(double max_step) {
+  Brusselator1DProblem p(turing_brusselator());
+  ContinuationOptions o;
+  o.parameter = "b";
+  o.stop.upper = 3.6;
+  o.step.initial = 0.1;
+  o.step.max = max_step;
+  o.events.tolerance = 1e-10;
+  return trace_with_stability(p, o, 2);
+}
+
+std::vector<const BranchPoint*> branch_points(const Traced& t) {
+  std::vector<const BranchPoint*> b;
+  for (const auto& q : t.rec.points)
+    if (q.kind == PointKind::BranchPoint) b.push_back(&q);
+  return b;
+}
+
+}  // namespace
+
+// Steps of up to 0.1: two crossings within one step (2.666 and 2.731), where the determinant's sign
+// sees none. Each crossing is its own branch point, at its b_k to 1e-8, the count rising by one at
+// each; with 2 eigenvalues asked for, the set grows so that the modes that crossed stay counted as
+// they move away from the shift (without it the count falls back, 2 -> 1 -> 0).
+TEST(Stability, TuringModesCrossingWithinOneStepAreEachLocated) {
+  const std::vector<double> expected = turing_crossings(turing_brusselator(), 3.6);
+  ASSERT_EQ(expected.size(), 7u);
+  const Traced t = trace_turing(0.1);
+  ASSERT_EQ(t.result.code, StopCode::UpperBound) << t.result.reason;
+  const auto crossings = branch_points(t);
+  ASSERT_EQ(crossings.size(), expected.size());
+  for (size_t i = 0; i < expected.size(); ++i) {
+    EXPECT_NEAR(crossings[i]->lambda, expected[i], 1e-8) << i;
+    EXPECT_NE(crossings[i]->label.find(fmt::format("{} -> {}", i, i + 1)), std::string::npos) << crossings[i]->label;
+  }
+  // every ordinary point counts the modes that crossed before it
+  for (const auto& q : t.rec.points) {
+    if (q.kind != PointKind::Regular || q.count < 0) continue;
+    const auto before = std::count_if(expected.begin(), expected.end(), [&](double bk) { return bk < q.lambda; });
+    EXPECT_EQ(q.count, before) << "b = " << q.lambda;
+  }
+}
+
+// Steps of up to 0.5 with 2 eigenvalues: within one step two modes cross and move farther from the
+// shift than stable ones that have not crossed yet, out of the set before anything shows them.
+// Where the set grows, the point before is analysed again, and the crossings it missed are said
+// (not located, and not located wrongly): every located crossing is at some b_k to 1e-8, and
+// together with those said they account for all seven.
+TEST(Stability, CrossingsASetTooSmallMissedAreSaidNotMislocated) {
+  const std::vector<double> expected = turing_crossings(turing_brusselator(), 3.6);
+  const Traced t = trace_turing(0.5);
+  ASSERT_EQ(t.result.code, StopCode::UpperBound) << t.result.reason;
+  const auto crossings = branch_points(t);
+  for (const BranchPoint* c : crossings)
+    EXPECT_TRUE(
+        std::any_of(expected.begin(), expected.end(), [&](double bk) { return std::abs(bk - c->lambda) < 1e-8; }))
+        << "a crossing located at b = " << c->lambda << ": " << c->label;
+  int missed = 0;
+  for (const std::string& n : t.rec.notes) {
+    int has = 0, had = 0;
+    if (std::sscanf(n.c_str(), "row %*d has %d unstable eigenvalues, not %d", &has, &had) == 2) missed += has - had;
+  }
+  EXPECT_GT(missed, 0);
+  EXPECT_EQ(static_cast<int>(crossings.size()) + missed, static_cast<int>(expected.size()));
 }

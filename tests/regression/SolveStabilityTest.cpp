@@ -1,0 +1,73 @@
+// The spectrum of one steady state (keller solve with [stability] enabled), the physical
+// time-dependent form of the collapsible channel as what a scene gets by default, and counts of
+// eigenvalues that a problem cannot give refused before any work.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "core/H5File.hpp"
+#include "support/TestSupport.hpp"
+
+using namespace keller;
+namespace fs = std::filesystem;
+
+namespace {
+
+// The collapsible channel on a coarse mesh, Newtonian Stokes flow, with its spectrum.
+std::string coarse_stokes_channel() {
+  return test::source_path("runs/scenes/collapsible_oldroyd_b.toml") +
+         " --set fluid.model='\"newtonian\"' --set mesh.name='\"custom\"' --set mesh.nx_upstream=3 --set "
+         "mesh.nx_deformable=6 --set mesh.nx_downstream=3 --set mesh.ny_fluid=3 --set mesh.ny_solid=1 --set "
+         "stability.enabled=true";
+}
+
+}  // namespace
+
+// A scene that asks for stability gets the physical form: Newtonian Stokes flow in the collapsible
+// channel has finite eigenvalues there (the wall relaxing through the viscous fluid: real, stable,
+// slow), stored in /solution/stability with residuals below the tolerance. The fixed-wall form,
+// asked for, has none (B = 0 without inertia or polymer).
+TEST(SolveStability, TheSpectrumOfTheStateIsComputedPrintedAndStored) {
+  const std::string dir = test::scratch_dir("solve_stability");
+  const auto r = test::run_keller("solve " + coarse_stokes_channel() + " -o " + dir + "/s.h5");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("stability: 0 unstable of the 6 eigenvalues"), std::string::npos) << r.out;
+  H5File f(dir + "/s.h5", H5File::Mode::Read);
+  long rows = 0, cols = 0;
+  const std::vector<double> sigma = f.read_matrix("/solution/stability", &rows, &cols);
+  ASSERT_EQ(rows, 6);
+  ASSERT_EQ(cols, 3);
+  EXPECT_EQ(f.read_double_attribute("/solution/stability", "unstable"), 0.0);
+  for (long i = 0; i < rows; ++i) {
+    EXPECT_GT(sigma[static_cast<size_t>(3 * i)], 0.0);            // stable
+    EXPECT_LT(sigma[static_cast<size_t>(3 * i + 2)], 1e-8) << i;  // residual below the default tolerance
+  }
+  // the least stable mode is the wall's, real and slow (units G / eta0: the flow's own are > 1e-3)
+  EXPECT_EQ(sigma[1], 0.0);
+  EXPECT_LT(sigma[0], 1e-3);
+
+  const auto fixed = test::run_keller("solve " + coarse_stokes_channel() +
+                                      " --set dynamics.mass_matrix='\"fixed-wall\"' -o " + dir + "/fixed.h5");
+  ASSERT_EQ(fixed.exit_code, 0) << fixed.err;
+  EXPECT_NE(fixed.out.find("stability: no finite eigenvalue"), std::string::npos) << fixed.out;
+  H5File g(dir + "/fixed.h5", H5File::Mode::Read);
+  g.read_matrix("/solution/stability", &rows, &cols);
+  EXPECT_EQ(rows, 0);
+}
+
+// More eigenvalues than the problem has unknowns (less two, ARPACK's bound) are refused naming the
+// key, before any work and without an output, by solve and trace alike.
+TEST(SolveStability, ACountBeyondTheProblemSizeIsRefusedNamingTheKey) {
+  const std::string dir = test::scratch_dir("solve_stability_count");
+  for (const std::string command : {"solve", "trace"}) {
+    SCOPED_TRACE(command);
+    const auto r =
+        test::run_keller(command + " " + test::source_path("runs/scenes/brusselator1d_hopf.toml") +
+                         " --set brusselator.intervals=8 --set stability.count=2147483647 -o " + dir + "/c.h5");
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("'stability.count'"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("18 unknowns has at most 16"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir + "/c.h5"));
+    EXPECT_FALSE(fs::exists(dir + "/c.h5.part"));
+  }
+}
