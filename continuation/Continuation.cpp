@@ -11,6 +11,12 @@
 namespace keller {
 
 namespace {
+// A step at the floor that turns by more than the angle limit is passed where its point lies
+// within this many steps of the last (a turn of up to 60 degrees puts it within 2).
+constexpr double kFloorReach = 2.0;
+}  // namespace
+
+namespace {
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -237,7 +243,9 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
       ++result_.rejected;
       observer.on_rejected(step.point.lambda, ds, step.status);
       if (step.zero_at_start) continue;  // (the same step again, without landing)
-      ds = steps_.after_failure(ds);
+      // a turn sharper than the angle limit even at short steps (a fold sharper than the
+      // branch's scale) is passed at the step floor, not taken for the branch's end
+      ds = step.turned ? steps_.after_turn(ds) : steps_.after_failure(ds);
       if (steps_.below_floor(ds))
         return finish(StopCode::StepFloor,
                       fmt::format("step size fell below min_step = {} at {} = {:.10g}: {}", steps_.min(),
@@ -340,9 +348,18 @@ Continuation::Step Continuation::attempt(const BranchPoint& cur, const BranchPoi
   // a sharp turn of the tangent means the step skipped a feature of the branch or, in natural
   // continuation, jumped to another branch past a fold
   if (st.is_ok()) {
+    const double limit = options_.step.max_angle_degrees * M_PI / 180.0;
     const double angle = std::acos(std::clamp(norm_.dot(nxt.tu, nxt.tlambda, cur.tu, cur.tlambda), -1.0, 1.0));
-    if (angle > options_.step.max_angle_degrees * M_PI / 180.0 && ds > options_.step.min)
+    if (angle > limit && ds > options_.step.min) {
       st = {StatusCode::NotConverged, fmt::format("tangent turned by {:.1f} degrees", angle * 180.0 / M_PI)};
+      // (a natural step that turned jumped to another branch past a fold: never passed)
+      s.turned = arclength;
+    } else if (st.is_ok() && angle > limit && arclength && norm_.distance(cur, nxt) > kFloorReach * ds) {
+      // at the floor a turn is passed where the point is the step's own, not one far away
+      st = {StatusCode::NotConverged,
+            fmt::format("tangent turned by {:.1f} degrees at the step floor, to a point {:.3g} away",
+                        angle * 180.0 / M_PI, norm_.distance(cur, nxt))};
+    }
   }
   if (st.is_ok()) st = evaluate(nxt, analyse_now);
   s.status = st;
@@ -428,6 +445,7 @@ ContinuationResult Continuation::finish(StopCode code, std::string reason, const
   t.total = seconds_since(t_start_);
   result_.timings = t;
   result_.last = last;
+  for (const std::string& n : unlocated_notes_.finish()) observer.on_note(n);
   observer.on_finish(result_.reason, last);
   return result_;
 }

@@ -28,6 +28,7 @@
 #include "continuation/EventLocator.hpp"
 #include "continuation/KeptFactorisation.hpp"
 #include "continuation/Predictor.hpp"
+#include "continuation/RepeatedNotes.hpp"
 #include "continuation/SpectrumScheduler.hpp"
 #include "continuation/StepController.hpp"
 #include "continuation/StopCode.hpp"
@@ -121,6 +122,7 @@ class Continuation {
     StepOutcome outcome;
     bool sampled = false;        // J was factorised during the step (its determinant sign is known)
     bool zero_at_start = false;  // it landed on the zero it starts on (tried again without landing)
+    bool turned = false;         // arclength step rejected only because the tangent turned by more than the angle limit
   };
   struct Finish {
     StopCode code;
@@ -186,10 +188,13 @@ class Continuation {
   PointAnalysis* analysis_ = nullptr;
   std::unique_ptr<SpectrumScheduler> spectra_;
   std::string analysis_note_;
-  std::string last_analysis_note_;
-  std::vector<std::pair<PointKind, std::string>>
-      unlocated_;  // this step's points detected but not located  // the note said after the last analysed point (not
-                   // said again while it lasts)
+  std::string last_analysis_note_;  // the note said after the last analysed point (not said again while it lasts)
+  struct Unlocated {
+    PointKind kind;
+    std::string label, note;
+  };
+  std::vector<Unlocated> unlocated_;  // this step's points detected but not located
+  RepeatedNotes unlocated_notes_;     // what is said of them, a run of the same at successive steps once
   // a resumed branch starts on a point located as this kind (its first step does not locate it again)
   std::optional<PointKind> start_on_;
   bool adopted_ = false;               // the start's factorisation came from the solve of the start

@@ -34,10 +34,14 @@ std::vector<LocatedPoint> Continuation::locate_on(BranchPoint& cur, BranchPoint&
   if (analysis_ && !nxt.analysed && ends) analyse(nxt);
   if (analysis_ && nxt.analysed) locate_stability_change(cur, nxt, located, observer);
   // what was detected but not located, unless the step located a point of its kind after all (a
-  // branch point the determinant's sign could not narrow down, located by the spectrum)
-  for (const auto& [kind, note] : unlocated_)
+  // branch point the determinant's sign could not narrow down, located by the spectrum); the same
+  // at successive steps (a determinant whose sign is rounding near a hard point) said once, then
+  // counted
+  std::vector<RepeatedNotes::Note> notes;
+  for (const auto& [kind, label, note] : unlocated_)
     if (std::none_of(located.begin(), located.end(), [&](const LocatedPoint& l) { return l.point.kind == kind; }))
-      observer.on_note(note);
+      notes.push_back({std::string(to_string(kind)) + " '" + label + "'", note});
+  for (const std::string& n : unlocated_notes_.step(notes, cur.index)) observer.on_note(n);
   unlocated_.clear();
   if (analysis_ && !analysis_note_.empty()) {
     // (the same note at successive points is said once)
@@ -237,8 +241,9 @@ void Continuation::add_located(std::optional<BranchPoint> p, PointKind kind, std
                                std::optional<StopCode> end, const BranchPoint& after,
                                std::vector<LocatedPoint>& located, BranchObserver& observer, std::string& note) {
   if (!p) {
-    unlocated_.emplace_back(kind, fmt::format("{} '{}' detected after row {} but not located: {}", to_string(kind),
-                                              label, after.index, note));
+    unlocated_.push_back(
+        {kind, label,
+         fmt::format("{} '{}' detected after row {} but not located: {}", to_string(kind), label, after.index, note)});
     return;
   }
   // located points get their spectrum with every point analysed (with every N > 1 they cost

@@ -1,8 +1,11 @@
 // Step-size control of the continuation, a pure function of what the last step did: grow by
 // `growth` after a corrector that needed fewer than the target iterations, shrink by `slow_shrink`
 // after one that needed more, shrink by `shrink` after a failure, within [min, max]; the branch ends
-// where a failed step would fall below the floor.
+// where a failed step would fall below the floor (a step rejected only for its turn stops at the
+// floor instead: the turn is passed there).
 #pragma once
+
+#include <algorithm>
 
 #include "continuation/ContinuationOptions.hpp"
 
@@ -26,6 +29,9 @@ class StepController {
   double after_accepted(double ds, const StepOutcome& outcome) const;
   // The step after a failed one of size ds (below min(): the branch ends).
   double after_failure(double ds) const { return ds * options_.shrink; }
+  // The step after one rejected only for turning by more than the angle limit: shrunk, but not
+  // below the floor, where the angle is not judged (a sharp fold is passed there).
+  double after_turn(double ds) const { return std::max(ds * options_.shrink, options_.min); }
   double min() const { return options_.min; }
   bool below_floor(double ds) const { return ds < options_.min; }
   int target_iterations() const { return target_; }

@@ -13,6 +13,7 @@
 #include "continuation/BranchPointMonitor.hpp"
 #include "continuation/EventDetector.hpp"
 #include "continuation/Predictor.hpp"
+#include "continuation/RepeatedNotes.hpp"
 #include "continuation/SpectrumScheduler.hpp"
 #include "continuation/StepController.hpp"
 #include "continuation/TangentSolver.hpp"
@@ -208,6 +209,11 @@ TEST(StepController, FromASequenceOfOutcomes) {
   }
   EXPECT_DOUBLE_EQ(c.after_accepted(0.45, {1, false, false}), 0.5);      // capped at max
   EXPECT_DOUBLE_EQ(c.after_accepted(1.2e-3, {30, false, false}), 1e-3);  // floored at min
+  // a step rejected for its turn alone shrinks to the floor, never below it
+  EXPECT_DOUBLE_EQ(c.after_turn(0.1), 0.05);
+  EXPECT_DOUBLE_EQ(c.after_turn(1.5e-3), 1e-3);
+  EXPECT_DOUBLE_EQ(c.after_turn(1e-3), 1e-3);
+  EXPECT_FALSE(c.below_floor(c.after_turn(1e-3)));
   double failed = 0.1;
   int failures = 0;
   while (!c.below_floor(failed)) {
@@ -566,4 +572,29 @@ TEST(ArclengthNorm, WeightsAndConstraints) {
   EXPECT_NEAR(c.value(from.u + 0.1 * tu, from.lambda + 0.2), norm.dot(0.1 * tu, 0.2, tu, 2.0) - 0.3, 1e-15);
   EXPECT_DOUBLE_EQ(Constraint::parameter(0.7).value(from.u, 0.9), 0.9 - 0.7);
   EXPECT_THROW(ArclengthNorm(4, 0.0, 0.5), std::invalid_argument);
+}
+
+// Notes of points detected but not located: the first of a run of the same at successive steps is
+// said, the rest summed up in one line where the run ends (a step without it, another note, the
+// end of the branch).
+TEST(RepeatedNotes, ARunOfTheSameNoteIsSaidOnceThenCounted) {
+  RepeatedNotes r;
+  const RepeatedNotes::Note bp{"branch-point 'det sign change'", "branch-point 'det sign change' ... after row 3"};
+  const RepeatedNotes::Note fold{"fold 'min'", "fold 'min' ... after row 9"};
+  EXPECT_EQ(r.step({bp}, 3), std::vector<std::string>{bp.text});
+  EXPECT_TRUE(r.step({bp}, 4).empty());
+  EXPECT_TRUE(r.step({bp}, 6).empty());
+  const auto after_gap = r.step({}, 7);
+  ASSERT_EQ(after_gap.size(), 1u);
+  EXPECT_EQ(after_gap[0],
+            "branch-point 'det sign change' detected but not located again at 2 successive steps, the "
+            "last after row 6");
+  EXPECT_EQ(r.step({bp}, 8), std::vector<std::string>{bp.text});  // a new run
+  const auto other = r.step({fold}, 9);
+  EXPECT_EQ(other, std::vector<std::string>{fold.text});  // nothing repeated before it: no summary
+  EXPECT_TRUE(r.step({fold}, 10).empty());
+  const auto end = r.finish();
+  ASSERT_EQ(end.size(), 1u);
+  EXPECT_NE(end[0].find("again at 1 successive step, the last after row 10"), std::string::npos) << end[0];
+  EXPECT_TRUE(r.finish().empty());
 }
