@@ -77,8 +77,8 @@ void print_branch(const H5File& f, const std::string& path) {
     if (h.parameters.count(o) && o != t.parameter) other = o;
   const std::string curve = attribute_or(f, "/problem", "curve");
   if (!curve.empty())
-    fmt::print("{}: a {} curve in ({}, {}) (keller trace --curve), from {}\n", path, curve, t.parameter, other,
-               attribute_or(f, "/problem", "curve_from"));
+    fmt::print("{}: {} {} curve in ({}, {}) (keller trace --curve), from {}\n", path, curve == "event" ? "an" : "a",
+               curve, t.parameter, other, attribute_or(f, "/problem", "curve_from"));
   else
     fmt::print("{}: a branch in {} (keller trace)\n", path, t.parameter);
   for (const char* from : {"restarted_from", "switched_at"}) {

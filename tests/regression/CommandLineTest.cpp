@@ -17,9 +17,10 @@ TEST(CommandLine, SolvesTheDefaultScene) {
   const auto r =
       test::run_keller("solve " + test::source_path("runs/scenes/channel_stokes.toml") + " -o " + dir + "/out.h5");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  // the scene's keys that differ from their defaults printed (mesh M2 is the default: not among them)
-  EXPECT_NE(r.out.find("[problem]\ntype = \"channel\""), std::string::npos) << r.out;
-  EXPECT_EQ(r.out.find("[mesh]"), std::string::npos) << r.out;
+  // the scene's keys that differ from their defaults printed: the mesh, not the Newtonian fluid (the default)
+  EXPECT_NE(r.out.find("[mesh]\nname = \"M2\"\n"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("[fluid]"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("# default"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("iter"), std::string::npos);  // Newton table printed
   ASSERT_TRUE(fs::exists(dir + "/out.h5"));
   ASSERT_TRUE(fs::exists(dir + "/out.xdmf"));

@@ -238,3 +238,23 @@ TEST(Info, SummariesPrintDurationsToTheHundredth) {
   EXPECT_TRUE(std::regex_search(r.out, std::regex("\\ntime [0-9]+\\.[0-9]{2} s: "))) << r.out;
   EXPECT_FALSE(std::regex_search(r.out, std::regex("[0-9]\\.[0-9]{12,} s\\b"))) << r.out;
 }
+
+// A curve starts from a located point by its label too (--from FILE:fold1), and info names the
+// curve with both its parameters and lists its rows with both.
+TEST(Info, ACurveFromALabelledFoldNamesBothParameters) {
+  const std::string dir = test::scratch_dir("info_curve");
+  const std::string scene = test::source_path("runs/scenes/bratu1d_shifted_fold_curve.toml") + kBratu;
+  auto r = test::run_keller("trace " + scene + " -o " + dir + "/b.h5");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = test::run_keller("trace " + scene + " --from " + dir + "/b.h5:fold1 --curve fold --free mu -o " + dir + "/c.h5");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const BranchTable b = read_branch_table(dir + "/b.h5");
+  EXPECT_NE(r.out.find(fmt::format("from the fold at row {} of", row_of_kind(b, PointKind::Fold))), std::string::npos)
+      << r.out;
+  r = test::run_keller("info " + dir + "/c.h5");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find(dir + "/c.h5: a fold curve in (mu, lambda) (keller trace --curve), from " + dir + "/b.h5:fold1"),
+            std::string::npos)
+      << r.out;
+  EXPECT_TRUE(std::regex_search(r.out, std::regex("\\n +row +label +kind +mu +lambda +u_mid"))) << r.out;
+}
