@@ -17,7 +17,7 @@ namespace keller {
 
 namespace {
 
-constexpr const char* kKinds = "0 point, 1 start, 2 requested, 3 event, 4 fold, 5 branch-point, 6 end, 7 hopf";
+constexpr const char* kKinds = "0 point, 1 start, 2 stop, 3 event, 4 fold, 5 bp, 6 end, 7 hopf";
 
 }  // namespace
 

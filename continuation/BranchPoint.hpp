@@ -20,6 +20,7 @@ enum class PointKind {
   End = 6,          // located end of the branch (parameter bound or stop observable)
   Hopf = 7,         // located crossing of a complex pair of eigenvalues (PointAnalysis)
 };
+// point, start, stop, event, fold, bp, end, hopf: the terminal's, the CSV's and the labels' names
 const char* to_string(PointKind k);
 
 struct BranchPoint {

@@ -11,8 +11,9 @@ namespace keller {
 
 class ProgressPrinter final : public BranchObserver {
  public:
-  // Shows the first `observables` observables (all if fewer).
-  ProgressPrinter(std::string parameter, int observables = 3);
+  // Shows the observables named in `first` (a curve's other parameter), then the first
+  // `observables` others (all if fewer).
+  ProgressPrinter(std::string parameter, int observables = 3, std::vector<std::string> first = {});
   void on_start(const std::vector<std::string>& observable_names,
                 const std::vector<std::string>& monitor_names) override;
   void on_point(const BranchPoint& p) override;
@@ -23,7 +24,8 @@ class ProgressPrinter final : public BranchObserver {
  private:
   std::string parameter_;
   int shown_;
-  std::vector<std::string> names_;
+  std::vector<std::string> first_;
+  std::vector<size_t> columns_;  // the observables shown, by index
 };
 
 // Forwards every call to several observers (file, printer, ...).

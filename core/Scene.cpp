@@ -472,4 +472,16 @@ std::string Scene::resolved_toml() const {
   return out;
 }
 
+std::string Scene::non_default_toml() const {
+  std::string out = fmt::format("# scene {}: the keys that differ from their defaults\n", source_);
+  for (const auto& [name, doc] : schema_.sections()) {
+    std::string body;
+    for (const auto& k : schema_.keys())
+      if (k.section() == name && differs_from_default(k.path))
+        body += fmt::format("{} = {}\n", k.key(), format_value(values_.at(k.path)));
+    if (!body.empty()) out += fmt::format("\n[{}]\n{}", name, body);
+  }
+  return out;
+}
+
 }  // namespace keller

@@ -102,6 +102,9 @@ class Scene {
   const std::string& source() const { return source_; }
   // Every declared key with its resolved value, as TOML, with the docs as comments.
   std::string resolved_toml() const;
+  // The keys whose values differ from their defaults, as TOML under a comment naming the source
+  // (what a run prints: the resolved scene goes to its file).
+  std::string non_default_toml() const;
   // The canonical form of the resolved values of `keys` (all keys when empty): one
   // "section.key = value" line each, in declaration order, no comments. Two scenes that resolve
   // to the same values give the same text, however the files were written.

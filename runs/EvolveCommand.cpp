@@ -252,7 +252,7 @@ int run_evolve(const EvolveArguments& args, RunSummary* out_summary) {
   } catch (const std::exception& e) {
     return fail(exit_code::usage, e.what());
   }
-  fmt::print("{}\n", loaded.scene.resolved_toml());
+  fmt::print("{}\n", scene_summary(loaded, out));
   std::unique_ptr<Problem> problem;
   try {
     problem = build_problem(loaded, args.scene);

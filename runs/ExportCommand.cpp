@@ -59,11 +59,24 @@ Table read_table(const std::string& path) {
   return t;
 }
 
+// A branch's `kind` column by its names (point, start, stop, ...: to_string(PointKind)), every
+// other value with all its digits.
 void write_csv(std::ostream& o, const Table& t) {
-  for (size_t j = 0; j < t.columns.size(); ++j) o << (j ? "," : "") << t.columns[j];
+  long kind = -1;
+  for (size_t j = 0; j < t.columns.size(); ++j) {
+    o << (j ? "," : "") << t.columns[j];
+    if (!t.time_series && t.columns[j] == "kind") kind = static_cast<long>(j);
+  }
   o << "\n";
   for (long i = 0; i < t.rows.rows(); ++i) {
-    for (long j = 0; j < t.rows.cols(); ++j) o << (j ? "," : "") << fmt::format("{:.17g}", t.rows(i, j));
+    for (long j = 0; j < t.rows.cols(); ++j) {
+      o << (j ? "," : "");
+      const double v = t.rows(i, j);
+      if (j == kind && v >= 0 && v <= static_cast<int>(PointKind::Hopf) && v == static_cast<int>(v))
+        o << to_string(static_cast<PointKind>(static_cast<int>(v)));
+      else
+        o << fmt::format("{:.17g}", v);
+    }
     o << "\n";
   }
 }

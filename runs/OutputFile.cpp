@@ -9,6 +9,7 @@
 
 #include "core/PendingFile.hpp"
 #include "core/SolutionWriter.hpp"
+#include "runs/Provenance.hpp"
 
 namespace keller {
 
@@ -114,6 +115,7 @@ void write_run_header(H5File& file, const LoadedScene& loaded, const Problem& pr
   file.set_attribute("/problem", "physics_hash", text_hash(physics));
   file.create_group("/problem/parameters");
   for (const Parameter& p : problem.parameters().list()) file.set_attribute("/problem/parameters", p.name, p.value);
+  Provenance::current().write(file);
 }
 
 RunHeader read_run_header(const H5File& f) {

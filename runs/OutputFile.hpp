@@ -47,7 +47,8 @@ bool continues_unfinished(const std::string& work, const std::string& record, co
                           const std::string& what, const std::string& unit, const UnfinishedTable& table);
 
 // Writes /scene (resolved TOML), /problem (attributes name, summary, unknowns, physics_hash),
-// /problem/physics (LoadedScene::physics()) and /problem/parameters (an attribute per parameter).
+// /problem/physics (LoadedScene::physics()), /problem/parameters (an attribute per parameter) and
+// /provenance (Provenance::current()).
 void write_run_header(H5File& file, const LoadedScene& scene, const Problem& problem);
 
 // The header of a stored run, as write_run_header left it (physics empty for files written

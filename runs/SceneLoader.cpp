@@ -91,4 +91,8 @@ std::string scene_help(const std::function<void(SceneSchema&)>& extra) {
   return out;
 }
 
+std::string scene_summary(const LoadedScene& loaded, const std::string& out) {
+  return fmt::format("{}# every key, with its default: keller info {} --scene\n", loaded.scene.non_default_toml(), out);
+}
+
 }  // namespace keller

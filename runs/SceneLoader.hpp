@@ -43,6 +43,10 @@ LoadedScene load_scene_text(const std::string& text, const std::string& source,
 // refusal of its options (std::exception) prefixed with the scene file `file`.
 std::unique_ptr<Problem> build_problem(const LoadedScene& loaded, const std::string& file);
 
+// What a run prints of its scene before it starts: the keys that differ from their defaults, and
+// where every key is (/scene of `out`, which `keller info OUT --scene` prints).
+std::string scene_summary(const LoadedScene& loaded, const std::string& out);
+
 // The full listing of every key of every problem type, for --help-scene.
 std::string scene_help(const std::function<void(SceneSchema&)>& extra = {});
 

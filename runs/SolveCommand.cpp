@@ -101,7 +101,7 @@ int run_solve(const SolveArguments& args, RunSummary* out_summary) {
           ignored.push_back("[" + section + "]");
           break;
         }
-  fmt::print("{}\n", loaded.scene.resolved_toml());
+  fmt::print("{}\n", scene_summary(loaded, out));
   if (!ignored.empty())
     fmt::print("note: keller solve solves the scene's first steady state; {} {} for keller trace and left aside\n",
                fmt::join(ignored, " and "), ignored.size() > 1 ? "are" : "is");

@@ -9,20 +9,24 @@
 #include "continuation/BranchFile.hpp"
 #include "core/H5File.hpp"
 #include "runs/OutputFile.hpp"
+#include "runs/PointLabels.hpp"
 
 namespace keller {
 
 StoredStart parse_stored_start(const std::string& flag, const std::string& s) {
   const auto colon = s.rfind(':');
   if (colon == std::string::npos || colon == 0)
-    throw std::invalid_argument(flag + " needs FILE.h5:ROW (ROW a number or 'last'), got '" + s + "'");
+    throw std::invalid_argument(flag + " needs FILE.h5:ROW (ROW a number, 'last' or a label such as fold1), got '" + s +
+                                "'");
   StoredStart r;
   r.flag = flag;
   r.file = s.substr(0, colon);
   r.switching = flag == "--switch";
   r.curve = flag == "--from";
   const std::string row = s.substr(colon + 1);
-  if (row != "last") {
+  if (is_point_label(row)) {
+    r.label = row;
+  } else if (row != "last") {
     size_t used = 0;
     long v = -1;
     try {
@@ -31,7 +35,10 @@ StoredStart parse_stored_start(const std::string& flag, const std::string& s) {
       used = 0;
     }
     if (used != row.size() || row.empty() || v < 0 || v > 1'000'000'000)
-      throw std::invalid_argument(flag + ": '" + row + "' is not a row number or 'last'");
+      throw std::invalid_argument(flag + ": '" + row +
+                                  "' is not a row number, 'last' or a located point's label (start, stop1, event1, "
+                                  "fold1, bp1, hopf1, end; `keller info " +
+                                  r.file + "` lists them)");
     r.row = static_cast<int>(v);
   }
   return r;
@@ -53,7 +60,8 @@ StoredPoint read_stored_start(const StoredStart& start, const LoadedScene& scene
     stored.header = read_run_header(f);
   }
   stored.table = read_branch_table(start.file);
-  stored.point = read_branch_point(start.file, start.row);
+  const int row = start.label.empty() ? start.row : row_of_label(stored.table, start.label, where);
+  stored.point = read_branch_point(start.file, row);
   const BranchPoint& point = stored.point;
   std::vector<std::string> refusals;
   auto refuse = [&]() {

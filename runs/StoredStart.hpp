@@ -23,7 +23,8 @@ namespace keller {
 struct StoredStart {
   std::string flag;  // "--restart" or "--switch": names the source in messages
   std::string file;
-  int row = -1;  // -1: the last stored point
+  int row = -1;       // -1: the last stored point
+  std::string label;  // a located point's label instead of a row (PointLabels: fold1, hopf2, end)
   bool switching = false;
   bool curve = false;  // --from: a curve starts at the point, its branch's parameter an unknown of it
   // --from: the kind of located point the curve starts at (Fold, Hopf, or Event: an event or an end)
@@ -31,7 +32,8 @@ struct StoredStart {
   bool force = false;
 };
 
-// "FILE.h5:ROW" with ROW a number or "last". Throws std::invalid_argument.
+// "FILE.h5:ROW" with ROW a number, "last" or a located point's label (fold1, bp2, end). Throws
+// std::invalid_argument.
 StoredStart parse_stored_start(const std::string& flag, const std::string& spec);
 
 struct StoredPoint {
@@ -43,9 +45,9 @@ struct StoredPoint {
   std::optional<double> value_of(const std::string& parameter) const;
 };
 
-// Reads the stored point and checks it against the scene and its problem for a run in
-// `parameter` (see above); throws std::invalid_argument naming the file, the row and what
-// differs. `warnings` receives what `force` let through.
+// Reads the stored point (a label's row found in the file's table) and checks it against the scene and its problem for
+// a run in `parameter` (see above); throws std::invalid_argument naming the file, the row and what differs. `warnings`
+// receives what `force` let through.
 StoredPoint read_stored_start(const StoredStart& start, const LoadedScene& scene, const Problem& problem,
                               const std::string& parameter, std::vector<std::string>& warnings);
 

@@ -181,7 +181,7 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
   } catch (const std::exception& e) {
     return fail(exit_code::usage, e.what());
   }
-  fmt::print("{}\n", loaded.scene.resolved_toml());
+  fmt::print("{}\n", scene_summary(loaded, out));
   try {
     problem = loaded.type->build(loaded.scene);
     if (!problem->parameters().has(copt.parameter))
@@ -437,7 +437,10 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
     } catch (const std::exception& e) {
       return fail(exit_code::usage, e.what());
     }
-    ProgressPrinter printer(copt.parameter);
+    // a curve's table shows its other parameter (an observable of the curve) first
+    ProgressPrinter printer(
+        copt.parameter, 3,
+        traced_curve ? std::vector<std::string>{stored->table.parameter} : std::vector<std::string>{});
     ObserverList observers({file.get(), &printer});
     std::optional<ContinuedBranch> continued;
     BranchObserver* observer = &observers;
@@ -457,7 +460,7 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
     file->close();
   }
   if (stability)
-    fmt::print("stability: {} s in {} factorisations and {} solves of (J - sB)\n", stability->seconds(),
+    fmt::print("stability: {:.2f} s in {} factorisations and {} solves of (J - sB)\n", stability->seconds(),
                stability->factorisations(), stability->solves());
   print_summary(result);
   summary.reason = result.reason;

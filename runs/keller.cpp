@@ -8,6 +8,8 @@
 #include "runs/EvolveCommand.hpp"
 #include "runs/ExitCode.hpp"
 #include "runs/ExportCommand.hpp"
+#include "runs/InfoCommand.hpp"
+#include "runs/Provenance.hpp"
 #include "runs/SceneLoader.hpp"
 #include "runs/SolveCommand.hpp"
 #include "runs/TraceCommand.hpp"
@@ -19,6 +21,8 @@ int run(int argc, char** argv) {  // argc and argv go on to MPI_Init under mpiru
   CLI::App app{"keller: continuation and bifurcation toolkit for steady flows"};
   app.require_subcommand(1);
   app.footer(keller::exit_code::help);
+  app.set_version_flag("--version", keller::Provenance::current().version_text(),
+                       "print keller's version, commit, build type and linear solver, and exit");
 
   keller::SolveArguments solve;
   bool solve_help_scene = false;
@@ -36,17 +40,20 @@ int run(int argc, char** argv) {  // argc and argv go on to MPI_Init under mpiru
   cmd_trace->add_option(
       "-o,--output", trace.output,
       "branch file (HDF5; default: <scene name>.h5 here); written as OUT.h5.part until the branch ends");
-  cmd_trace->add_option("--restart", trace.restart,
-                        "continue from a stored point: FILE.h5:ROW (ROW a number or 'last')");
+  cmd_trace->add_option(
+      "--restart", trace.restart,
+      "continue from a stored point: FILE.h5:ROW (ROW a number, 'last' or a located point's label such as "
+      "stop2 or fold1: keller info FILE.h5 lists them)");
   cmd_trace->add_option(
       "--switch", trace.switch_at,
-      "start a new branch at the located branch point stored in FILE.h5:ROW, along the null vector of J");
+      "start a new branch at the located branch point stored in FILE.h5:ROW (or FILE.h5:bp1, ...), along the "
+      "null vector of J");
   cmd_trace->add_option("--switch-direction", trace.switch_direction, "side of the old branch to switch to: 1 or -1")
       ->check(CLI::IsMember({-1, 1}));
   cmd_trace->add_option(
       "--from", trace.from,
-      "start a curve at the located point stored in FILE.h5:ROW (a fold, Hopf point or event), its branch's parameter "
-      "an unknown of the curve");
+      "start a curve at the located point stored in FILE.h5:ROW (or FILE.h5:fold1, hopf1, event1, end: a fold, "
+      "Hopf point or event), its branch's parameter an unknown of the curve");
   cmd_trace
       ->add_option("--curve", trace.curve,
                    "the curve --from continues in a second parameter: fold (of a located fold), hopf (of a "
@@ -73,7 +80,8 @@ int run(int argc, char** argv) {  // argc and argv go on to MPI_Init under mpiru
                          "time-series file (HDF5; default: <scene name>.h5 here); written as OUT.h5.part until the "
                          "run reaches t_end");
   cmd_evolve->add_option("--restart", evolve.restart,
-                         "start from a point stored in a branch file: FILE.h5:ROW (ROW a number or 'last')");
+                         "start from a point stored in a branch file: FILE.h5:ROW (ROW a number, 'last' or a located "
+                         "point's label such as hopf1: keller info FILE.h5 lists them)");
   cmd_evolve->add_flag("--force", evolve.force,
                        "start from a stored point that another problem, physics or parameter value made");
   cmd_evolve->add_flag("--fresh", evolve.fresh, "discard an unfinished OUT.h5.part instead of continuing it");
@@ -88,6 +96,13 @@ int run(int argc, char** argv) {  // argc and argv go on to MPI_Init under mpiru
   cmd_export->add_option("--csv", exp.csv, "write the branch table as CSV to this file ('-': the standard output)");
   cmd_export->add_flag("--xdmf", exp.xdmf, "write the fields of the stored solutions and an XDMF file for ParaView");
   cmd_export->footer(keller::exit_code::help);
+
+  keller::InfoArguments info;
+  CLI::App* cmd_info = app.add_subcommand(
+      "info", "what a file keller wrote is: its kind, problem, scene, provenance, stored rows and point labels");
+  cmd_info->add_option("file", info.file, "a file of keller solve, trace, evolve or study (HDF5)")->required();
+  cmd_info->add_flag("--scene", info.scene, "print the whole resolved scene stored in the file (every key)");
+  cmd_info->footer(keller::exit_code::help);
 
   keller::StudyArguments study;
   CLI::App* cmd_study = app.add_subcommand(
@@ -113,6 +128,8 @@ int run(int argc, char** argv) {  // argc and argv go on to MPI_Init under mpiru
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     // every usage error has the same code (CLI11's own are 105-109)
@@ -155,6 +172,7 @@ int run(int argc, char** argv) {  // argc and argv go on to MPI_Init under mpiru
     return keller::run_evolve(evolve);
   }
   if (cmd_export->parsed()) return keller::run_export(exp);
+  if (cmd_info->parsed()) return keller::run_info(info);
   if (cmd_study->parsed()) {
     study.action = study_list->parsed()      ? "list"
                    : study_run->parsed()     ? "run"
@@ -172,6 +190,7 @@ int run(int argc, char** argv) {  // argc and argv go on to MPI_Init under mpiru
 }  // namespace
 
 int main(int argc, char** argv) {
+  keller::Provenance::record_command_line(argc, argv);
   try {
     return run(argc, argv);
   } catch (const std::bad_alloc&) {

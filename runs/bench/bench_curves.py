@@ -84,17 +84,18 @@ def table(keller, h5, work):
     out = os.path.join(work, os.path.basename(h5) + ".csv")
     subprocess.run([keller, "export", h5, "--csv", out], check=True, stdout=subprocess.DEVNULL)
     with open(out) as f:
-        return [{k: float(v) for k, v in r.items() if v not in ("", None)} for r in csv.DictReader(f)]
+        return [{k: v if k == "kind" else float(v) for k, v in r.items() if v not in ("", None)}
+                for r in csv.DictReader(f)]
 
 
-REGULAR = 0  # PointKind::Regular: a row an ordinary step reached (continuation/BranchPoint.hpp)
+REGULAR = "point"  # the CSV's kind of a row an ordinary step reached (docs/output.md)
 
 
 def plain_steps(rows):
     """Wall times of the steps that reached an ordinary row (not a located one) after an ordinary
     row or the start: the cost of a step alone, without locating anything."""
     return [b["seconds"] - a["seconds"] for a, b in zip(rows, rows[1:])
-            if b["kind"] == REGULAR and a["kind"] in (REGULAR, 1)]
+            if b["kind"] == REGULAR and a["kind"] in (REGULAR, "start")]
 
 
 def main():

@@ -13,6 +13,7 @@
 #include "continuation/BranchFile.hpp"
 #include "core/H5File.hpp"
 #include "core/PendingFile.hpp"
+#include "runs/Provenance.hpp"
 #include "runs/study/StudyTask.hpp"
 
 namespace keller {
@@ -269,6 +270,7 @@ void StudyTable::write(const std::string& csv_path, const std::string& h5_path) 
       order += "," + c;
     }
     f.set_attribute("/study", "columns", order);
+    Provenance::current().write(f);
     f.close();
   }
   h5.commit();

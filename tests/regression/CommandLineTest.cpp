@@ -17,8 +17,11 @@ TEST(CommandLine, SolvesTheDefaultScene) {
   const auto r =
       test::run_keller("solve " + test::source_path("runs/scenes/channel_stokes.toml") + " -o " + dir + "/out.h5");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.out.find("[mesh]"), std::string::npos);  // resolved scene printed
-  EXPECT_NE(r.out.find("iter"), std::string::npos);    // Newton table printed
+  // the scene's keys that differ from their defaults printed: the mesh, not the Newtonian fluid (the default)
+  EXPECT_NE(r.out.find("[mesh]\nname = \"M2\"\n"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("[fluid]"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("# default"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("iter"), std::string::npos);  // Newton table printed
   ASSERT_TRUE(fs::exists(dir + "/out.h5"));
   ASSERT_TRUE(fs::exists(dir + "/out.xdmf"));
   EXPECT_FALSE(fs::exists(dir + "/out.h5.part"));

@@ -156,6 +156,13 @@ TEST(CurveCommand, LimitingWiCurveOfTheCollapsibleChannelMatchesWiBranches) {
                        "continuation.stops=[1e-4,2e-4,3e-4,4e-4] --set continuation.lower=5e-5");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("left aside"), std::string::npos) << r.out;  // the scene's stop observable
+  // the table on the terminal shows both parameters, Gamma and then Wi, the quantity the curve is for
+  const size_t head = r.out.find("    row  kind");
+  ASSERT_NE(head, std::string::npos) << r.out;
+  const std::string header = r.out.substr(head, r.out.find('\n', head) - head);
+  EXPECT_NE(header.find(" Gamma"), std::string::npos) << header;
+  EXPECT_NE(header.find(" Wi "), std::string::npos) << header;
+  EXPECT_LT(header.find(" Gamma"), header.find(" Wi ")) << header;
   const BranchTable curve = read_branch_table(dir + "/curve.h5");
   const int gamma = curve.column("Gamma"), wi = curve.column("Wi"), place = curve.column("place");
   EXPECT_NEAR(curve.rows(0, wi), wi0, 1e-9);

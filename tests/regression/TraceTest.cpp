@@ -9,6 +9,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <thread>
 
@@ -71,6 +72,24 @@ std::pair<std::vector<std::string>, std::vector<std::vector<double>>> read_csv(c
   return {cols, rows};
 }
 
+// The same, every cell as its text.
+std::pair<std::vector<std::string>, std::vector<std::vector<std::string>>> read_csv_cells(const std::string& path) {
+  std::ifstream in(path);
+  std::string line, c;
+  std::vector<std::string> cols;
+  std::vector<std::vector<std::string>> rows;
+  std::getline(in, line);
+  std::stringstream h(line);
+  while (std::getline(h, c, ',')) cols.push_back(c);
+  while (std::getline(in, line)) {
+    std::stringstream r(line);
+    std::vector<std::string> row;
+    while (std::getline(r, c, ',')) row.push_back(c);
+    rows.push_back(row);
+  }
+  return {cols, rows};
+}
+
 }  // namespace
 
 TEST(Trace, ScenesMatchTheirReferences) {
@@ -114,12 +133,26 @@ TEST(Trace, ExportCsvAndFigure) {
   EXPECT_NE(r.out.find("|F|"), std::string::npos);       // and show the corrector's residual
   r = test::run_keller("export " + dir + "/b.h5 --csv " + dir + "/b.csv");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  const auto [cols, rows] = read_csv(dir + "/b.csv");
+  const auto [cols, rows] = read_csv_cells(dir + "/b.csv");
   const BranchTable t = read_branch_table(dir + "/b.h5");
   EXPECT_EQ(cols, t.columns);
   ASSERT_EQ(static_cast<long>(rows.size()), t.rows.rows());
+  // the kind by its name (the HDF5 table keeps the number), every other value to all its digits
+  const std::vector<std::string> names = {"point", "start", "stop", "event", "fold", "bp", "end", "hopf"};
+  std::map<std::string, int> kinds;
   for (size_t i = 0; i < rows.size(); ++i)
-    for (size_t j = 0; j < cols.size(); ++j) EXPECT_EQ(rows[i][j], t.rows(static_cast<long>(i), static_cast<long>(j)));
+    for (size_t j = 0; j < cols.size(); ++j) {
+      const double v = t.rows(static_cast<long>(i), static_cast<long>(j));
+      if (cols[j] == "kind") {
+        EXPECT_EQ(rows[i][j], names.at(static_cast<size_t>(v))) << "row " << i;
+        ++kinds[rows[i][j]];
+      } else {
+        EXPECT_EQ(std::stod(rows[i][j]), v) << cols[j] << " of row " << i;
+      }
+    }
+  EXPECT_EQ(kinds["start"], 1);
+  EXPECT_EQ(kinds["fold"], 1);  // Bratu's one fold, at lambda = 3.51
+  EXPECT_EQ(kinds["end"], 1);
   const std::string cmd = std::string(KELLER_PYTHON) + " " + test::source_path("runs/scripts/plot_branch.py") + " " +
                           dir + "/b.h5 --y u_mid -o " + dir + "/b.png > /dev/null";
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;

@@ -59,6 +59,18 @@ TEST(Scene, ResolvedSceneParsesBackToTheSameValues) {
   EXPECT_EQ(t.real_list("mesh.stops"), (std::vector<double>{0.5}));
 }
 
+// What a run prints of its scene: the keys whose values differ from their defaults (a key given
+// at its default left out), the same for the resolved scene that lists every key.
+TEST(Scene, NonDefaultTomlHoldsTheKeysThatDifferFromTheirDefaults) {
+  const Scene s = Scene::parse("[mesh]\nn = 4\nlength = 3\nkind = \"uniform\"\nstops = [0.5, 1]\n", "s.toml", schema());
+  EXPECT_EQ(s.non_default_toml(),
+            "# scene s.toml: the keys that differ from their defaults\n\n[mesh]\nlength = 3.0\nstops = [0.5, 1.0]\n");
+  const Scene t = Scene::parse(s.resolved_toml(), "s.toml", schema());
+  EXPECT_EQ(t.non_default_toml(), s.non_default_toml());
+  EXPECT_EQ(Scene::parse("", "e.toml", schema()).non_default_toml(),
+            "# scene e.toml: the keys that differ from their defaults\n");
+}
+
 TEST(Scene, EachKindOfErrorHasItsOwnMessage) {
   EXPECT_EQ(error_of("[mesh]\nnn = 3\n"),
             "s.toml:2: unknown key 'mesh.nn'; keys allowed in [mesh]: n, length, kind, flag, stops");
