@@ -2,15 +2,20 @@
 
 #include <fmt/format.h>
 
+#include <unistd.h>
+
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <iostream>
 #include <optional>
+#include <string_view>
 
 #include "continuation/BranchFile.hpp"
 #include "continuation/TimeSeriesFile.hpp"
 #include "core/H5File.hpp"
+#include "core/IoError.hpp"
+#include "core/OutputLock.hpp"
 #include "core/PendingFile.hpp"
 #include "core/RunFiles.hpp"
 #include "runs/BranchOutput.hpp"
@@ -59,13 +64,36 @@ Table read_table(const std::string& path) {
   return t;
 }
 
-void write_csv(std::ostream& o, const Table& t) {
-  for (size_t j = 0; j < t.columns.size(); ++j) o << (j ? "," : "") << t.columns[j];
-  o << "\n";
+std::string csv_text(const Table& t) {
+  std::string o;
+  for (size_t j = 0; j < t.columns.size(); ++j) o += (j ? "," : "") + t.columns[j];
+  o += "\n";
   for (long i = 0; i < t.rows.rows(); ++i) {
-    for (long j = 0; j < t.rows.cols(); ++j) o << (j ? "," : "") << fmt::format("{:.17g}", t.rows(i, j));
-    o << "\n";
+    for (long j = 0; j < t.rows.cols(); ++j) o += fmt::format("{}{:.17g}", j ? "," : "", t.rows(i, j));
+    o += "\n";
   }
+  return o;
+}
+
+// Writes all of `text` to the standard output; throws IoError (a full device, a closed pipe).
+void write_stdout(std::string_view text) {
+  while (!text.empty()) {
+    const ssize_t n = ::write(STDOUT_FILENO, text.data(), text.size());
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) throw IoError(fmt::format("cannot write the table to the standard output: {}", std::strerror(errno)));
+    text.remove_prefix(static_cast<size_t>(n));
+  }
+}
+
+// Refuses fields for a file without a mesh (a 1D problem's): there are none for ParaView.
+void expect_mesh(const std::string& path) {
+  H5File f(path, H5File::Mode::Read);
+  if (f.exists("/mesh")) return;
+  const std::string problem =
+      f.exists("/problem") && f.has_attribute("/problem", "name") ? f.read_string_attribute("/problem", "name") : "?";
+  throw std::invalid_argument(
+      fmt::format("'{}' has no mesh (problem '{}'): there are no fields to write for --xdmf (--csv writes its table)",
+                  path, problem));
 }
 
 // Whether the branch file was closed by its writer (it can then be opened for writing; a file
@@ -93,18 +121,27 @@ int run_export(const ExportArguments& args) {
     return exit_code::usage;
   }
   const bool to_stdout = args.csv == "-";
+  OutputLock lock;  // --xdmf rewrites the file: one run at a time
   try {
     RunFiles files;
     files.input("branch or time-series file", args.input);
     if (!args.csv.empty() && !to_stdout) {
       files.output("--csv file", args.csv);
-      files.output("--csv file's temporary", PendingFile::temporary_for(args.csv));
+      files.temporary("--csv file's temporary", PendingFile::temporary_for(args.csv));
     }
     if (args.xdmf) {
       files.output("XDMF file", xdmf_path_for(args.input));
+      files.temporary("XDMF file's temporary", xdmf_path_for(args.input) + ".pending");
       files.output("companion fields file", companion_for(args.input));
+      files.temporary("companion fields file's temporary", PendingFile::temporary_for(companion_for(args.input)));
+      files.temporary("copy with fields", args.input + ".fields.part");
+      files.temporary("lock", OutputLock::path_for(args.input));
     }
     files.check();
+    if (args.xdmf) {
+      expect_mesh(args.input);
+      lock = OutputLock(OutputLock::path_for(args.input), "'" + args.input + "'");
+    }
   } catch (const std::exception& e) {
     fmt::print(stderr, "keller: error: {}\n", e.what());
     return exit_code::usage;
@@ -113,15 +150,10 @@ int run_export(const ExportArguments& args) {
   try {
     const Table t = read_table(args.input);
     if (to_stdout) {
-      write_csv(std::cout, t);
-      std::cout.flush();
+      write_stdout(csv_text(t));
     } else if (!args.csv.empty()) {
       PendingFile csv(args.csv);
-      {
-        std::ofstream o(csv.path());
-        write_csv(o, t);
-        if (!o) throw std::runtime_error("cannot write '" + csv.path() + "'");
-      }
+      csv.write(csv_text(t));
       csv.commit();
       fmt::print("wrote {} ({} rows; status: {})\n", args.csv, t.rows.rows(), t.status);
     }
@@ -183,6 +215,12 @@ int run_export(const ExportArguments& args) {
         fmt::print("wrote the fields to {} and {}\n", companion, xdmf);
       }
     }
+  } catch (const IoError& e) {
+    fmt::print(stderr, "keller: error: {}\n", e.what());
+    return exit_code::io_failure;
+  } catch (const fs::filesystem_error& e) {
+    fmt::print(stderr, "keller: error: {}\n", e.what());
+    return exit_code::io_failure;
   } catch (const std::exception& e) {
     fmt::print(stderr, "keller: error: {}\n", e.what());
     return exit_code::usage;
