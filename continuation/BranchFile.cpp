@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "continuation/TableRows.hpp"
+#include "core/IoError.hpp"
 #include "core/PendingFile.hpp"
 #include "core/RunFiles.hpp"
 #include "core/SignalPoint.hpp"
@@ -41,37 +42,54 @@ BranchFile::BranchFile(const std::string& path, const Problem& problem, const Co
   // Built under a temporary name and renamed once in SWMR mode: the final name never shows a
   // file that is not consistent on disk.
   const std::string part = PendingFile::temporary_for(path);
+  clear_leftover(part);
   file_ = std::make_unique<H5File>(part, H5File::Mode::Create);
-  if (header) header(*file_);
-  file_->create_group("/branch");
-  columns_ = branch_table_columns(options.parameter, problem.observable_names(), monitor_names, analysis_columns);
-  file_->set_attribute("/branch", "parameter", options.parameter);
-  file_->set_attribute("/branch", "columns", join_names(columns_));
-  file_->set_attribute("/branch", "observables", join_names(problem.observable_names()));
-  file_->set_attribute("/branch", "monitors", join_names(monitor_names));
-  file_->set_attribute("/branch", "kinds", std::string(kKinds));
-  file_->set_attribute("/branch", "state_scale", state_scale);
-  file_->set_attribute("/branch", "theta", options.theta);
-  file_->set_attribute("/branch", "method",
-                       std::string(options.method == ContinuationOptions::Method::Arclength ? "arclength" : "natural"));
-  file_->create_appendable("/branch/table", static_cast<long>(columns_.size()));
-  file_->create_appendable("/branch/saved", 6, 16);
-  file_->set_attribute("/branch/saved", "columns", std::string("row,kind,parameter,tangent_parameter,step,s"));
-  file_->create_appendable("/branch/solutions", n_, 1);
-  file_->create_appendable("/branch/tangents", n_, 1);
-  file_->create_appendable("/branch/events", 4, 16);
-  file_->set_attribute("/branch/events", "columns", std::string("row,kind,parameter,monitor"));
-  if (n_analysis_) {
-    file_->create_appendable("/branch/eigenvectors", n_, 1);
-    file_->create_appendable("/branch/eigenvector_rows", 4, 16);
-    file_->set_attribute("/branch/eigenvector_rows", "columns", std::string("row,kind,sigma_re,sigma_im"));
+  written_ = file_->hold();
+  try {
+    if (header) header(*file_);
+    file_->create_group("/branch");
+    columns_ = branch_table_columns(options.parameter, problem.observable_names(), monitor_names, analysis_columns);
+    file_->set_attribute("/branch", "parameter", options.parameter);
+    file_->set_attribute("/branch", "columns", join_names(columns_));
+    file_->set_attribute("/branch", "observables", join_names(problem.observable_names()));
+    file_->set_attribute("/branch", "monitors", join_names(monitor_names));
+    file_->set_attribute("/branch", "kinds", std::string(kKinds));
+    file_->set_attribute("/branch", "state_scale", state_scale);
+    file_->set_attribute("/branch", "theta", options.theta);
+    file_->set_attribute(
+        "/branch", "method",
+        std::string(options.method == ContinuationOptions::Method::Arclength ? "arclength" : "natural"));
+    file_->create_appendable("/branch/table", static_cast<long>(columns_.size()));
+    file_->create_appendable("/branch/saved", 6, 16);
+    file_->set_attribute("/branch/saved", "columns", std::string("row,kind,parameter,tangent_parameter,step,s"));
+    file_->create_appendable("/branch/solutions", n_, 1);
+    file_->create_appendable("/branch/tangents", n_, 1);
+    file_->create_appendable("/branch/events", 4, 16);
+    file_->set_attribute("/branch/events", "columns", std::string("row,kind,parameter,monitor"));
+    if (n_analysis_) {
+      file_->create_appendable("/branch/eigenvectors", n_, 1);
+      file_->create_appendable("/branch/eigenvector_rows", 4, 16);
+      file_->set_attribute("/branch/eigenvector_rows", "columns", std::string("row,kind,sigma_re,sigma_im"));
+    }
+    file_->create_fixed_string("/branch/status", 2048);
+    file_->write_fixed_string("/branch/status", "running");
+    file_->create_appendable("/branch/exit_code", 1, 1);
+    const double unmarked = -1;
+    file_->append_rows("/branch/exit_code", &unmarked, 1);
+    if (seed) write_seed(*seed);
+    file_->start_swmr();
+    file_->flush();
+    if (!written_.at(part))
+      throw IoError(fmt::format("'{}' is not the file this run created (it was replaced meanwhile)", part));
+    std::filesystem::rename(part, path_);
+    file_->renamed(path_);
+  } catch (...) {
+    // this run's incomplete file: nothing of it is kept
+    file_.reset();
+    std::error_code ec;
+    if (written_.at(part)) std::filesystem::remove(part, ec);
+    throw;
   }
-  file_->create_fixed_string("/branch/status", 2048);
-  file_->write_fixed_string("/branch/status", "running");
-  if (seed) write_seed(*seed);
-  file_->start_swmr();
-  file_->flush();
-  std::filesystem::rename(part, path);
 }
 
 void BranchFile::write_seed(const BranchSeed& seed) {
@@ -94,7 +112,12 @@ void BranchFile::write_seed(const BranchSeed& seed) {
   last_saved_row_ = seed.row;
 }
 
-BranchFile::~BranchFile() { close(); }
+BranchFile::~BranchFile() {
+  try {
+    close();
+  } catch (const std::exception&) {  // a destructor must not throw; close() reports it when called directly
+  }
+}
 
 void BranchFile::close() {
   if (file_) file_->close();
@@ -156,7 +179,12 @@ void BranchFile::on_finish(const std::string& reason, const BranchPoint& last) {
   if (last.index >= 0 && last.index != last_saved_row_ && last.u.size() == n_) save_solution(last);
   file_->write_fixed_string("/branch/status", reason);
   file_->flush();
-  close();
+}
+
+void BranchFile::mark_for_publication(int exit_code) {
+  const double code = exit_code;
+  file_->write_rows("/branch/exit_code", 0, &code, 1);
+  file_->flush();
 }
 
 int BranchTable::column(const std::string& name) const {

@@ -8,6 +8,7 @@
 //   /branch/solutions   the stored solutions (one row each), /branch/tangents their tangents
 //   /branch/events      located points that are not regular: row, kind, parameter, monitor
 //   /branch/status      "running" while running, then why the branch ended
+//   /branch/exit_code   -1, then the exit code of a run whose ended branch takes its name
 // Attributes of /branch: parameter, observables, monitors, kinds, state_scale, theta.
 // A file whose writer was killed opens read-only in SWMR mode (H5File does this; h5py:
 // h5py.File(path, "r", swmr=True)).
@@ -47,9 +48,10 @@ std::vector<std::string> branch_table_columns(const std::string& parameter, cons
 
 class BranchFile final : public BranchObserver {
  public:
-  // Creates `path` (replacing it), lets `header` write what precedes the branch (scene, mesh),
-  // creates the branch datasets and enters SWMR mode; the file appears under `path` only then.
-  // Throws std::runtime_error on I/O errors.
+  // Creates the file as PATH.part (exclusively, after clearing what an earlier run left there:
+  // clear_leftover), lets `header` write what precedes the branch (scene, mesh), creates the branch
+  // datasets and enters SWMR mode; the file is renamed to `path` (replacing it) only then. Throws
+  // IoError on I/O errors (nothing left behind).
   // analysis_columns: those of the run's PointAnalysis (after the monitors in the table); the
   // critical eigenvector of every stored solution and located fold, branch point and Hopf point goes to
   // /branch/eigenvectors (real and imaginary part, one row each; /branch/eigenvector_rows: row,
@@ -65,7 +67,11 @@ class BranchFile final : public BranchObserver {
   void on_point(const BranchPoint& point) override;
   void on_finish(const std::string& reason, const BranchPoint& last) override;
   const std::string& path() const { return path_; }
-  // Closes the file (on_finish does).
+  // The file this run created, held: what it publishes must be this file.
+  HeldFile& written() { return written_; }
+  // The branch has ended and takes its name: /branch/exit_code gets the code its run ends with (-1
+  // until then), so that the same command finishes the publication should the run be killed first.
+  void mark_for_publication(int exit_code);
   void close();
 
  private:
@@ -75,6 +81,7 @@ class BranchFile final : public BranchObserver {
   int last_mode_row_ = -1;
   std::string path_;
   std::unique_ptr<H5File> file_;
+  HeldFile written_;
   int n_ = 0;
   int saved_ = 0;
   int last_saved_row_ = -1;

@@ -57,6 +57,8 @@ TimeOptions TimeOptions::from_scene(const Scene& scene) {
   o.max_steps = scene.integer("evolve.max_steps");
   if (o.fixed_step && !(o.initial_step > 0.0))
     throw scene.error("evolve.initial_step", "must be > 0 with evolve.fixed_step = true (it is the step)");
+  if (o.max_step < o.step_floor())
+    throw scene.error("evolve.max_step", fmt::format("{} is below evolve.min_step ({})", o.max_step, o.step_floor()));
   if (o.first_step() < o.step_floor())
     throw scene.error("evolve.initial_step",
                       fmt::format("{} is below evolve.min_step ({})", o.first_step(), o.step_floor()));

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "continuation/TableRows.hpp"
+#include "core/IoError.hpp"
 #include "core/PendingFile.hpp"
 #include "core/RunFiles.hpp"
 #include "core/SignalPoint.hpp"
@@ -49,42 +50,58 @@ TimeSeriesFile::TimeSeriesFile(const std::string& path, Problem& problem, TimeCo
   // built under a temporary name and renamed once in SWMR mode: the final name never shows a file
   // that is not consistent on disk
   const std::string part = PendingFile::temporary_for(path);
+  clear_leftover(part);
   file_ = std::make_unique<H5File>(part, H5File::Mode::Create);
-  if (header) header(*file_);
-  file_->create_group("/evolve");
-  file_->set_attribute("/evolve", "columns", join_names(columns_));
-  file_->set_attribute("/evolve", "observables", join_names(problem.observable_names()));
-  file_->set_attribute("/evolve", "save_every", static_cast<long>(save_every_));
-  file_->create_appendable("/evolve/table", static_cast<long>(columns_.size()));
-  file_->create_appendable("/evolve/history", n_, 1);
-  file_->create_appendable("/evolve/history_index", 2, kRing);
-  file_->set_attribute("/evolve/history_index", "columns", std::string("step,t"));
-  const RowMajor zeros = RowMajor::Zero(kRing, n_);
-  file_->append_rows("/evolve/history", zeros.data(), kRing);
-  const RowMajor none = RowMajor::Constant(kRing, 2, -1.0);
-  file_->append_rows("/evolve/history_index", none.data(), kRing);
-  file_->create_appendable("/evolve/solutions", n_, 1);
-  file_->create_appendable("/evolve/saved", 2, 16);
-  file_->set_attribute("/evolve/saved", "columns", std::string("step,t"));
-  file_->create_fixed_string("/evolve/status", 2048);
-  file_->write_fixed_string("/evolve/status", "running");
-  if (seed) {
-    if (seed->columns != columns_)
-      throw std::runtime_error("the unfinished run has other columns than this run's (" + join_names(seed->columns) +
-                               ")");
-    if (seed->solutions.rows() > 0 && seed->solutions.cols() != n_)
-      throw std::runtime_error("the unfinished run has another number of unknowns");
-    append_table_rows(*file_, "/evolve/table", seed->table);
-    append_table_rows(*file_, "/evolve/saved", seed->saved);
-    append_table_rows(*file_, "/evolve/solutions", seed->solutions);
-    for (auto it = seed->history.back.rbegin(); it != seed->history.back.rend(); ++it)
-      write_history(it->step, it->t, it->u);
-    saved_ = static_cast<int>(seed->saved.rows());
-    if (saved_ > 0) last_saved_step_ = static_cast<int>(seed->saved(saved_ - 1, 0));
+  written_ = file_->hold();
+  try {
+    if (header) header(*file_);
+    file_->create_group("/evolve");
+    file_->set_attribute("/evolve", "columns", join_names(columns_));
+    file_->set_attribute("/evolve", "observables", join_names(problem.observable_names()));
+    file_->set_attribute("/evolve", "save_every", static_cast<long>(save_every_));
+    file_->create_appendable("/evolve/table", static_cast<long>(columns_.size()));
+    file_->create_appendable("/evolve/history", n_, 1);
+    file_->create_appendable("/evolve/history_index", 2, kRing);
+    file_->set_attribute("/evolve/history_index", "columns", std::string("step,t"));
+    const RowMajor zeros = RowMajor::Zero(kRing, n_);
+    file_->append_rows("/evolve/history", zeros.data(), kRing);
+    const RowMajor none = RowMajor::Constant(kRing, 2, -1.0);
+    file_->append_rows("/evolve/history_index", none.data(), kRing);
+    file_->create_appendable("/evolve/solutions", n_, 1);
+    file_->create_appendable("/evolve/saved", 2, 16);
+    file_->set_attribute("/evolve/saved", "columns", std::string("step,t"));
+    file_->create_fixed_string("/evolve/status", 2048);
+    file_->write_fixed_string("/evolve/status", "running");
+    file_->create_appendable("/evolve/exit_code", 1, 1);
+    const double unmarked = -1;
+    file_->append_rows("/evolve/exit_code", &unmarked, 1);
+    if (seed) {
+      if (seed->columns != columns_)
+        throw std::runtime_error("the unfinished run has other columns than this run's (" + join_names(seed->columns) +
+                                 ")");
+      if (seed->solutions.rows() > 0 && seed->solutions.cols() != n_)
+        throw std::runtime_error("the unfinished run has another number of unknowns");
+      append_table_rows(*file_, "/evolve/table", seed->table);
+      append_table_rows(*file_, "/evolve/saved", seed->saved);
+      append_table_rows(*file_, "/evolve/solutions", seed->solutions);
+      for (auto it = seed->history.back.rbegin(); it != seed->history.back.rend(); ++it)
+        write_history(it->step, it->t, it->u);
+      saved_ = static_cast<int>(seed->saved.rows());
+      if (saved_ > 0) last_saved_step_ = static_cast<int>(seed->saved(saved_ - 1, 0));
+    }
+    file_->start_swmr();
+    file_->flush();
+    if (!written_.at(part))
+      throw IoError(fmt::format("'{}' is not the file this run created (it was replaced meanwhile)", part));
+    std::filesystem::rename(part, path_);
+    file_->renamed(path_);
+  } catch (...) {
+    // this run's incomplete file: nothing of it is kept
+    file_.reset();
+    std::error_code ec;
+    if (written_.at(part)) std::filesystem::remove(part, ec);
+    throw;
   }
-  file_->start_swmr();
-  file_->flush();
-  std::filesystem::rename(part, path);
 }
 
 TimeSeriesFile::~TimeSeriesFile() {
@@ -152,7 +169,12 @@ void TimeSeriesFile::on_finish(const std::string& reason, const TimePoint& last)
   if (last.step != last_saved_step_ && last.u.size() == n_) store(last);
   file_->write_fixed_string("/evolve/status", reason);
   file_->flush();
-  close();
+}
+
+void TimeSeriesFile::mark_for_publication(int exit_code) {
+  const double code = exit_code;
+  file_->write_rows("/evolve/exit_code", 0, &code, 1);
+  file_->flush();
 }
 
 int TimeTable::column(const std::string& name) const { return column_of(columns, name); }

@@ -9,6 +9,7 @@
 //   /evolve/solutions      states stored every `save_every` steps (and the start and the end),
 //                          /evolve/saved their step and t
 //   /evolve/status         "running" while running, then why the run ended
+//   /evolve/exit_code      -1, then the exit code of a run whose file takes its name
 // A state is written (and flushed) before its table row, so every row's state is on disk.
 #pragma once
 
@@ -44,17 +45,23 @@ TimeSeed read_time_seed(const std::string& path);
 
 class TimeSeriesFile final : public TimeObserver {
  public:
-  // Creates `path` (written as PATH.part and renamed once in SWMR mode), lets `header` write what
-  // precedes the series (scene, mesh, the reference state), creates the datasets, writes the seed
-  // of an unfinished run if given. Throws std::runtime_error on I/O errors.
+  // Creates `path` (written as PATH.part, created exclusively after clearing what an earlier run
+  // left there, and renamed once in SWMR mode), lets `header` write what precedes the series (scene,
+  // mesh, the reference state), creates the datasets, writes the seed of an unfinished run if given.
+  // Throws IoError on I/O errors (nothing left behind).
   TimeSeriesFile(const std::string& path, Problem& problem, TimeColumns extra, int save_every,
                  const std::function<void(H5File&)>& header, const TimeSeed* seed = nullptr);
   ~TimeSeriesFile() override;
 
   void on_step(const TimePoint& point) override;
   void on_finish(const std::string& reason, const TimePoint& last) override;
+  // The run has ended and its file takes its name: /evolve/exit_code gets the code the run ends
+  // with (-1 until then), so that the same command finishes the publication should it be killed.
+  void mark_for_publication(int exit_code);
   void close();
   const std::vector<std::string>& columns() const { return columns_; }
+  // The file this run created, held: what it publishes must be this file.
+  HeldFile& written() { return written_; }
 
  private:
   void store(const TimePoint& p);
@@ -64,6 +71,7 @@ class TimeSeriesFile final : public TimeObserver {
   TimeColumns extra_;
   int save_every_;
   std::unique_ptr<H5File> file_;
+  HeldFile written_;
   std::vector<std::string> columns_;
   int n_ = 0, saved_ = 0, last_saved_step_ = -1;
 };

@@ -3,7 +3,12 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <cstdlib>
+#include <filesystem>
 #include <stdexcept>
+
+#include "core/IoError.hpp"
 
 namespace keller {
 
@@ -11,6 +16,40 @@ namespace {
 
 [[noreturn]] void fail(const std::string& file, const std::string& what) {
   throw std::runtime_error(fmt::format("HDF5 file '{}': {}", file, what));
+}
+
+// The system's error behind the failure of the last HDF5 call, from its error stack.
+struct SystemError {
+  std::string text;  // "No space left on device"; empty where there is none
+  int number = 0;    // errno
+};
+
+herr_t find_system_error(unsigned, const H5E_error2_t* e, void* found) {
+  const std::string desc = e->desc ? e->desc : "";
+  SystemError& error = *static_cast<SystemError*>(found);
+  const std::string text = "error message = '", number = "errno = ";
+  if (const auto at = desc.find(text); at != std::string::npos)
+    error.text = desc.substr(at + text.size(), desc.find('\'', at + text.size()) - at - text.size());
+  if (const auto at = desc.find(number); at != std::string::npos)
+    error.number = std::atoi(desc.c_str() + at + number.size());
+  return 0;
+}
+
+SystemError system_error() {
+  SystemError error;
+  H5Ewalk2(H5E_DEFAULT, H5E_WALK_DOWNWARD, find_system_error, &error);
+  return error;
+}
+
+// ": <the system's reason>" for the failure of the last HDF5 call, or "".
+std::string system_reason() {
+  const std::string text = system_error().text;
+  return text.empty() ? "" : ": " + text;
+}
+
+// A file that cannot be created or written (a full disk, a file-size limit): IoError.
+[[noreturn]] void fail_write(const std::string& file, const std::string& what) {
+  throw IoError(fmt::format("HDF5 file '{}': {}{}", file, what, system_reason()));
 }
 
 struct Handle {
@@ -34,7 +73,16 @@ hid_t vlen_string_type() {
 
 }  // namespace
 
-void silence_hdf5_errors() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
+void silence_hdf5_errors() {
+  // a file whose close failed (a full disk, a file-size limit) stays half closed in the library,
+  // whose own clean-up at exit then crashes on it; every file is closed by its H5File, so that
+  // clean-up is left out (this must come before the library's first call)
+  static const bool no_clean_up_at_exit = H5dont_atexit() >= 0;
+  (void)no_clean_up_at_exit;
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+}
+
+void H5File::renamed(const std::string& path) { path_ = path; }
 
 H5File::H5File(const std::string& path, Mode mode) : path_(path) {
   silence_hdf5_errors();
@@ -42,8 +90,18 @@ H5File::H5File(const std::string& path, Mode mode) : path_(path) {
     Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
     // the latest format is required for SWMR and gives the most robust metadata layout
     H5Pset_libver_bounds(fapl, H5F_LIBVER_LATEST, H5F_LIBVER_LATEST);
-    file_ = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl);
-    if (file_ < 0) fail(path, "cannot create (check the directory exists and is writable)");
+    // a new file only: never truncated through a name that exists (a link to another file)
+    file_ = H5Fcreate(path.c_str(), H5F_ACC_EXCL, H5P_DEFAULT, fapl);
+    if (file_ < 0) {
+      const SystemError error = system_error();
+      if (error.number == EEXIST) fail_write(path, "cannot create: the name exists");
+      // created (exclusively: this call's own), then its first writes failed: nothing of it stays
+      std::error_code ec;
+      if (std::filesystem::is_regular_file(std::filesystem::symlink_status(path, ec)))
+        std::filesystem::remove(path, ec);
+      throw IoError(fmt::format("HDF5 file '{}': cannot create{}", path,
+                                error.text.empty() ? " (check the folder exists and is writable)" : ": " + error.text));
+    }
   } else {
     const unsigned flags = mode == Mode::Read ? H5F_ACC_RDONLY : H5F_ACC_RDWR;
     file_ = H5Fopen(path.c_str(), flags, H5P_DEFAULT);
@@ -63,26 +121,45 @@ H5File::~H5File() {
   }
 }
 
-H5File::H5File(H5File&& o) noexcept : file_(o.file_), path_(std::move(o.path_)) { o.file_ = -1; }
+H5File::H5File(H5File&& o) noexcept : file_(o.file_), path_(std::move(o.path_)), broken_(o.broken_) { o.file_ = -1; }
+
+void H5File::failed(const std::string& what) {
+  broken_ = true;
+  fail_write(path_, what);
+}
 
 void H5File::close() {
   if (file_ < 0) return;
+  if (broken_) {
+    // left as it was when the write failed: closing would write the superblock of a file that the
+    // failed write may have left shorter than it says, which no reader then opens; unclosed, an
+    // SWMR file still opens with what was flushed before the failure
+    file_ = -1;
+    return;
+  }
   // every dataset, group, attribute and type this class opens is closed again at once; an open
   // object here would keep the file (and, in SWMR mode, its "open for writing" flag) alive
   const ssize_t open_objects = H5Fget_obj_count(file_, H5F_OBJ_ALL | H5F_OBJ_LOCAL);
   const herr_t status = H5Fclose(file_);
+  const std::string reason = status < 0 ? system_reason() : "";
   file_ = -1;
   if (open_objects > 1 || status < 0)
-    throw std::runtime_error(
-        fmt::format("HDF5 file '{}': not closed cleanly ({} open objects, status {})", path_, open_objects, status));
+    throw IoError(fmt::format("HDF5 file '{}': not closed cleanly ({} open objects, status {}){}", path_, open_objects,
+                              status, reason));
 }
 
 void H5File::flush() {
-  if (H5Fflush(file_, H5F_SCOPE_GLOBAL) < 0) fail(path_, "flush failed");
+  if (H5Fflush(file_, H5F_SCOPE_GLOBAL) < 0) failed("flush failed");
+}
+
+HeldFile H5File::hold() const {
+  void* handle = nullptr;
+  if (H5Fget_vfd_handle(file_, H5P_DEFAULT, &handle) < 0 || !handle) fail(path_, "no file descriptor to hold");
+  return HeldFile::of_descriptor(*static_cast<int*>(handle), path_);
 }
 
 void H5File::start_swmr() {
-  if (H5Fstart_swmr_write(file_) < 0) fail(path_, "cannot start SWMR write mode");
+  if (H5Fstart_swmr_write(file_) < 0) failed("cannot start SWMR write mode");
 }
 
 bool H5File::exists(const std::string& object) const {
@@ -101,7 +178,7 @@ void H5File::create_group(const std::string& group) {
   Handle lcpl(H5Pcreate(H5P_LINK_CREATE), H5Pclose);
   H5Pset_create_intermediate_group(lcpl, 1);
   Handle g(H5Gcreate2(file_, group.c_str(), lcpl, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
-  if (g < 0) fail(path_, "cannot create group " + group);
+  if (g < 0) failed("cannot create group " + group);
 }
 
 namespace {
@@ -113,7 +190,7 @@ hid_t link_create_plist() {
 }  // namespace
 
 void H5File::remove(const std::string& object) {
-  if (H5Ldelete(file_, object.c_str(), H5P_DEFAULT) < 0) fail(path_, "cannot remove " + object);
+  if (H5Ldelete(file_, object.c_str(), H5P_DEFAULT) < 0) failed("cannot remove " + object);
 }
 
 void H5File::write_string(const std::string& dataset, const std::string& value) {
@@ -121,9 +198,9 @@ void H5File::write_string(const std::string& dataset, const std::string& value) 
   Handle space(H5Screate(H5S_SCALAR), H5Sclose);
   Handle lcpl(link_create_plist(), H5Pclose);
   Handle ds(H5Dcreate2(file_, dataset.c_str(), type, space, lcpl, H5P_DEFAULT, H5P_DEFAULT), H5Dclose);
-  if (ds < 0) fail(path_, "cannot create dataset " + dataset);
+  if (ds < 0) failed("cannot create dataset " + dataset);
   const char* p = value.c_str();
-  if (H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, &p) < 0) fail(path_, "cannot write " + dataset);
+  if (H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, &p) < 0) failed("cannot write " + dataset);
 }
 
 void H5File::write_strings(const std::string& dataset, const std::vector<std::string>& values) {
@@ -132,11 +209,11 @@ void H5File::write_strings(const std::string& dataset, const std::vector<std::st
   Handle space(H5Screate_simple(1, dims, nullptr), H5Sclose);
   Handle lcpl(link_create_plist(), H5Pclose);
   Handle ds(H5Dcreate2(file_, dataset.c_str(), type, space, lcpl, H5P_DEFAULT, H5P_DEFAULT), H5Dclose);
-  if (ds < 0) fail(path_, "cannot create dataset " + dataset);
+  if (ds < 0) failed("cannot create dataset " + dataset);
   std::vector<const char*> ptrs;
   for (const auto& s : values) ptrs.push_back(s.c_str());
   if (!values.empty() && H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, ptrs.data()) < 0)
-    fail(path_, "cannot write " + dataset);
+    failed("cannot write " + dataset);
 }
 
 void H5File::write_matrix(const std::string& dataset, const double* data, long rows, long cols) {
@@ -144,9 +221,9 @@ void H5File::write_matrix(const std::string& dataset, const double* data, long r
   Handle space(H5Screate_simple(cols == 1 ? 1 : 2, dims, nullptr), H5Sclose);
   Handle lcpl(link_create_plist(), H5Pclose);
   Handle ds(H5Dcreate2(file_, dataset.c_str(), H5T_IEEE_F64LE, space, lcpl, H5P_DEFAULT, H5P_DEFAULT), H5Dclose);
-  if (ds < 0) fail(path_, "cannot create dataset " + dataset);
+  if (ds < 0) failed("cannot create dataset " + dataset);
   if (rows * cols > 0 && H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0)
-    fail(path_, "cannot write " + dataset);
+    failed("cannot write " + dataset);
 }
 
 void H5File::write_int_matrix(const std::string& dataset, const int* data, long rows, long cols) {
@@ -154,38 +231,41 @@ void H5File::write_int_matrix(const std::string& dataset, const int* data, long 
   Handle space(H5Screate_simple(cols == 1 ? 1 : 2, dims, nullptr), H5Sclose);
   Handle lcpl(link_create_plist(), H5Pclose);
   Handle ds(H5Dcreate2(file_, dataset.c_str(), H5T_STD_I32LE, space, lcpl, H5P_DEFAULT, H5P_DEFAULT), H5Dclose);
-  if (ds < 0) fail(path_, "cannot create dataset " + dataset);
+  if (ds < 0) failed("cannot create dataset " + dataset);
   if (rows * cols > 0 && H5Dwrite(ds, H5T_NATIVE_INT, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0)
-    fail(path_, "cannot write " + dataset);
+    failed("cannot write " + dataset);
 }
 
 namespace {
 template <class Writer>
-void with_attribute(hid_t file, const std::string& path, const std::string& object, const std::string& name, hid_t type,
+bool with_attribute(hid_t file, const std::string& path, const std::string& object, const std::string& name, hid_t type,
                     Writer&& write) {
   Handle obj(H5Oopen(file, object.c_str(), H5P_DEFAULT), H5Oclose);
   if (obj < 0) fail(path, "no object " + object + " for attribute " + name);
   if (H5Aexists(obj, name.c_str()) > 0) H5Adelete(obj, name.c_str());
   Handle space(H5Screate(H5S_SCALAR), H5Sclose);
   Handle attr(H5Acreate2(obj, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
-  if (attr < 0 || write(attr) < 0) fail(path, "cannot write attribute " + object + "@" + name);
+  return attr >= 0 && write(attr) >= 0;
 }
 }  // namespace
 
 void H5File::set_attribute(const std::string& object, const std::string& name, const std::string& value) {
   Handle type(vlen_string_type(), H5Tclose);
   const char* p = value.c_str();
-  with_attribute(file_, path_, object, name, type, [&](hid_t a) { return H5Awrite(a, type, &p); });
+  if (!with_attribute(file_, path_, object, name, type, [&](hid_t a) { return H5Awrite(a, type, &p); }))
+    failed("cannot write attribute " + object + "@" + name);
 }
 
 void H5File::set_attribute(const std::string& object, const std::string& name, double value) {
-  with_attribute(file_, path_, object, name, H5T_IEEE_F64LE,
-                 [&](hid_t a) { return H5Awrite(a, H5T_NATIVE_DOUBLE, &value); });
+  if (!with_attribute(file_, path_, object, name, H5T_IEEE_F64LE,
+                      [&](hid_t a) { return H5Awrite(a, H5T_NATIVE_DOUBLE, &value); }))
+    failed("cannot write attribute " + object + "@" + name);
 }
 
 void H5File::set_attribute(const std::string& object, const std::string& name, long value) {
-  with_attribute(file_, path_, object, name, H5T_STD_I64LE,
-                 [&](hid_t a) { return H5Awrite(a, H5T_NATIVE_LONG, &value); });
+  if (!with_attribute(file_, path_, object, name, H5T_STD_I64LE,
+                      [&](hid_t a) { return H5Awrite(a, H5T_NATIVE_LONG, &value); }))
+    failed("cannot write attribute " + object + "@" + name);
 }
 
 std::string H5File::read_string(const std::string& dataset) const {
@@ -303,7 +383,7 @@ void H5File::create_appendable(const std::string& dataset, long cols, long chunk
   H5Pset_chunk(dcpl, 2, chunk);
   Handle lcpl(link_create_plist(), H5Pclose);
   Handle ds(H5Dcreate2(file_, dataset.c_str(), H5T_IEEE_F64LE, space, lcpl, dcpl, H5P_DEFAULT), H5Dclose);
-  if (ds < 0) fail(path_, "cannot create dataset " + dataset);
+  if (ds < 0) failed("cannot create dataset " + dataset);
 }
 
 long H5File::num_rows(const std::string& dataset) const {
@@ -323,15 +403,14 @@ void H5File::append_rows(const std::string& dataset, const double* data, long ro
   hsize_t dims[2] = {0, 0};
   H5Sget_simple_extent_dims(space, dims, nullptr);
   const hsize_t newdims[2] = {dims[0] + static_cast<hsize_t>(rows), dims[1]};
-  if (H5Dset_extent(ds, newdims) < 0) fail(path_, "cannot extend " + dataset);
+  if (H5Dset_extent(ds, newdims) < 0) failed("cannot extend " + dataset);
   Handle fspace(H5Dget_space(ds), H5Sclose);
   const hsize_t start[2] = {dims[0], 0};
   const hsize_t count[2] = {static_cast<hsize_t>(rows), dims[1]};
   H5Sselect_hyperslab(fspace, H5S_SELECT_SET, start, nullptr, count, nullptr);
   Handle mspace(H5Screate_simple(2, count, nullptr), H5Sclose);
-  if (H5Dwrite(ds, H5T_NATIVE_DOUBLE, mspace, fspace, H5P_DEFAULT, data) < 0)
-    fail(path_, "cannot append to " + dataset);
-  if (H5Dflush(ds) < 0) fail(path_, "cannot flush " + dataset);
+  if (H5Dwrite(ds, H5T_NATIVE_DOUBLE, mspace, fspace, H5P_DEFAULT, data) < 0) failed("cannot append to " + dataset);
+  if (H5Dflush(ds) < 0) failed("cannot flush " + dataset);
 }
 
 void H5File::write_rows(const std::string& dataset, long first, const double* data, long rows) {
@@ -346,8 +425,8 @@ void H5File::write_rows(const std::string& dataset, long first, const double* da
   const hsize_t count[2] = {static_cast<hsize_t>(rows), dims[1]};
   H5Sselect_hyperslab(fspace, H5S_SELECT_SET, start, nullptr, count, nullptr);
   Handle mspace(H5Screate_simple(2, count, nullptr), H5Sclose);
-  if (H5Dwrite(ds, H5T_NATIVE_DOUBLE, mspace, fspace, H5P_DEFAULT, data) < 0) fail(path_, "cannot write " + dataset);
-  if (H5Dflush(ds) < 0) fail(path_, "cannot flush " + dataset);
+  if (H5Dwrite(ds, H5T_NATIVE_DOUBLE, mspace, fspace, H5P_DEFAULT, data) < 0) failed("cannot write " + dataset);
+  if (H5Dflush(ds) < 0) failed("cannot flush " + dataset);
 }
 
 void H5File::create_fixed_string(const std::string& dataset, long capacity) {
@@ -357,9 +436,9 @@ void H5File::create_fixed_string(const std::string& dataset, long capacity) {
   Handle space(H5Screate(H5S_SCALAR), H5Sclose);
   Handle lcpl(link_create_plist(), H5Pclose);
   Handle ds(H5Dcreate2(file_, dataset.c_str(), type, space, lcpl, H5P_DEFAULT, H5P_DEFAULT), H5Dclose);
-  if (ds < 0) fail(path_, "cannot create dataset " + dataset);
+  if (ds < 0) failed("cannot create dataset " + dataset);
   std::string blank(static_cast<size_t>(capacity), '\0');
-  H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, blank.data());
+  if (H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, blank.data()) < 0) failed("cannot write " + dataset);
 }
 
 void H5File::write_fixed_string(const std::string& dataset, const std::string& value) {
@@ -369,8 +448,8 @@ void H5File::write_fixed_string(const std::string& dataset, const std::string& v
   const size_t cap = H5Tget_size(ftype);
   std::string buf(cap, '\0');
   std::copy_n(value.begin(), std::min(value.size(), cap - 1), buf.begin());
-  if (H5Dwrite(ds, ftype, H5S_ALL, H5S_ALL, H5P_DEFAULT, buf.data()) < 0) fail(path_, "cannot write " + dataset);
-  H5Dflush(ds);
+  if (H5Dwrite(ds, ftype, H5S_ALL, H5S_ALL, H5P_DEFAULT, buf.data()) < 0) failed("cannot write " + dataset);
+  if (H5Dflush(ds) < 0) failed("cannot flush " + dataset);
 }
 
 }  // namespace keller

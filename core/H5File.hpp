@@ -1,6 +1,7 @@
 // A thin RAII wrapper over the HDF5 C API: files, groups, string/number datasets and
 // attributes, and appendable 2D datasets for branch tables. HDF5 failures throw
-// std::runtime_error naming the file and object (they are I/O problems, not numerics).
+// std::runtime_error naming the file and object (they are I/O problems, not numerics): IoError
+// (core/IoError.hpp) where a file cannot be created or written, with the system's reason.
 #pragma once
 
 #include <hdf5.h>
@@ -8,12 +9,15 @@
 #include <string>
 #include <vector>
 
+#include "core/HeldFile.hpp"
+
 namespace keller {
 
 class H5File {
  public:
   enum class Mode { Create, Read, ReadWrite };
-  // Create truncates. Read falls back to SWMR read mode for a file whose writer was killed while
+  // Create makes a new file and refuses a name that exists (never truncating a file, or another
+  // file through a link). Read falls back to SWMR read mode for a file whose writer was killed while
   // it was open in single-writer/multiple-reader mode.
   H5File(const std::string& path, Mode mode);
   ~H5File();
@@ -22,7 +26,11 @@ class H5File {
   H5File(H5File&& o) noexcept;
 
   hid_t id() const { return file_; }
+  // The open file itself, held (HeldFile): what a run publishes must be the file it wrote.
+  HeldFile hold() const;
   const std::string& path() const { return path_; }
+  // The file's name after its writer renamed it (for messages).
+  void renamed(const std::string& path);
   bool exists(const std::string& object) const;
   // Removes the link to a group or dataset (ReadWrite); throws where there is none.
   void remove(const std::string& object);
@@ -67,14 +75,19 @@ class H5File {
   // every moment, so a run killed with SIGKILL leaves every flushed row.
   void start_swmr();
   void flush();
+  // Closes the file; a file whose write failed is left as it was then (not closed: see IoError).
   void close();
 
  private:
+  // A write failed (IoError): the file is broken off, never closed.
+  [[noreturn]] void failed(const std::string& what);
   hid_t file_ = -1;
   std::string path_;
+  bool broken_ = false;
 };
 
-// Silences HDF5's automatic error stack printing (errors are reported by exceptions).
+// Silences HDF5's automatic error stack printing (errors are reported by exceptions), and leaves
+// out the library's clean-up at exit (every file is closed by its H5File).
 void silence_hdf5_errors();
 
 }  // namespace keller

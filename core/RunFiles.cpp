@@ -27,12 +27,19 @@ void RunFiles::input(std::string role, std::string path) { inputs_.push_back({st
 
 void RunFiles::output(std::string role, std::string path) { outputs_.push_back({std::move(role), std::move(path)}); }
 
+void RunFiles::temporary(std::string role, std::string path) {
+  outputs_.push_back({std::move(role), std::move(path), true});
+}
+
 namespace {
 
-// What a path that exists is, when it is not a regular file ("" when it is one or is absent).
-std::string not_regular(const std::string& path) {
+// What a path that exists is, when it is not a regular file ("" when it is one or is absent); a
+// temporary name must not be a hard link either.
+std::string not_regular(const std::string& path, bool temporary) {
   struct stat st {};
   if (::lstat(path.c_str(), &st) != 0) return "";
+  if (S_ISREG(st.st_mode) && temporary && st.st_nlink > 1)
+    return "a hard link to another file (keller creates its temporary files itself; move it away)";
   if (S_ISREG(st.st_mode)) return "";
   if (S_ISLNK(st.st_mode)) return "a symbolic link (give the path it points to, or another name)";
   if (S_ISDIR(st.st_mode)) return "a directory";
@@ -58,7 +65,7 @@ void RunFiles::check() const {
       if (same_file(o.path, outputs_[j].path))
         throw std::invalid_argument(fmt::format("{} '{}' and {} '{}' are the same file; give them different names",
                                                 outputs_[j].role, outputs_[j].path, o.role, o.path));
-    const std::string what = not_regular(o.path);
+    const std::string what = not_regular(o.path, o.temporary);
     if (!what.empty())
       throw std::invalid_argument(fmt::format("{} '{}' is {}: keller writes only regular files", o.role, o.path, what));
     const fs::path p(o.path);

@@ -21,7 +21,7 @@ void signal_point(std::string_view phase) {
   if (++reached[want] != nth) return;
   const char* which = std::getenv("KELLER_SIGNAL");
   const std::string sig = which ? which : "KILL";
-  std::raise(sig == "INT" ? SIGINT : sig == "TERM" ? SIGTERM : SIGKILL);
+  std::raise(sig == "INT" ? SIGINT : sig == "TERM" ? SIGTERM : sig == "STOP" ? SIGSTOP : SIGKILL);
 }
 
 }  // namespace keller

@@ -1,6 +1,7 @@
 // A seam for the tests that interrupt a run in each of its phases. When the environment holds
-// KELLER_SIGNAL_AT=<phase> or <phase>:<n>, the process sends itself KELLER_SIGNAL (INT, TERM or
-// KILL; KILL when unset) the n-th time (default: the first) it reaches that phase. Without the
+// KELLER_SIGNAL_AT=<phase> or <phase>:<n>, the process sends itself KELLER_SIGNAL (INT, TERM,
+// KILL or STOP; KILL when unset) the n-th time (default: the first) it reaches that phase. STOP
+// holds the run there until SIGCONT, for tests that act on its files meanwhile. Without the
 // variable a call costs one getenv.
 #pragma once
 

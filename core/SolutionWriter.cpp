@@ -4,8 +4,9 @@
 
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <stdexcept>
+
+#include "core/PendingFile.hpp"
 
 namespace keller {
 
@@ -26,6 +27,22 @@ std::vector<double> row_major(const Eigen::MatrixXd& m) {
   std::vector<double> out(static_cast<size_t>(m.size()));
   for (long i = 0; i < m.rows(); ++i)
     for (long j = 0; j < m.cols(); ++j) out[static_cast<size_t>(i * m.cols() + j)] = m(i, j);
+  return out;
+}
+
+// `text` with the characters XML gives a meaning (& < > " ') as entities.
+std::string xml_escaped(const std::string& text) {
+  std::string out;
+  for (const char c : text) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      case '\'': out += "&apos;"; break;
+      default: out += c;
+    }
+  }
   return out;
 }
 
@@ -128,15 +145,17 @@ void write_fields(H5File& file, const std::string& group, const SolutionFields& 
   }
 }
 
-void write_xdmf(const std::string& xdmf_path, const std::string& h5_name, const std::string& mesh_group,
+void write_xdmf(const std::string& xdmf_path, const std::string& h5_file_name, const std::string& mesh_group,
                 const Mesh& mesh, const std::vector<XdmfSolution>& solutions, const SolutionFields& layout) {
+  const std::string h5_name = xml_escaped(h5_file_name);
   std::string x;
   x += "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n <Domain>\n";
   const bool temporal = solutions.size() > 1;
   if (temporal) x += "  <Grid Name=\"solutions\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
   const int N = mesh.num_nodes();
   for (const XdmfSolution& s : solutions) {
-    x += fmt::format("   <Grid Name=\"{}\" GridType=\"Collection\" CollectionType=\"Spatial\">\n", s.label);
+    x +=
+        fmt::format("   <Grid Name=\"{}\" GridType=\"Collection\" CollectionType=\"Spatial\">\n", xml_escaped(s.label));
     if (temporal) x += fmt::format("    <Time Value=\"{}\" />\n", s.time);
     for (int g = 0; g < static_cast<int>(mesh.group_names().size()); ++g) {
       const std::string& gname = mesh.group_names()[g];
@@ -191,14 +210,9 @@ void write_xdmf(const std::string& xdmf_path, const std::string& h5_name, const 
   if (temporal) x += "  </Grid>\n";
   x += " </Domain>\n</Xdmf>\n";
 
-  const std::string tmp = xdmf_path + ".part";
-  {
-    std::ofstream out(tmp);
-    if (!out) throw std::runtime_error("cannot write '" + tmp + "'");
-    out << x;
-    if (!out) throw std::runtime_error("cannot write '" + tmp + "'");
-  }
-  std::filesystem::rename(tmp, xdmf_path);
+  PendingFile file(xdmf_path);
+  file.write(x);
+  file.commit();
 }
 
 }  // namespace keller

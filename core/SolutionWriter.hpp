@@ -30,7 +30,8 @@ struct XdmfSolution {
 
 // Writes (atomically: temporary file then rename) an XDMF file for the listed solutions of an
 // HDF5 file whose mesh is in /<mesh_group>. h5_name is the HDF5 file name as the XDMF should
-// reference it (relative to the XDMF file).
+// reference it (relative to the XDMF file; written escaped for XML, as are the labels). The
+// temporary file is created exclusively (PendingFile); throws IoError where it cannot be written.
 void write_xdmf(const std::string& xdmf_path, const std::string& h5_name, const std::string& mesh_group,
                 const Mesh& mesh, const std::vector<XdmfSolution>& solutions, const SolutionFields& layout);
 

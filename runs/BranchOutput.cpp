@@ -3,12 +3,16 @@
 #include <fmt/format.h>
 #include <stdio.h>
 
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 
 #include "continuation/BranchFile.hpp"
+#include "core/IoError.hpp"
 #include "core/PendingFile.hpp"
 #include "core/RunFiles.hpp"
 #include "core/SignalPoint.hpp"
+#include "runs/OutputFile.hpp"
 
 namespace keller {
 
@@ -22,7 +26,7 @@ constexpr const char* pending_suffix = ".pending";
 
 void move_file(const std::string& from, const std::string& to) {
   if (std::rename(from.c_str(), to.c_str()) != 0)
-    throw std::runtime_error(fmt::format("cannot rename '{}' to '{}'", from, to));
+    throw IoError(fmt::format("cannot rename '{}' to '{}': {}", from, to, std::strerror(errno)));
 }
 
 // Files removed when the scope ends unless released.
@@ -42,22 +46,28 @@ struct Scratch {
 }  // namespace
 
 PublishedBranch publish_output(const std::string& work, const std::string& target, const std::string& xdmf,
-                               bool with_fields, const AddFields& add, const std::function<bool()>& stop) {
+                               bool with_fields, const AddFields& add, const std::function<bool()>& stop,
+                               const HeldFile* written) {
   PublishedBranch out;
   const bool in_place = same_file(work, target);
+  HeldFile opened;
+  if (!written || !written->held()) opened = HeldFile::open(work);
+  const HeldFile& source = written && written->held() ? *written : opened;
+  expect_written(work, target, source);
   if (with_fields) {
     const std::string h5_name = fs::path(target).filename().string();
     const std::string staged = target + ".fields.part";
     Scratch scratch;
+    clear_leftover(staged);
+    clear_leftover(xdmf + pending_suffix);
     scratch.paths = {staged, xdmf + pending_suffix};
-    std::error_code ec;
-    fs::remove(staged, ec);
-    fs::copy_file(work, staged);
+    const HeldFile copy = source.copy_to(staged);
     const std::optional<std::vector<std::string>> more = add(staged, xdmf + pending_suffix, h5_name, pending_suffix);
     if (more) scratch.paths.insert(scratch.paths.end(), more->begin(), more->end());
     const bool complete = more && !(stop && stop());
     signal_point("fields-written");
     if (complete) {
+      expect_written(staged, target, copy);
       sync_file(staged);
       move_file(staged, target);
       scratch.released = true;
@@ -66,12 +76,14 @@ PublishedBranch publish_output(const std::string& work, const std::string& targe
         if (p != staged && fs::exists(p)) move_file(p, p.substr(0, p.size() - std::string(pending_suffix).size()));
       out.fields = true;
       out.modes = static_cast<int>(more->size());
-      if (!in_place) fs::remove(work, ec);
+      std::error_code ec;
+      if (!in_place && source.at(work)) fs::remove(work, ec);
       return out;
     }
   }
   if (!in_place) {
     sync_file(work);
+    expect_written(work, target, source);
     move_file(work, target);
     signal_point("published");
   }
@@ -79,7 +91,8 @@ PublishedBranch publish_output(const std::string& work, const std::string& targe
 }
 
 PublishedBranch publish_branch(const std::string& work, const std::string& target, const std::string& xdmf,
-                               bool with_fields, const FieldsAt& fields, const std::function<bool()>& stop) {
+                               bool with_fields, const FieldsAt& fields, const std::function<bool()>& stop,
+                               const HeldFile* written) {
   const std::string stem = fs::path(xdmf).replace_extension().string();
   return publish_output(
       work, target, xdmf, with_fields,
@@ -88,7 +101,7 @@ PublishedBranch publish_branch(const std::string& work, const std::string& targe
         if (!write_branch_fields(staged, staged, xdmf_pending, h5_name, fields, stop)) return std::nullopt;
         return write_branch_modes(staged, h5_name, stem, suffix, fields, stop);
       },
-      stop);
+      stop, written);
 }
 
 }  // namespace keller

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "core/HeldFile.hpp"
 #include "core/SolutionFields.hpp"
 #include "core/Types.hpp"
 
@@ -32,15 +33,18 @@ using AddFields = std::function<std::optional<std::vector<std::string>>(
 // Puts the closed file `work` at `target` (they may be the same file); when `with_fields`, the
 // fields are first added (`add`) to a copy that is renamed over the target, and the XDMF files take
 // their names once it is there. `work` is removed once the target holds it (unless it is the
-// target). Throws std::runtime_error on I/O errors, leaving `work` as it was.
+// target). `written` (when given) is the file the run wrote: where `work` no longer names it, the
+// target is left as it was, and so is the file at `work`, and the run's file, if it has no name
+// left, is saved as WORK.<pid>; the IoError says so. Throws IoError (std::runtime_error for a file
+// that cannot be read) on I/O errors, leaving `work` as it was.
 PublishedBranch publish_output(const std::string& work, const std::string& target, const std::string& xdmf,
-                               bool with_fields, const AddFields& add, const std::function<bool()>& stop);
+                               bool with_fields, const AddFields& add, const std::function<bool()>& stop,
+                               const HeldFile* written = nullptr);
 
 // Puts the closed branch file `work` at `target` (they may be the same file), with fields and
-// XDMF files when `with_fields`. `work` is removed once the target holds the branch (unless it
-// is the target). `stop` is asked between stored solutions. Throws std::runtime_error on I/O
-// errors, leaving `work` as it was.
+// XDMF files when `with_fields`, as publish_output. `stop` is asked between stored solutions.
 PublishedBranch publish_branch(const std::string& work, const std::string& target, const std::string& xdmf,
-                               bool with_fields, const FieldsAt& fields, const std::function<bool()>& stop);
+                               bool with_fields, const FieldsAt& fields, const std::function<bool()>& stop,
+                               const HeldFile* written = nullptr);
 
 }  // namespace keller

@@ -10,6 +10,9 @@
 #include "continuation/StartSolver.hpp"
 #include "continuation/TimeIntegrator.hpp"
 #include "continuation/TimeSeriesFile.hpp"
+#include "core/HeldFile.hpp"
+#include "core/IoError.hpp"
+#include "core/OutputLock.hpp"
 #include "core/PendingFile.hpp"
 #include "core/RunFiles.hpp"
 #include "core/SignalPoint.hpp"
@@ -181,15 +184,50 @@ class TimeObservers final : public TimeObserver {
   std::vector<TimeObserver*> list_;
 };
 
-// The unfinished run of this very command at `work`, to be continued (continues_unfinished).
+// The unfinished run of this very command at `work`, to be continued; `left` says what `work` holds
+// (left_run: an ended run of this command is published instead).
 std::optional<TimeSeed> unfinished_run(const std::string& work, const std::string& record, const std::string& defaults,
-                                       bool fresh) {
-  if (!continues_unfinished(work, record, defaults, fresh, "time series", "steps", [](const std::string& path) {
+                                       bool fresh, LeftRun& left) {
+  left =
+      left_run(work, record, defaults, fresh, "time series", "steps", "/evolve/exit_code", [](const std::string& path) {
         const TimeTable t = read_time_table(path);
         return std::pair<long, std::string>(t.rows.rows(), t.status);
-      }))
-    return {};
+      });
+  if (left.kind != LeftRun::Kind::unfinished) return {};
   return read_time_seed(work);
+}
+
+// The ended time series in `work` (the file `written`) takes its name `out`, with the fields of
+// its stored states when `with_fields`; `code` is the run's exit code. Returns the command's.
+int publish_series(const std::string& work, const std::string& out, bool with_fields, Problem& problem,
+                   const HeldFile& written, int code, RunSummary& summary) {
+  PublishedBranch published;
+  try {
+    published = publish_output(
+        work, out, xdmf_path_for(out), with_fields,
+        [&](const std::string& staged, const std::string& xdmf_pending, const std::string& h5_name,
+            const std::string&) -> std::optional<std::vector<std::string>> {
+          if (!write_time_fields(
+                  staged, staged, xdmf_pending, h5_name, [&](const Vector& u) { return problem.fields(u); },
+                  &InterruptGuard::requested))
+            return std::nullopt;
+          return std::vector<std::string>{};
+        },
+        &InterruptGuard::requested, &written);
+  } catch (const std::exception& e) {
+    return fail_run(summary, exit_code::io_failure,
+                    written.at(work)
+                        ? fmt::format("the run stays in {} (the same command publishes it): {}", work, e.what())
+                        : e.what());
+  }
+  fmt::print("wrote {}\n", out);
+  summary.output = out;
+  summary.exit_code = code;
+  if (with_fields && !published.fields) {
+    fmt::print("interrupted while writing the fields: the run is complete in {} without them\n", out);
+    summary.exit_code = exit_code::interrupted;
+  }
+  return summary.exit_code;
 }
 
 }  // namespace
@@ -238,6 +276,7 @@ int run_evolve(const EvolveArguments& args, RunSummary* out_summary) {
   const std::string out = args.output.empty() ? fs::path(args.scene).stem().string() + ".h5" : args.output;
   const std::string work = PendingFile::temporary_for(out);
   const bool with_fields = loaded.scene.boolean("output.xdmf");
+  OutputLock lock;  // one run at a time writes `out`
   try {
     if (args.force && args.restart.empty()) throw std::invalid_argument("--force applies to a start from --restart");
     RunFiles files;
@@ -249,6 +288,7 @@ int run_evolve(const EvolveArguments& args, RunSummary* out_summary) {
     }
     declare_run_outputs(files, out, "time-series file", with_fields);
     files.check();
+    lock = OutputLock(OutputLock::path_for(out), "'" + out + "'");
   } catch (const std::exception& e) {
     return fail(exit_code::usage, e.what());
   }
@@ -266,9 +306,10 @@ int run_evolve(const EvolveArguments& args, RunSummary* out_summary) {
   std::optional<TimeSeed> seed;
   Reference ref;
   std::vector<std::string> warnings;
+  LeftRun left;
   try {
-    seed = unfinished_run(work, record, loaded.defaults(), args.fresh);
-    if (seed) {
+    seed = unfinished_run(work, record, loaded.defaults(), args.fresh, left);
+    if (seed || left.kind == LeftRun::Kind::ended) {
       ref = read_reference(work);
     } else if (from) {
       const std::string parameter = read_branch_table(from->file).parameter;
@@ -295,13 +336,26 @@ int run_evolve(const EvolveArguments& args, RunSummary* out_summary) {
   fmt::print("problem: {}\n", problem->summary());
   const NewtonOptions nopt = newton_options_from(scene);
   const SparseLUOptions lopt = sparse_lu_options_from(scene);
-  if (seed) {
+  if (seed || left.kind == LeftRun::Kind::ended) {
     // the parameters the unfinished run used: the scene's, or its stored start's
     H5File f(work, H5File::Mode::Read);
     const RunHeader header = read_run_header(f);
     for (const auto& [name, value] : header.parameters)
       if (problem->parameters().has(name)) problem->parameters().set(name, value);
-  } else if (!from) {
+  }
+  if (left.kind == LeftRun::Kind::ended) {
+    fmt::print("note: '{}' holds this command's time series, which ended before it was published; publishing it ({})\n",
+               work, left.status);
+    InterruptGuard interrupts;
+    summary.reason = left.status;
+    try {
+      const HeldFile written = HeldFile::open(work);
+      return publish_series(work, out, with_fields, *problem, written, left.exit_code, summary);
+    } catch (const std::exception& e) {
+      return fail(exit_code::io_failure, e.what());
+    }
+  }
+  if (!seed && !from) {
     StartSolver start_solver(*problem, nopt, lopt, StartOptions::from_scene(scene),
                              [](const std::string& line) { fmt::print("{}\n", line); });
     ref.state = problem->initial_guess();
@@ -359,6 +413,7 @@ int run_evolve(const EvolveArguments& args, RunSummary* out_summary) {
   if (ref.mode) integrator.set_error_reference(ref.state);
   InterruptGuard interrupts;
   TimeResult result;
+  HeldFile written;  // the file this run writes, to be published
   {
     std::unique_ptr<TimeSeriesFile> file;
     try {
@@ -373,20 +428,36 @@ int run_evolve(const EvolveArguments& args, RunSummary* out_summary) {
             if (sf.mesh) write_mesh(f, "/mesh", *sf.mesh);
           },
           seed ? &*seed : nullptr);
+      written = std::move(file->written());
+    } catch (const IoError& e) {
+      return fail(exit_code::io_failure, fmt::format("{}; nothing written", e.what()));
     } catch (const std::exception& e) {
       return fail(exit_code::usage, e.what());
     }
     TimePrinter printer(popt.print_every, columns);
     TimeObservers observers({file.get(), &printer});
     const auto stop = [] { return InterruptGuard::requested(); };
-    if (seed) {
-      fmt::print("continuing the unfinished run in {} from its step {} (t = {:.10g}; --fresh starts over)\n", work,
-                 seed->step(), seed->history.back.front().t);
-      result = integrator.resume(seed->history, observers, stop);
-    } else {
-      result = integrator.run(u0, 0.0, observers, stop);
+    try {
+      if (seed) {
+        fmt::print("continuing the unfinished run in {} from its step {} (t = {:.10g}; --fresh starts over)\n", work,
+                   seed->step(), seed->history.back.front().t);
+        result = integrator.resume(seed->history, observers, stop);
+      } else {
+        result = integrator.run(u0, 0.0, observers, stop);
+      }
+      // an ended run whose file is to take its name says so first: the same command publishes it
+      // should this run be killed before it has
+      const bool at_floor = result.code == TimeStop::StepFloor;
+      if (takes_its_name(result.code == TimeStop::Interrupted, at_floor, out))
+        file->mark_for_publication(at_floor ? exit_code::numerical_failure : exit_code::ok);
+      file->close();
+    } catch (const IoError& e) {
+      return fail(exit_code::io_failure,
+                  written.at(work) ? fmt::format("{}; every step before it is kept in {}: run the same command again "
+                                                 "to continue the run",
+                                                 e.what(), work)
+                                   : e.what());
     }
-    file->close();
   }
   fmt::print("{} steps, {} rejected, {} factorisations ({:.2f} per step), {} Newton iterations, {:.2f} s; {}\n",
              result.steps, result.rejected, result.factorisations,
@@ -398,7 +469,6 @@ int run_evolve(const EvolveArguments& args, RunSummary* out_summary) {
   summary.rejected = result.rejected;
   summary.factorisations = result.factorisations;
   summary.seconds = result.seconds;
-  signal_point("evolved");
 
   // 4. the file takes its name: an interrupted run stays where it is, to be continued; a failed one
   // never replaces an existing file
@@ -406,30 +476,8 @@ int run_evolve(const EvolveArguments& args, RunSummary* out_summary) {
                                           work, out, "time series", "before t_end", summary))
     return *stays;
   const int code = summary.exit_code;
-  PublishedBranch published;
-  try {
-    published = publish_output(
-        work, out, xdmf_path_for(out), with_fields,
-        [&](const std::string& staged, const std::string& xdmf_pending, const std::string& h5_name,
-            const std::string&) -> std::optional<std::vector<std::string>> {
-          if (!write_time_fields(
-                  staged, staged, xdmf_pending, h5_name, [&](const Vector& u) { return problem->fields(u); },
-                  &InterruptGuard::requested))
-            return std::nullopt;
-          return std::vector<std::string>{};
-        },
-        &InterruptGuard::requested);
-  } catch (const std::exception& e) {
-    return fail(exit_code::usage, fmt::format("the run stays in {}: {}", work, e.what()));
-  }
-  fmt::print("wrote {}\n", out);
-  summary.output = out;
-  summary.exit_code = code;
-  if (with_fields && !published.fields) {
-    fmt::print("interrupted while writing the fields: the run is complete in {} without them\n", out);
-    summary.exit_code = exit_code::interrupted;
-  }
-  return summary.exit_code;
+  signal_point("evolved");
+  return publish_series(work, out, with_fields, *problem, written, code, summary);
 }
 
 }  // namespace keller

@@ -2,15 +2,20 @@
 
 #include <fmt/format.h>
 
+#include <unistd.h>
+
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <iostream>
 #include <optional>
+#include <string_view>
 
 #include "continuation/BranchFile.hpp"
 #include "continuation/TimeSeriesFile.hpp"
 #include "core/H5File.hpp"
+#include "core/IoError.hpp"
+#include "core/OutputLock.hpp"
 #include "core/PendingFile.hpp"
 #include "core/RunFiles.hpp"
 #include "runs/BranchOutput.hpp"
@@ -59,26 +64,49 @@ Table read_table(const std::string& path) {
   return t;
 }
 
-// A branch's `kind` column by its names (point, start, stop, ...: to_string(PointKind)), every
-// other value with all its digits.
-void write_csv(std::ostream& o, const Table& t) {
+// The table as CSV text: a branch's `kind` column by its names (point, start, stop, ...:
+// to_string(PointKind)), every other value with all its digits.
+std::string csv_text(const Table& t) {
+  std::string o;
   long kind = -1;
   for (size_t j = 0; j < t.columns.size(); ++j) {
-    o << (j ? "," : "") << t.columns[j];
+    o += (j ? "," : "") + t.columns[j];
     if (!t.time_series && t.columns[j] == "kind") kind = static_cast<long>(j);
   }
-  o << "\n";
+  o += "\n";
   for (long i = 0; i < t.rows.rows(); ++i) {
     for (long j = 0; j < t.rows.cols(); ++j) {
-      o << (j ? "," : "");
+      o += j ? "," : "";
       const double v = t.rows(i, j);
       if (j == kind && v >= 0 && v <= static_cast<int>(PointKind::Hopf) && v == static_cast<int>(v))
-        o << to_string(static_cast<PointKind>(static_cast<int>(v)));
+        o += to_string(static_cast<PointKind>(static_cast<int>(v)));
       else
-        o << fmt::format("{:.17g}", v);
+        o += fmt::format("{:.17g}", v);
     }
-    o << "\n";
+    o += "\n";
   }
+  return o;
+}
+
+// Writes all of `text` to the standard output; throws IoError (a full device, a closed pipe).
+void write_stdout(std::string_view text) {
+  while (!text.empty()) {
+    const ssize_t n = ::write(STDOUT_FILENO, text.data(), text.size());
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) throw IoError(fmt::format("cannot write the table to the standard output: {}", std::strerror(errno)));
+    text.remove_prefix(static_cast<size_t>(n));
+  }
+}
+
+// Refuses fields for a file without a mesh (a 1D problem's): there are none for ParaView.
+void expect_mesh(const std::string& path) {
+  H5File f(path, H5File::Mode::Read);
+  if (f.exists("/mesh")) return;
+  const std::string problem =
+      f.exists("/problem") && f.has_attribute("/problem", "name") ? f.read_string_attribute("/problem", "name") : "?";
+  throw std::invalid_argument(
+      fmt::format("'{}' has no mesh (problem '{}'): there are no fields to write for --xdmf (--csv writes its table)",
+                  path, problem));
 }
 
 // Whether the branch file was closed by its writer (it can then be opened for writing; a file
@@ -106,18 +134,27 @@ int run_export(const ExportArguments& args) {
     return exit_code::usage;
   }
   const bool to_stdout = args.csv == "-";
+  OutputLock lock;  // --xdmf rewrites the file: one run at a time
   try {
     RunFiles files;
     files.input("branch or time-series file", args.input);
     if (!args.csv.empty() && !to_stdout) {
       files.output("--csv file", args.csv);
-      files.output("--csv file's temporary", PendingFile::temporary_for(args.csv));
+      files.temporary("--csv file's temporary", PendingFile::temporary_for(args.csv));
     }
     if (args.xdmf) {
       files.output("XDMF file", xdmf_path_for(args.input));
+      files.temporary("XDMF file's temporary", xdmf_path_for(args.input) + ".pending");
       files.output("companion fields file", companion_for(args.input));
+      files.temporary("companion fields file's temporary", PendingFile::temporary_for(companion_for(args.input)));
+      files.temporary("copy with fields", args.input + ".fields.part");
+      files.temporary("lock", OutputLock::path_for(args.input));
     }
     files.check();
+    if (args.xdmf) {
+      expect_mesh(args.input);
+      lock = OutputLock(OutputLock::path_for(args.input), "'" + args.input + "'");
+    }
   } catch (const std::exception& e) {
     fmt::print(stderr, "keller: error: {}\n", e.what());
     return exit_code::usage;
@@ -126,15 +163,10 @@ int run_export(const ExportArguments& args) {
   try {
     const Table t = read_table(args.input);
     if (to_stdout) {
-      write_csv(std::cout, t);
-      std::cout.flush();
+      write_stdout(csv_text(t));
     } else if (!args.csv.empty()) {
       PendingFile csv(args.csv);
-      {
-        std::ofstream o(csv.path());
-        write_csv(o, t);
-        if (!o) throw std::runtime_error("cannot write '" + csv.path() + "'");
-      }
+      csv.write(csv_text(t));
       csv.commit();
       fmt::print("wrote {} ({} rows; status: {})\n", args.csv, t.rows.rows(), t.status);
     }
@@ -196,6 +228,12 @@ int run_export(const ExportArguments& args) {
         fmt::print("wrote the fields to {} and {}\n", companion, xdmf);
       }
     }
+  } catch (const IoError& e) {
+    fmt::print(stderr, "keller: error: {}\n", e.what());
+    return exit_code::io_failure;
+  } catch (const fs::filesystem_error& e) {
+    fmt::print(stderr, "keller: error: {}\n", e.what());
+    return exit_code::io_failure;
   } catch (const std::exception& e) {
     fmt::print(stderr, "keller: error: {}\n", e.what());
     return exit_code::usage;

@@ -1,12 +1,16 @@
 #include "runs/OutputFile.hpp"
 
 #include <fmt/format.h>
+#include <unistd.h>
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <sstream>
 #include <tuple>
 
+#include "core/IoError.hpp"
+#include "core/OutputLock.hpp"
 #include "core/PendingFile.hpp"
 #include "core/SolutionWriter.hpp"
 #include "runs/Provenance.hpp"
@@ -67,32 +71,51 @@ std::string record_difference(const std::string& stored, const std::string& now,
 }
 
 void declare_run_outputs(RunFiles& files, const std::string& out, const std::string& what, bool with_fields) {
+  const std::string work = PendingFile::temporary_for(out);
   files.output(what, out);
-  files.output("unfinished " + what, PendingFile::temporary_for(out));
-  files.output(what + "'s copy with fields", out + ".fields.part");
-  if (with_fields) files.output("XDMF file", xdmf_path_for(out));
+  files.temporary("unfinished " + what, work);
+  files.temporary(what + "'s temporary", PendingFile::temporary_for(work));
+  files.temporary(what + "'s copy with fields", out + ".fields.part");
+  files.temporary(what + "'s lock", OutputLock::path_for(out));
+  if (!with_fields) return;
+  files.output("XDMF file", xdmf_path_for(out));
+  files.temporary("XDMF file's temporary", xdmf_path_for(out) + ".pending");
 }
 
-bool continues_unfinished(const std::string& work, const std::string& record, const std::string& defaults, bool fresh,
-                          const std::string& what, const std::string& unit, const UnfinishedTable& table) {
-  if (!std::filesystem::exists(work)) return false;
+LeftRun left_run(const std::string& work, const std::string& record, const std::string& defaults, bool fresh,
+                 const std::string& what, const std::string& unit, const std::string& code_dataset,
+                 const UnfinishedTable& table) {
+  LeftRun left;
+  if (!std::filesystem::exists(work)) return left;
   long rows = 0;
-  std::string status, stored;
+  std::string stored;
+  std::optional<int> code;
   try {
-    std::tie(rows, status) = table(work);
+    std::tie(rows, left.status) = table(work);
     H5File f(work, H5File::Mode::Read);
     if (f.exists("/problem/run")) stored = f.read_string("/problem/run");
+    long marks = 0, cols = 0;
+    const std::vector<double> marked =
+        f.exists(code_dataset) ? f.read_matrix(code_dataset, &marks, &cols) : std::vector<double>{};
+    if (!marked.empty() && marked.front() >= 0) code = static_cast<int>(marked.front());
   } catch (const std::exception&) {
     fmt::print("note: '{}' is not a readable {} file; this run replaces it\n", work, what);
-    return false;
+    return left;
   }
-  if (status != "running" && status.rfind("interrupted", 0) != 0) {
-    fmt::print("note: '{}' holds a {} that ended ({}); this run replaces it\n", work, what, status);
-    return false;
+  const bool unfinished = left.status == "running" || left.status.rfind("interrupted", 0) == 0;
+  if (!unfinished && !(code && records_agree(stored, record, defaults))) {
+    fmt::print("note: '{}' holds a {} that ended ({}); this run replaces it\n", work, what, left.status);
+    return left;
   }
   if (fresh) {
-    fmt::print("note: --fresh: the unfinished {} in '{}' ({} {}) is discarded\n", what, work, rows, unit);
-    return false;
+    fmt::print("note: --fresh: the {} {} in '{}' ({} {}) is discarded\n", unfinished ? "unfinished" : "unpublished",
+               what, work, rows, unit);
+    return left;
+  }
+  if (!unfinished) {
+    left.kind = LeftRun::Kind::ended;
+    left.exit_code = *code;
+    return left;
   }
   if (!records_agree(stored, record, defaults))
     throw std::invalid_argument(fmt::format(
@@ -100,7 +123,22 @@ bool continues_unfinished(const std::string& work, const std::string& record, co
         "discard it",
         work, what, rows, unit,
         stored.empty() ? "no record of its run" : "it differs in: " + record_difference(stored, record, defaults)));
-  return true;
+  left.kind = LeftRun::Kind::unfinished;
+  return left;
+}
+
+void expect_written(const std::string& work, const std::string& target, const HeldFile& written) {
+  if (written.at(work)) return;
+  std::string kept = "this run's file was moved elsewhere, with its content";
+  if (!written.linked()) {
+    const std::string saved = fmt::format("{}.{}", work, ::getpid());
+    written.copy_to(saved);
+    kept = fmt::format("this run's file is saved as '{}'", saved);
+  }
+  throw IoError(fmt::format(
+      "'{}' is not the file this run wrote (it was replaced or removed during the run): '{}' and '{}' are left as "
+      "they are; {}",
+      work, target, work, kept));
 }
 
 void write_run_header(H5File& file, const LoadedScene& loaded, const Problem& problem) {

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/H5File.hpp"
+#include "core/HeldFile.hpp"
 #include "core/Problem.hpp"
 #include "core/RunFiles.hpp"
 #include "runs/SceneLoader.hpp"
@@ -33,19 +34,34 @@ std::string record_difference(const std::string& stored, const std::string& now,
 
 // The outputs of a run written to OUT.part and renamed to OUT when complete, with its fields added
 // to OUT.fields.part first and an XDMF file beside it (`with_fields`); `what` names OUT in messages
-// ("branch file").
+// ("branch file"). The temporary names (OUT.part, the OUT.part.part it is made as, OUT.fields.part,
+// the XDMF file's .pending and the lock OUT.lock) must not be links.
 void declare_run_outputs(RunFiles& files, const std::string& out, const std::string& what, bool with_fields);
 
-// Whether `work` (OUT.part) holds the unfinished run of this very command, to be continued: false
-// (saying why on the terminal) where there is no file, it cannot be read, its run ended by itself,
-// or `fresh` discards it. `table` reads its rows and status ("running" while a writer ran;
-// "interrupted ..." for a stopped run), and `what` and `unit` name them ("branch", "rows"). The
-// record of its run (/problem/run) must agree with `record` (records_agree, `defaults` the scene's):
-// else std::invalid_argument, an unfinished run of another command is never overwritten.
+// What an earlier run of a command left at `work` (OUT.part): nothing to take over (no file, an
+// unreadable one, or one that `fresh` discards or that ended without being marked for publication:
+// this run replaces it, saying why on the terminal), its unfinished run (status "running" while a
+// writer ran, "interrupted ..." for a stopped one) to be continued, or its ended run, marked for
+// publication (its exit code in `code_dataset`, -1 until then) and killed before it took its
+// name, to be published.
+struct LeftRun {
+  enum class Kind { none, unfinished, ended };
+  Kind kind = Kind::none;
+  std::string status;  // the file's status
+  int exit_code = 0;   // an ended run's exit code
+};
+// `table` reads the rows and status of `work`, `code_dataset` is "/branch/exit_code" or
+// "/evolve/exit_code", and `what` and `unit` name them ("branch", "rows"). The record of its run (/problem/run) must
+// agree with `record` (records_agree, `defaults` the scene's) for it to be taken over: else an unfinished run throws
+// std::invalid_argument (an unfinished run of another command is never overwritten) and an ended one is replaced.
 using UnfinishedTable = std::function<std::pair<long, std::string>(const std::string& path)>;
-bool continues_unfinished(const std::string& work, const std::string& record, const std::string& defaults, bool fresh,
-                          const std::string& what, const std::string& unit, const UnfinishedTable& table);
-
+LeftRun left_run(const std::string& work, const std::string& record, const std::string& defaults, bool fresh,
+                 const std::string& what, const std::string& unit, const std::string& code_dataset,
+                 const UnfinishedTable& table);
+// Refuses (IoError) to go on with `work` where it is not the file `written` the run wrote, saying
+// that `work` and `target` are left as they are and where the run's file is: moved elsewhere, or
+// (without a name left) saved as WORK.<pid> from the descriptor held.
+void expect_written(const std::string& work, const std::string& target, const HeldFile& written);
 // Writes /scene (resolved TOML), /problem (attributes name, summary, unknowns, physics_hash),
 // /problem/physics (LoadedScene::physics()), /problem/parameters (an attribute per parameter) and
 // /provenance (Provenance::current()).

@@ -15,6 +15,10 @@ int fail_run(RunSummary& summary, int code, const std::string& message) {
   return code;
 }
 
+bool takes_its_name(bool interrupted, bool failed, const std::string& out) {
+  return !interrupted && !(failed && std::filesystem::exists(out));
+}
+
 std::optional<int> stays_unfinished(bool interrupted, bool failed, const std::string& work, const std::string& out,
                                     const std::string& what, const std::string& short_of, RunSummary& summary) {
   if (interrupted) {

@@ -30,6 +30,10 @@ struct RunSummary {
 // `summary`; returns the code.
 int fail_run(RunSummary& summary, int code, const std::string& message);
 
+// Whether an ended run takes its name: not when interrupted (it is continued), nor when it failed
+// and `out` exists (a failing run never replaces a result).
+bool takes_its_name(bool interrupted, bool failed, const std::string& out);
+
 // The end of a run written to `work` (OUT.part) that takes the name `out` once complete: an
 // interrupted run stays in `work`, to be continued by the same command (exit 130), and a failed one
 // (exit 1) never replaces an existing `out`. Returns the exit code where the file stays in `work`

@@ -9,6 +9,7 @@
 
 #include "continuation/StartSolver.hpp"
 #include "core/Newton.hpp"
+#include "core/OutputLock.hpp"
 #include "core/PendingFile.hpp"
 #include "core/RunFiles.hpp"
 #include "core/SolutionWriter.hpp"
@@ -77,13 +78,19 @@ int run_solve(const SolveArguments& args, RunSummary* out_summary) {
   }
   if (out.empty()) out = fs::path(args.scene).stem().string() + ".h5";
   const bool with_xdmf = loaded.scene.boolean("output.xdmf");
+  OutputLock lock;  // one run at a time writes `out`
   try {
     RunFiles files;
     files.input("scene file", args.scene);
     files.output("output file", out);
-    files.output("output file's temporary", PendingFile::temporary_for(out));
-    if (with_xdmf) files.output("XDMF file", xdmf_path_for(out));
+    files.temporary("output file's temporary", PendingFile::temporary_for(out));
+    files.temporary("output file's lock", OutputLock::path_for(out));
+    if (with_xdmf) {
+      files.output("XDMF file", xdmf_path_for(out));
+      files.temporary("XDMF file's temporary", PendingFile::temporary_for(xdmf_path_for(out)));
+    }
     files.check();
+    lock = OutputLock(OutputLock::path_for(out), "'" + out + "'");
   } catch (const std::exception& e) {
     return fail(exit_code::usage, e.what());
   }
@@ -178,11 +185,12 @@ int run_solve(const SolveArguments& args, RunSummary* out_summary) {
     unstable = unstable_count(r);
   }
 
+  SolutionFields f;
   try {
     PendingFile pending(out);
-    SolutionFields f;
     {
       H5File file(pending.path(), H5File::Mode::Create);
+      pending.created(file.hold());
       write_run_header(file, loaded, *problem);
       file.write_string("/problem/run", solve_run_record(loaded));
       write_solution(file, "/solution", *problem, u);
@@ -201,11 +209,15 @@ int run_solve(const SolveArguments& args, RunSummary* out_summary) {
       file.close();
     }
     pending.commit();
+  } catch (const std::exception& e) {
+    return fail(exit_code::io_failure, fmt::format("writing the output: {}; nothing written", e.what()));
+  }
+  try {
     if (f.mesh && with_xdmf)
       write_xdmf(xdmf_path_for(out), fs::path(out).filename().string(), "mesh", *f.mesh,
                  {{"solution/fields", "solution", 0.0}}, f);
   } catch (const std::exception& e) {
-    return fail(exit_code::usage, fmt::format("writing output: {}", e.what()));
+    return fail(exit_code::io_failure, fmt::format("wrote {}, but not its XDMF file: {}", out, e.what()));
   }
   fmt::print("wrote {}\n", out);
   summary.exit_code = exit_code::ok;

@@ -15,6 +15,9 @@
 #include "continuation/HopfCurveProblem.hpp"
 #include "continuation/ProgressPrinter.hpp"
 #include "continuation/StartSolver.hpp"
+#include "core/HeldFile.hpp"
+#include "core/IoError.hpp"
+#include "core/OutputLock.hpp"
 #include "core/PendingFile.hpp"
 #include "core/RunFiles.hpp"
 #include "core/SignalPoint.hpp"
@@ -52,16 +55,16 @@ struct Unfinished {
   double state_scale = 0, theta = 0;
 };
 
-// The unfinished run of this very command at `work`, to be continued (continues_unfinished).
+// The unfinished run of this very command at `work`, to be continued; `left` says what `work` holds
+// (left_run: an ended run of this command is published instead).
 std::optional<Unfinished> unfinished_run(const std::string& work, const std::string& record,
-                                         const std::string& defaults, bool fresh) {
+                                         const std::string& defaults, bool fresh, LeftRun& left) {
   BranchTable t;
-  const bool continues =
-      continues_unfinished(work, record, defaults, fresh, "branch", "rows", [&](const std::string& path) {
-        t = read_branch_table(path);
-        return std::pair<long, std::string>(t.rows.rows(), t.status);
-      });
-  if (!continues) return {};
+  left = left_run(work, record, defaults, fresh, "branch", "rows", "/branch/exit_code", [&](const std::string& path) {
+    t = read_branch_table(path);
+    return std::pair<long, std::string>(t.rows.rows(), t.status);
+  });
+  if (left.kind != LeftRun::Kind::unfinished) return {};
   Unfinished u;
   u.seed = read_branch_seed(work);
   u.point = read_branch_point(work, u.seed.row);
@@ -106,6 +109,68 @@ void print_summary(const ContinuationResult& result) {
                result.lu_peak_bytes / kBytesPerMb);
 }
 
+// The fields of a stored state of the traced problem at its parameter value `lambda` (parameter p): a
+// curve's state holds the problem's unknowns and then the value of its second parameter (p1 >= 0).
+FieldsAt fields_of(Problem& problem, int p, int p1) {
+  return [&problem, p, p1](const Vector& u, double lambda) {
+    problem.parameters().set(p, lambda);
+    if (p1 >= 0) problem.parameters().set(p1, u[problem.size()]);
+    return problem.fields(u.head(problem.size()));
+  };
+}
+
+// The ended branch in `work` (the file `written`) takes its name `out`, with its fields when
+// `with_fields`; `code` is the run's exit code. Returns the command's exit code.
+int publish_run(const std::string& work, const std::string& out, bool with_fields, const FieldsAt& fields,
+                const HeldFile& written, int code, RunSummary& summary) {
+  PublishedBranch published;
+  try {
+    published =
+        publish_branch(work, out, xdmf_path_for(out), with_fields, fields, &InterruptGuard::requested, &written);
+  } catch (const std::exception& e) {
+    return fail_run(summary, exit_code::io_failure,
+                    written.at(work)
+                        ? fmt::format("the branch stays in {} (the same command publishes it): {}", work, e.what())
+                        : e.what());
+  }
+  if (published.modes > 0)
+    fmt::print("wrote {} critical eigenmode(s): {}_mode<k>.xdmf\n", published.modes,
+               fs::path(xdmf_path_for(out)).replace_extension().string());
+  fmt::print("wrote {}\n", out);
+  summary.output = out;
+  summary.exit_code = code;
+  if (with_fields && !published.fields) {
+    fmt::print(
+        "interrupted while writing the fields: the branch is complete in {} without them; `keller export {} "
+        "--xdmf` writes them\n",
+        out, out);
+    summary.exit_code = exit_code::interrupted;
+  }
+  return summary.exit_code;
+}
+
+// The ended run of this command in `work`, killed before it took its name: published now, at the
+// parameter values it was traced at (a curve's second parameter from its --from branch).
+int publish_left_run(const std::string& work, const std::string& out, bool with_fields,
+                     const std::optional<StoredStart>& from, Problem& problem, const std::string& parameter,
+                     const LeftRun& left, RunSummary& summary) {
+  fmt::print("note: '{}' holds this command's branch, which ended before it was published; publishing it ({})\n", work,
+             left.status);
+  RunHeader header;
+  {
+    H5File f(work, H5File::Mode::Read);
+    header = read_run_header(f);
+  }
+  for (const auto& [name, value] : header.parameters)
+    if (problem.parameters().has(name)) problem.parameters().set(name, value);
+  const int p1 = from && from->curve ? problem.parameters().index(read_branch_table(from->file).parameter) : -1;
+  InterruptGuard interrupts;
+  const HeldFile written = HeldFile::open(work);
+  summary.reason = left.status;
+  return publish_run(work, out, with_fields, fields_of(problem, problem.parameters().index(parameter), p1), written,
+                     left.exit_code, summary);
+}
+
 }  // namespace
 
 int run_trace(const TraceArguments& args, RunSummary* out_summary) {
@@ -144,6 +209,7 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
   const std::string out = args.output.empty() ? fs::path(args.scene).stem().string() + ".h5" : args.output;
   const std::string work = PendingFile::temporary_for(out);
   const bool with_fields = loaded.scene.boolean("output.xdmf");
+  OutputLock lock;  // one run at a time writes `out`
   try {
     if (!args.restart.empty() && !args.switch_at.empty())
       throw std::invalid_argument("--restart and --switch exclude each other");
@@ -178,6 +244,7 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
     }
     declare_run_outputs(files, out, "branch file", with_fields);
     files.check();
+    lock = OutputLock(OutputLock::path_for(out), "'" + out + "'");
   } catch (const std::exception& e) {
     return fail(exit_code::usage, e.what());
   }
@@ -200,8 +267,11 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
   std::optional<BranchPoint> start;
   bool other_parameter = false;  // a restart from a branch traced in another parameter
   std::vector<std::string> warnings;
+  LeftRun left;
   try {
-    unfinished = unfinished_run(work, record, loaded.defaults(), args.fresh);
+    unfinished = unfinished_run(work, record, loaded.defaults(), args.fresh, left);
+    if (left.kind == LeftRun::Kind::ended)
+      return publish_left_run(work, out, with_fields, from, *problem, copt.parameter, left, summary);
     if (unfinished) {
       start = unfinished->point;
       copt.state_scale = unfinished->state_scale;
@@ -416,6 +486,7 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
   }
   InterruptGuard interrupts;
   ContinuationResult result;
+  HeldFile written;  // the file this run writes, to be published
   {
     std::unique_ptr<BranchFile> file;
     try {
@@ -434,6 +505,9 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
                               from->switching ? args.switch_at : args.restart);
           },
           run->analysis_columns(), unfinished ? &unfinished->seed : nullptr);
+      written = std::move(file->written());
+    } catch (const IoError& e) {
+      return fail(exit_code::io_failure, fmt::format("{}; nothing written", e.what()));
     } catch (const std::exception& e) {
       return fail(exit_code::usage, e.what());
     }
@@ -450,14 +524,28 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
     std::optional<HopfCurveProblem::BorderUpdate> hopf_borders;
     if (hopf_curve) observer = &hopf_borders.emplace(*hopf_curve, *observer);
     InterruptGuard::forward_to(run.get());
-    result = event_curve               ? event_curve->trace(fixed, nopt, lopt, u0, *observer,
-                                                            [](Continuation* c) { InterruptGuard::forward_to(c); })
-             : unfinished              ? run->resume(*start, *observer)
-             : from && from->switching ? run->switch_branch(*start, args.switch_direction, *observer)
-             : start                   ? run->resume(*start, *observer)
-                                       : run->run(u0, *observer, std::move(start_factorisation));
+    try {
+      result = event_curve               ? event_curve->trace(fixed, nopt, lopt, u0, *observer,
+                                                              [](Continuation* c) { InterruptGuard::forward_to(c); })
+               : unfinished              ? run->resume(*start, *observer)
+               : from && from->switching ? run->switch_branch(*start, args.switch_direction, *observer)
+               : start                   ? run->resume(*start, *observer)
+                                         : run->run(u0, *observer, std::move(start_factorisation));
+      // an ended branch that is to take its name says so first: the same command publishes it should
+      // this run be killed before it has
+      const bool at_floor = result.code == StopCode::StepFloor;
+      if (takes_its_name(result.code == StopCode::Interrupted, at_floor, out))
+        file->mark_for_publication(at_floor ? exit_code::numerical_failure : exit_code::ok);
+      file->close();
+    } catch (const IoError& e) {
+      InterruptGuard::forward_to(nullptr);
+      return fail(exit_code::io_failure,
+                  written.at(work) ? fmt::format("{}; every point before it is kept in {}: run the same command again "
+                                                 "to continue the branch",
+                                                 e.what(), work)
+                                   : e.what());
+    }
     InterruptGuard::forward_to(nullptr);
-    file->close();
   }
   if (stability)
     fmt::print("stability: {:.2f} s in {} factorisations and {} solves of (J - sB)\n", stability->seconds(),
@@ -475,7 +563,6 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
   summary.lu_backend = result.lu_backend;
   summary.factor_seconds = result.timings.factorisation;
   summary.solve_seconds = result.timings.solve;
-  signal_point("traced");
 
   // 4. the branch takes its name: an interrupted one stays where it is, to be continued; a
   // failed one never replaces an existing file
@@ -483,33 +570,11 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
                                           work, out, "branch", "before its range", summary))
     return *stays;
   const int code = summary.exit_code;
-  const int p = problem->parameters().index(copt.parameter);
-  const FieldsAt fields_at = [&](const Vector& u, double lambda) {
-    problem->parameters().set(p, lambda);
-    if (traced_curve) problem->parameters().set(traced_curve->p1(), u[problem->size()]);
-    return traced.fields(u);
-  };
-  PublishedBranch published;
-  try {
-    published = publish_branch(work, out, xdmf_path_for(out), with_fields, fields_at, &InterruptGuard::requested);
-  } catch (const std::exception& e) {
-    return fail(exit_code::usage, fmt::format("the branch stays in {}: {}", work, e.what()));
-  }
-  if (published.modes > 0)
-    fmt::print("wrote {} critical eigenmode(s): {}_mode<k>.xdmf\n", published.modes,
-               fs::path(xdmf_path_for(out)).replace_extension().string());
-  fmt::print("wrote {}\n", out);
-  summary.output = out;
-  summary.exit_code = code;
-  if (with_fields && !published.fields) {
-    fmt::print(
-        "interrupted while writing the fields: the branch is complete in {} without them; `keller export {} "
-        "--xdmf` writes them\n",
-        out, out);
-    summary.exit_code = exit_code::interrupted;
-    return summary.exit_code;
-  }
-  return code;
+  signal_point("traced");
+  return publish_run(
+      work, out, with_fields,
+      fields_of(*problem, problem->parameters().index(copt.parameter), traced_curve ? traced_curve->p1() : -1), written,
+      code, summary);
 }
 
 }  // namespace keller

@@ -2,6 +2,7 @@
 #include <fmt/format.h>
 #include <CLI/CLI.hpp>
 
+#include <cstdio>
 #include <new>
 
 #include "continuation/ContinuationOptions.hpp"
@@ -16,6 +17,16 @@
 #include "runs/study/StudyCommand.hpp"
 
 namespace {
+
+// An option given an empty word ("-o ''") of the parsed commands: an error, not the default name.
+void refuse_empty_values(const CLI::App& app) {
+  for (const CLI::App* sub : app.get_subcommands()) {
+    for (const CLI::Option* o : sub->get_options())
+      for (const std::string& value : o->results())
+        if (value.empty()) throw CLI::ValidationError(o->get_name(), "an empty path or value is not allowed");
+    refuse_empty_values(*sub);
+  }
+}
 
 int run(int argc, char** argv) {  // argc and argv go on to MPI_Init under mpirun
   CLI::App app{"keller: continuation and bifurcation toolkit for steady flows"};
@@ -125,6 +136,7 @@ int run(int argc, char** argv) {  // argc and argv go on to MPI_Init under mpiru
 
   try {
     app.parse(argc, argv);
+    refuse_empty_values(app);
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {
@@ -198,5 +210,8 @@ int main(int argc, char** argv) {
                "keller: error: not enough memory for this problem (a mesh or grid size in the scene is too "
                "large for this machine); nothing written\n");
     return keller::exit_code::usage;
+  } catch (const std::exception& e) {  // the last resort: every command reports its own failures
+    std::fprintf(stderr, "keller: error: %s\n", e.what());
+    return keller::exit_code::io_failure;
   }
 }

@@ -39,10 +39,15 @@ int run_study_command(const StudyArguments& args, int& argc, char**& argv) {
                  static_cast<int>(study.tasks().size()) - 1);
       return exit_code::usage;
     }
-    const TaskRecord r = run_study_task(study, study.tasks()[static_cast<size_t>(args.task)]);
-    return r.status == "done"          ? exit_code::ok
-           : r.status == "interrupted" ? exit_code::interrupted
-                                       : exit_code::numerical_failure;
+    try {
+      const TaskRecord r = run_study_task(study, study.tasks()[static_cast<size_t>(args.task)]);
+      return r.status == "done"          ? exit_code::ok
+             : r.status == "interrupted" ? exit_code::interrupted
+                                         : exit_code::numerical_failure;
+    } catch (const std::exception& e) {  // its record or its folder cannot be written
+      fmt::print(stderr, "keller: error: task {} of {}: {}\n", args.task, args.study, e.what());
+      return exit_code::io_failure;
+    }
   }
   // what [collect] names, against the tasks' problems: before any task runs (or a table of
   // nothing after all of them)
@@ -52,11 +57,16 @@ int run_study_command(const StudyArguments& args, int& argc, char**& argv) {
     fmt::print(stderr, "keller: error: {}\n", e.what());
     return exit_code::usage;
   }
-  if (args.action == "collect") {
-    write_study_table(study);
-    return exit_code::ok;
+  const bool collect = args.action == "collect";
+  if (!collect && under_mpi()) return run_study_mpi(study, argc, argv);  // rank 0 holds the folder
+  OutputLock folder;  // the study's folder is this process's while it runs or is collected
+  try {
+    folder = hold_study_folder(study);
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "keller: error: {}\n", e.what());
+    return exit_code::usage;
   }
-  if (under_mpi()) return run_study_mpi(study, argc, argv);
+  if (collect) return write_study_table(study) ? exit_code::ok : exit_code::io_failure;
   const int jobs = args.jobs > 0 ? args.jobs : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   return run_study_local(study, jobs);
 }

@@ -42,10 +42,10 @@ int schedule(const Study& study, int size) {
   std::map<int, int> attempts;
   int stopped = 0, running = 0, gaps = 0, finished = 0;
   double gap_seconds = 0, process_seconds = 0;
-  bool failures = false;
-  auto give = [&](int worker) {  // the next task, or none (the worker stops) when none can come
+  bool failures = false, unwritten = false;  // unwritten: a record could not be written; no task starts after it
+  auto give = [&](int worker) {              // the next task, or none (the worker stops) when none can come
     int next = no_task;
-    if (!InterruptGuard::requested() && !queue.empty()) {
+    if (!InterruptGuard::requested() && !unwritten && !queue.empty()) {
       next = queue.front();
       queue.pop_front();
       ++attempts[next];
@@ -83,26 +83,31 @@ int schedule(const Study& study, int size) {
       record.process_seconds = msg[2];
       process_seconds += msg[2];
       ++finished;
-      if (record.status == "died" && record.attempts < 2 && !InterruptGuard::requested()) {
+      if (record.status == "died" && record.attempts < 2 && !InterruptGuard::requested() && !unwritten) {
         std::printf("task %d (%s): %s; running it again\n", done.index, done.label().c_str(),
                     record.summary.reason.c_str());
         queue.push_back(done.index);
       } else {
         if (record.status == "died") record.status = "failed";
-        if (record.status != "interrupted") write_task_record(study, done, record);
+        if (record.status != "interrupted") unwritten |= !save_task_record(study, done, record);
         failures |= record.status == "failed";
         progress.finished(done, record);
       }
     }
     // the waiting workers: a task came back, or nothing more can come
-    while (!idle.empty() && (!queue.empty() || running == 0 || InterruptGuard::requested())) {
+    while (!idle.empty() && (!queue.empty() || running == 0 || InterruptGuard::requested() || unwritten)) {
       const int worker = idle.front();
       idle.pop_front();
       give(worker);
     }
   }
   print_overhead(gaps, gap_seconds, finished, process_seconds);
-  write_study_table(study);
+  unwritten |= !write_study_table(study);
+  if (unwritten) {
+    std::fprintf(stderr, "keller: error: the study stopped: its files cannot be written in %s/ (is the disk full?)\n",
+                 study.folder().c_str());
+    return exit_code::io_failure;
+  }
   if (InterruptGuard::requested()) return exit_code::interrupted;
   return failures ? exit_code::numerical_failure : exit_code::ok;
 }
@@ -151,13 +156,26 @@ int run_study_mpi(const Study& study, int& argc, char**& argv) {
   int rank = 0, size = 1;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   MPI_Comm_size(MPI_COMM_WORLD, &size);
+  // rank 0 holds the study's folder (a second study on it is refused) and tells the others
   int code = exit_code::ok;
-  if (size == 1) {
-    if (rank == 0) code = run_study_local(study, 1);
-  } else if (rank == 0) {
-    code = schedule(study, size);
-  } else {
-    work(study, size);
+  OutputLock folder;
+  if (rank == 0) {
+    try {
+      folder = hold_study_folder(study);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "keller: error: %s\n", e.what());
+      code = exit_code::usage;
+    }
+  }
+  MPI_Bcast(&code, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  if (code == exit_code::ok) {
+    if (size == 1) {
+      if (rank == 0) code = run_study_local(study, 1);
+    } else if (rank == 0) {
+      code = schedule(study, size);
+    } else {
+      work(study, size);
+    }
   }
   MPI_Bcast(&code, 1, MPI_INT, 0, MPI_COMM_WORLD);
   MPI_Finalize();

@@ -58,8 +58,8 @@ int blas_threads_for(int workers) {
 }
 
 pid_t spawn_task(const Study& study, const StudyTask& task, int blas_threads) {
-  fs::create_directories(fs::path(study.task_log(task)).parent_path());
-  std::error_code ec;
+  std::error_code ec;  // a folder that cannot be made: the task fails, and says why
+  fs::create_directories(fs::path(study.task_log(task)).parent_path(), ec);
   fs::remove(study.task_record(task), ec);  // the record that comes back is this run's
   const pid_t parent = ::getpid();
   const std::string index = std::to_string(task.index), threads = std::to_string(blas_threads);
@@ -156,9 +156,14 @@ void print_overhead(int gaps, double gap_seconds, int tasks, double process_seco
       1e3 * per_task, task > 0 ? 100 * per_task / task : 0.0, task);
 }
 
-void write_study_table(const Study& study) {
+bool write_study_table(const Study& study) {
   const StudyTable table = StudyTable::collect(study);
-  table.write(study.table_csv(), study.table_h5());
+  try {
+    table.write(study.table_csv(), study.table_h5());
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "keller: error: the study's table cannot be written: {}\n", e.what());
+    return false;
+  }
   int done = 0, failed = 0;
   for (const StudyRow& r : table.rows()) {
     const std::string& s = r.text.at("status");
@@ -167,6 +172,32 @@ void write_study_table(const Study& study) {
   }
   fmt::print("collected {} tasks ({} done, {} failed, {} not run) in {} and {}\n", table.rows().size(), done, failed,
              table.rows().size() - done - failed, study.table_csv(), study.table_h5());
+  return true;
+}
+
+bool save_task_record(const Study& study, const StudyTask& task, const TaskRecord& record) {
+  try {
+    write_task_record(study, task, record);
+    return true;
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "keller: error: the record of task {} cannot be written: {}\n", task.index, e.what());
+    return false;
+  }
+}
+
+OutputLock hold_study_folder(const Study& study) {
+  const fs::path folder(study.folder());
+  for (const fs::path& dir : {folder, folder / "tasks"}) {
+    std::error_code ec;
+    if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
+      throw std::invalid_argument(
+          fmt::format("'{}' is not a folder: a study's files go to a folder (-o FOLDER)", dir.string()));
+    if (!fs::is_directory(dir, ec) && !fs::create_directories(dir, ec))
+      throw std::invalid_argument(fmt::format("the study folder '{}' cannot be made: {}", dir.string(), ec.message()));
+    if (::access(dir.c_str(), W_OK) != 0)
+      throw std::invalid_argument(fmt::format("the study folder '{}' is not writable", dir.string()));
+  }
+  return OutputLock((folder / "study.lock").string(), fmt::format("the study folder '{}'", folder.string()));
 }
 
 int run_study_local(const Study& study, int jobs) {
@@ -178,12 +209,12 @@ int run_study_local(const Study& study, int jobs) {
   std::map<pid_t, int> running;
   std::map<pid_t, double> started;
   std::map<int, int> attempts;
-  bool failures = false;
+  bool failures = false, unwritten = false;  // unwritten: a record could not be written; no task starts after it
   // the scheduling overhead: from a task's end to the start of the next on its worker
   double reaped = -1, gaps = 0, process = 0;
   int spawned_after_reap = 0, finished = 0;
   auto fill = [&]() {  // a free worker starts the next task before anything else is done
-    while (!InterruptGuard::requested() && !queue.empty() && static_cast<int>(running.size()) < workers) {
+    while (!InterruptGuard::requested() && !unwritten && !queue.empty() && static_cast<int>(running.size()) < workers) {
       const int i = queue.front();
       queue.pop_front();
       ++attempts[i];
@@ -218,18 +249,23 @@ int run_study_local(const Study& study, int jobs) {
     record.process_seconds = task_seconds;
     process += record.process_seconds;
     ++finished;
-    if (record.status == "died" && record.attempts < 2 && !InterruptGuard::requested()) {
+    if (record.status == "died" && record.attempts < 2 && !InterruptGuard::requested() && !unwritten) {
       fmt::print("task {} ({}): {}; running it again\n", task.index, task.label(), record.summary.reason);
       queue.push_back(task.index);
       continue;
     }
     if (record.status == "died") record.status = "failed";
-    if (record.status != "interrupted") write_task_record(study, task, record);
+    if (record.status != "interrupted") unwritten |= !save_task_record(study, task, record);
     failures |= record.status == "failed";
     progress.finished(task, record);
   }
   print_overhead(spawned_after_reap, gaps, finished, process);
-  write_study_table(study);
+  unwritten |= !write_study_table(study);
+  if (unwritten) {
+    fmt::print(stderr, "keller: error: the study stopped: its files cannot be written in {}/ (is the disk full?)\n",
+               study.folder());
+    return exit_code::io_failure;
+  }
   if (InterruptGuard::requested()) {
     fmt::print(
         "interrupted: the tasks that were running stop after their current point; run the study again to "

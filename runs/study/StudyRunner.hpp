@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "core/OutputLock.hpp"
 #include "runs/study/Study.hpp"
 #include "runs/study/StudyTask.hpp"
 
@@ -48,7 +49,8 @@ int blas_threads_for(int workers);
 int blas_threads_for(int workers, int cores, const char* user);
 
 // Runs the study here with `jobs` worker processes. Exit codes: 0 every task done, 1 some task
-// failed, 130 interrupted (tasks in flight stop after their current point and are continued by
+// failed, 3 a task's record or the table could not be written (no task is started after it), 130
+// interrupted (tasks in flight stop after their current point and are continued by
 // the next run of the study).
 int run_study_local(const Study& study, int jobs);
 // Under mpirun: rank 0 schedules, the other ranks run tasks. Returns the exit code of rank 0's
@@ -61,7 +63,17 @@ bool under_mpi();
 // start of its next one, against the mean time of a task's process.
 void print_overhead(int gaps, double gap_seconds, int tasks, double process_seconds);
 
-// Writes the collected table (FOLDER/NAME.csv and .h5) and prints where.
-void write_study_table(const Study& study);
+// Writes the collected table (FOLDER/NAME.csv and .h5) and prints where; false (saying why on
+// stderr) where it cannot be written.
+bool write_study_table(const Study& study);
+// Writes a finished task's record; false (saying why on stderr) where it cannot be written.
+bool save_task_record(const Study& study, const StudyTask& task, const TaskRecord& record);
+
+// The study's folder made ready and held by this process (rank 0 under MPI) while the study runs
+// or is collected: a folder (made where missing) with its tasks/ folder, and the lock
+// FOLDER/study.lock, so that a second study on the folder is refused at its start, naming this
+// one. Throws std::invalid_argument for a path that cannot be the folder, OutputLocked where
+// another process holds it.
+OutputLock hold_study_folder(const Study& study);
 
 }  // namespace keller

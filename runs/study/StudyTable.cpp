@@ -6,8 +6,8 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <set>
+#include <sstream>
 #include <tuple>
 
 #include "continuation/BranchFile.hpp"
@@ -220,7 +220,7 @@ void StudyTable::write(const std::string& csv_path, const std::string& h5_path) 
   {
     PendingFile csv(csv_path);
     {
-      std::ofstream o(csv.path());
+      std::ostringstream o;
       std::vector<std::string> header = {"task"};
       header.insert(header.end(), text_columns_.begin(), text_columns_.end());
       header.insert(header.end(), number_columns_.begin(), number_columns_.end());
@@ -239,13 +239,14 @@ void StudyTable::write(const std::string& csv_path, const std::string& h5_path) 
         }
         o << "\n";
       }
-      if (!o) throw std::runtime_error("cannot write '" + csv.path() + "'");
+      csv.write(o.str());
     }
     csv.commit();
   }
   PendingFile h5(h5_path);
   {
     H5File f(h5.path(), H5File::Mode::Create);
+    h5.created(f.hold());
     f.create_group("/study");
     std::vector<double> task;
     for (const StudyRow& r : rows_) task.push_back(r.task);

@@ -6,7 +6,7 @@
 
 #include <toml++/toml.h>
 #include <filesystem>
-#include <fstream>
+#include <sstream>
 
 #include "core/H5File.hpp"
 #include "core/PendingFile.hpp"
@@ -128,7 +128,7 @@ void write_task_record(const Study& study, const StudyTask& task, const TaskReco
   fs::create_directories(fs::path(path).parent_path());
   PendingFile file(path);
   {
-    std::ofstream o(file.path());
+    std::ostringstream o;
     const RunSummary& s = r.summary;
     o << fmt::format("# task {} of {}: {}\n", task.index, study.path(), task.label());
     o << fmt::format("hash = {}\nstatus = {}\nattempts = {}\nexit_code = {}\nreason = {}\noutput = {}\n",
@@ -139,7 +139,7 @@ void write_task_record(const Study& study, const StudyTask& task, const TaskReco
     o << fmt::format("solves = {}\nnnz_lu = {:.17g}\nlu_peak_mb = {:.17g}\n", s.solves, s.nnz_lu, s.lu_peak_mb);
     o << fmt::format("factor_seconds = {:.17g}\nsolve_seconds = {:.17g}\n", s.factor_seconds, s.solve_seconds);
     o << fmt::format("process_seconds = {:.17g}\npeak_mb = {:.17g}\n", r.process_seconds, r.peak_mb);
-    if (!o) throw std::runtime_error("cannot write '" + file.path() + "'");
+    file.write(o.str());
   }
   file.commit();
 }

@@ -395,3 +395,47 @@ TEST(OutputSafety, AnUnfinishedBranchOfAnotherRunIsKept) {
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_FALSE(fs::exists(out + ".part"));
 }
+
+// Issue 30, item 12: an empty -o is an error of every command (not the default name); the XDMF
+// file escapes the name of the HDF5 file it refers to; `export --xdmf` of a branch without a mesh
+// says there are no fields instead of claiming it wrote them; evolve names the key at fault.
+TEST(OutputSafety, EmptyNamesEscapedNamesAndNoFields) {
+  const std::string dir = test::scratch_dir("safety_small");
+  auto r = test::run_keller("trace " + bratu1d + quick + " -o " + dir + "/b1.h5");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string b1 = contents(dir + "/b1.h5");
+  std::ofstream(dir + "/s.toml") << "[study]\nscene = \"" << bratu1d << "\"\n[grid]\n\"bratu.intervals\" = [16]\n";
+  const std::string evolve = test::source_path("runs/scenes/brusselator1d_evolve.toml");
+  const std::vector<std::string> defaults = {"bratu1d_fold.h5", "brusselator1d_evolve.h5", "s"};  // here
+  for (const std::string& made : defaults) fs::remove_all(made);
+  for (const std::string& c :
+       {"solve " + bratu1d + " -o ''", "trace " + bratu1d + " -o ''", "evolve " + evolve + " -o ''",
+        "study " + dir + "/s.toml -o ''", "export " + dir + "/b1.h5 --csv ''"}) {
+    SCOPED_TRACE(c);
+    r = test::run_keller(c);
+    EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+    EXPECT_NE(r.err.find("an empty path"), std::string::npos) << r.err;
+  }
+  for (const std::string& made : defaults) EXPECT_FALSE(fs::exists(made)) << made;
+
+  r = test::run_keller("trace " + test::source_path("runs/scenes/bratu2d_fold.toml") +
+                       " --set bratu.intervals=4 --set continuation.max_steps=3 -o '" + dir + "/a&<>\"'\\''.h5'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string xdmf = contents(dir + "/a&<>\"'.xdmf");
+  EXPECT_NE(xdmf.find(">a&amp;&lt;&gt;&quot;&apos;.h5:/"), std::string::npos) << xdmf.substr(0, 600);
+  EXPECT_EQ(xdmf.find("a&<"), std::string::npos);
+
+  r = test::run_keller("export " + dir + "/b1.h5 --xdmf");
+  EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+  EXPECT_NE(r.err.find("'" + dir + "/b1.h5' has no mesh (problem 'bratu1d'): there are no fields to write"),
+            std::string::npos)
+      << r.err;
+  EXPECT_TRUE(contents(dir + "/b1.h5") == b1) << "changed";
+  for (const char* made : {"/b1.xdmf", "/b1-fields.h5"}) EXPECT_FALSE(fs::exists(dir + made)) << made;
+
+  r = test::run_keller("evolve " + evolve + " --set evolve.max_step=1e-300 -o " + dir + "/e.h5");
+  EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+  EXPECT_NE(r.err.find("key 'evolve.max_step'"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("1e-300 is below"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("evolve.initial_step"), std::string::npos) << r.err;
+}
