@@ -100,6 +100,11 @@ std::vector<int> tasks_to_run(const Study& study) {
   std::map<int, double> before;  // the time a task took when it last ran
   for (const StudyTask& t : study.tasks()) {
     if (task_done(study, t)) continue;
+    try {
+      set_aside_foreign_outputs(study, t);
+    } catch (const std::runtime_error& e) {  // the task's run meets it, and fails saying why
+      fmt::print(stderr, "keller: warning: {}\n", e.what());
+    }
     todo.push_back(t.index);
     if (const auto r = read_task_record(study, t); r && r->summary.seconds > 0) before[t.index] = r->summary.seconds;
   }
@@ -159,14 +164,17 @@ void print_overhead(int gaps, double gap_seconds, int tasks, double process_seco
 void write_study_table(const Study& study) {
   const StudyTable table = StudyTable::collect(study);
   table.write(study.table_csv(), study.table_h5());
-  int done = 0, failed = 0;
+  int done = 0, failed = 0, damaged = 0;
   for (const StudyRow& r : table.rows()) {
     const std::string& s = r.text.at("status");
     done += s == "done";
     failed += s == "failed" || s == "died";
+    damaged += s == "damaged";
   }
-  fmt::print("collected {} tasks ({} done, {} failed, {} not run) in {} and {}\n", table.rows().size(), done, failed,
-             table.rows().size() - done - failed, study.table_csv(), study.table_h5());
+  fmt::print("collected {} tasks ({} done, {} failed, {} not run{}) in {} and {}\n", table.rows().size(), done, failed,
+             table.rows().size() - done - failed - damaged,
+             damaged ? fmt::format(", {} with a damaged or foreign output", damaged) : "", study.table_csv(),
+             study.table_h5());
 }
 
 int run_study_local(const Study& study, int jobs) {

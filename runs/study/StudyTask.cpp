@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "continuation/BranchFile.hpp"
 #include "core/H5File.hpp"
 #include "core/PendingFile.hpp"
 #include "runs/ExitCode.hpp"
@@ -31,10 +32,21 @@ std::string stored_record(const std::string& path) {
   }
 }
 
-void remove_output(const std::string& h5) {
+// Moves `path` to FOLDER/set_aside/STEM-N.EXT (the first N free) and says why.
+void set_aside(const Study& study, const StudyTask& task, const std::string& path, const std::string& why) {
+  const fs::path from(path), folder = fs::path(study.folder()) / "set_aside";
   std::error_code ec;
-  fs::remove(h5, ec);
-  fs::remove(fs::path(h5).replace_extension(".xdmf"), ec);
+  fs::create_directories(folder, ec);
+  fs::path to;
+  for (int n = 1; to.empty() || fs::symlink_status(to, ec).type() != fs::file_type::not_found; ++n)
+    to = folder / fmt::format("{}-{}{}", from.stem().string(), n, from.extension().string());
+  fs::rename(from, to, ec);
+  if (ec)
+    throw std::runtime_error(fmt::format("task {} ({}): '{}' {}, and cannot be set aside as '{}': {}", task.index,
+                                         task.label(), path, why, to.string(), ec.message()));
+  fmt::print("task {} ({}): '{}' {}; set aside as '{}', the task runs again\n", task.index, task.label(), path, why,
+             to.string());
+  std::fflush(stdout);
 }
 
 std::string quoted(const std::string& s) {
@@ -55,12 +67,10 @@ std::string quoted(const std::string& s) {
 TaskRecord run_study_task(const Study& study, const StudyTask& task) {
   fs::create_directories(fs::path(study.task_output(task)).parent_path());
   const std::string out = study.task_output(task), work = PendingFile::temporary_for(out);
-  // what another version of this task left is not this task's: it goes
-  if (fs::exists(out) && !records_agree(stored_record(out), task.record, task.defaults)) remove_output(out);
-  if (fs::exists(work) && !records_agree(stored_record(work), task.record, task.defaults)) fs::remove(work);
   TaskRecord record;
   record.hash = task.hash;
   try {
+    set_aside_foreign_outputs(study, task);
     if (study.kind() == "trace") {
       TraceArguments a;
       a.scene = task.scene;
@@ -152,7 +162,54 @@ bool task_current(const Study& study, const StudyTask& task, const TaskRecord& r
 
 bool task_done(const Study& study, const StudyTask& task) {
   const auto r = read_task_record(study, task);
-  return r && r->status == "done" && task_current(study, task, *r) && fs::exists(study.task_output(task));
+  return r && r->status == "done" && task_current(study, task, *r) &&
+         output_fault(study, task, study.task_output(task)).empty();
+}
+
+std::string output_fault(const Study& study, const StudyTask& task, const std::string& path) {
+  std::error_code ec;
+  const fs::file_status st = fs::symlink_status(path, ec);
+  if (st.type() == fs::file_type::not_found) return "is missing";
+  if (st.type() == fs::file_type::symlink) return "is a symbolic link";
+  if (st.type() == fs::file_type::directory) return "is a folder";
+  if (st.type() != fs::file_type::regular) return "is not a regular file";
+  std::string stored;
+  try {
+    H5File f(path, H5File::Mode::Read);
+    if (!f.exists("/problem/run")) return "holds no record of its run (/problem/run)";
+    stored = f.read_string("/problem/run");
+    if (!records_agree(stored, task.record, task.defaults))
+      return "holds another run (it differs in: " + record_difference(stored, task.record, task.defaults) + ")";
+    if (study.kind() == "solve" && !f.exists("/solution/u")) return "holds no solution (/solution/u)";
+  } catch (const std::exception&) {
+    return "cannot be read as an HDF5 file";
+  }
+  if (study.kind() == "trace") {
+    try {
+      const BranchTable t = read_branch_table(path);
+      if (t.rows.rows() == 0) return "holds an empty branch";
+      if (t.status == "running") return "holds a branch that was not finished";
+    } catch (const std::exception& e) {
+      return std::string("holds a branch that cannot be read: ") + e.what();
+    }
+  }
+  return "";
+}
+
+void set_aside_foreign_outputs(const Study& study, const StudyTask& task) {
+  const std::string out = study.task_output(task), work = PendingFile::temporary_for(out);
+  std::error_code ec;
+  if (fs::symlink_status(out, ec).type() != fs::file_type::not_found)
+    if (const std::string fault = output_fault(study, task, out); !fault.empty()) set_aside(study, task, out, fault);
+  if (fs::symlink_status(work, ec).type() == fs::file_type::not_found) return;
+  // an unfinished run is continued where its record agrees with the task's (the run checks the rest)
+  const std::string stored = stored_record(work);
+  if (stored.empty())
+    set_aside(study, task, work, "is not an unfinished run that can be read");
+  else if (!records_agree(stored, task.record, task.defaults))
+    set_aside(study, task, work,
+              "holds the unfinished run of another (it differs in: " +
+                  record_difference(stored, task.record, task.defaults) + ")");
 }
 
 }  // namespace keller

@@ -22,9 +22,9 @@ struct TaskRecord {
   double peak_mb = 0;          // the task process's peak resident memory
 };
 
-// Runs the task (continuing its unfinished output if a run of it was interrupted; removing an
-// output left by another version of it), writes its record and returns it. Never throws for a
-// failure of the task: that is a record with status "failed" and its reason.
+// Runs the task (continuing its unfinished output if a run of it was interrupted; setting aside
+// an output or unfinished run that is not its own: set_aside_foreign_outputs), writes its record and returns it. Never
+// throws for a failure of the task: that is a record with status "failed" and its reason.
 TaskRecord run_study_task(const Study& study, const StudyTask& task);
 
 // The task's record, if it has one that can be read.
@@ -35,7 +35,18 @@ void write_task_record(const Study& study, const StudyTask& task, const TaskReco
 // agrees with the task's (records_agree: keys added to keller since, at their defaults, are no
 // change).
 bool task_current(const Study& study, const StudyTask& task, const TaskRecord& record);
-// Done as the task is now, with its output in place.
+// Done as the task is now, with its own output in place (output_fault finds nothing).
 bool task_done(const Study& study, const StudyTask& task);
+
+// What keeps the file at `path` (the task's output) from being the task's own complete output,
+// for people ("is missing", "cannot be read as an HDF5 file", "holds another run (it differs in:
+// bratu.intervals = 128 in the file, 48 in this scene)"); empty where nothing does: a readable
+// file whose run record (/problem/run) agrees with the task's and whose results can be read.
+std::string output_fault(const Study& study, const StudyTask& task, const std::string& path);
+// Moves what is not the task's own out of its way, to FOLDER/set_aside/ (the first free name
+// STEM-N.EXT), saying so on the terminal: an output with an output_fault, and an unfinished run
+// (OUT.h5.part) that is not the task's to continue. Nothing is deleted. Throws
+// std::runtime_error naming the file where it cannot be moved.
+void set_aside_foreign_outputs(const Study& study, const StudyTask& task);
 
 }  // namespace keller

@@ -514,3 +514,60 @@ TEST(Study, AStopOnTheBoundWhereTheBranchEndsIsCollected) {
     EXPECT_FALSE(row.count("u_mid@3"));                                     // beyond the bound: not reached, no column
   }
 }
+
+// Issue 30, item 9: outputs damaged between runs of a study (truncated, emptied, replaced by a
+// folder) or replaced by another task's output are never collected as the task's; the next run
+// sets each aside under FOLDER/set_aside/ (saying so), runs those tasks again and ends with the
+// undisturbed table. The set-aside files are moved, not lost.
+TEST(Study, ADamagedOrForeignOutputIsSetAsideAndItsTaskRunAgain) {
+  const std::string dir = test::scratch_dir("study_damaged");
+  const std::string study = dir + "/damage.toml";
+  std::ofstream(study) << "[study]\nscene = \"" << test::source_path("runs/scenes/bratu1d_fold.toml") << "\"\n"
+                       << "[set]\n\"output.xdmf\" = false\n\"continuation.renewal_cost\" = 25.0\n"
+                       << "[grid]\n\"bratu.intervals\" = [16, 24, 32, 48, 128]\n[collect]\nevents = [\"fold\"]\n";
+  auto r = test::run_keller("study " + study + " --jobs 2 -o " + dir + "/d");
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  const std::string reference = table_without_time(dir + "/d/damage.csv");
+  std::map<std::string, std::string> output;  // by intervals
+  for (const auto& row : test::read_table(dir + "/d/damage.csv"))
+    output[row.at("bratu.intervals")] = dir + "/d/tasks/" + row.at("name") + ".h5";
+  ASSERT_EQ(output.size(), 5u);
+  fs::resize_file(output["16"], fs::file_size(output["16"]) / 2);  // truncated
+  fs::resize_file(output["24"], 0);                                // emptied
+  fs::remove(output["32"]);                                        // a folder in its place, with a file in it
+  fs::create_directory(output["32"]);
+  std::ofstream(output["32"] + "/keep.txt") << "mine\n";
+  fs::copy_file(output["128"], output["48"], fs::copy_options::overwrite_existing);  // another task's
+  const std::string foreign = contents(output["48"]);
+
+  // collected as they are: none of them is done, and the 128-interval fold is not task 48's
+  r = test::run_keller("study collect " + study + " -o " + dir + "/d");
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  for (const auto& row : test::read_table(dir + "/d/damage.csv")) {
+    const bool damaged = row.at("bratu.intervals") != "128";
+    EXPECT_EQ(row.at("status"), damaged ? "damaged" : "done") << row.at("name");
+    EXPECT_EQ(row.at("event:fold").empty(), damaged) << row.at("name");
+  }
+  const auto row48 = test::read_table(dir + "/d/damage.csv")[3];
+  EXPECT_NE(row48.at("reason").find("holds another run"), std::string::npos) << row48.at("reason");
+  EXPECT_NE(row48.at("reason").find("bratu.intervals = 128 in the file, 48 in this scene"), std::string::npos)
+      << row48.at("reason");
+  const auto list = test::run_keller("study list " + study + " -o " + dir + "/d");
+  EXPECT_EQ(count(list.out, " damaged "), 4) << list.out;
+
+  // the next run sets the four aside and runs them again
+  r = test::run_keller("study " + study + " --jobs 2 -o " + dir + "/d");
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("1 done before, 4 to run"), std::string::npos) << r.out;
+  EXPECT_EQ(count(r.out, "set aside as "), 4) << r.out;
+  EXPECT_EQ(table_without_time(dir + "/d/damage.csv"), reference);
+  const auto aside = [&](const std::string& intervals) {
+    return dir + "/d/set_aside/" + fs::path(output[intervals]).stem().string() + "-1.h5";
+  };
+  EXPECT_EQ(fs::file_size(aside("24")), 0u);
+  EXPECT_EQ(contents(aside("32") + "/keep.txt"), "mine\n");
+  EXPECT_EQ(contents(aside("48")), foreign);
+  // and a study run again finds everything done
+  r = test::run_keller("study " + study + " --jobs 2 -o " + dir + "/d");
+  EXPECT_NE(r.out.find("5 done before, 0 to run"), std::string::npos) << r.out;
+}
