@@ -471,6 +471,7 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
   summary.lu_backend = result.lu_backend;
   summary.factor_seconds = result.timings.factorisation;
   summary.solve_seconds = result.timings.solve;
+  if (unfinished) summary.continued_from = unfinished->seed.row;
   signal_point("traced");
 
   // 4. the branch takes its name: an interrupted one stays where it is, to be continued; a

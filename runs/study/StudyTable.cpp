@@ -162,6 +162,7 @@ StudyRow StudyTable::row(const Study& study, const StudyTask& task) {
   row.number["factor_seconds"] = s.factor_seconds;
   row.number["solve_seconds"] = s.solve_seconds;
   row.number["attempts"] = record->attempts;
+  row.number["runs"] = s.runs;
   row.number["process_seconds"] = record->process_seconds;
   row.number["peak_mb"] = record->peak_mb;
   row.found = record->status == "done" ? "" : record->status + ": " + s.reason;
@@ -217,7 +218,7 @@ StudyTable StudyTable::collect(const Study& study) {
   for (const auto* group : {&events, &stops, &end})
     t.number_columns_.insert(t.number_columns_.end(), group->begin(), group->end());
   for (const char* c : {"unknowns", "points", "rejected", "factorisations", "seconds", "solves", "nnz_lu", "lu_peak_mb",
-                        "factor_seconds", "solve_seconds", "process_seconds", "peak_mb", "attempts"})
+                        "factor_seconds", "solve_seconds", "process_seconds", "peak_mb", "attempts", "runs"})
     t.number_columns_.push_back(c);
   return t;
 }

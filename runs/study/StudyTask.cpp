@@ -3,8 +3,10 @@
 #include <fmt/format.h>
 
 #include <sys/resource.h>
+#include <unistd.h>
 
 #include <toml++/toml.h>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 
@@ -65,10 +67,13 @@ std::string quoted(const std::string& s) {
 }  // namespace
 
 TaskRecord run_study_task(const Study& study, const StudyTask& task) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::optional<TaskRecord> earlier = interrupted_record(study, task);
   fs::create_directories(fs::path(study.task_output(task)).parent_path());
   const std::string out = study.task_output(task), work = PendingFile::temporary_for(out);
   TaskRecord record;
   record.hash = task.hash;
+  record.pid = ::getpid();
   try {
     set_aside_foreign_outputs(study, task);
     if (study.kind() == "trace") {
@@ -91,6 +96,11 @@ TaskRecord run_study_task(const Study& study, const StudyTask& task) {
   }
   struct rusage usage {};
   if (::getrusage(RUSAGE_SELF, &usage) == 0) record.peak_mb = static_cast<double>(usage.ru_maxrss) / 1024.0;  // KiB
+  // a continued run's cost is its output's: this run's and the interrupted ones' together (and
+  // this process as it saw itself: its executor, where there is one, measures it from outside)
+  add_earlier_runs(record.summary, earlier ? &earlier->summary : nullptr);
+  record.process_seconds = (record.summary.runs > 1 && earlier ? earlier->process_seconds : 0.0) +
+                           std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const int code = record.summary.exit_code;
   const bool written = !record.summary.output.empty() && record.summary.output == out && fs::exists(out);
   // a branch that ended at the step floor is a result, like one that reached its bound
@@ -112,6 +122,7 @@ std::optional<TaskRecord> read_task_record(const Study& study, const StudyTask& 
     r.attempts = static_cast<int>(t["attempts"].value_or(int64_t{1}));
     r.process_seconds = t["process_seconds"].value_or(0.0);
     r.peak_mb = t["peak_mb"].value_or(0.0);
+    r.pid = static_cast<long>(t["pid"].value_or(int64_t{0}));
     RunSummary& s = r.summary;
     s.exit_code = static_cast<int>(t["exit_code"].value_or(int64_t{-1}));
     s.reason = t["reason"].value_or(std::string());
@@ -127,6 +138,7 @@ std::optional<TaskRecord> read_task_record(const Study& study, const StudyTask& 
     s.lu_peak_mb = t["lu_peak_mb"].value_or(0.0);
     s.factor_seconds = t["factor_seconds"].value_or(0.0);
     s.solve_seconds = t["solve_seconds"].value_or(0.0);
+    s.runs = static_cast<int>(t["runs"].value_or(int64_t{1}));
     return r;
   } catch (const std::exception&) {
     return std::nullopt;
@@ -148,10 +160,17 @@ void write_task_record(const Study& study, const StudyTask& task, const TaskReco
     o << fmt::format("lu_backend = {}\n", quoted(s.lu_backend));
     o << fmt::format("solves = {}\nnnz_lu = {:.17g}\nlu_peak_mb = {:.17g}\n", s.solves, s.nnz_lu, s.lu_peak_mb);
     o << fmt::format("factor_seconds = {:.17g}\nsolve_seconds = {:.17g}\n", s.factor_seconds, s.solve_seconds);
-    o << fmt::format("process_seconds = {:.17g}\npeak_mb = {:.17g}\n", r.process_seconds, r.peak_mb);
+    o << fmt::format("runs = {}\nprocess_seconds = {:.17g}\npeak_mb = {:.17g}\npid = {}\n", s.runs, r.process_seconds,
+                     r.peak_mb, r.pid);
     if (!o) throw std::runtime_error("cannot write '" + file.path() + "'");
   }
   file.commit();
+}
+
+std::optional<TaskRecord> interrupted_record(const Study& study, const StudyTask& task) {
+  auto r = read_task_record(study, task);
+  if (r && r->status == "interrupted" && task_current(study, task, *r)) return r;
+  return std::nullopt;
 }
 
 bool task_current(const Study& study, const StudyTask& task, const TaskRecord& record) {

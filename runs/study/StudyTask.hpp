@@ -18,8 +18,10 @@ struct TaskRecord {
   std::string status;          // "done", "failed" or "interrupted"
   RunSummary summary;          // exit code, why it ended, the output, the cost
   int attempts = 1;            // runs of this task by the executor (a worker that died is retried once)
-  double process_seconds = 0;  // the task's process from start to end, as its executor saw it
+  double process_seconds = 0;  // the task's processes from start to end, as its executor saw them (every run
+                               // whose work its output holds)
   double peak_mb = 0;          // the task process's peak resident memory
+  long pid = 0;                // the process that ran it (tells its record from an earlier run's)
 };
 
 // Runs the task (continuing its unfinished output if a run of it was interrupted; setting aside
@@ -35,6 +37,9 @@ void write_task_record(const Study& study, const StudyTask& task, const TaskReco
 // agrees with the task's (records_agree: keys added to keller since, at their defaults, are no
 // change).
 bool task_current(const Study& study, const StudyTask& task, const TaskRecord& record);
+// The record of the task's interrupted runs (their cost together), where it has one for the
+// task as it is now: what a run that continues their output adds its own to.
+std::optional<TaskRecord> interrupted_record(const Study& study, const StudyTask& task);
 // Done as the task is now, with its own output in place (output_fault finds nothing).
 bool task_done(const Study& study, const StudyTask& task);
 

@@ -10,6 +10,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <array>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -570,4 +571,127 @@ TEST(Study, ADamagedOrForeignOutputIsSetAsideAndItsTaskRunAgain) {
   // and a study run again finds everything done
   r = test::run_keller("study " + study + " --jobs 2 -o " + dir + "/d");
   EXPECT_NE(r.out.find("5 done before, 0 to run"), std::string::npos) << r.out;
+}
+
+namespace {
+
+// One task, a 247-row Bratu branch of about 2 s: small steps on a fine grid, every solution stored.
+std::string long_task_study(const std::string& dir) {
+  const std::string path = dir + "/long.toml";
+  std::ofstream(path) << "[study]\nscene = \"" << test::source_path("runs/scenes/bratu1d_fold.toml") << "\"\n"
+                      << "[set]\n\"output.xdmf\" = false\n\"continuation.renewal_cost\" = 25.0\n"
+                      << "\"continuation.save_every\" = 1\n\"continuation.initial_step\" = 0.02\n"
+                      << "\"continuation.max_step\" = 0.02\n[grid]\n\"bratu.intervals\" = [2000]\n"
+                      << "[collect]\nend = [\"u_mid\"]\n";
+  return path;
+}
+
+// The sums over the summary lines a task's log holds, one per run ("N points, R rejected steps,
+// F factorisations ...", "time T s: ..."): runs, points, factorisations, seconds.
+std::array<double, 4> logged_costs(const std::string& log) {
+  std::array<double, 4> sum{};
+  const std::string text = contents(log);
+  const std::regex summary(R"((\d+) points, (\d+) rejected steps, (\d+) factorisations)"),
+      time(R"(\ntime ([0-9.]+) s:)");
+  for (std::sregex_iterator it(text.begin(), text.end(), summary), end; it != end; ++it) {
+    sum[0] += 1;
+    sum[1] += std::stod((*it)[1]);
+    sum[2] += std::stod((*it)[3]);
+  }
+  for (std::sregex_iterator it(text.begin(), text.end(), time), end; it != end; ++it) sum[3] += std::stod((*it)[1]);
+  return sum;
+}
+
+}  // namespace
+
+// Issue 30, item 10: the cost columns of a task interrupted and continued by the next run of the
+// study add up both runs (the first run's cost is kept in the unfinished output, /cost): its
+// points are the rows of the branch, once each (the continued run's first row is the first run's
+// last), its factorisations and seconds those of both runs' summaries.
+TEST(Study, TheCostOfAContinuedTaskAddsUpItsRuns) {
+  const std::string dir = test::scratch_dir("study_cost");
+  const std::string study = long_task_study(dir);
+  auto r = test::run_keller("study " + study + " -o " + dir + "/ref");
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  const auto ref = test::read_table(dir + "/ref/long.csv").at(0);
+  ASSERT_EQ(ref.at("points"), "247");
+  // the task stops after its 40th point: the study is interrupted
+  r = test::run_keller("study " + study + " -o " + dir + "/s", "KELLER_SIGNAL_AT=point:40 KELLER_SIGNAL=TERM");
+  EXPECT_EQ(r.exit_code, 130) << r.out << r.err;
+  EXPECT_EQ(test::read_table(dir + "/s/long.csv").at(0).at("status"), "interrupted");
+  r = test::run_keller("study " + study + " -o " + dir + "/s");
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  const auto row = test::read_table(dir + "/s/long.csv").at(0);
+  const std::string log = dir + "/s/tasks/" + row.at("name") + ".log";
+  const auto [runs, points, factorisations, seconds] = logged_costs(log);
+  ASSERT_EQ(runs, 2) << contents(log);
+  EXPECT_EQ(row.at("runs"), "2");
+  EXPECT_EQ(points, 40 + 208);  // (the second run's first point is the first run's 40th)
+  EXPECT_EQ(row.at("points"), "247");
+  EXPECT_EQ(read_branch_table(dir + "/s/tasks/" + row.at("name") + ".h5").rows.rows(), 247);
+  EXPECT_EQ(std::stod(row.at("factorisations")), factorisations);
+  EXPECT_NEAR(std::stod(row.at("seconds")), seconds, 0.01);  // (the log's to 2 decimals)
+  EXPECT_NEAR(std::stod(row.at("end:u_mid")), std::stod(ref.at("end:u_mid")), 1e-9);
+  EXPECT_GT(std::stod(row.at("process_seconds")), std::stod(row.at("seconds")));
+  // the same for the task run alone, as a batch scheduler runs it (its summaries on the terminal)
+  r = test::run_keller("study run " + study + " --task 0 -o " + dir + "/b",
+                       "KELLER_SIGNAL_AT=point:40 KELLER_SIGNAL=TERM");
+  EXPECT_EQ(r.exit_code, 130) << r.out << r.err;
+  std::string printed = r.out;
+  r = test::run_keller("study run " + study + " --task 0 -o " + dir + "/b");
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  printed += r.out;
+  std::ofstream(dir + "/b.log") << printed;
+  r = test::run_keller("study collect " + study + " -o " + dir + "/b");
+  const auto batch = test::read_table(dir + "/b/long.csv").at(0);
+  EXPECT_EQ(batch.at("runs"), "2");
+  EXPECT_EQ(batch.at("points"), "247");
+  EXPECT_EQ(std::stod(batch.at("factorisations")), logged_costs(dir + "/b.log")[2]);
+}
+
+// Issue 30, item 10: SIGTERM or SIGINT to the study's process alone reaches its running task,
+// which stops after its current point (not at the end of its branch); the study exits 130 and
+// its next run continues the task to the undisturbed branch.
+TEST(Study, ASignalToTheStudyAloneStopsItsRunningTask) {
+  const std::string dir = test::scratch_dir("study_signal");
+  const std::string study = long_task_study(dir);
+  auto r = test::run_keller("study " + study + " -o " + dir + "/ref");
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  const auto ref = test::read_table(dir + "/ref/long.csv").at(0);
+  const std::string part = dir + "/s/tasks/" + ref.at("name") + ".h5.part";
+  for (const int sig : {SIGTERM, SIGINT}) {
+    SCOPED_TRACE(strsignal(sig));
+    fs::remove_all(dir + "/s");
+    const pid_t pid = fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) {
+      if (!freopen("/dev/null", "w", stdout)) _exit(3);
+      execl(KELLER_BINARY, "keller", "study", study.c_str(), "-o", (dir + "/s").c_str(), static_cast<char*>(nullptr));
+      _exit(127);
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    while (!fs::exists(part) && std::chrono::steady_clock::now() - t0 < std::chrono::seconds(30))
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));  // some points into the branch
+    ASSERT_EQ(kill(pid, sig), 0);
+    const auto signalled = std::chrono::steady_clock::now();
+    int status = 0;
+    waitpid(pid, &status, 0);
+    const double waited = std::chrono::duration<double>(std::chrono::steady_clock::now() - signalled).count();
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), 130);
+    EXPECT_LT(waited, 1.0);  // a point takes about 10 ms; the whole branch about 2 s
+    const auto row = test::read_table(dir + "/s/long.csv").at(0);
+    EXPECT_EQ(row.at("status"), "interrupted");
+    ASSERT_TRUE(fs::exists(part));
+    const long kept = read_branch_table(part).rows.rows();
+    EXPECT_GT(kept, 1);
+    EXPECT_LT(kept, 247);
+    r = test::run_keller("study " + study + " -o " + dir + "/s");
+    ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+    const auto done = test::read_table(dir + "/s/long.csv").at(0);
+    EXPECT_EQ(done.at("status"), "done");
+    EXPECT_EQ(done.at("points"), "247");
+    EXPECT_NEAR(std::stod(done.at("end:u_mid")), std::stod(ref.at("end:u_mid")), 1e-9);
+  }
 }
