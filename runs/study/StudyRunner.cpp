@@ -23,6 +23,7 @@
 #include "runs/SceneLoader.hpp"
 #include "runs/TraceCommand.hpp"
 #include "runs/study/StudyTable.hpp"
+#include "runs/study/TaskScenes.hpp"
 
 namespace keller {
 
@@ -155,19 +156,20 @@ std::vector<int> tasks_to_run(const Study& study) {
   if (before.size() == todo.size()) {
     cost = before;
   } else {
-    // the size of each task's problem, built once per physics: a factorisation costs about n^1.5
+    // the size of each task's problem, built once per problem: a factorisation costs about n^1.5
     std::map<std::string, double> size_of;
+    TaskScenes scenes(study.kind());
     for (int i : todo) {
       const StudyTask& t = study.tasks()[static_cast<size_t>(i)];
-      double n = 1;
-      try {
-        const LoadedScene loaded = load_scene(t.scene, declare_trace_keys, t.overrides);
-        const std::string key = loaded.scene.source() + "\n" + loaded.physics();
-        if (!size_of.count(key)) size_of[key] = static_cast<double>(loaded.type->build(loaded.scene)->size());
-        n = size_of[key];
-      } catch (const std::exception&) {  // it fails when it runs, and says why there
+      if (!size_of.count(t.problem)) {
+        size_of[t.problem] = 1;
+        try {
+          const LoadedScene loaded = scenes.load(t);
+          size_of[t.problem] = static_cast<double>(loaded.type->build(loaded.scene)->size());
+        } catch (const std::exception&) {  // it fails when it runs, and says why there
+        }
       }
-      cost[i] = std::pow(n, 1.5);
+      cost[i] = std::pow(size_of[t.problem], 1.5);
     }
   }
   std::stable_sort(todo.begin(), todo.end(), [&](int a, int b) { return cost[a] > cost[b]; });

@@ -176,7 +176,7 @@ std::optional<TaskRecord> interrupted_record(const Study& study, const StudyTask
 bool task_current(const Study& study, const StudyTask& task, const TaskRecord& record) {
   if (record.hash == task.hash) return true;
   const std::string out = study.task_output(task);
-  return fs::exists(out) && records_agree(stored_record(out), task.record, task.defaults);
+  return fs::exists(out) && study.record_agrees(task, stored_record(out));
 }
 
 bool task_done(const Study& study, const StudyTask& task) {
@@ -197,8 +197,8 @@ std::string output_fault(const Study& study, const StudyTask& task, const std::s
     H5File f(path, H5File::Mode::Read);
     if (!f.exists("/problem/run")) return "holds no record of its run (/problem/run)";
     stored = f.read_string("/problem/run");
-    if (!records_agree(stored, task.record, task.defaults))
-      return "holds another run (it differs in: " + record_difference(stored, task.record, task.defaults) + ")";
+    if (std::string difference; !study.record_agrees(task, stored, &difference))
+      return "holds another run (it differs in: " + difference + ")";
     if (study.kind() == "solve" && !f.exists("/solution/u")) return "holds no solution (/solution/u)";
   } catch (const std::exception&) {
     return "cannot be read as an HDF5 file";
@@ -225,10 +225,8 @@ void set_aside_foreign_outputs(const Study& study, const StudyTask& task) {
   const std::string stored = stored_record(work);
   if (stored.empty())
     set_aside(study, task, work, "is not an unfinished run that can be read");
-  else if (!records_agree(stored, task.record, task.defaults))
-    set_aside(study, task, work,
-              "holds the unfinished run of another (it differs in: " +
-                  record_difference(stored, task.record, task.defaults) + ")");
+  else if (std::string difference; !study.record_agrees(task, stored, &difference))
+    set_aside(study, task, work, "holds the unfinished run of another (it differs in: " + difference + ")");
 }
 
 }  // namespace keller

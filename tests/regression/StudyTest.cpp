@@ -14,6 +14,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <regex>
 #include <set>
@@ -693,5 +694,77 @@ TEST(Study, ASignalToTheStudyAloneStopsItsRunningTask) {
     EXPECT_EQ(done.at("status"), "done");
     EXPECT_EQ(done.at("points"), "247");
     EXPECT_NEAR(std::stod(done.at("end:u_mid")), std::stod(ref.at("end:u_mid")), 1e-9);
+  }
+}
+
+namespace {
+
+// A study of `n` x 100 tasks over the steps of a 16-interval Bratu branch (each about 0.1 s).
+std::string many_tasks_study(const std::string& dir, int n) {
+  const std::string path = fmt::format("{}/many{}.toml", dir, n);
+  std::ofstream f(path);
+  f << "[study]\nscene = \"" << test::source_path("runs/scenes/bratu1d_fold.toml") << "\"\n"
+    << "[set]\n\"bratu.intervals\" = 16\n\"output.xdmf\" = false\n[grid]\n\"continuation.max_step\" = [";
+  for (int i = 0; i < n; ++i) f << (i ? ", " : "") << fmt::format("{:.4f}", 0.3 + 1e-4 * i);
+  f << "]\n\"continuation.initial_step\" = [";
+  for (int i = 0; i < 100; ++i) f << (i ? ", " : "") << fmt::format("{:.4f}", 0.05 + 1e-4 * i);
+  f << "]\n";
+  return path;
+}
+
+double seconds_of(const std::function<void()>& run) {
+  const auto t0 = std::chrono::steady_clock::now();
+  run();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+// Issue 30, item 12: a task's process does not check every task of its study again (it did: each
+// of a study's N tasks cost N scene validations, minutes per task for 10^6 tasks): a task of a
+// 20000-task study runs about as fast as the same task of a 100-task study (a validation costs
+// about 0.25 ms: 5 s for the study). Checking all of a large study's tasks (`study`, `list`,
+// `collect`) says so on the terminal, with the time it took.
+TEST(Study, ATaskOfALargeStudyDoesNotCheckEveryTaskAgain) {
+  const std::string dir = test::scratch_dir("study_large");
+  const std::string small = many_tasks_study(dir, 1), large = many_tasks_study(dir, 200);
+  test::CommandResult r;
+  const double alone = seconds_of([&] { r = test::run_keller("study run " + small + " --task 0 -o " + dir + "/a"); });
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  const double among = seconds_of([&] { r = test::run_keller("study run " + large + " --task 0 -o " + dir + "/b"); });
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_LT(among, alone + 1.0) << "the task alone " << alone << " s, among 20000: " << among << " s";
+  r = test::run_keller("study list " + large + " -o " + dir + "/b");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("checking the 20000 tasks of "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("checked 20000 tasks in "), std::string::npos) << r.err;
+  EXPECT_EQ(count(r.out, " done "), 1);
+  EXPECT_EQ(count(r.out, " missing "), 19999);
+}
+
+// Issue 30, item 12: tasks that resolve to the same run (values written 1 and 1.0; a case that
+// sets a key to its default beside one that does not set it) are refused before any task runs,
+// naming both; a task does not check the others, but its own study file must be valid.
+TEST(Study, TasksThatResolveToTheSameRunAreRefused) {
+  const std::string dir = test::scratch_dir("study_same_run");
+  const std::string scene = test::source_path("runs/scenes/bratu1d_fold.toml");
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"[study]\nscene = \"" + scene + "\"\n[grid]\n\"continuation.max_step\" = [0.5, 1, 1.0]\n",
+       "dup.toml: task 2 (continuation.max_step=1.0) is the same run as task 1 (continuation.max_step=1): every "
+       "key resolves to the same value"},
+      {"[study]\nscene = \"" + scene +
+           "\"\n[[cases]]\n\"bratu.intervals\" = 16\n[[cases]]\n\"bratu.intervals\" = "
+           "16\n\"bratu.lambda\" = 0.0\n",
+       "dup.toml: task 1 (bratu.intervals=16, bratu.lambda=0.0) is the same run as task 0 (bratu.intervals=16)"},
+  };
+  for (const auto& [text, expected] : cases) {
+    SCOPED_TRACE(text);
+    std::ofstream(dir + "/dup.toml") << text;
+    for (const std::string command : {"study", "study list", "study collect"}) {
+      const auto r = test::run_keller(command + " " + dir + "/dup.toml -o " + dir + "/out");
+      EXPECT_EQ(r.exit_code, 2) << command << ": " << r.out;
+      EXPECT_NE(r.err.find(expected), std::string::npos) << command << ": " << r.err;
+    }
+    EXPECT_FALSE(fs::exists(dir + "/out"));
   }
 }
