@@ -2,8 +2,8 @@
 // by overrides of any scene keys: the product of the lists in [grid], the tables of [[cases]],
 // or both (every case with every grid point), on top of [set]. Every task is validated like
 // `--set` when the study is read, before any task runs, and no two tasks may resolve to the
-// same run. Each task writes an ordinary output
-// file under the study's folder, and a record of how it ended; the study is the sum of these.
+// same run. Each task writes an ordinary output file under the study's folder, and a record of
+// how it ended; the study is the sum of these.
 //
 //   [study]  scene = "base.toml" (relative to the study file), task = "trace" | "solve",
 //            start = "FILE.h5:ROW" (optional: every task starts from that stored point)

@@ -1,8 +1,9 @@
 // One task of a study, run in this process: an ordinary trace or solve whose output goes to
 // FOLDER/tasks/NAME.h5, followed by the task's record FOLDER/tasks/NAME.toml (how it ended and
 // what it cost, with the hash of what defined it). A task is done when its record says so for
-// the task's current hash and its output is there; a rerun of the study runs every other task
-// again (missing, failed, interrupted, or changed by the study file or the base scene).
+// the task's current hash and its own output is there; a rerun of the study runs every other
+// task again (missing, failed, interrupted, damaged, or changed by the study file or the base
+// scene).
 #pragma once
 
 #include <optional>
@@ -18,15 +19,15 @@ struct TaskRecord {
   std::string status;          // "done", "failed" or "interrupted"
   RunSummary summary;          // exit code, why it ended, the output, the cost
   int attempts = 1;            // runs of this task by the executor (a worker that died is retried once)
-  double process_seconds = 0;  // the task's processes from start to end, as its executor saw them (every run
-                               // whose work its output holds)
+  double process_seconds = 0;  // its processes, start to end, as its executor saw them (every run in its output)
   double peak_mb = 0;          // the task process's peak resident memory
   long pid = 0;                // the process that ran it (tells its record from an earlier run's)
 };
 
-// Runs the task (continuing its unfinished output if a run of it was interrupted; setting aside
-// an output or unfinished run that is not its own: set_aside_foreign_outputs), writes its record and returns it. Never
-// throws for a failure of the task: that is a record with status "failed" and its reason.
+// Runs the task (continuing its unfinished output if a run of it was interrupted, and adding its
+// cost to theirs; setting aside an output or unfinished run that is not its own), writes its
+// record and returns it. Never throws for a failure of the task: that is a record with status
+// "failed" and its reason.
 TaskRecord run_study_task(const Study& study, const StudyTask& task);
 
 // The task's record, if it has one that can be read.

@@ -3,7 +3,10 @@
 // ends with the same table, and a changed override reruns only the tasks it changes; a task
 // that fails is recorded with its reason while the others complete; a bad study file stops
 // before any task; and a branch started from a stored point of a branch in another parameter
-// is the branch started from a fresh solve there.
+// is the branch started from a fresh solve there. Issue 30: outputs damaged or replaced between
+// runs are set aside and their tasks run again; a continued task's cost adds up its runs; a
+// signal to the study alone stops its running tasks; a task's process checks its task alone;
+// tasks that resolve to the same run are refused.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <signal.h>
