@@ -91,6 +91,7 @@ ContinuationResult Continuation::run(const Vector& u0, BranchObserver& observer,
   t_start_ = std::chrono::steady_clock::now();
   start_on_.reset();
   adopted_ = false;
+  resumed_ = false;
   set_norm(u0, options_.state_scale);
   BranchPoint start;
   start.kind = PointKind::Start;
@@ -152,6 +153,7 @@ ContinuationResult Continuation::resume(BranchPoint start, BranchObserver& obser
       start.kind == PointKind::Hopf)
     start_on_ = start.kind;
   start.kind = PointKind::Start;
+  resumed_ = true;
   return trace(std::move(start), observer);
 }
 
@@ -165,6 +167,7 @@ ContinuationResult Continuation::switch_branch(BranchPoint bp, int direction, Br
   set_norm(bp.u, options_.state_scale);
   start_on_.reset();
   adopted_ = false;
+  resumed_ = false;
   BranchPoint start = bp;
   const Status st = branch_direction(ev_, lu_options_, norm_, bp, direction, start.tu, start.tlambda);
   if (!st.is_ok()) {
@@ -225,6 +228,11 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
   start.save = true;
   spectra_->restart(start, start.label == "switched");
   branch_points_.restart(start);
+  // a branch restarted where it ended (on a stop it would go beyond) is at its end: one row
+  if (std::optional<Finish> end = resumed_ ? end_at_start(start) : std::nullopt) {
+    report(observer, start);
+    return finish(end->code, end->reason, start, observer);
+  }
   report(observer, start);
 
   BranchPoint cur = std::move(start);

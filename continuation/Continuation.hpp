@@ -134,6 +134,9 @@ class Continuation {
   ContinuationResult trace(BranchPoint start, BranchObserver& observer);
   // The start's residual, observables, bordered determinant sign and analysis.
   Status begin(BranchPoint& start);
+  // The end of a restarted branch at its start: where the start lies on a stop (a bound, the stop
+  // observable's threshold) or beyond it and the tangent goes on beyond it.
+  std::optional<Finish> end_at_start(BranchPoint& start);
   // Predicts, corrects and takes the tangent of a step of size ds from cur (the step_number-th);
   // landing_allowed: false after this step's landing failed.
   Step attempt(const BranchPoint& cur, const BranchPoint* prev, double ds, int step_number, bool landing_allowed);
@@ -197,6 +200,7 @@ class Continuation {
   RepeatedNotes unlocated_notes_;     // what is said of them, a run of the same at successive steps once
   // a resumed branch starts on a point located as this kind (its first step does not locate it again)
   std::optional<PointKind> start_on_;
+  bool resumed_ = false;               // the branch continues from a stored point (resume)
   bool adopted_ = false;               // the start's factorisation came from the solve of the start
   double shared_solve_seconds_ = 0.0;  // solves of the analysis with the continuation's factorisation
   long shared_solves_ = 0;

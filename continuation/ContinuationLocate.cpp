@@ -254,6 +254,47 @@ void Continuation::add_located(std::optional<BranchPoint> p, PointKind kind, std
   located.push_back({std::move(*p), end});
 }
 
+std::optional<Continuation::Finish> Continuation::end_at_start(BranchPoint& start) {
+  const double lambda = start.lambda, tl = start.tlambda;
+  const auto at_end = [&](StopCode code, const std::string& label, const std::string& where) {
+    start.kind = PointKind::End;
+    start.label = label;
+    return Finish{code, fmt::format("the branch is at its end where it starts: {}", where), start};
+  };
+  const double tolerance = options_.events.tolerance;
+  if (tl > 0 && lambda >= options_.stop.upper - tolerance)
+    return at_end(StopCode::UpperBound, "upper",
+                  fmt::format("the upper bound {} = {:.10g}", options_.parameter, options_.stop.upper));
+  if (tl < 0 && lambda <= options_.stop.lower + tolerance)
+    return at_end(StopCode::LowerBound, "lower",
+                  fmt::format("the lower bound {} = {:.10g}", options_.parameter, options_.stop.lower));
+  if (stop_index_ < 0) return std::nullopt;
+  // the stop observable's rate along the tangent (a difference over a short arclength h): on or
+  // beyond a threshold, going beyond it, the stop lies within the smallest step of the start
+  constexpr double h = 1e-6;
+  std::vector<double> ahead;
+  Status st = ev_.set_parameter(lambda + h * tl);
+  if (st.is_ok()) st = problem_.observables(start.u + h * start.tu, ahead);
+  const Status back = ev_.set_parameter(lambda);
+  if (!st.is_ok() || !back.is_ok() || ahead.size() <= static_cast<size_t>(stop_index_)) return std::nullopt;
+  const double value = start.observables[static_cast<size_t>(stop_index_)];
+  const double rate = (ahead[static_cast<size_t>(stop_index_)] - value) / h, reach = options_.step.min;
+  const std::vector<std::string> names = options_.stop.threshold_monitor_names();
+  auto where = [&](const std::string& name) {
+    return fmt::format("{} at {} = {:.10g} ({} = {:.10g})", name, options_.parameter, lambda, options_.stop.observable,
+                       value);
+  };
+  size_t k = 0;
+  if (std::isfinite(options_.stop.above)) {
+    if (rate > 0 && value - options_.stop.above + rate * reach >= 0)
+      return at_end(StopCode::StopObservable, names[k], where(names[k]));
+    ++k;
+  }
+  if (std::isfinite(options_.stop.below) && rate < 0 && value - options_.stop.below + rate * reach <= 0)
+    return at_end(StopCode::StopObservable, names[k], where(names[k]));
+  return std::nullopt;
+}
+
 std::optional<Continuation::Finish> Continuation::report_segment(const BranchPoint& cur, BranchPoint& nxt,
                                                                  const Step& step, std::vector<LocatedPoint>& located,
                                                                  BranchObserver& observer) {

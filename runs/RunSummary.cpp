@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <filesystem>
 
 #include "runs/ExitCode.hpp"
@@ -34,6 +35,20 @@ std::optional<int> stays_unfinished(bool interrupted, bool failed, const std::st
     return summary.exit_code;
   }
   return std::nullopt;
+}
+
+void add_earlier_runs(RunSummary& now, const RunSummary* earlier) {
+  if (now.continued_from < 0) return;
+  now.points += now.continued_from;  // (the run's first row is the earlier runs' last)
+  now.runs = (earlier ? earlier->runs : 1) + 1;
+  if (!earlier) return;
+  now.rejected += earlier->rejected;
+  now.factorisations += earlier->factorisations;
+  now.solves += earlier->solves;
+  now.seconds += earlier->seconds;
+  now.factor_seconds += earlier->factor_seconds;
+  now.solve_seconds += earlier->solve_seconds;
+  now.lu_peak_mb = std::max(now.lu_peak_mb, earlier->lu_peak_mb);
 }
 
 }  // namespace keller

@@ -43,26 +43,32 @@ LoadedScene loaded(const ProblemType& type, const std::function<void(SceneSchema
   return {load(schema), &type, std::move(physics)};
 }
 
-}  // namespace
-
-LoadedScene load_scene(const std::string& file, const std::function<void(SceneSchema&)>& extra,
-                       const std::vector<std::string>& overrides) {
-  std::string type_name = Scene::peek_string(file, "problem.type", "channel");
+// problem.type as the overrides leave it
+std::string overridden_type(std::string type_name, const std::vector<std::string>& overrides) {
   for (const std::string& o : overrides)
     if (o.rfind("problem.type=", 0) == 0) {
       type_name = o.substr(13);
       if (type_name.size() >= 2 && type_name.front() == '"' && type_name.back() == '"')
         type_name = type_name.substr(1, type_name.size() - 2);
     }
+  return type_name;
+}
+
+}  // namespace
+
+LoadedScene load_scene(const std::string& file, const std::function<void(SceneSchema&)>& extra,
+                       const std::vector<std::string>& overrides) {
+  const std::string type_name = overridden_type(Scene::peek_string(file, "problem.type", "channel"), overrides);
   return loaded(type_named(type_name, file), extra,
                 [&](const SceneSchema& schema) { return Scene::load(file, schema, overrides); });
 }
 
 LoadedScene load_scene_text(const std::string& text, const std::string& source,
-                            const std::function<void(SceneSchema&)>& extra) {
-  const std::string type_name = Scene::peek_string_in(text, source, "problem.type", "channel");
+                            const std::function<void(SceneSchema&)>& extra, const std::vector<std::string>& overrides) {
+  const std::string type_name =
+      overridden_type(Scene::peek_string_in(text, source, "problem.type", "channel"), overrides);
   return loaded(type_named(type_name, source), extra,
-                [&](const SceneSchema& schema) { return Scene::parse(text, source, schema); });
+                [&](const SceneSchema& schema) { return Scene::parse(text, source, schema, overrides); });
 }
 
 std::unique_ptr<Problem> build_problem(const LoadedScene& loaded, const std::string& file) {

@@ -34,10 +34,11 @@ struct LoadedScene {
 LoadedScene load_scene(const std::string& file, const std::function<void(SceneSchema&)>& extra = {},
                        const std::vector<std::string>& overrides = {});
 
-// The same for a scene held in memory (the scene stored in an output file); `source` names it
-// in messages.
+// The same for a scene held in memory (the scene stored in an output file, a study's base scene
+// read once for all its tasks); `source` names it in messages.
 LoadedScene load_scene_text(const std::string& text, const std::string& source,
-                            const std::function<void(SceneSchema&)>& extra = {});
+                            const std::function<void(SceneSchema&)>& extra = {},
+                            const std::vector<std::string>& overrides = {});
 
 // Builds the scene's problem. Throws SceneError: the scene's own errors as they are, a problem's
 // refusal of its options (std::exception) prefixed with the scene file `file`.

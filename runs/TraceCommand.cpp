@@ -563,6 +563,7 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
   summary.lu_backend = result.lu_backend;
   summary.factor_seconds = result.timings.factorisation;
   summary.solve_seconds = result.timings.solve;
+  if (unfinished) summary.continued_from = unfinished->seed.row;
 
   // 4. the branch takes its name: an interrupted one stays where it is, to be continued; a
   // failed one never replaces an existing file

@@ -4,9 +4,11 @@
 
 #include <toml++/toml.h>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <set>
@@ -19,6 +21,7 @@
 #include "runs/SceneLoader.hpp"
 #include "runs/SolveCommand.hpp"
 #include "runs/TraceCommand.hpp"
+#include "runs/study/TaskScenes.hpp"
 #include "stability/StabilityAnalysis.hpp"
 
 namespace keller {
@@ -130,7 +133,7 @@ std::string Study::task_record(const StudyTask& t) const { return folder_ + "/ta
 std::string Study::table_h5() const { return folder_ + "/" + name_ + ".h5"; }
 std::string Study::table_csv() const { return folder_ + "/" + name_ + ".csv"; }
 
-Study Study::load(const std::string& path, const std::string& folder) {
+Study Study::load(const std::string& path, const std::string& folder, int only) {
   std::ifstream in(path, std::ios::binary);
   if (!fs::is_regular_file(path) || !in) throw SceneError(fmt::format("study file '{}' cannot be read", path));
   std::stringstream ss;
@@ -224,19 +227,9 @@ Study Study::load(const std::string& path, const std::string& folder) {
     }
   }
 
-  // the tasks: every case with every grid point (one empty case when there are none)
+  // the tasks: every case with every grid point (one empty case when there are none), the last
+  // key of [grid] varying fastest
   if (cases.empty()) cases.push_back({});
-  std::vector<Assignments> points(1);
-  for (const auto& [key, values] : grid) {
-    std::vector<Assignments> next;
-    for (const Assignments& p : points)
-      for (const Value& v : values) {
-        Assignments q = p;
-        q.push_back({key, v});
-        next.push_back(std::move(q));
-      }
-    points = std::move(next);
-  }
   for (const Assignments& c : cases)
     for (const auto& [k, v] : c)
       if (std::find(s.varied_keys_.begin(), s.varied_keys_.end(), k) == s.varied_keys_.end())
@@ -244,78 +237,137 @@ Study Study::load(const std::string& path, const std::string& folder) {
   for (const auto& [key, values] : grid)
     if (std::find(s.varied_keys_.begin(), s.varied_keys_.end(), key) == s.varied_keys_.end())
       s.varied_keys_.push_back(key);
-
-  std::set<std::string> names;
-  for (const Assignments& c : cases)
-    for (const Assignments& p : points) {
-      StudyTask t;
-      t.index = static_cast<int>(s.tasks_.size());
-      t.scene = base;
-      t.start = start;
-      Assignments all = fixed;
-      all.insert(all.end(), c.begin(), c.end());
-      all.insert(all.end(), p.begin(), p.end());
-      for (const auto& [k, v] : c) t.varied.push_back({k, v.text});
-      for (const auto& [k, v] : p) t.varied.push_back({k, v.text});
-      for (const auto& [k, v] : all) {
-        if (k == "scene")
-          t.scene = relative_to_study(unquoted(v.text));
-        else if (k == "start")
-          t.start = unquoted(v.text);
-        else
-          t.overrides.push_back(k + "=" + v.text);
-      }
-      if (!t.start.empty() && s.kind_ != "trace")
-        throw SceneError(fmt::format("{}: task {} ({}): a start from a stored point needs task = \"trace\"", path,
-                                     t.index, t.label()));
-      if (!t.start.empty()) {
-        const auto colon = t.start.rfind(':');
-        if (colon != std::string::npos) t.start = relative_to_study(t.start.substr(0, colon)) + t.start.substr(colon);
-      }
-      t.name = task_name(t.varied);
+  double count = static_cast<double>(cases.size());
+  for (const auto& [key, values] : grid) count *= static_cast<double>(values.size());
+  if (count > std::numeric_limits<int>::max())
+    throw SceneError(
+        fmt::format("{}: {:.0f} tasks; a study has at most {}", path, count, std::numeric_limits<int>::max()));
+  s.count_ = static_cast<int>(count);
+  const auto make_task = [&](int index) {
+    StudyTask t;
+    t.index = index;
+    t.scene = base;
+    t.start = start;
+    Assignments point;  // the grid's values of this task
+    for (size_t k = grid.size(), rest = static_cast<size_t>(index); k-- > 0;) {
+      const auto& [key, values] = grid[k];
+      point.insert(point.begin(), {key, values[rest % values.size()]});
+      rest /= values.size();
+    }
+    size_t per_case = 1;
+    for (const auto& [key, values] : grid) per_case *= values.size();
+    const Assignments& c = cases[static_cast<size_t>(index) / per_case];
+    Assignments all = fixed;
+    all.insert(all.end(), c.begin(), c.end());
+    all.insert(all.end(), point.begin(), point.end());
+    for (const auto& [k, v] : c) t.varied.push_back({k, v.text});
+    for (const auto& [k, v] : point) t.varied.push_back({k, v.text});
+    for (const auto& [k, v] : all) {
+      if (k == "scene")
+        t.scene = relative_to_study(unquoted(v.text));
+      else if (k == "start")
+        t.start = unquoted(v.text);
+      else
+        t.overrides.push_back(k + "=" + v.text);
+    }
+    if (!t.start.empty() && s.kind_ != "trace")
+      throw SceneError(fmt::format("{}: task {} ({}): a start from a stored point needs task = \"trace\"", path,
+                                   t.index, t.label()));
+    if (!t.start.empty()) {
+      const auto colon = t.start.rfind(':');
+      if (colon != std::string::npos) t.start = relative_to_study(t.start.substr(0, colon)) + t.start.substr(colon);
+    }
+    t.name = task_name(t.varied);
+    return t;
+  };
+  if (only >= 0) {  // the process that runs one task: that task alone (its study checked the others)
+    if (only < s.count_) s.tasks_.push_back(make_task(only));
+  } else {
+    std::set<std::string> names;
+    for (int i = 0; i < s.count_; ++i) {
+      StudyTask t = make_task(i);
       if (!names.insert(t.name).second)
         throw SceneError(fmt::format("{}: task {} ({}) is the same as an earlier one", path, t.index, t.label()));
-      // validated like --set, before any task runs
-      try {
-        const LoadedScene loaded = load_scene(t.scene, declare_trace_keys, t.overrides);
-        t.defaults = loaded.defaults();
-        if (s.kind_ == "trace") {
-          ContinuationOptions::from_scene(loaded.scene);
-          TraceArguments a;
-          a.restart = t.start;
-          t.record = trace_run_record(loaded, a);
-        } else {
-          t.record = solve_run_record(loaded);
-        }
-      } catch (const SceneError& e) {
-        throw SceneError(fmt::format("{}: task {} ({}): {}", path, t.index, t.label(), e.what()));
-      }
-      t.hash = text_hash(t.record);
       s.tasks_.push_back(std::move(t));
     }
+  }
+  s.check_tasks();
   return s;
+}
+
+void Study::check_tasks() {
+  // validated like --set, before any task runs
+  TaskScenes scenes(kind_);
+  std::map<std::string, int> runs;  // the tasks by the hash of their run record
+  const size_t n = tasks_.size();
+  const bool many = n >= 10000;
+  const auto t0 = std::chrono::steady_clock::now();
+  auto seconds = [&]() { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+  double said = 0;
+  if (many) fmt::print(stderr, "study {}: checking the {} tasks of {} (each like --set)\n", name_, n, path_);
+  for (StudyTask& t : tasks_) {
+    try {
+      const LoadedScene loaded = scenes.load(t);
+      t.hash = text_hash(scenes.run_record(t, loaded));
+      t.shape = scenes.shape(loaded);
+      t.problem = TaskScenes::problem(loaded);
+    } catch (const SceneError& e) {
+      throw SceneError(fmt::format("{}: task {} ({}): {}", path_, t.index, t.label(), e.what()));
+    }
+    if (const auto [it, fresh] = runs.emplace(t.hash, t.index); !fresh) {
+      const StudyTask& first = tasks_[static_cast<size_t>(it->second)];
+      throw SceneError(fmt::format(
+          "{}: task {} ({}) is the same run as task {} ({}): every key resolves to the same value; a study runs "
+          "each run once (remove one of the values or cases)",
+          path_, t.index, t.label(), first.index, first.label()));
+    }
+    if (many && seconds() - said >= 10) {
+      said = seconds();
+      const double left = said / (t.index + 1) * static_cast<double>(n - static_cast<size_t>(t.index) - 1);
+      fmt::print(stderr, "study {}: {} of {} tasks checked, about {:.0f} s left\n", name_, t.index + 1, n, left);
+    }
+  }
+  if (many) fmt::print(stderr, "study {}: checked {} tasks in {:.1f} s\n", name_, n, seconds());
+}
+
+TaskRunRecord Study::run_record(const StudyTask& t) const {
+  TaskScenes scenes(kind_);
+  const LoadedScene loaded = scenes.load(t);
+  return {scenes.run_record(t, loaded), loaded.defaults()};
+}
+
+bool Study::record_agrees(const StudyTask& t, const std::string& stored, std::string* difference) const {
+  if (!t.hash.empty() && text_hash(stored) == t.hash) return true;
+  TaskRunRecord now;
+  try {
+    now = run_record(t);
+  } catch (const SceneError& e) {
+    if (difference) *difference = e.what();
+    return false;
+  }
+  if (records_agree(stored, now.record, now.defaults)) return true;
+  if (difference) *difference = record_difference(stored, now.record, now.defaults);
+  return false;
 }
 
 void Study::check_collect() const {
   // what shapes the names: the physics (the problem's observables and monitors), and for a trace
   // the parameter, the stop observable and its thresholds, and the stability columns
   std::set<std::string> checked;
+  TaskScenes scenes(kind_);
   for (const StudyTask& t : tasks_) {
+    if (!checked.insert(t.shape).second) continue;
     std::vector<std::string> observables, monitors, columns;
     std::string stop;  // the stop observable, whose crossing of its threshold is an event too
     try {
-      const LoadedScene loaded = load_scene(t.scene, declare_trace_keys, t.overrides);
-      std::string key = loaded.scene.source() + "\n" + loaded.physics();
+      const LoadedScene loaded = scenes.load(t);
       std::optional<ContinuationOptions> o;
       StabilityOptions stability;
       if (kind_ == "trace") {
         o = ContinuationOptions::from_scene(loaded.scene);
         stop = o->stop.observable;
         stability = StabilityOptions::from_scene(loaded.scene);
-        key += fmt::format("\n{}\n{}\n{}\n{}\n{}", o->parameter, stop, std::isfinite(o->stop.above),
-                           std::isfinite(o->stop.below), stability.enabled ? stability.count : -1);
       }
-      if (!checked.insert(key).second) continue;
       const std::unique_ptr<Problem> problem = loaded.type->build(loaded.scene);
       observables = problem->observable_names();
       monitors = problem->monitor_names();

@@ -2,6 +2,7 @@
 // expected first; every other rank asks for a task, runs it in its own process (so that a task
 // that crashes costs that task and not the rank), reports, and asks again.
 #include <mpi.h>
+#include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -11,6 +12,7 @@
 #include <cstdlib>
 #include <deque>
 #include <map>
+#include <set>
 #include <thread>
 
 #include "runs/ExitCode.hpp"
@@ -23,6 +25,7 @@ namespace {
 
 constexpr int tag_ready = 1, tag_task = 2;
 constexpr int no_task = -1;
+constexpr int stop_task = -2;  // (on tag_task) the study was interrupted: stop the running task after its point
 // rank 0 polls instead of blocking in MPI_Recv, which spins on a core
 constexpr auto poll_interval = std::chrono::milliseconds(1);
 
@@ -40,17 +43,25 @@ int schedule(const Study& study, int size) {
   std::deque<int> queue(order.begin(), order.end());
   std::deque<int> idle;  // workers waiting for a task while others run (one of theirs may come back)
   std::map<int, int> attempts;
+  std::map<int, double> earlier;  // the process seconds of a task's interrupted runs (interrupted_record)
+  std::set<int> busy;             // the workers running a task
   int stopped = 0, running = 0, gaps = 0, finished = 0;
   double gap_seconds = 0, process_seconds = 0;
-  bool failures = false, unwritten = false;  // unwritten: a record could not be written; no task starts after it
-  auto give = [&](int worker) {              // the next task, or none (the worker stops) when none can come
+  bool failures = false, interrupted = false, forwarded = false;
+  bool unwritten = false;  // a record could not be written: no task starts after it
+  bool signalled = false;  // a worker rank had a signal of its own: the study stops as for one to this rank
+  auto stopping = [&]() { return InterruptGuard::requested() || signalled || unwritten; };
+  auto give = [&](int worker) {  // the next task, or none (the worker stops) when none can come
     int next = no_task;
-    if (!InterruptGuard::requested() && !unwritten && !queue.empty()) {
+    if (!stopping() && !queue.empty()) {
       next = queue.front();
       queue.pop_front();
       ++attempts[next];
+      const auto before = interrupted_record(study, study.tasks()[static_cast<size_t>(next)]);
+      earlier[next] = before ? before->process_seconds : 0.0;
+      busy.insert(worker);
       ++running;
-    } else if (!InterruptGuard::requested() && running > 0) {
+    } else if (!stopping() && running > 0) {
       idle.push_back(worker);
       return;
     }
@@ -58,6 +69,11 @@ int schedule(const Study& study, int size) {
     MPI_Send(&next, 1, MPI_INT, worker, tag_task, MPI_COMM_WORLD);
   };
   while (stopped < size - 1) {
+    if (stopping() && !forwarded) {
+      // a signal to this rank alone reaches the running tasks: they stop after their current point
+      for (int worker : busy) MPI_Send(&stop_task, 1, MPI_INT, worker, tag_task, MPI_COMM_WORLD);
+      forwarded = true;
+    }
     int flag = 0;
     MPI_Status st;
     MPI_Iprobe(MPI_ANY_SOURCE, tag_ready, MPI_COMM_WORLD, &flag, &st);
@@ -65,37 +81,43 @@ int schedule(const Study& study, int size) {
       std::this_thread::sleep_for(poll_interval);
       continue;
     }
-    // the task it finished (or no_task), waitpid's status, the task process's seconds, and the
-    // time it waited between its last task's end and the start of the task before
-    double msg[4];
-    MPI_Recv(msg, 4, MPI_DOUBLE, st.MPI_SOURCE, tag_ready, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    // the task it finished (or no_task), waitpid's status, the task process's seconds, the time
+    // it waited between its last task's end and the start of the task before, why it stopped
+    // (wait_for_task) and the task process's pid
+    double msg[6];
+    MPI_Recv(msg, 6, MPI_DOUBLE, st.MPI_SOURCE, tag_ready, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
     if (msg[3] > 0) {
       gap_seconds += msg[3];
       ++gaps;
     }
+    signalled |= msg[4] > 1;
     const bool reported = static_cast<int>(msg[0]) != no_task;
     if (reported) --running;
+    busy.erase(st.MPI_SOURCE);
     give(st.MPI_SOURCE);  // first the worker's next task; the finished one is read after
     if (reported) {
       const StudyTask& done = study.tasks()[static_cast<size_t>(msg[0])];
-      TaskRecord record = finished_task(study, done, static_cast<int>(msg[1]));
+      TaskRecord record = finished_task(study, done, static_cast<pid_t>(msg[5]), static_cast<int>(msg[1]));
       record.attempts = attempts[done.index];
-      record.process_seconds = msg[2];
+      record.process_seconds = (record.summary.runs > 1 ? earlier[done.index] : 0.0) + msg[2];
       process_seconds += msg[2];
       ++finished;
-      if (record.status == "died" && record.attempts < 2 && !InterruptGuard::requested() && !unwritten) {
+      if (record.status == "died" && (stopping() || msg[4] > 0) && stopped_by_signal(static_cast<int>(msg[1])))
+        record.status = "interrupted";  // (before its run took signals: its output is as it was)
+      if (record.status == "died" && record.attempts < 2 && !stopping()) {
         std::printf("task %d (%s): %s; running it again\n", done.index, done.label().c_str(),
                     record.summary.reason.c_str());
         queue.push_back(done.index);
       } else {
         if (record.status == "died") record.status = "failed";
-        if (record.status != "interrupted") unwritten |= !save_task_record(study, done, record);
+        unwritten |= !save_task_record(study, done, record);
         failures |= record.status == "failed";
+        interrupted |= record.status == "interrupted";
         progress.finished(done, record);
       }
     }
     // the waiting workers: a task came back, or nothing more can come
-    while (!idle.empty() && (!queue.empty() || running == 0 || InterruptGuard::requested() || unwritten)) {
+    while (!idle.empty() && (!queue.empty() || running == 0 || stopping())) {
       const int worker = idle.front();
       idle.pop_front();
       give(worker);
@@ -108,29 +130,61 @@ int schedule(const Study& study, int size) {
                  study.folder().c_str());
     return exit_code::io_failure;
   }
-  if (InterruptGuard::requested()) return exit_code::interrupted;
+  if (stopping() || interrupted) {
+    std::printf(
+        "interrupted: the tasks that were running stop after their current point; run the study again to "
+        "continue them\n");
+    return exit_code::interrupted;
+  }
   return failures ? exit_code::numerical_failure : exit_code::ok;
+}
+
+// Waits for the task's process, which stops after its current point where rank 0 says the study
+// was interrupted (stop_task: returns 1) or a signal reaches this rank (2); 0 where it ended by itself.
+int wait_for_task(pid_t pid, int& status) {
+  int stop = 0;
+  while (true) {
+    const pid_t ended = ::waitpid(pid, &status, WNOHANG);
+    if (ended == pid || (ended < 0 && errno != EINTR)) return stop;
+    int flag = 0;
+    MPI_Iprobe(0, tag_task, MPI_COMM_WORLD, &flag, MPI_STATUS_IGNORE);
+    if (flag) {
+      int message = 0;
+      MPI_Recv(&message, 1, MPI_INT, 0, tag_task, MPI_COMM_WORLD, MPI_STATUS_IGNORE);  // (only stop_task comes now)
+    }
+    if (!stop && (flag || InterruptGuard::requested())) {
+      ::kill(pid, SIGTERM);
+      stop = flag ? 1 : 2;
+    }
+    std::this_thread::sleep_for(poll_interval);
+  }
 }
 
 void work(const Study& study, int size) {
   const int threads = blas_threads_for(local_workers(size));
-  double msg[4] = {no_task, 0, 0, 0};
+  InterruptGuard interrupts;
+  // the task it finished (or no_task), waitpid's status, the task process's seconds, the time it
+  // waited between its last task's end and this task's start, why it stopped (wait_for_task) and
+  // the task process's pid
+  double msg[6] = {no_task, 0, 0, 0, 0, 0};
   auto ended = std::chrono::steady_clock::now();
   double waited = 0;  // between the last task's end and this task's start, reported with the next message
   while (true) {
     msg[3] = waited;
-    MPI_Send(msg, 4, MPI_DOUBLE, 0, tag_ready, MPI_COMM_WORLD);
-    int task = no_task;
-    MPI_Recv(&task, 1, MPI_INT, 0, tag_task, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    MPI_Send(msg, 6, MPI_DOUBLE, 0, tag_ready, MPI_COMM_WORLD);
+    int task = stop_task;
+    while (task == stop_task)  // (a stop that came after its task had ended)
+      MPI_Recv(&task, 1, MPI_INT, 0, tag_task, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
     if (task == no_task) return;
     const auto t0 = std::chrono::steady_clock::now();
     waited = msg[0] == no_task ? 0 : std::chrono::duration<double>(t0 - ended).count();
     const pid_t pid = spawn_task(study, study.tasks()[static_cast<size_t>(task)], threads);
     int status = 0;
-    while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-    }
+    const int stop = wait_for_task(pid, status);
     msg[0] = task;
     msg[1] = status;
+    msg[4] = stop;
+    msg[5] = pid;
     ended = std::chrono::steady_clock::now();
     msg[2] = std::chrono::duration<double>(ended - t0).count();
   }

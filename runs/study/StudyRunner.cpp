@@ -23,6 +23,7 @@
 #include "runs/SceneLoader.hpp"
 #include "runs/TraceCommand.hpp"
 #include "runs/study/StudyTable.hpp"
+#include "runs/study/TaskScenes.hpp"
 
 namespace keller {
 
@@ -39,6 +40,42 @@ std::string duration(double s) {
   if (s < 5400) return fmt::format("{:.0f} min", s / 60);
   return fmt::format("{:.1f} h", s / 3600);
 }
+
+// The wait for the end of a task's process that a signal to this process ends too: SIGINT,
+// SIGTERM and SIGCHLD are blocked but in sigsuspend, so that none comes between a look at the
+// children and the wait (the signal would then be seen only when a task ended by itself).
+class ChildWait {
+ public:
+  ChildWait() {
+    sigset_t block;
+    sigemptyset(&block);
+    for (int s : {SIGINT, SIGTERM, SIGCHLD}) sigaddset(&block, s);
+    ::sigprocmask(SIG_BLOCK, &block, &old_mask_);
+    waiting_ = old_mask_;
+    for (int s : {SIGINT, SIGTERM, SIGCHLD}) sigdelset(&waiting_, s);
+    struct sigaction sa {};
+    sa.sa_handler = [](int) {};  // (the default action ignores SIGCHLD: it would not end sigsuspend)
+    sigemptyset(&sa.sa_mask);
+    ::sigaction(SIGCHLD, &sa, &old_chld_);
+  }
+  ~ChildWait() {
+    ::sigaction(SIGCHLD, &old_chld_, nullptr);
+    ::sigprocmask(SIG_SETMASK, &old_mask_, nullptr);
+  }
+  ChildWait(const ChildWait&) = delete;
+  ChildWait& operator=(const ChildWait&) = delete;
+  // A child that ended (its pid and status), 0 when a signal came first, -1 when none is left.
+  pid_t next(int& status) {
+    const pid_t pid = ::waitpid(-1, &status, WNOHANG);
+    if (pid != 0) return pid;
+    ::sigsuspend(&waiting_);
+    return 0;
+  }
+
+ private:
+  sigset_t old_mask_, waiting_;
+  struct sigaction old_chld_ {};
+};
 
 }  // namespace
 
@@ -60,13 +97,17 @@ int blas_threads_for(int workers) {
 pid_t spawn_task(const Study& study, const StudyTask& task, int blas_threads) {
   std::error_code ec;  // a folder that cannot be made: the task fails, and says why
   fs::create_directories(fs::path(study.task_log(task)).parent_path(), ec);
-  fs::remove(study.task_record(task), ec);  // the record that comes back is this run's
   const pid_t parent = ::getpid();
   const std::string index = std::to_string(task.index), threads = std::to_string(blas_threads);
   const std::string log = study.task_log(task);
   const pid_t pid = ::fork();
   if (pid != 0) return pid;
-  // the child: dies with its parent (SIGTERM: it stops after its current point), writes to its log
+  // the child: dies with its parent (SIGTERM: it stops after its current point), writes to its log,
+  // and takes the signals its parent may block while it waits (ChildWait)
+  sigset_t signals;
+  sigemptyset(&signals);
+  for (int s : {SIGINT, SIGTERM, SIGCHLD}) sigaddset(&signals, s);
+  ::sigprocmask(SIG_UNBLOCK, &signals, nullptr);
   ::prctl(PR_SET_PDEATHSIG, SIGTERM);
   if (::getppid() != parent) ::_exit(exit_code::interrupted);
   const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
@@ -82,8 +123,12 @@ pid_t spawn_task(const Study& study, const StudyTask& task, int blas_threads) {
   ::_exit(127);
 }
 
-TaskRecord finished_task(const Study& study, const StudyTask& task, int status) {
-  if (auto r = read_task_record(study, task); r && task_current(study, task, *r)) return *r;
+bool stopped_by_signal(int status) {
+  return WIFSIGNALED(status) && (WTERMSIG(status) == SIGTERM || WTERMSIG(status) == SIGINT);
+}
+
+TaskRecord finished_task(const Study& study, const StudyTask& task, pid_t pid, int status) {
+  if (auto r = read_task_record(study, task); r && r->pid == pid && task_current(study, task, *r)) return *r;
   TaskRecord died;
   died.hash = task.hash;
   died.status = "died";
@@ -100,6 +145,11 @@ std::vector<int> tasks_to_run(const Study& study) {
   std::map<int, double> before;  // the time a task took when it last ran
   for (const StudyTask& t : study.tasks()) {
     if (task_done(study, t)) continue;
+    try {
+      set_aside_foreign_outputs(study, t);
+    } catch (const std::runtime_error& e) {  // the task's run meets it, and fails saying why
+      fmt::print(stderr, "keller: warning: {}\n", e.what());
+    }
     todo.push_back(t.index);
     if (const auto r = read_task_record(study, t); r && r->summary.seconds > 0) before[t.index] = r->summary.seconds;
   }
@@ -107,19 +157,20 @@ std::vector<int> tasks_to_run(const Study& study) {
   if (before.size() == todo.size()) {
     cost = before;
   } else {
-    // the size of each task's problem, built once per physics: a factorisation costs about n^1.5
+    // the size of each task's problem, built once per problem: a factorisation costs about n^1.5
     std::map<std::string, double> size_of;
+    TaskScenes scenes(study.kind());
     for (int i : todo) {
       const StudyTask& t = study.tasks()[static_cast<size_t>(i)];
-      double n = 1;
-      try {
-        const LoadedScene loaded = load_scene(t.scene, declare_trace_keys, t.overrides);
-        const std::string key = loaded.scene.source() + "\n" + loaded.physics();
-        if (!size_of.count(key)) size_of[key] = static_cast<double>(loaded.type->build(loaded.scene)->size());
-        n = size_of[key];
-      } catch (const std::exception&) {  // it fails when it runs, and says why there
+      if (!size_of.count(t.problem)) {
+        size_of[t.problem] = 1;
+        try {
+          const LoadedScene loaded = scenes.load(t);
+          size_of[t.problem] = static_cast<double>(loaded.type->build(loaded.scene)->size());
+        } catch (const std::exception&) {  // it fails when it runs, and says why there
+        }
       }
-      cost[i] = std::pow(n, 1.5);
+      cost[i] = std::pow(size_of[t.problem], 1.5);
     }
   }
   std::stable_sort(todo.begin(), todo.end(), [&](int a, int b) { return cost[a] > cost[b]; });
@@ -164,14 +215,17 @@ bool write_study_table(const Study& study) {
     fmt::print(stderr, "keller: error: the study's table cannot be written: {}\n", e.what());
     return false;
   }
-  int done = 0, failed = 0;
+  int done = 0, failed = 0, damaged = 0;
   for (const StudyRow& r : table.rows()) {
     const std::string& s = r.text.at("status");
     done += s == "done";
     failed += s == "failed" || s == "died";
+    damaged += s == "damaged";
   }
-  fmt::print("collected {} tasks ({} done, {} failed, {} not run) in {} and {}\n", table.rows().size(), done, failed,
-             table.rows().size() - done - failed, study.table_csv(), study.table_h5());
+  fmt::print("collected {} tasks ({} done, {} failed, {} not run{}) in {} and {}\n", table.rows().size(), done, failed,
+             table.rows().size() - done - failed - damaged,
+             damaged ? fmt::format(", {} with a damaged or foreign output", damaged) : "", study.table_csv(),
+             study.table_h5());
   return true;
 }
 
@@ -205,11 +259,14 @@ int run_study_local(const Study& study, int jobs) {
   const int workers = std::max(1, std::min<int>(jobs, static_cast<int>(order.size())));
   StudyProgress progress(study, static_cast<int>(order.size()), workers);
   InterruptGuard interrupts;
+  ChildWait wait;
   std::deque<int> queue(order.begin(), order.end());
   std::map<pid_t, int> running;
   std::map<pid_t, double> started;
   std::map<int, int> attempts;
-  bool failures = false, unwritten = false;  // unwritten: a record could not be written; no task starts after it
+  std::map<int, double> earlier;  // the process seconds of a task's interrupted runs (interrupted_record)
+  bool failures = false, interrupted = false, forwarded = false;
+  bool unwritten = false;  // a record could not be written: no task starts after it
   // the scheduling overhead: from a task's end to the start of the next on its worker
   double reaped = -1, gaps = 0, process = 0;
   int spawned_after_reap = 0, finished = 0;
@@ -218,7 +275,10 @@ int run_study_local(const Study& study, int jobs) {
       const int i = queue.front();
       queue.pop_front();
       ++attempts[i];
-      const pid_t pid = spawn_task(study, study.tasks()[static_cast<size_t>(i)], blas_threads_for(workers));
+      const StudyTask& task = study.tasks()[static_cast<size_t>(i)];
+      const auto before = interrupted_record(study, task);
+      earlier[i] = before ? before->process_seconds : 0.0;
+      const pid_t pid = spawn_task(study, task, blas_threads_for(workers));
       running[pid] = i;
       started[pid] = now_seconds();
       if (reaped >= 0) {
@@ -231,10 +291,16 @@ int run_study_local(const Study& study, int jobs) {
   while (!queue.empty() || !running.empty()) {
     fill();
     if (running.empty()) break;
+    if (InterruptGuard::requested() && !forwarded) {
+      // a signal to this process alone reaches the running tasks: they stop after their current point
+      for (const auto& [pid, index] : running) ::kill(pid, SIGTERM);
+      forwarded = true;
+    }
     int status = 0;
-    const pid_t pid = ::waitpid(-1, &status, 0);
+    const pid_t pid = wait.next(status);
+    if (pid == 0) continue;  // a signal
     if (pid < 0) {
-      if (errno == EINTR) continue;  // a signal: the children got it too and stop after their point
+      if (errno == EINTR) continue;
       break;
     }
     const auto it = running.find(pid);
@@ -244,19 +310,22 @@ int run_study_local(const Study& study, int jobs) {
     running.erase(it);
     const double task_seconds = reaped - started[pid];
     fill();
-    TaskRecord record = finished_task(study, task, status);
+    TaskRecord record = finished_task(study, task, pid, status);
     record.attempts = attempts[task.index];
-    record.process_seconds = task_seconds;
-    process += record.process_seconds;
+    record.process_seconds = (record.summary.runs > 1 ? earlier[task.index] : 0.0) + task_seconds;
+    process += task_seconds;
     ++finished;
+    if (record.status == "died" && InterruptGuard::requested() && stopped_by_signal(status))
+      record.status = "interrupted";  // (before its run took signals: its output is as it was)
     if (record.status == "died" && record.attempts < 2 && !InterruptGuard::requested() && !unwritten) {
       fmt::print("task {} ({}): {}; running it again\n", task.index, task.label(), record.summary.reason);
       queue.push_back(task.index);
       continue;
     }
     if (record.status == "died") record.status = "failed";
-    if (record.status != "interrupted") unwritten |= !save_task_record(study, task, record);
+    unwritten |= !save_task_record(study, task, record);
     failures |= record.status == "failed";
+    interrupted |= record.status == "interrupted";
     progress.finished(task, record);
   }
   print_overhead(spawned_after_reap, gaps, finished, process);
@@ -266,7 +335,7 @@ int run_study_local(const Study& study, int jobs) {
                study.folder());
     return exit_code::io_failure;
   }
-  if (InterruptGuard::requested()) {
+  if (InterruptGuard::requested() || interrupted) {
     fmt::print(
         "interrupted: the tasks that were running stop after their current point; run the study again to "
         "continue them\n");

@@ -21,9 +21,13 @@ namespace keller {
 // Starts the task's process with its output in the task's log, `blas_threads` BLAS threads, and
 // SIGTERM if this process dies (the task then stops after its current point, to be continued).
 pid_t spawn_task(const Study& study, const StudyTask& task, int blas_threads);
-// The record a finished task process left; `status` is waitpid's. A process that left no
-// record for the task's hash died: the record says so (status "died").
-TaskRecord finished_task(const Study& study, const StudyTask& task, int status);
+// The record the finished task process `pid` left; `status` is waitpid's. A process that left no
+// record of its own for the task's hash died: the record says so (status "died").
+TaskRecord finished_task(const Study& study, const StudyTask& task, pid_t pid, int status);
+
+// Whether a task's process ended by SIGTERM or SIGINT (waitpid's status): one that a signal to
+// the study stopped before its run took signals.
+bool stopped_by_signal(int status);
 
 // The tasks to run (not done), longest expected first: by the time the task took before, else
 // by the size of its problem.
@@ -50,8 +54,8 @@ int blas_threads_for(int workers, int cores, const char* user);
 
 // Runs the study here with `jobs` worker processes. Exit codes: 0 every task done, 1 some task
 // failed, 3 a task's record or the table could not be written (no task is started after it), 130
-// interrupted (tasks in flight stop after their current point and are continued by
-// the next run of the study).
+// interrupted: by SIGINT or SIGTERM, which it passes on to the tasks' processes (they stop after
+// their current point and are continued by the next run of the study), or a task was.
 int run_study_local(const Study& study, int jobs);
 // Under mpirun: rank 0 schedules, the other ranks run tasks. Returns the exit code of rank 0's
 // study (the same for every rank).

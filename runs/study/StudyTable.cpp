@@ -163,20 +163,29 @@ StudyRow StudyTable::row(const Study& study, const StudyTask& task) {
   row.number["factor_seconds"] = s.factor_seconds;
   row.number["solve_seconds"] = s.solve_seconds;
   row.number["attempts"] = record->attempts;
+  row.number["runs"] = s.runs;
   row.number["process_seconds"] = record->process_seconds;
   row.number["peak_mb"] = record->peak_mb;
   row.found = record->status == "done" ? "" : record->status + ": " + s.reason;
-  if (current && record->status == "done" && fs::exists(study.task_output(task))) {
-    try {
-      if (study.kind() == "trace")
-        collect_branch(study, study.task_output(task), row);
-      else
-        collect_solution(study, study.task_output(task), row);
-    } catch (const std::exception& e) {
-      row.text["status"] = "failed";
-      row.text["reason"] = std::string("its output cannot be read: ") + e.what();
-      row.found = row.text["reason"];
+  if (current && record->status == "done") {
+    // what is collected is the task's own output, or nothing
+    const std::string out = study.task_output(task);
+    std::string fault = output_fault(study, task, out);
+    StudyRow collected = row;
+    if (fault.empty()) {
+      try {
+        if (study.kind() == "trace")
+          collect_branch(study, out, collected);
+        else
+          collect_solution(study, out, collected);
+      } catch (const std::exception& e) {
+        fault = std::string("cannot be read: ") + e.what();
+      }
     }
+    if (fault.empty()) return collected;
+    row.text["status"] = "damaged";
+    row.text["reason"] = fmt::format("its output '{}' {}", out, fault);
+    row.found = row.text["reason"];
   }
   return row;
 }
@@ -210,7 +219,7 @@ StudyTable StudyTable::collect(const Study& study) {
   for (const auto* group : {&events, &stops, &end})
     t.number_columns_.insert(t.number_columns_.end(), group->begin(), group->end());
   for (const char* c : {"unknowns", "points", "rejected", "factorisations", "seconds", "solves", "nnz_lu", "lu_peak_mb",
-                        "factor_seconds", "solve_seconds", "process_seconds", "peak_mb", "attempts"})
+                        "factor_seconds", "solve_seconds", "process_seconds", "peak_mb", "attempts", "runs"})
     t.number_columns_.push_back(c);
   return t;
 }

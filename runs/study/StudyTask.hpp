@@ -1,8 +1,9 @@
 // One task of a study, run in this process: an ordinary trace or solve whose output goes to
 // FOLDER/tasks/NAME.h5, followed by the task's record FOLDER/tasks/NAME.toml (how it ended and
 // what it cost, with the hash of what defined it). A task is done when its record says so for
-// the task's current hash and its output is there; a rerun of the study runs every other task
-// again (missing, failed, interrupted, or changed by the study file or the base scene).
+// the task's current hash and its own output is there; a rerun of the study runs every other
+// task again (missing, failed, interrupted, damaged, or changed by the study file or the base
+// scene).
 #pragma once
 
 #include <optional>
@@ -18,13 +19,15 @@ struct TaskRecord {
   std::string status;          // "done", "failed" or "interrupted"
   RunSummary summary;          // exit code, why it ended, the output, the cost
   int attempts = 1;            // runs of this task by the executor (a worker that died is retried once)
-  double process_seconds = 0;  // the task's process from start to end, as its executor saw it
+  double process_seconds = 0;  // its processes, start to end, as its executor saw them (every run in its output)
   double peak_mb = 0;          // the task process's peak resident memory
+  long pid = 0;                // the process that ran it (tells its record from an earlier run's)
 };
 
-// Runs the task (continuing its unfinished output if a run of it was interrupted; removing an
-// output left by another version of it), writes its record and returns it. Never throws for a
-// failure of the task: that is a record with status "failed" and its reason.
+// Runs the task (continuing its unfinished output if a run of it was interrupted, and adding its
+// cost to theirs; setting aside an output or unfinished run that is not its own), writes its
+// record and returns it. Never throws for a failure of the task: that is a record with status
+// "failed" and its reason.
 TaskRecord run_study_task(const Study& study, const StudyTask& task);
 
 // The task's record, if it has one that can be read.
@@ -35,7 +38,21 @@ void write_task_record(const Study& study, const StudyTask& task, const TaskReco
 // agrees with the task's (records_agree: keys added to keller since, at their defaults, are no
 // change).
 bool task_current(const Study& study, const StudyTask& task, const TaskRecord& record);
-// Done as the task is now, with its output in place.
+// The record of the task's interrupted runs (their cost together), where it has one for the
+// task as it is now: what a run that continues their output adds its own to.
+std::optional<TaskRecord> interrupted_record(const Study& study, const StudyTask& task);
+// Done as the task is now, with its own output in place (output_fault finds nothing).
 bool task_done(const Study& study, const StudyTask& task);
+
+// What keeps the file at `path` (the task's output) from being the task's own complete output,
+// for people ("is missing", "cannot be read as an HDF5 file", "holds another run (it differs in:
+// bratu.intervals = 128 in the file, 48 in this scene)"); empty where nothing does: a readable
+// file whose run record (/problem/run) agrees with the task's and whose results can be read.
+std::string output_fault(const Study& study, const StudyTask& task, const std::string& path);
+// Moves what is not the task's own out of its way, to FOLDER/set_aside/ (the first free name
+// STEM-N.EXT), saying so on the terminal: an output with an output_fault, and an unfinished run
+// (OUT.h5.part) that is not the task's to continue. Nothing is deleted. Throws
+// std::runtime_error naming the file where it cannot be moved.
+void set_aside_foreign_outputs(const Study& study, const StudyTask& task);
 
 }  // namespace keller

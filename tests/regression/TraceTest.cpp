@@ -435,3 +435,55 @@ TEST(Trace, MeshConvergenceScript) {
   const std::string all((std::istreambuf_iterator<char>(txt)), std::istreambuf_iterator<char>());
   EXPECT_NE(all.find("mesh converged (h32 -> h64 within 0.01 in u_mid) up to lambda = 2"), std::string::npos) << all;
 }
+
+// Issue 30, item 12: a restart from the end of a finished branch does not sail past the stop
+// that ended it (it traced 444 points of the 1D Bratu branch to a residual overflow, and 1052
+// rows of the collapsible channel beyond min_m1 < 0): where the start lies on a stop (the stop
+// observable's threshold, a bound) and the branch would go on beyond it, the branch ends at
+// once, its one row the end (kind 6) at the start, exit 0. A restart from a row before the stop
+// goes on to the same end as the original branch.
+TEST(Trace, ARestartFromTheEndOfABranchEndsAtOnce) {
+  const std::string dir = test::scratch_dir("trace_restart_end");
+  const std::string coarse =
+      " --set mesh.name=custom --set mesh.nx_upstream=5 --set mesh.nx_deformable=10 --set mesh.nx_downstream=5"
+      " --set mesh.ny_fluid=4 --set mesh.ny_solid=2";
+  struct Case {
+    std::string name, scene, sets, reason;
+  };
+  const std::vector<Case> cases = {
+      {"bratu_stop", "runs/scenes/bratu1d_fold.toml", "", "u_mid > stop_above"},
+      {"bratu_upper", "runs/scenes/bratu1d_fold.toml", " --set continuation.upper=2.0", "upper bound"},
+      {"channel_stop", "runs/scenes/collapsible_oldroyd_b_wi_low_gamma.toml", coarse, "min_m1 < stop_below"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    const std::string run = "trace " + test::source_path(c.scene) + c.sets + " --set output.xdmf=false -o ";
+    auto r = test::run_keller(run + dir + "/" + c.name + ".h5");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const BranchTable b = read_branch_table(dir + "/" + c.name + ".h5");
+    const long last = b.rows.rows() - 1;
+    ASSERT_EQ(b.rows(last, b.column("kind")), 6);
+    ASSERT_NE(b.status.find(c.reason), std::string::npos) << b.status;
+    r = test::run_keller(run + dir + "/" + c.name + "_end.h5 --restart " + dir + "/" + c.name + ".h5:last");
+    ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+    EXPECT_NE(r.out.find("the branch is at its end where it starts"), std::string::npos) << r.out;
+    const BranchTable e = read_branch_table(dir + "/" + c.name + "_end.h5");
+    ASSERT_EQ(e.rows.rows(), 1) << e.status;
+    EXPECT_EQ(e.rows(0, e.column("kind")), 6);
+    EXPECT_NE(e.status.find(c.reason), std::string::npos) << e.status;
+    for (const std::string& col : b.columns) {
+      if (col != "row" && col != "kind" && col != "s" && col != "iterations" && col != "step" && col != "seconds" &&
+          col != "saved_slot" && col.rfind("monitor:", 0) != 0) {
+        EXPECT_EQ(e.rows(0, e.column(col)), b.rows(last, b.column(col))) << col;
+      }
+    }
+    // from the row before the end: on to the same end
+    r = test::run_keller(run + dir + "/" + c.name + "_on.h5 --restart " + dir + "/" + c.name +
+                         ".h5:" + std::to_string(b.saved_rows.at(b.saved_rows.size() - 2)));
+    ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+    const BranchTable o = read_branch_table(dir + "/" + c.name + "_on.h5");
+    const double end = b.rows(last, b.column(b.parameter)), reached = o.rows(o.rows.rows() - 1, o.column(b.parameter));
+    EXPECT_NEAR(reached, end, 1e-8 * std::max(1.0, std::abs(end)));
+    EXPECT_NE(o.status.find(c.reason), std::string::npos) << o.status;
+  }
+}
