@@ -1,5 +1,7 @@
 #include "problems/ProblemRegistry.hpp"
 
+#include <fmt/format.h>
+
 #include <stdexcept>
 
 #include "problems/analytic/Bratu1DProblem.hpp"
@@ -15,8 +17,75 @@
 
 namespace keller {
 
+namespace {
+
+// Peak resident memory of keller solve, measured on the AMD EPYC VM (docs/performance.md): the
+// process itself, and per element or interval of the cheapest physics of each problem (the lower
+// estimate: a Newtonian fluid; viscoelastic ones take about twice as much).
+constexpr double kProcessBytes = 20e6;
+constexpr double kChannelElementBytes = 40e3;      // channel_stokes on M2: 49 MB, 720 elements
+constexpr double kCollapsibleElementBytes = 90e3;  // Newtonian collapsible channel on M2: 103 MB, 900 elements
+constexpr double kWallElementBytes = 60e3;         // wall_pressure on M2: 33 MB, 180 elements
+constexpr double kBratu2DElementBytes = 4e3;       // bratu2d on 300 x 300: 430 MB
+constexpr double kIntervalBytes = 100.0;           // bratu1d on 10^6 intervals: 147 MB
+
+// The key that sets a channel mesh's size: its preset, or the largest of the explicit counts.
+std::string channel_size_key(const Scene& s) {
+  if (s.string("mesh.name") != "custom") return "mesh.name";
+  std::string key = "mesh.nx_upstream";
+  for (const char* k : {"mesh.nx_deformable", "mesh.nx_downstream", "mesh.ny_fluid", "mesh.ny_solid"})
+    if (s.integer(k) > s.integer(key)) key = k;
+  return key;
+}
+
+ProblemType::Memory per_element(double elements, double bytes, std::string key) {
+  return {kProcessBytes + elements * bytes, std::move(key), fmt::format("{:.0f} elements", elements)};
+}
+
+ProblemType::Memory per_interval(const Scene& s, const std::string& key, double unknowns_per_interval) {
+  const double n = static_cast<double>(s.integer(key));
+  return {kProcessBytes + n * unknowns_per_interval * kIntervalBytes, key, fmt::format("{:.0f} intervals", n)};
+}
+
+// The registry's types with their memory estimates.
+std::vector<ProblemType> with_memory(std::vector<ProblemType> types) {
+  const auto channel = [](double bytes, bool solid) {
+    return [bytes, solid](const Scene& s) {
+      const ChannelMeshSpec m = channel_mesh_spec_from(s);
+      return per_element(m.fluid_elements() + (solid ? m.solid_elements() : 0), bytes, channel_size_key(s));
+    };
+  };
+  for (ProblemType& t : types) {
+    if (t.name == "channel") t.memory = channel(kChannelElementBytes, false);
+    if (t.name == "collapsible-channel") t.memory = channel(kCollapsibleElementBytes, true);
+    if (t.name == "wall")
+      t.memory = [](const Scene& s) {
+        return per_element(channel_mesh_spec_from(s).solid_elements(), kWallElementBytes, channel_size_key(s));
+      };
+    if (t.name == "cylinder")  // Newtonian Q2-P1disc elements, as the channel's
+      t.memory = [](const Scene& s) {
+        const CylinderMeshSpec m = CylinderOptions::from_scene(s).mesh;
+        return per_element(static_cast<double>(m.elements()), kChannelElementBytes,
+                           m.name == "custom" ? "mesh.n_quarter" : "mesh.name");
+      };
+    if (t.name == "bratu2d")
+      t.memory = [](const Scene& s) {
+        const double n = static_cast<double>(s.integer("bratu.intervals"));
+        return per_element(n * n, kBratu2DElementBytes, "bratu.intervals");
+      };
+    if (t.name == "bratu1d" || t.name == "bratu1d-shifted")
+      t.memory = [](const Scene& s) { return per_interval(s, "bratu.intervals", 1); };
+    if (t.name == "pitchfork1d") t.memory = [](const Scene& s) { return per_interval(s, "pitchfork.intervals", 1); };
+    if (t.name == "brusselator1d")
+      t.memory = [](const Scene& s) { return per_interval(s, "brusselator.intervals", 2); };
+  }
+  return types;
+}
+
+}  // namespace
+
 const std::vector<ProblemType>& problem_types() {
-  static const std::vector<ProblemType> types = {
+  static const std::vector<ProblemType> types = with_memory({
       {"channel", "steady flow in the 19 x 1 channel of model.md", ChannelOptions::declare,
        [](const Scene& s) -> std::unique_ptr<Problem> {
          return std::make_unique<ChannelProblem>(ChannelOptions::from_scene(s));
@@ -56,7 +125,7 @@ const std::vector<ProblemType>& problem_types() {
        Pitchfork1DProblem::declare, Pitchfork1DProblem::from_scene},
       {"brusselator1d", "1D Brusselator with no-flux ends by central differences (test problem: Hopf)",
        Brusselator1DOptions::declare, Brusselator1DProblem::from_scene},
-  };
+  });
   return types;
 }
 

@@ -23,6 +23,16 @@ struct ProblemType {
     std::string key, value, why;
   };
   std::vector<Default> defaults = {};
+  // A lower estimate of the memory a solve of a scene of this type takes, from its keys alone
+  // (nothing is built: a size the machine cannot hold is refused, not run out of memory): so many
+  // bytes per element or grid interval, measured as the peak resident memory of keller solve
+  // (docs/performance.md), and the key that sets the size. Null: not estimated (small problems).
+  struct Memory {
+    double bytes = 0;
+    std::string key;   // e.g. "mesh.name", "bratu.intervals"
+    std::string size;  // e.g. "2400 elements"
+  };
+  std::function<Memory(const Scene&)> memory = nullptr;
 };
 
 const std::vector<ProblemType>& problem_types();

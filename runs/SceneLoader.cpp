@@ -1,6 +1,7 @@
 #include "runs/SceneLoader.hpp"
 
 #include <fmt/format.h>
+#include <unistd.h>
 
 #include "continuation/StartSolver.hpp"
 #include "core/Newton.hpp"
@@ -28,6 +29,24 @@ const ProblemType& type_named(const std::string& name, const std::string& source
   }
 }
 
+// The machine's physical memory in bytes (0 where it cannot be told).
+double machine_memory() {
+  const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGE_SIZE);
+  return pages > 0 && page > 0 ? static_cast<double>(pages) * static_cast<double>(page) : 0.0;
+}
+
+// A scene whose lower memory estimate exceeds the machine's memory is refused, naming the key that
+// sets its size, before anything is built.
+void check_memory(const Scene& scene, const ProblemType& type) {
+  if (!type.memory) return;
+  const ProblemType::Memory m = type.memory(scene);
+  const double have = machine_memory();
+  if (have > 0 && m.bytes > have)
+    throw scene.error(m.key, fmt::format("the scene needs at least {:.3g} GB of memory to solve ({}), more than this "
+                                         "machine's {:.3g} GB: choose a smaller size",
+                                         m.bytes / 1e9, m.size, have / 1e9));
+}
+
 LoadedScene loaded(const ProblemType& type, const std::function<void(SceneSchema&)>& extra,
                    const std::function<Scene(const SceneSchema&)>& load) {
   SceneSchema schema;
@@ -40,7 +59,9 @@ LoadedScene loaded(const ProblemType& type, const std::function<void(SceneSchema
   std::vector<std::string> physics;
   for (const KeySpec& k : own.keys())
     if (k.section() != "parameters") physics.push_back(k.path);
-  return {load(schema), &type, std::move(physics)};
+  Scene scene = load(schema);
+  check_memory(scene, type);
+  return {std::move(scene), &type, std::move(physics)};
 }
 
 // problem.type as the overrides leave it

@@ -37,6 +37,11 @@ struct CylinderMeshSpec {
   double rear_ratio = 1.0;         // around the rear eighth of the cylinder, fine at the rear stagnation point
   // C1..C4 (refinement 1..4 of C1), W1..W4 (the same sizes, the wake resolved)
   static CylinderMeshSpec preset(const std::string& name);
+  // Elements of the five blocks (upstream, west, north, east, downstream).
+  long elements() const {
+    const long q = n_quarter, r = n_radial, w = n_rear > 0 ? n_rear : n_quarter;
+    return nx_upstream * q + q * r + 2 * q * r + r * w + nx_downstream * w;
+  }
 };
 
 struct CylinderOptions {

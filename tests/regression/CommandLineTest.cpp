@@ -102,3 +102,24 @@ TEST(CommandLine, HelpListsEveryKey) {
   const auto none = test::run_keller("solve");
   EXPECT_EQ(none.exit_code, 2);
 }
+
+// A mesh the machine cannot hold is refused from its keys alone, before anything is built or
+// written, naming the key that sets its size and the memory it would take (a lower estimate:
+// 3e8 elements at 90 kB each, 27 TB), not run into an allocation failure minutes later.
+TEST(CommandLine, AMeshTooLargeForTheMachineIsRefusedBeforeItIsBuilt) {
+  const std::string dir = test::scratch_dir("cli_memory");
+  for (const std::string command : {"solve", "trace"}) {
+    SCOPED_TRACE(command);
+    const auto r = test::run_keller(command + " " + test::source_path("runs/scenes/collapsible_oldroyd_b_gamma.toml") +
+                                    " --set mesh.name='\"custom\"' --set mesh.nx_upstream=10000 --set "
+                                    "mesh.nx_deformable=10000 --set mesh.nx_downstream=10000 --set mesh.ny_fluid=10000 "
+                                    "--set mesh.ny_solid=100 -o " +
+                                    dir + "/big.h5");
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("key 'mesh.nx_upstream'"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("needs at least 2.71e+04 GB of memory to solve (301000000 elements)"), std::string::npos)
+        << r.err;
+    EXPECT_FALSE(fs::exists(dir + "/big.h5"));
+    EXPECT_FALSE(fs::exists(dir + "/big.h5.part"));
+  }
+}
