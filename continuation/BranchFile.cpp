@@ -39,13 +39,9 @@ BranchFile::BranchFile(const std::string& path, const Problem& problem, const Co
                        const std::function<void(H5File&)>& header, const std::vector<std::string>& analysis_columns,
                        const BranchSeed* seed)
     : path_(path), n_(problem.size()), n_analysis_(analysis_columns.size()) {
-  // Built under a temporary name and renamed once in SWMR mode: the final name never shows a
-  // file that is not consistent on disk.
-  const std::string part = PendingFile::temporary_for(path);
-  clear_leftover(part);
-  file_ = std::make_unique<H5File>(part, H5File::Mode::Create);
-  written_ = file_->hold();
-  try {
+  // built under a temporary name and renamed once in SWMR mode: the final name never shows a
+  // file that is not consistent on disk
+  create_run_file(path, "/branch", file_, written_, [&] {
     if (header) header(*file_);
     file_->create_group("/branch");
     columns_ = branch_table_columns(options.parameter, problem.observable_names(), monitor_names, analysis_columns);
@@ -71,25 +67,8 @@ BranchFile::BranchFile(const std::string& path, const Problem& problem, const Co
       file_->create_appendable("/branch/eigenvector_rows", 4, 16);
       file_->set_attribute("/branch/eigenvector_rows", "columns", std::string("row,kind,sigma_re,sigma_im"));
     }
-    file_->create_fixed_string("/branch/status", 2048);
-    file_->write_fixed_string("/branch/status", "running");
-    file_->create_appendable("/branch/exit_code", 1, 1);
-    const double unmarked = -1;
-    file_->append_rows("/branch/exit_code", &unmarked, 1);
     if (seed) write_seed(*seed);
-    file_->start_swmr();
-    file_->flush();
-    if (!written_.at(part))
-      throw IoError(fmt::format("'{}' is not the file this run created (it was replaced meanwhile)", part));
-    std::filesystem::rename(part, path_);
-    file_->renamed(path_);
-  } catch (...) {
-    // this run's incomplete file: nothing of it is kept
-    file_.reset();
-    std::error_code ec;
-    if (written_.at(part)) std::filesystem::remove(part, ec);
-    throw;
-  }
+  });
 }
 
 void BranchFile::write_seed(const BranchSeed& seed) {

@@ -1,5 +1,11 @@
 #include "continuation/TableRows.hpp"
 
+#include <fmt/format.h>
+
+#include <filesystem>
+
+#include "core/IoError.hpp"
+#include "core/PendingFile.hpp"
 #include "core/SignalPoint.hpp"
 #include "core/SolutionWriter.hpp"
 
@@ -38,6 +44,34 @@ void append_table_rows(H5File& file, const std::string& dataset, const Eigen::Ma
   if (m.rows() == 0) return;
   const RowMajor r = m;
   file.append_rows(dataset, r.data(), r.rows());
+}
+
+void create_run_file(const std::string& path, const std::string& group, std::unique_ptr<H5File>& file,
+                     HeldFile& written, const std::function<void()>& layout) {
+  const std::string part = PendingFile::temporary_for(path);
+  clear_leftover(part);
+  file = std::make_unique<H5File>(part, H5File::Mode::Create);
+  written = file->hold();
+  try {
+    layout();
+    file->create_fixed_string(group + "/status", 2048);
+    file->write_fixed_string(group + "/status", "running");
+    file->create_appendable(group + "/exit_code", 1, 1);
+    const double unmarked = -1;
+    file->append_rows(group + "/exit_code", &unmarked, 1);
+    file->start_swmr();
+    file->flush();
+    if (!written.at(part))
+      throw IoError(fmt::format("'{}' is not the file this run created (it was replaced meanwhile)", part));
+    std::filesystem::rename(part, path);
+    file->renamed(path);
+  } catch (...) {
+    // this run's incomplete file: nothing of it is kept
+    file.reset();
+    std::error_code ec;
+    if (written.at(part)) std::filesystem::remove(part, ec);
+    throw;
+  }
 }
 
 bool write_state_fields(const std::string& fields_path, bool in_place, long count,

@@ -49,11 +49,7 @@ TimeSeriesFile::TimeSeriesFile(const std::string& path, Problem& problem, TimeCo
   columns_.push_back("saved_slot");
   // built under a temporary name and renamed once in SWMR mode: the final name never shows a file
   // that is not consistent on disk
-  const std::string part = PendingFile::temporary_for(path);
-  clear_leftover(part);
-  file_ = std::make_unique<H5File>(part, H5File::Mode::Create);
-  written_ = file_->hold();
-  try {
+  create_run_file(path, "/evolve", file_, written_, [&] {
     if (header) header(*file_);
     file_->create_group("/evolve");
     file_->set_attribute("/evolve", "columns", join_names(columns_));
@@ -70,11 +66,6 @@ TimeSeriesFile::TimeSeriesFile(const std::string& path, Problem& problem, TimeCo
     file_->create_appendable("/evolve/solutions", n_, 1);
     file_->create_appendable("/evolve/saved", 2, 16);
     file_->set_attribute("/evolve/saved", "columns", std::string("step,t"));
-    file_->create_fixed_string("/evolve/status", 2048);
-    file_->write_fixed_string("/evolve/status", "running");
-    file_->create_appendable("/evolve/exit_code", 1, 1);
-    const double unmarked = -1;
-    file_->append_rows("/evolve/exit_code", &unmarked, 1);
     if (seed) {
       if (seed->columns != columns_)
         throw std::runtime_error("the unfinished run has other columns than this run's (" + join_names(seed->columns) +
@@ -89,19 +80,7 @@ TimeSeriesFile::TimeSeriesFile(const std::string& path, Problem& problem, TimeCo
       saved_ = static_cast<int>(seed->saved.rows());
       if (saved_ > 0) last_saved_step_ = static_cast<int>(seed->saved(saved_ - 1, 0));
     }
-    file_->start_swmr();
-    file_->flush();
-    if (!written_.at(part))
-      throw IoError(fmt::format("'{}' is not the file this run created (it was replaced meanwhile)", part));
-    std::filesystem::rename(part, path_);
-    file_->renamed(path_);
-  } catch (...) {
-    // this run's incomplete file: nothing of it is kept
-    file_.reset();
-    std::error_code ec;
-    if (written_.at(part)) std::filesystem::remove(part, ec);
-    throw;
-  }
+  });
 }
 
 TimeSeriesFile::~TimeSeriesFile() {

@@ -24,13 +24,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string contents(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 const std::string bratu1d = test::source_path("runs/scenes/bratu1d_fold.toml");
 const std::string bratu2d = test::source_path("runs/scenes/bratu2d_fold.toml");
 const std::string quick = " --set bratu.intervals=40";
@@ -108,7 +101,7 @@ TEST(OutputIntegrity, NoTemporaryIsWrittenThroughALink) {
   auto r = test::run_keller("trace " + bratu1d + quick + " -o " + dir + "/b1.h5");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   fs::copy_file(dir + "/b1.h5", dir + "/v.h5");
-  const std::string b1 = contents(dir + "/b1.h5"), v = contents(dir + "/v.h5");
+  const std::string b1 = test::file_contents(dir + "/b1.h5"), v = test::file_contents(dir + "/v.h5");
   fs::create_symlink(dir + "/b1.h5", dir + "/x.h5.part.part");
   fs::create_hard_link(dir + "/b1.h5", dir + "/y.h5.part.part");
   fs::create_symlink(dir + "/v.h5", dir + "/z.h5.part.part");
@@ -137,8 +130,8 @@ TEST(OutputIntegrity, NoTemporaryIsWrittenThroughALink) {
     r = test::run_keller(c.args);
     EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
     EXPECT_NE(r.err.find(c.name + "' " + c.what), std::string::npos) << r.err;
-    EXPECT_TRUE(contents(dir + "/b1.h5") == b1) << "b1.h5 changed";
-    EXPECT_TRUE(contents(dir + "/v.h5") == v) << "v.h5 changed";
+    EXPECT_TRUE(test::file_contents(dir + "/b1.h5") == b1) << "b1.h5 changed";
+    EXPECT_TRUE(test::file_contents(dir + "/v.h5") == v) << "v.h5 changed";
   }
   for (const char* name : {"x.h5", "y.h5", "z.h5", "w.h5", "e.h5", "t.csv", "f.h5"})
     EXPECT_FALSE(fs::exists(dir + "/" + name)) << name;
@@ -155,17 +148,17 @@ TEST(OutputIntegrity, OnlyTheFileTheRunWroteIsPublished) {
   const long rows = read_branch_table(dir + "/reference.h5").rows.rows();
   const std::string out = dir + "/c.h5", work = out + ".part";
   fs::copy_file(dir + "/b1.h5", out);
-  const std::string earlier = contents(out);
+  const std::string earlier = test::file_contents(out);
   const pid_t pid = start_keller("trace " + bratu2d + small2d + " -o " + out,
                                  "KELLER_SIGNAL_AT=traced KELLER_SIGNAL=STOP", dir + "/run.log");
   ASSERT_TRUE(stopped(pid));
   fs::remove(work);
   fs::copy_file(dir + "/b1.h5", work);
-  EXPECT_EQ(resume(pid), 3) << contents(dir + "/run.log");
-  const std::string err = contents(dir + "/run.log.err");
+  EXPECT_EQ(resume(pid), 3) << test::file_contents(dir + "/run.log");
+  const std::string err = test::file_contents(dir + "/run.log.err");
   EXPECT_NE(err.find("'" + work + "' is not the file this run wrote"), std::string::npos) << err;
-  EXPECT_TRUE(contents(out) == earlier) << "changed";
-  EXPECT_TRUE(contents(work) == contents(dir + "/b1.h5")) << "changed";
+  EXPECT_TRUE(test::file_contents(out) == earlier) << "changed";
+  EXPECT_TRUE(test::file_contents(work) == test::file_contents(dir + "/b1.h5")) << "changed";
   const std::string saved = work + "." + std::to_string(pid);
   EXPECT_NE(err.find("saved as '" + saved + "'"), std::string::npos) << err;
   ASSERT_TRUE(fs::exists(saved));
@@ -186,7 +179,7 @@ TEST(OutputIntegrity, ASecondWriterOfAnOutputIsRefusedNamingTheFirst) {
   const std::string command = "trace " + bratu2d + small2d + " -o " + out;
   const pid_t pid = start_keller(command, "KELLER_SIGNAL_AT=point:3 KELLER_SIGNAL=STOP", dir + "/first.log");
   ASSERT_TRUE(stopped(pid));
-  const std::string part = contents(out + ".part");
+  const std::string part = test::file_contents(out + ".part");
   for (const std::string& second :
        {command, "solve " + bratu2d + " -o " + out,
         "evolve " + test::source_path("runs/scenes/brusselator1d_evolve.toml") + " -o " + out}) {
@@ -197,9 +190,9 @@ TEST(OutputIntegrity, ASecondWriterOfAnOutputIsRefusedNamingTheFirst) {
         r.err.find("is in use by another keller process (pid " + std::to_string(pid) + ", lock '" + out + ".lock')"),
         std::string::npos)
         << r.err;
-    EXPECT_TRUE(contents(out + ".part") == part) << "changed";
+    EXPECT_TRUE(test::file_contents(out + ".part") == part) << "changed";
   }
-  EXPECT_EQ(resume(pid), 0) << contents(dir + "/first.log.err");
+  EXPECT_EQ(resume(pid), 0) << test::file_contents(dir + "/first.log.err");
   const BranchTable t = read_branch_table(out);
   EXPECT_EQ(t.rows.rows(), reference.rows.rows());
   EXPECT_EQ(t.status, reference.status);
@@ -223,9 +216,9 @@ TEST(OutputIntegrity, ASecondStudyOnAFolderIsRefusedNamingTheFirst) {
                        "/s/study.lock')"),
             std::string::npos)
       << r.err;
-  EXPECT_EQ(resume(pid), 0) << contents(dir + "/first.log") << contents(dir + "/first.log.err");
-  EXPECT_NE(contents(dir + "/first.log").find("(4 done, 0 failed, 0 not run)"), std::string::npos)
-      << contents(dir + "/first.log");
+  EXPECT_EQ(resume(pid), 0) << test::file_contents(dir + "/first.log") << test::file_contents(dir + "/first.log.err");
+  EXPECT_NE(test::file_contents(dir + "/first.log").find("(4 done, 0 failed, 0 not run)"), std::string::npos)
+      << test::file_contents(dir + "/first.log");
   EXPECT_FALSE(fs::exists(dir + "/s/study.lock"));
 }
 

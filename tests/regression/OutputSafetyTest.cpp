@@ -23,13 +23,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string contents(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 const std::string bratu1d = test::source_path("runs/scenes/bratu1d_fold.toml");
 const std::string pitchfork = test::source_path("runs/scenes/pitchfork1d_trivial.toml");
 // a short Bratu branch: 40 intervals, to the fold and back to u(1/2) = 4
@@ -43,14 +36,14 @@ struct Refused {
 // changed (contents compared byte for byte) or gained a temporary file.
 void expect_refused(const std::vector<Refused>& cases, const std::vector<std::string>& watched) {
   std::vector<std::string> before;
-  for (const auto& w : watched) before.push_back(contents(w));
+  for (const auto& w : watched) before.push_back(test::file_contents(w));
   for (const Refused& c : cases) {
     SCOPED_TRACE(c.args);
     const auto r = test::run_keller(c.args);
     EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
     EXPECT_NE(r.err.find(c.expected), std::string::npos) << r.err;
     for (size_t i = 0; i < watched.size(); ++i) {
-      EXPECT_EQ(contents(watched[i]), before[i]) << watched[i] << " changed";
+      EXPECT_EQ(test::file_contents(watched[i]), before[i]) << watched[i] << " changed";
       EXPECT_FALSE(fs::exists(watched[i] + ".part")) << watched[i];
     }
   }
@@ -83,11 +76,11 @@ TEST(OutputSafety, NoOutputIsAnInputUnderAnyName) {
       },
       {scene, dir + "/b1.h5"});
   // the figure scripts follow the same rules
-  const std::string before = contents(dir + "/b1.h5");
+  const std::string before = test::file_contents(dir + "/b1.h5");
   const std::string script = std::string(KELLER_PYTHON) + " " + test::source_path("runs/scripts/plot_branch.py");
   EXPECT_NE(std::system((script + " " + dir + "/b1.h5 --y u_mid -o " + dir + "/hard.h5 2>/dev/null").c_str()), 0);
   EXPECT_NE(std::system((script + " " + dir + "/b1.h5 --y u_mid -o " + dir + "/link.h5 2>/dev/null").c_str()), 0);
-  EXPECT_EQ(contents(dir + "/b1.h5"), before);
+  EXPECT_EQ(test::file_contents(dir + "/b1.h5"), before);
   EXPECT_EQ(std::system((script + " " + dir + "/b1.h5 --y u_mid -o " + dir + "/b1.png").c_str()), 0);
   EXPECT_TRUE(fs::exists(dir + "/b1.png"));
   EXPECT_FALSE(fs::exists(dir + "/b1.png.part"));
@@ -122,7 +115,7 @@ TEST(OutputSafety, AFailingRunNeverReplacesAResult) {
   const std::string dir = test::scratch_dir("safety_fail");
   auto r = test::run_keller("trace " + bratu1d + quick + " -o " + dir + "/b1.h5");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  const std::string good = contents(dir + "/b1.h5");
+  const std::string good = test::file_contents(dir + "/b1.h5");
   // the renewal cost pinned: the two failing runs below must fail alike, to the residual in their
   // status, which a cost measured from the run's times would let differ
   const std::string failing = quick +
@@ -131,7 +124,7 @@ TEST(OutputSafety, AFailingRunNeverReplacesAResult) {
   r = test::run_keller("trace " + bratu1d + failing + " -o " + dir + "/b1.h5");
   EXPECT_EQ(r.exit_code, 1) << r.err;
   EXPECT_NE(r.out.find("is kept as it was"), std::string::npos) << r.out;
-  EXPECT_EQ(contents(dir + "/b1.h5"), good);
+  EXPECT_EQ(test::file_contents(dir + "/b1.h5"), good);
   const BranchTable failed = read_branch_table(dir + "/b1.h5.part");
   EXPECT_NE(failed.status.find("step"), std::string::npos) << failed.status;
   r = test::run_keller("trace " + bratu1d + failing + " -o " + dir + "/new.h5");
@@ -143,7 +136,7 @@ TEST(OutputSafety, AFailingRunNeverReplacesAResult) {
                        "/b1.h5");
   EXPECT_EQ(r.exit_code, 1) << r.err;
   EXPECT_NE(r.err.find("no output written"), std::string::npos) << r.err;
-  EXPECT_EQ(contents(dir + "/b1.h5"), good);
+  EXPECT_EQ(test::file_contents(dir + "/b1.h5"), good);
 }
 
 // Items 8 and 9: a start from a stored point checks that the point belongs to this scene's
@@ -317,7 +310,7 @@ TEST(OutputSafety, ARunSignalledInAnyPhaseLosesNothingAndTheSameCommandFinishesI
   ASSERT_GT(reference.rows.rows(), 8);
   r = test::run_keller("trace " + scene + args + " --set continuation.stop_above=1.0 -o " + dir + "/earlier.h5");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  const std::string earlier = contents(dir + "/earlier.h5");
+  const std::string earlier = test::file_contents(dir + "/earlier.h5");
   const std::vector<Phase> phases = {{"point:6", false, false},
                                      {"traced", true, false},
                                      {"fields:2", true, false},
@@ -337,7 +330,7 @@ TEST(OutputSafety, ARunSignalledInAnyPhaseLosesNothingAndTheSameCommandFinishesI
         EXPECT_EQ(r.exit_code, phase.written ? 0 : 130) << r.err;
       }
       // the target: the earlier result, or the whole new branch, never anything else
-      const bool replaced = contents(out) != earlier;
+      const bool replaced = test::file_contents(out) != earlier;
       if (replaced) {
         const BranchTable t = read_branch_table(out);
         EXPECT_EQ(t.rows.rows(), reference.rows.rows());
@@ -385,12 +378,12 @@ TEST(OutputSafety, AnUnfinishedBranchOfAnotherRunIsKept) {
   const std::string out = dir + "/b.h5";
   auto r = test::run_keller("trace " + scene + " --set bratu.intervals=8 -o " + out, "KELLER_SIGNAL_AT=point:3");
   ASSERT_EQ(r.exit_code, -1);
-  const std::string unfinished = contents(out + ".part");
+  const std::string unfinished = test::file_contents(out + ".part");
   r = test::run_keller("trace " + scene + " --set bratu.intervals=10 -o " + out);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("holds the unfinished branch"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("bratu.intervals = 8 in the file, 10 in this scene"), std::string::npos) << r.err;
-  EXPECT_EQ(contents(out + ".part"), unfinished);
+  EXPECT_EQ(test::file_contents(out + ".part"), unfinished);
   r = test::run_keller("trace " + scene + " --set bratu.intervals=10 -o " + out + " --fresh");
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_FALSE(fs::exists(out + ".part"));
@@ -403,7 +396,7 @@ TEST(OutputSafety, EmptyNamesEscapedNamesAndNoFields) {
   const std::string dir = test::scratch_dir("safety_small");
   auto r = test::run_keller("trace " + bratu1d + quick + " -o " + dir + "/b1.h5");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  const std::string b1 = contents(dir + "/b1.h5");
+  const std::string b1 = test::file_contents(dir + "/b1.h5");
   std::ofstream(dir + "/s.toml") << "[study]\nscene = \"" << bratu1d << "\"\n[grid]\n\"bratu.intervals\" = [16]\n";
   const std::string evolve = test::source_path("runs/scenes/brusselator1d_evolve.toml");
   const std::vector<std::string> defaults = {"bratu1d_fold.h5", "brusselator1d_evolve.h5", "s"};  // here
@@ -421,7 +414,7 @@ TEST(OutputSafety, EmptyNamesEscapedNamesAndNoFields) {
   r = test::run_keller("trace " + test::source_path("runs/scenes/bratu2d_fold.toml") +
                        " --set bratu.intervals=4 --set continuation.max_steps=3 -o '" + dir + "/a&<>\"'\\''.h5'");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  const std::string xdmf = contents(dir + "/a&<>\"'.xdmf");
+  const std::string xdmf = test::file_contents(dir + "/a&<>\"'.xdmf");
   EXPECT_NE(xdmf.find(">a&amp;&lt;&gt;&quot;&apos;.h5:/"), std::string::npos) << xdmf.substr(0, 600);
   EXPECT_EQ(xdmf.find("a&<"), std::string::npos);
 
@@ -430,7 +423,7 @@ TEST(OutputSafety, EmptyNamesEscapedNamesAndNoFields) {
   EXPECT_NE(r.err.find("'" + dir + "/b1.h5' has no mesh (problem 'bratu1d'): there are no fields to write"),
             std::string::npos)
       << r.err;
-  EXPECT_TRUE(contents(dir + "/b1.h5") == b1) << "changed";
+  EXPECT_TRUE(test::file_contents(dir + "/b1.h5") == b1) << "changed";
   for (const char* made : {"/b1.xdmf", "/b1-fields.h5"}) EXPECT_FALSE(fs::exists(dir + made)) << made;
 
   r = test::run_keller("evolve " + evolve + " --set evolve.max_step=1e-300 -o " + dir + "/e.h5");

@@ -35,13 +35,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string contents(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 // 12 short Bratu branches: 4 grids x 3 ends, the fold and u(1/2) at the stops collected. The
 // renewal cost is pinned: by default the chord's renewals follow the run's measured times, so two
 // runs under different loads may differ in their factorisations and in the last digits (below the
@@ -122,9 +115,9 @@ TEST(Study, TheSameTableUnderEveryExecutor) {
   if (std::string(KELLER_MPIRUN).empty()) GTEST_SKIP() << "no mpirun: the MPI executor is not tested";
   const std::string mpi = std::string(KELLER_MPIRUN) + " --allow-run-as-root --oversubscribe -n 3 " + KELLER_BINARY +
                           " study " + study + " -o " + dir + "/mpi > " + dir + "/mpi.log 2>&1";
-  ASSERT_EQ(std::system(mpi.c_str()), 0) << contents(dir + "/mpi.log");
+  ASSERT_EQ(std::system(mpi.c_str()), 0) << test::file_contents(dir + "/mpi.log");
   EXPECT_EQ(table_without_time(dir + "/mpi/bratu.csv"), one);
-  EXPECT_EQ(count(contents(dir + "/mpi.log"), "] task "), 12);
+  EXPECT_EQ(count(test::file_contents(dir + "/mpi.log"), "] task "), 12);
 }
 
 TEST(Study, AKilledStudyRunsOnlyWhatWasUnfinished) {
@@ -200,7 +193,7 @@ TEST(Study, TasksDoneBeforeAKeyExistedAreDoneAtItsDefault) {
     // the task's record as that keller wrote it: the hash of its record without the key
     fs::path toml = e.path();
     toml.replace_extension(".toml");
-    std::string text = contents(toml.string());
+    std::string text = test::file_contents(toml.string());
     const auto at = text.find("hash = \"");
     ASSERT_NE(at, std::string::npos) << text;
     text.replace(at + 8, 16, text_hash(run));
@@ -230,7 +223,7 @@ TEST(Study, AFailedTaskIsRecordedAndTheOthersComplete) {
   const auto r = test::run_keller("study " + study + " --jobs 2 -o " + dir + "/m");
   EXPECT_EQ(r.exit_code, 1) << r.out << r.err;  // some task failed
   EXPECT_NE(r.out.find("collected 4 tasks (2 done, 2 failed, 0 not run)"), std::string::npos) << r.out;
-  const std::string csv = contents(dir + "/m/mixed.csv");
+  const std::string csv = test::file_contents(dir + "/m/mixed.csv");
   EXPECT_NE(csv.find("failed,the first steady state failed"), std::string::npos) << csv;
   EXPECT_NE(csv.find("bratu2d takes at most 4000 elements per side"), std::string::npos) << csv;
   EXPECT_EQ(count(csv, ",done,"), 2) << csv;
@@ -259,7 +252,7 @@ TEST(Study, ATaskWhoseProcessDiesIsRunAgainThenRecordedAsFailed) {
       const std::string cmd = env + " " + std::string(KELLER_MPIRUN) + " --allow-run-as-root --oversubscribe -n 3 " +
                               KELLER_BINARY + " study " + study + " -o " + out + " > " + dir + "/mpi.log 2>&1";
       r.exit_code = WEXITSTATUS(std::system(cmd.c_str()));
-      r.out = contents(dir + "/mpi.log");
+      r.out = test::file_contents(dir + "/mpi.log");
     } else {
       r = test::run_keller("study " + study + " " + how + " -o " + out, env);
     }
@@ -396,14 +389,14 @@ TEST(Study, TheConvergenceTableFindsTheOrderAndTheLimit) {
   }
   ASSERT_EQ(errors.size(), 4u);
   EXPECT_TRUE(errors.count("continuation.initial_step = 0.05, continuation.max_step = 0.3"))
-      << contents(dir + "/conv.csv");
+      << test::file_contents(dir + "/conv.csv");
   // the error of each grid against the extrapolation falls fourfold per halving of h
   for (const auto& [group, e] : errors) {
     ASSERT_EQ(e.size(), 4u) << group;
     for (size_t k = 1; k < e.size(); ++k) EXPECT_NEAR(e[k - 1] / e[k], 4.0, 0.05) << group;
   }
   EXPECT_TRUE(fs::exists(dir + "/conv.png"));
-  EXPECT_NE(contents(dir + "/conv.md").find("| event:fold | 128 |"), std::string::npos);
+  EXPECT_NE(test::file_contents(dir + "/conv.md").find("| event:fold | 128 |"), std::string::npos);
 }
 
 // The BLAS threads of a worker: the cores shared among the workers, never fewer than one, and
@@ -424,7 +417,7 @@ TEST(Study, BlasThreadsShareTheCoresAndKeepTheUsersLimit) {
 // (`keller study list` validates every override before it lists) and has the number of tasks
 // docs/studies/README.md gives it: a scene key renamed or a grid edited without the docs fails here.
 TEST(Study, EveryShippedStudyResolvesItsTasksAsDocumented) {
-  const std::string readme = contents(test::source_path("docs/studies/README.md"));
+  const std::string readme = test::file_contents(test::source_path("docs/studies/README.md"));
   const std::regex row(R"(\| `runs/(studies/[a-z_]+\.toml|paper/\*\.toml)` \| (\d+) \|)");
   std::map<std::string, int> documented;
   for (std::sregex_iterator it(readme.begin(), readme.end(), row), end; it != end; ++it)
@@ -543,7 +536,7 @@ TEST(Study, ADamagedOrForeignOutputIsSetAsideAndItsTaskRunAgain) {
   fs::create_directory(output["32"]);
   std::ofstream(output["32"] + "/keep.txt") << "mine\n";
   fs::copy_file(output["128"], output["48"], fs::copy_options::overwrite_existing);  // another task's
-  const std::string foreign = contents(output["48"]);
+  const std::string foreign = test::file_contents(output["48"]);
 
   // collected as they are: none of them is done, and the 128-interval fold is not task 48's
   r = test::run_keller("study collect " + study + " -o " + dir + "/d");
@@ -570,8 +563,8 @@ TEST(Study, ADamagedOrForeignOutputIsSetAsideAndItsTaskRunAgain) {
     return dir + "/d/set_aside/" + fs::path(output[intervals]).stem().string() + "-1.h5";
   };
   EXPECT_EQ(fs::file_size(aside("24")), 0u);
-  EXPECT_EQ(contents(aside("32") + "/keep.txt"), "mine\n");
-  EXPECT_EQ(contents(aside("48")), foreign);
+  EXPECT_EQ(test::file_contents(aside("32") + "/keep.txt"), "mine\n");
+  EXPECT_EQ(test::file_contents(aside("48")), foreign);
   // and a study run again finds everything done
   r = test::run_keller("study " + study + " --jobs 2 -o " + dir + "/d");
   EXPECT_NE(r.out.find("5 done before, 0 to run"), std::string::npos) << r.out;
@@ -594,7 +587,7 @@ std::string long_task_study(const std::string& dir) {
 // F factorisations ...", "time T s: ..."): runs, points, factorisations, seconds.
 std::array<double, 4> logged_costs(const std::string& log) {
   std::array<double, 4> sum{};
-  const std::string text = contents(log);
+  const std::string text = test::file_contents(log);
   const std::regex summary(R"((\d+) points, (\d+) rejected steps, (\d+) factorisations)"),
       time(R"(\ntime ([0-9.]+) s:)");
   for (std::sregex_iterator it(text.begin(), text.end(), summary), end; it != end; ++it) {
@@ -628,7 +621,7 @@ TEST(Study, TheCostOfAContinuedTaskAddsUpItsRuns) {
   const auto row = test::read_table(dir + "/s/long.csv").at(0);
   const std::string log = dir + "/s/tasks/" + row.at("name") + ".log";
   const auto [runs, points, factorisations, seconds] = logged_costs(log);
-  ASSERT_EQ(runs, 2) << contents(log);
+  ASSERT_EQ(runs, 2) << test::file_contents(log);
   EXPECT_EQ(row.at("runs"), "2");
   EXPECT_EQ(points, 40 + 208);  // (the second run's first point is the first run's 40th)
   EXPECT_EQ(row.at("points"), "247");

@@ -18,13 +18,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string contents(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 const std::string bratu1d = test::source_path("runs/scenes/bratu1d_fold.toml");
 const std::string bratu2d = test::source_path("runs/scenes/bratu2d_fold.toml");
 
@@ -110,8 +103,8 @@ TEST(WriteFailure, AStudyWithoutAWritableFolderStopsWithAMessage) {
     EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
     EXPECT_NE(r.err.find(c.expected), std::string::npos) << r.err;
   }
-  EXPECT_TRUE(contents(dir + "/afile") == "mine\n") << "changed";
-  EXPECT_TRUE(contents(dir + "/t/tasks") == "mine\n") << "changed";
+  EXPECT_TRUE(test::file_contents(dir + "/afile") == "mine\n") << "changed";
+  EXPECT_TRUE(test::file_contents(dir + "/t/tasks") == "mine\n") << "changed";
   if (::geteuid() != 0) {  // the superuser writes in a read-only folder
     fs::create_directories(dir + "/ro");
     fs::permissions(dir + "/ro", fs::perms::owner_read | fs::perms::owner_exec);

@@ -158,6 +158,13 @@ CommandResult run_keller(const std::string& args, const std::string& env) {
 
 std::string source_path(const std::string& relative) { return std::string(KELLER_SOURCE_DIR) + "/" + relative; }
 
+std::string file_contents(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
 std::string scratch_dir(const std::string& name) {
   const auto dir = std::filesystem::temp_directory_path() / fmt::format("keller_test_{}_{}", name, ::getpid());
   std::filesystem::remove_all(dir);

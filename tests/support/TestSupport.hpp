@@ -44,6 +44,8 @@ struct CommandResult {
 // assignments, "A=1 B=2") in its environment. exit_code is -1 when a signal ended it.
 CommandResult run_keller(const std::string& args, const std::string& env = "");
 std::string source_path(const std::string& relative);
+// The whole of a file as bytes ("" where it cannot be read).
+std::string file_contents(const std::string& path);
 // A fresh empty directory for a test's files.
 std::string scratch_dir(const std::string& name);
 // A CSV file with a header line (a study's collected table) as rows of named cells.

@@ -26,13 +26,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string contents(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 void write(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
 
 // Every way of naming `file` (a regular file in `dir`, whose path is `dir/name`) that the
@@ -136,9 +129,9 @@ TEST(FileSafety, APendingFileReachesItsTargetOnlyComplete) {
     PendingFile p(target);
     EXPECT_EQ(p.path(), target + ".part");
     write(p.path(), "new, half");
-    EXPECT_EQ(contents(target), "old");  // untouched while the new file is written
-  }                                      // abandoned: the temporary file goes, the target stays
-  EXPECT_EQ(contents(target), "old");
+    EXPECT_EQ(test::file_contents(target), "old");  // untouched while the new file is written
+  }                                                 // abandoned: the temporary file goes, the target stays
+  EXPECT_EQ(test::file_contents(target), "old");
   EXPECT_FALSE(fs::exists(target + ".part"));
   {
     PendingFile p(target);
@@ -146,15 +139,15 @@ TEST(FileSafety, APendingFileReachesItsTargetOnlyComplete) {
     p.commit();
     EXPECT_TRUE(p.done());
   }
-  EXPECT_EQ(contents(target), "new");
+  EXPECT_EQ(test::file_contents(target), "new");
   EXPECT_FALSE(fs::exists(target + ".part"));
   {
     PendingFile p(target);
     write(p.path(), "kept");
     p.keep();
   }
-  EXPECT_EQ(contents(target + ".part"), "kept");  // the record of a run that did not finish
-  EXPECT_EQ(contents(target), "new");
+  EXPECT_EQ(test::file_contents(target + ".part"), "kept");  // the record of a run that did not finish
+  EXPECT_EQ(test::file_contents(target), "new");
   // a target that turned into a link meanwhile is not replaced
   fs::remove(target);
   write(dir + "/elsewhere", "keep me");
@@ -163,7 +156,7 @@ TEST(FileSafety, APendingFileReachesItsTargetOnlyComplete) {
   write(p.path(), "x");
   EXPECT_THROW(p.commit(), std::runtime_error);
   EXPECT_TRUE(fs::is_symlink(target));
-  EXPECT_EQ(contents(dir + "/elsewhere"), "keep me");
+  EXPECT_EQ(test::file_contents(dir + "/elsewhere"), "keep me");
 }
 
 // Issue 30, item 5: a temporary is created exclusively, never through a name that exists; what an
@@ -194,16 +187,16 @@ TEST(FileSafety, TemporariesAreCreatedExclusivelyNeverThroughALink) {
   fs::create_directory(dir + "/folder.part");
   EXPECT_THROW(clear_leftover(dir + "/folder.part"), IoError);
   EXPECT_TRUE(fs::is_directory(dir + "/folder.part"));
-  EXPECT_EQ(contents(dir + "/victim"), "keep me");
+  EXPECT_EQ(test::file_contents(dir + "/victim"), "keep me");
   clear_leftover(dir + "/existing.part");  // an earlier run's temporary: removed
   EXPECT_FALSE(fs::exists(dir + "/existing.part"));
   const int fd = create_new_file(dir + "/existing.part");
   write_all(fd, "new", dir + "/existing.part");
   ::close(fd);
-  EXPECT_EQ(contents(dir + "/existing.part"), "new");
+  EXPECT_EQ(test::file_contents(dir + "/existing.part"), "new");
   // a PendingFile refuses the link at its temporary name as it starts
   EXPECT_THROW(PendingFile(dir + "/symlink"), IoError);
-  EXPECT_EQ(contents(dir + "/victim"), "keep me");
+  EXPECT_EQ(test::file_contents(dir + "/victim"), "keep me");
 }
 
 // Item 6: a held file tells whether a name still refers to it, and what is published is the file
@@ -226,7 +219,7 @@ TEST(FileSafety, AHeldFileIsKnownByIdentityNotByName) {
   EXPECT_FALSE(held.at(dir + "/a"));
   EXPECT_FALSE(held.linked());
   const HeldFile copy = held.copy_to(dir + "/saved");
-  EXPECT_EQ(contents(dir + "/saved"), "written by the run");
+  EXPECT_EQ(test::file_contents(dir + "/saved"), "written by the run");
   EXPECT_TRUE(copy.at(dir + "/saved"));
   EXPECT_THROW(held.copy_to(dir + "/saved"), IoError);  // never over a name that exists
 
@@ -244,8 +237,8 @@ TEST(FileSafety, AHeldFileIsKnownByIdentityNotByName) {
       EXPECT_NE(std::string(e.what()).find("is no longer the file this run wrote"), std::string::npos) << e.what();
     }
   }  // and not removed as if it were the run's
-  EXPECT_EQ(contents(target), "old");
-  EXPECT_EQ(contents(target + ".part"), "swapped in");
+  EXPECT_EQ(test::file_contents(target), "old");
+  EXPECT_EQ(test::file_contents(target + ".part"), "swapped in");
 }
 
 // Item 7: an output's lock refuses a second holder, naming the first's pid; it goes with its
@@ -278,17 +271,17 @@ TEST(FileSafety, AnOutputLockRefusesASecondHolderNamingTheFirst) {
   {
     OutputLock first(path, "'c.h5'");
     EXPECT_TRUE(fs::exists(path));
-    EXPECT_EQ(contents(path), std::to_string(::getpid()) + "\n");
+    EXPECT_EQ(test::file_contents(path), std::to_string(::getpid()) + "\n");
     EXPECT_EQ(other(), 0);
   }
   EXPECT_FALSE(fs::exists(path));
   write(path, "12345\n");  // left by a killed run: not locked
   {
     OutputLock again(path, "'c.h5'");
-    EXPECT_EQ(contents(path), std::to_string(::getpid()) + "\n");
+    EXPECT_EQ(test::file_contents(path), std::to_string(::getpid()) + "\n");
   }
   write(dir + "/victim", "keep me");
   fs::create_symlink(dir + "/victim", path);
   EXPECT_THROW(OutputLock(path, "'c.h5'"), IoError);
-  EXPECT_EQ(contents(dir + "/victim"), "keep me");
+  EXPECT_EQ(test::file_contents(dir + "/victim"), "keep me");
 }
