@@ -33,14 +33,17 @@ std::vector<LocatedPoint> Continuation::locate_on(BranchPoint& cur, BranchPoint&
   // a branch that ends on this step: its last stretch is checked too (analysis every N points)
   if (analysis_ && !nxt.analysed && ends) analyse(nxt);
   if (analysis_ && nxt.analysed) locate_stability_change(cur, nxt, located, observer);
-  // what was detected but not located, unless the step located a point of its kind after all (a
+  // what was detected but not located, unless the step located a fold or branch point after all (a
   // branch point the determinant's sign could not narrow down, located by the spectrum); the same
   // at successive steps (a determinant whose sign is rounding near a hard point) said once, then
   // counted
   std::vector<RepeatedNotes::Note> notes;
-  for (const auto& [kind, label, note] : unlocated_)
-    if (std::none_of(located.begin(), located.end(), [&](const LocatedPoint& l) { return l.point.kind == kind; }))
-      notes.push_back({std::string(to_string(kind)) + " '" + label + "'", note});
+  for (const auto& [kind, label, note] : unlocated_) {
+    const bool found_otherwise =
+        (kind == PointKind::BranchPoint || kind == PointKind::Fold) &&
+        std::any_of(located.begin(), located.end(), [&](const LocatedPoint& l) { return l.point.kind == kind; });
+    if (!found_otherwise) notes.push_back({std::string(to_string(kind)) + " '" + label + "'", note});
+  }
   for (const std::string& n : unlocated_notes_.step(notes, cur.index)) observer.on_note(n);
   unlocated_.clear();
   if (analysis_ && !analysis_note_.empty()) {
@@ -162,23 +165,18 @@ void Continuation::locate_stability_change(BranchPoint& cur, BranchPoint& nxt, s
   // or branch point on this step itself, that point says so instead. A change of the count by more
   // than one crossing explains (two real eigenvalues, or pairs, crossing within one step) is
   // located crossing by crossing: each from the last one located to the end of the bracket.
-  // The analysis widened at nxt (more eigenvalues, where the unstable ones reached the edge of its
-  // set): cur's count came from the narrower set and may have missed eigenvalues that crossed and
-  // moved out of it within the step before. cur is analysed again, and a count it had wrong is
-  // said, loudly: that change is not located.
-  if (cur.analysed && cur.count >= 0 && nxt.analysis_width > cur.analysis_width) {
-    const int reported = cur.count;
-    analyse(cur);
-    if (cur.count >= 0 && cur.count != reported) {
-      observer.on_note(fmt::format(
-          "row {} has {} {}, not {}: the analysis there computed too few eigenvalues to see them (it now computes "
-          "{}); the change before row {} is not located (a smaller continuation.max_step or a larger "
-          "stability.count locates it)",
-          cur.index, cur.count, analysis_->count_name(), reported, nxt.analysis_width, cur.index));
-      spectra_->reported(cur);
-    }
-  }
-  const auto change = spectra_->change_at(cur, nxt, [this](BranchPoint& q) { analyse(q); });
+  // The analysis widened at nxt (the unstable eigenvalues reached the edge of its set): the point
+  // before came from the narrower set and may have missed eigenvalues that crossed and moved out of
+  // it within the step before. It is analysed again, and a count it had wrong is said, loudly: that
+  // change is not located.
+  const auto analyse_point = [this](BranchPoint& q) { analyse(q); };
+  if (const auto r = spectra_->recount(cur, nxt, analyse_point))
+    observer.on_note(fmt::format(
+        "row {} has {} {}, not {}: the analysis there computed too few eigenvalues to see them (it now computes "
+        "{}); the change before row {} is not located (a smaller continuation.max_step or a larger "
+        "stability.count locates it)",
+        r->row, r->after, analysis_->count_name(), r->before, nxt.analysis_width, r->row));
+  const auto change = spectra_->change_at(cur, nxt, analyse_point);
   if (!change) return;
   if (!change->bracketed) {
     observer.on_note(fmt::format("{} between rows {} and {} (not located: analysis every {} points)",
@@ -192,6 +190,13 @@ void Continuation::locate_stability_change(BranchPoint& cur, BranchPoint& nxt, s
   for (int crossings = 0; a.count != b.count && crossings < std::abs(b.count - change->a->count); ++crossings) {
     std::string note;
     std::optional<BranchPoint> p = locator_.locate_root(a, b, target, a.locator, b.locator, note);
+    if (!p && locator_.found_no_crossing() && analysis_->widen()) {
+      // what the analysis counts left its set within the step: computed wider (doubled, to a cap:
+      // a few rounds at most), the step again
+      analyse(nxt);
+      locate_stability_change(cur, nxt, located, observer);
+      return;
+    }
     if (!p) {
       add_located(std::nullopt, PointKind::Event, fmt::format("{} {} -> {}", analysis_->count_name(), a.count, b.count),
                   std::nullopt, cur, located, observer, note);

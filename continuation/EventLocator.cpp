@@ -10,6 +10,9 @@ namespace keller {
 
 namespace {
 int sign_of(double x) { return x > 0 ? 1 : (x < 0 ? -1 : 0); }
+// A located change of the count whose critical eigenvalue is within this fraction of its distance
+// from the axis at the segment's ends has an eigenvalue at the axis (a crossing).
+constexpr double kNearTheAxis = 1e-3;
 // Illinois: where the same end of the bracket is kept twice, the other end's value is scaled by
 // this (the secant then steps past the zero instead of creeping up on it).
 constexpr double kIllinoisFactor = 0.5;
@@ -151,6 +154,7 @@ std::optional<BranchPoint> EventLocator::locate_value(const BranchPoint& a, cons
 std::optional<BranchPoint> EventLocator::locate_root(const BranchPoint& a, const BranchPoint& b, const Target& target,
                                                      double ga, double gb, std::string& note) {
   const bool by_count = target.kind == EventTarget::StabilityChange;
+  no_crossing_ = false;
   const int count_a = a.count;
   const bool sign_only = target.kind == EventTarget::BranchPoint;
   // functions that vanish where the branch turns in some sense: their bracket is measured along
@@ -205,6 +209,23 @@ std::optional<BranchPoint> EventLocator::locate_root(const BranchPoint& a, const
     // a count change located by secant on its locator: successive trials agree along the branch
     if (by_count && it > 0) settled = std::abs(tc - t_before) * std::abs(b.s - a.s) <= options_.events.tolerance;
     t_before = tc;
+    // a change of the count where the eigenvalue nearest the axis keeps its sign across the
+    // bracket, narrowed by bisection, and stays as far from the axis as at the segment's ends, is no
+    // crossing: an eigenvalue left or entered the set of those computed (a secant root is where the
+    // locator changes sign; a bracket start whose locator is not known: the crossing is at it, as a
+    // second one of a pair)
+    const double far = std::max(std::isfinite(a.locator) ? std::abs(a.locator) : 0.0,
+                                std::isfinite(b.locator) ? std::abs(b.locator) : 0.0);
+    const bool no_crossing = by_count && !secant && (settled || width <= options_.events.tolerance) &&
+                             std::isfinite(pa.locator) && sign_of(pa.locator) == sign_of(pb.locator) &&
+                             std::min(std::abs(pa.locator), std::abs(pb.locator)) > kNearTheAxis * far;
+    if (no_crossing) {
+      no_crossing_ = true;
+      note +=
+          "the count changes there, but no eigenvalue crosses zero: one left or entered the set of those "
+          "computed (a larger stability.count keeps it)";
+      return std::nullopt;
+    }
     if (settled) {
       pc.iterations = solves;
       return pc;

@@ -61,6 +61,9 @@ class EventLocator {
   // that differ for a stability change); iterations of the result: the corrector solves spent.
   std::optional<BranchPoint> locate_root(const BranchPoint& a, const BranchPoint& b, const Target& target, double ga,
                                          double gb, std::string& note);
+  // Whether the last locate_root of a stability change found the count changing with no eigenvalue
+  // at the axis (one left or entered the set of those computed).
+  bool found_no_crossing() const { return no_crossing_; }
   // The zero of g on the segment a -> b (ga = g(a), gb = g(b) of opposite signs) by Newton on
   // F = 0, g = 0: from the zero of g's cubic Hermite interpolant along the segment, corrected onto
   // the branch under the arclength row, each correction solves F = 0 under g linearised at the
@@ -94,6 +97,7 @@ class EventLocator {
   const ContinuationOptions& options_;
   Evaluate evaluate_;
   AnalysisNote analysis_note_;
+  bool no_crossing_ = false;
 };
 
 }  // namespace keller

@@ -4,41 +4,42 @@
 
 namespace keller {
 
-std::string RepeatedNotes::summary() const {
-  return fmt::format("{} detected but not located again at {} successive step{}, the last after row {}", key_, repeats_,
-                     repeats_ == 1 ? "" : "s", row_);
+std::string RepeatedNotes::summary(const std::string& key, const Run& run) {
+  return fmt::format("{} detected but not located again at {} successive step{}, the last after row {}", key,
+                     run.repeats, run.repeats == 1 ? "" : "s", run.row);
 }
 
 std::vector<std::string> RepeatedNotes::step(const std::vector<Note>& notes, int row) {
+  ++step_;
   std::vector<std::string> say;
-  bool continued = false;
   for (const Note& n : notes) {
-    if (!continued && !key_.empty() && n.key == key_) {
-      ++repeats_;
-      row_ = row;
-      continued = true;
+    auto it = runs_.find(n.key);
+    if (it != runs_.end() && it->second.step >= step_ - 1) {
+      if (it->second.step < step_) ++it->second.repeats;  // (the same note twice in one step: once)
+      it->second.step = step_;
+      it->second.row = row;
       continue;
     }
-    if (repeats_ > 0) say.push_back(summary());
     say.push_back(n.text);
-    key_ = n.key;
-    repeats_ = 0;
-    row_ = row;
-    continued = true;
+    runs_[n.key] = Run{0, row, step_};
   }
-  if (!continued) {
-    if (repeats_ > 0) say.push_back(summary());
-    key_.clear();
-    repeats_ = 0;
+  // the runs this step did not continue have ended
+  for (auto it = runs_.begin(); it != runs_.end();) {
+    if (it->second.step == step_) {
+      ++it;
+      continue;
+    }
+    if (it->second.repeats > 0) say.push_back(summary(it->first, it->second));
+    it = runs_.erase(it);
   }
   return say;
 }
 
 std::vector<std::string> RepeatedNotes::finish() {
   std::vector<std::string> say;
-  if (repeats_ > 0) say.push_back(summary());
-  key_.clear();
-  repeats_ = 0;
+  for (const auto& [key, run] : runs_)
+    if (run.repeats > 0) say.push_back(summary(key, run));
+  runs_.clear();
   return say;
 }
 

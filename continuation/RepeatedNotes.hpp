@@ -1,10 +1,11 @@
 // What a run says of points it detected but could not locate, step by step: near a hard point the
 // same detection fails at every step (a determinant whose sign is rounding), and saying it each
 // time floods the terminal. The first of a run of the same note at successive steps is said, the
-// rest counted and summed up in one line when the run ends (a step without it, another note, or
-// the end of the branch).
+// rest counted and summed up in one line when that run ends (a step without it, or the end of the
+// branch); runs of different notes are counted apart.
 #pragma once
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -22,9 +23,13 @@ class RepeatedNotes {
   std::vector<std::string> finish();
 
  private:
-  std::string summary() const;
-  std::string key_;
-  int repeats_ = 0, row_ = -1;
+  struct Run {
+    int repeats = 0, row = -1;
+    long step = 0;  // the last step it was found at
+  };
+  static std::string summary(const std::string& key, const Run& run);
+  std::map<std::string, Run> runs_;
+  long step_ = 0;
 };
 
 }  // namespace keller

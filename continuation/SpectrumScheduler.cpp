@@ -6,6 +6,11 @@
 
 namespace keller {
 
+namespace {
+// Rounds of re-analysis that bring the reference point and the new one to one set of eigenvalues.
+constexpr int kRecountRounds = 4;
+}  // namespace
+
 void SpectrumScheduler::restart(const BranchPoint& start, bool switched) {
   last_count_ = -1;
   last_count_row_ = -1;
@@ -48,6 +53,30 @@ std::optional<SpectrumScheduler::Change> SpectrumScheduler::change_at(
   c.this_step = c.a == &cur && c.b == &nxt;
   c.description = fmt::format("{} {} -> {}", analysis_->count_name(), c.a->count, c.b->count);
   return c;
+}
+
+std::optional<SpectrumScheduler::Recount> SpectrumScheduler::recount(BranchPoint& cur, BranchPoint& nxt,
+                                                                     const std::function<void(BranchPoint&)>& analyse) {
+  if (!analysis_ || !nxt.analysed || nxt.count < 0) return std::nullopt;
+  BranchPoint* ref = every() > 1 ? (last_analysed_ ? &*last_analysed_ : nullptr) : (cur.analysed ? &cur : nullptr);
+  if (!ref || ref->index != last_count_row_ || ref->count < 0) return std::nullopt;
+  const int before = ref->count;
+  // (the width only grows, to a cap: a few rounds at most)
+  for (int round = 0; round < kRecountRounds && nxt.count >= 0 && ref->analysis_width != nxt.analysis_width; ++round) {
+    if (nxt.analysis_width > ref->analysis_width) {
+      const BranchPoint kept = *ref;
+      analyse(*ref);
+      if (ref->count < 0) {
+        *ref = kept;
+        break;
+      }
+    } else {
+      analyse(nxt);
+    }
+  }
+  if (ref->count == before) return std::nullopt;
+  last_count_ = ref->count;
+  return Recount{ref->index, before, ref->count};
 }
 
 void SpectrumScheduler::reported(const BranchPoint& p) {

@@ -36,6 +36,16 @@ class SpectrumScheduler {
   // Whether the count changed at nxt (analysed) since the last analysed point; analyse(point)
   // analyses a point in between for the bisection.
   std::optional<Change> change_at(BranchPoint& cur, BranchPoint& nxt, const std::function<void(BranchPoint&)>& analyse);
+  // Where the analysis widened at nxt (it computes more than when the reference, the last analysed
+  // point, was analysed: the unstable eigenvalues had reached the edge of its set), the reference
+  // is analysed again, and nxt again where that widened it further, until both come from one set,
+  // so that the change between them is counted in one set. Returns the reference's row and its
+  // count before and after where the count changed (a change before it was missed there). A
+  // re-analysis that fails leaves the reference as it was.
+  struct Recount {
+    int row = -1, before = -1, after = -1;
+  };
+  std::optional<Recount> recount(BranchPoint& cur, BranchPoint& nxt, const std::function<void(BranchPoint&)>& analyse);
   // A point was reported (its index set).
   void reported(const BranchPoint& p);
 

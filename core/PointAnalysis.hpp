@@ -42,6 +42,9 @@ class PointAnalysis {
   // Analyse every N-th accepted point (and located points when N = 1; with N > 1 a change is
   // bracketed by analysing points in between).
   virtual int every() const { return 1; }
+  // Computes more from now on (a count changed without anything crossing: what it counts left the
+  // set it computes); false where it cannot.
+  virtual bool widen() { return false; }
   // Whether analyse() would factorise J itself (so a caller about to analyse a point gains by
   // factorising J there first and passing it).
   virtual bool uses_j_factorisation() const { return false; }

@@ -265,6 +265,7 @@ int run_evolve(const EvolveArguments& args, RunSummary* out_summary) {
   std::optional<StoredStart> from;
   try {
     loaded = load_scene(args.scene, declare_evolve_keys, args.overrides);
+    check_memory(loaded);
     topt = TimeOptions::from_scene(loaded.scene);
     popt = perturbation_options_from(loaded.scene);
     if (popt.kind == "stored" && args.restart.empty())

@@ -3,6 +3,8 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include <fstream>
+
 #include "continuation/StartSolver.hpp"
 #include "core/Newton.hpp"
 #include "core/SparseLU.hpp"
@@ -29,24 +31,6 @@ const ProblemType& type_named(const std::string& name, const std::string& source
   }
 }
 
-// The machine's physical memory in bytes (0 where it cannot be told).
-double machine_memory() {
-  const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGE_SIZE);
-  return pages > 0 && page > 0 ? static_cast<double>(pages) * static_cast<double>(page) : 0.0;
-}
-
-// A scene whose lower memory estimate exceeds the machine's memory is refused, naming the key that
-// sets its size, before anything is built.
-void check_memory(const Scene& scene, const ProblemType& type) {
-  if (!type.memory) return;
-  const ProblemType::Memory m = type.memory(scene);
-  const double have = machine_memory();
-  if (have > 0 && m.bytes > have)
-    throw scene.error(m.key, fmt::format("the scene needs at least {:.3g} GB of memory to solve ({}), more than this "
-                                         "machine's {:.3g} GB: choose a smaller size",
-                                         m.bytes / 1e9, m.size, have / 1e9));
-}
-
 LoadedScene loaded(const ProblemType& type, const std::function<void(SceneSchema&)>& extra,
                    const std::function<Scene(const SceneSchema&)>& load) {
   SceneSchema schema;
@@ -59,9 +43,7 @@ LoadedScene loaded(const ProblemType& type, const std::function<void(SceneSchema
   std::vector<std::string> physics;
   for (const KeySpec& k : own.keys())
     if (k.section() != "parameters") physics.push_back(k.path);
-  Scene scene = load(schema);
-  check_memory(scene, type);
-  return {std::move(scene), &type, std::move(physics)};
+  return {load(schema), &type, std::move(physics)};
 }
 
 // problem.type as the overrides leave it
@@ -75,7 +57,29 @@ std::string overridden_type(std::string type_name, const std::vector<std::string
   return type_name;
 }
 
+// The memory this process may use, in bytes: the machine's physical memory, or the limit of its
+// control group (cgroup v2, a container or a batch job) where that is lower; 0 where neither can be told.
+double usable_memory() {
+  const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGE_SIZE);
+  double bytes = pages > 0 && page > 0 ? static_cast<double>(pages) * static_cast<double>(page) : 0.0;
+  std::ifstream limit("/sys/fs/cgroup/memory.max");
+  double cap = 0;
+  if (limit >> cap && cap > 0 && (bytes == 0 || cap < bytes)) bytes = cap;  // ("max": no limit, not read)
+  return bytes;
+}
+
 }  // namespace
+
+void check_memory(const LoadedScene& loaded) {
+  const Scene& scene = loaded.scene;
+  if (!loaded.type || !loaded.type->memory) return;
+  const ProblemType::Memory m = loaded.type->memory(scene);
+  const double have = usable_memory();
+  if (have > 0 && m.bytes > have)
+    throw scene.error(m.key, fmt::format("the scene needs at least {:.3g} GB of memory to solve ({}), more than this "
+                                         "machine's {:.3g} GB usable: choose a smaller size",
+                                         m.bytes / 1e9, m.size, have / 1e9));
+}
 
 LoadedScene load_scene(const std::string& file, const std::function<void(SceneSchema&)>& extra,
                        const std::vector<std::string>& overrides) {

@@ -40,6 +40,11 @@ LoadedScene load_scene_text(const std::string& text, const std::string& source,
                             const std::function<void(SceneSchema&)>& extra = {},
                             const std::vector<std::string>& overrides = {});
 
+// Refuses (SceneError naming the key that sets the size) a scene whose lower memory estimate
+// (ProblemType::memory) exceeds the memory this process may use (the machine's, or its control
+// group's limit): called by the commands that solve, before anything is built.
+void check_memory(const LoadedScene& loaded);
+
 // Builds the scene's problem. Throws SceneError: the scene's own errors as they are, a problem's
 // refusal of its options (std::exception) prefixed with the scene file `file`.
 std::unique_ptr<Problem> build_problem(const LoadedScene& loaded, const std::string& file);

@@ -73,6 +73,7 @@ int run_solve(const SolveArguments& args, RunSummary* out_summary) {
   try {
     // a branch scene solves its first state: the trace sections are read and left aside
     loaded = load_scene(args.scene, declare_trace_keys, args.overrides);
+    check_memory(loaded);
   } catch (const SceneError& e) {
     return fail(exit_code::usage, e.what());
   }

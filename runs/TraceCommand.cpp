@@ -198,6 +198,7 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
   // 1. the scene, its options and the files of the run: nothing is written before all are right
   try {
     loaded = load_scene(args.scene, declare_trace_keys, args.overrides);
+    check_memory(loaded);
     copt = ContinuationOptions::from_scene(loaded.scene);
     sopt = StabilityOptions::from_scene(loaded.scene);
     if (!args.free.empty()) copt.parameter = args.free;

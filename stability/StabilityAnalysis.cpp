@@ -13,7 +13,9 @@ namespace keller {
 void StabilityOptions::declare(SceneSchema& s) {
   s.section("stability", "linear stability of every point of a branch (keller trace): J phi = sigma B phi");
   s.boolean("stability.enabled", false, "compute eigenvalues along the branch, detect and locate stability changes");
-  s.integer("stability.count", 6, "eigenvalues wanted nearest each shift", Range::at_least(1));
+  // (at most 10^4: a column per eigenvalue, and an Arnoldi basis of twice as many vectors)
+  s.integer("stability.count", 6, "eigenvalues wanted nearest each shift (at most n - 2 of a problem of n unknowns)",
+            Range::between(1, 10'000));
   s.real_list("stability.shifts_re", {0.0}, "real parts of the shifts (eigenvalues nearest each are computed)");
   s.real_list("stability.shifts_im", {0.0},
               "imaginary parts of the shifts (same length as shifts_re; nonzero: complex arithmetic, for Hopf)");
@@ -70,6 +72,16 @@ bool StabilityAnalysis::uses_j_factorisation() const {
                      [](const std::complex<double>& s) { return s == std::complex<double>(0.0); });
 }
 
+bool StabilityAnalysis::widen() {
+  bool grew = false;
+  for (int& c : counts_) {
+    const int next = std::min(cap_, 2 * c);
+    grew |= next > c;
+    c = next;
+  }
+  return grew;
+}
+
 std::vector<std::string> StabilityAnalysis::column_names() const {
   std::vector<std::string> c;
   for (int i = 1; i <= options_.count; ++i) {
@@ -114,7 +126,7 @@ Status StabilityAnalysis::analyse(Problem& problem, const Vector& u, PointAnalys
   previous_.resize(options_.shifts.size());
   const int n = static_cast<int>(u.size());
   counts_.resize(options_.shifts.size(), std::min(k, n - 2));
-  const int cap = std::min(n - 2, std::max(kGrowthCap * k, kGrowthFloor));
+  const int cap = cap_ = std::min(n - 2, std::max(kGrowthCap * k, kGrowthFloor));
   for (size_t shift = 0; shift < options_.shifts.size(); ++shift) {
     const auto& s = options_.shifts[shift];
     EigenOptions eo;
@@ -140,9 +152,9 @@ Status StabilityAnalysis::analyse(Problem& problem, const Vector& u, PointAnalys
       if (next == count) {
         if (st.is_ok() && !spectrum_edge_separated(values, s, count))
           out.note = fmt::format(
-              "all {} eigenvalues computed nearest the shift {} that are farthest from it are unstable: the "
-              "count of unstable eigenvalues may miss some beyond them",
-              count, fmt::format("{}{:+}i", s.real(), s.imag()));
+              "the eigenvalue farthest from the shift {} of the {} computed is unstable: the count of unstable "
+              "eigenvalues may miss some beyond it (the set is at its cap of 8 stability.count, 32 or n - 2)",
+              fmt::format("{}{:+}i", s.real(), s.imag()), count);
         break;
       }
       count = next;

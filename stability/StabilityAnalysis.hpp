@@ -49,6 +49,8 @@ class StabilityAnalysis final : public PointAnalysis {
   int every() const override { return options_.every; }
   // a real shift at 0 solves with J's factorisation
   bool uses_j_factorisation() const override;
+  // Doubles the eigenvalues computed at every shift, up to the cap; false where all are at it.
+  bool widen() override;
 
   // The merged spectrum of the last analyse() (Re ascending), with eigenvectors.
   const std::vector<EigenPair>& spectrum() const { return spectrum_; }
@@ -65,6 +67,7 @@ class StabilityAnalysis final : public PointAnalysis {
   std::vector<EigenPair> spectrum_;
   std::vector<std::vector<Eigen::VectorXcd>> previous_;  // per shift: the last point's eigenvectors
   std::vector<int> counts_;  // per shift: eigenvalues computed (count, grown where the set's edge was unstable)
+  int cap_ = 0;              // the most counts_ can grow to (set by the first analysis)
   // the grown set's cap: kGrowthCap times count, at least kGrowthFloor (and at most n - 2)
   static constexpr int kGrowthCap = 8, kGrowthFloor = 32;
   double seconds_ = 0;

@@ -386,7 +386,8 @@ void Study::check_collect() const {
     };
     const auto column = [&](const std::string& n) { return has(observables, n) || has(columns, n); };
     const auto event = [&](const std::string& n) {
-      return n == "fold" || n == "branch-point" || n == "hopf" || has(monitors, n) || (!stop.empty() && n == stop);
+      return n == "fold" || n == "bp" || n == "branch-point" || n == "hopf" || has(monitors, n) ||
+             (!stop.empty() && n == stop);
     };
     const auto check = [&](const char* key, const std::vector<std::string>& names, const auto& known,
                            const std::string& what) {

@@ -48,7 +48,7 @@ void collect_branch(const Study& study, const std::string& path, StudyRow& row) 
     int want_kind = kind_event;
     if (name == "fold")
       want_kind = kind_fold;
-    else if (name == "branch-point")
+    else if (name == "bp" || name == "branch-point")
       want_kind = kind_branch_point;
     else if (name == "hopf")
       want_kind = kind_hopf;

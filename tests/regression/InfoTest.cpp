@@ -139,13 +139,16 @@ TEST(Info, ARestartByLabelLandsOnTheRowItNames) {
   EXPECT_FALSE(fs::exists(dir + "/no.h5"));
 }
 
-// keller --version: the version of CMake's project(), the commit (40 hex digits, or "unknown"
-// outside git), the build type and the linear solver.
+// keller --version: the version of CMake's project(), the commit (40 hex digits: the tests are
+// built from a git checkout where .git is there; "unknown" only outside git), the build type and
+// the linear solver.
 TEST(Info, VersionNamesVersionCommitBuildTypeAndLinearSolver) {
   const auto r = test::run_keller("--version");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(std::regex_search(r.out, std::regex("^keller [0-9]+\\.[0-9]+"))) << r.out;
-  EXPECT_TRUE(std::regex_search(r.out, std::regex("\\ncommit: ([0-9a-f]{40}|unknown)\\n"))) << r.out;
+  const bool in_git = fs::exists(test::source_path(".git"));
+  EXPECT_TRUE(std::regex_search(r.out, std::regex(in_git ? "\\ncommit: [0-9a-f]{40}\\n" : "\\ncommit: unknown\\n")))
+      << r.out;
   EXPECT_TRUE(std::regex_search(r.out, std::regex("\\nbuild type: (Release|Debug|RelWithDebInfo|MinSizeRel|none)\\n")))
       << r.out;
   EXPECT_TRUE(std::regex_search(r.out, std::regex("\\nlinear solver: (mumps|umfpack)"))) << r.out;
@@ -257,4 +260,18 @@ TEST(Info, ACurveFromALabelledFoldNamesBothParameters) {
             std::string::npos)
       << r.out;
   EXPECT_TRUE(std::regex_search(r.out, std::regex("\\n +row +label +kind +mu +lambda +u_mid"))) << r.out;
+}
+
+// What a user reuses or cites keller under: the LICENSE is BSD-3-Clause, and CITATION.cff names
+// the same license and the version keller --version prints (CMake's project(VERSION)).
+TEST(Info, LicenseAndCitationAgreeWithTheBuild) {
+  const std::string license = test::file_contents(test::source_path("LICENSE"));
+  EXPECT_EQ(license.rfind("BSD 3-Clause License", 0), 0u);
+  const std::string citation = test::file_contents(test::source_path("CITATION.cff"));
+  EXPECT_NE(citation.find("cff-version: 1.2.0"), std::string::npos);
+  EXPECT_NE(citation.find("\nlicense: BSD-3-Clause\n"), std::string::npos);
+  const auto r = test::run_keller("--version");
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(r.out, m, std::regex("^keller ([0-9.]+)"))) << r.out;
+  EXPECT_NE(citation.find("\nversion: \"" + m[1].str() + "\"\n"), std::string::npos) << m[1].str();
 }

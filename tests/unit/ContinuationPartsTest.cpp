@@ -597,4 +597,16 @@ TEST(RepeatedNotes, ARunOfTheSameNoteIsSaidOnceThenCounted) {
   ASSERT_EQ(end.size(), 1u);
   EXPECT_NE(end[0].find("again at 1 successive step, the last after row 10"), std::string::npos) << end[0];
   EXPECT_TRUE(r.finish().empty());
+  // two notes at every step are two runs, each said once and counted apart
+  RepeatedNotes both;
+  EXPECT_EQ(both.step({bp, fold}, 1).size(), 2u);
+  for (int row = 2; row <= 5; ++row) EXPECT_TRUE(both.step({fold, bp}, row).empty()) << row;
+  const auto ends = both.step({fold}, 6);
+  ASSERT_EQ(ends.size(), 1u);
+  EXPECT_NE(ends[0].find("det sign change' detected but not located again at 4 successive steps"), std::string::npos)
+      << ends[0];
+  const auto last = both.finish();
+  ASSERT_EQ(last.size(), 1u);
+  EXPECT_NE(last[0].find("fold 'min' detected but not located again at 5 successive steps"), std::string::npos)
+      << last[0];
 }

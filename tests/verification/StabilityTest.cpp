@@ -441,3 +441,43 @@ TEST(Stability, CrossingsASetTooSmallMissedAreSaidNotMislocated) {
   EXPECT_GT(missed, 0);
   EXPECT_EQ(static_cast<int>(crossings.size()) + missed, static_cast<int>(expected.size()));
 }
+
+// A diagonal problem, u = 0 for every lambda, eigenvalues sigma_A = 0.05 - lambda (through zero at
+// 0.05 and on away from the shift) and 0.1, 0.2, ..., 1.1 (stable, fixed), 2 computed. From
+// lambda = 0.1 (A unstable, inside the set) one step of 0.5 carries A out of the set: the count
+// falls 1 -> 0 with nothing crossing zero. That is no stability change and is not located as one
+// (a branch point "eigenvalue crosses zero" where no eigenvalue is near zero): the set is computed
+// wider until it holds A again, and A stays counted.
+TEST(Stability, AnEigenvalueLeavingTheSetIsNoCrossing) {
+  const int n = 12;
+  const auto d = [](double lambda) {
+    Vector v(12);
+    v << 0.05 - lambda, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0, 1.1;
+    return v;
+  };
+  test::FunctionProblem p(
+      "leaving", n, {{"lambda", 0.1}},
+      [d](const Vector& u, const Vector& q) { return Vector(d(q[0]).cwiseProduct(u)); },
+      [d](const Vector&, const Vector& q) { return Eigen::MatrixXd(d(q[0]).asDiagonal()); },
+      [](int, const Vector& u, const Vector&) {
+        Vector dF = Vector::Zero(u.size());
+        dF[0] = -u[0];
+        return dF;
+      });
+  ContinuationOptions o;
+  o.parameter = "lambda";
+  o.stop.upper = 1.0;
+  o.state_scale = 1.0;
+  o.step.initial = 0.5;
+  o.step.max = 0.5;
+  o.events.branch_points = false;
+  const Traced t = trace_with_stability(p, o, 2);
+  ASSERT_EQ(t.result.code, StopCode::UpperBound) << t.result.reason;
+  for (const std::string& note : t.rec.notes) EXPECT_EQ(note.find("not located"), std::string::npos) << note;
+  for (const auto& q : t.rec.points)
+    EXPECT_TRUE(q.kind != PointKind::BranchPoint && q.kind != PointKind::Fold && q.kind != PointKind::Hopf)
+        << "a stability change located at lambda = " << q.lambda << ": " << q.label;
+  // A stays counted: every point beyond its crossing has it among the unstable ones
+  for (const auto& q : t.rec.points)
+    if (q.count >= 0) EXPECT_EQ(q.count, 1) << "lambda = " << q.lambda;
+}
