@@ -190,6 +190,18 @@ void Continuation::locate_stability_change(BranchPoint& cur, BranchPoint& nxt, s
   for (int crossings = 0; a.count != b.count && crossings < std::abs(b.count - change->a->count); ++crossings) {
     std::string note;
     std::optional<BranchPoint> p = locator_.locate_root(a, b, target, a.locator, b.locator, note);
+    if (!p && !locator_.found_no_crossing() && change->this_step) {
+      // the corrector failed near the crossing (J singular at a branch point): a fold or branch
+      // point the engine located on this segment, and no crossing yet, is the crossing
+      const auto found = std::find_if(located.begin(), located.end(), [&](const LocatedPoint& l) {
+        return (l.point.kind == PointKind::BranchPoint || l.point.kind == PointKind::Fold) && l.point.s > a.s &&
+               l.point.s <= b.s && l.point.label.find(analysis_->count_name()) == std::string::npos;
+      });
+      if (found != located.end()) {
+        p = found->point;
+        if (!p->analysed) analyse(*p);
+      }
+    }
     if (!p && locator_.found_no_crossing() && analysis_->widen()) {
       // what the analysis counts left its set within the step: computed wider (doubled, to a cap:
       // a few rounds at most), the step again
