@@ -433,10 +433,13 @@ TEST(Stability, CrossingsASetTooSmallMissedAreSaidNotMislocated) {
     EXPECT_TRUE(
         std::any_of(expected.begin(), expected.end(), [&](double bk) { return std::abs(bk - c->lambda) < 1e-8; }))
         << "a crossing located at b = " << c->lambda << ": " << c->label;
+  // the crossings said instead: a count a point had wrong, or a change the locator could not reach
+  // (its corrector diverging next to a branch point, as it does without -march=native)
   int missed = 0;
   for (const std::string& n : t.rec.notes) {
     int has = 0, had = 0;
     if (std::sscanf(n.c_str(), "row %*d has %d unstable eigenvalues, not %d", &has, &had) == 2) missed += has - had;
+    if (std::sscanf(n.c_str(), "event 'unstable eigenvalues %d -> %d' detected", &had, &has) == 2) missed += has - had;
   }
   EXPECT_GT(missed, 0);
   EXPECT_EQ(static_cast<int>(crossings.size()) + missed, static_cast<int>(expected.size()));
