@@ -481,6 +481,7 @@ TEST(Stability, AnEigenvalueLeavingTheSetIsNoCrossing) {
     EXPECT_TRUE(q.kind != PointKind::BranchPoint && q.kind != PointKind::Fold && q.kind != PointKind::Hopf)
         << "a stability change located at lambda = " << q.lambda << ": " << q.label;
   // A stays counted: every point beyond its crossing has it among the unstable ones
-  for (const auto& q : t.rec.points)
+  for (const auto& q : t.rec.points) {
     if (q.count >= 0) EXPECT_EQ(q.count, 1) << "lambda = " << q.lambda;
+  }
 }
