@@ -71,6 +71,8 @@ std::vector<ProblemType> with_memory(std::vector<ProblemType> types) {
     if (t.name == "bratu2d")
       t.memory = [](const Scene& s) {
         const double n = static_cast<double>(s.integer("bratu.intervals"));
+        // (beyond the problem's own cap its refusal says why, not an estimate)
+        if (n > Bratu2DProblem::max_elements_per_side) return ProblemType::Memory{};
         return per_element(n * n, kBratu2DElementBytes, "bratu.intervals");
       };
     if (t.name == "bratu1d" || t.name == "bratu1d-shifted")
