@@ -215,10 +215,8 @@ int publish_series(const std::string& work, const std::string& out, bool with_fi
         },
         &InterruptGuard::requested, &written);
   } catch (const std::exception& e) {
-    return fail_run(summary, exit_code::io_failure,
-                    written.at(work)
-                        ? fmt::format("the run stays in {} (the same command publishes it): {}", work, e.what())
-                        : e.what());
+    return fail_unexpected(
+        summary, e, written.at(work) ? fmt::format("the run stays in {} (the same command publishes it)", work) : "");
   }
   fmt::print("wrote {}\n", out);
   summary.output = out;
@@ -352,7 +350,7 @@ int run_evolve(const EvolveArguments& args, RunSummary* out_summary) {
       const HeldFile written = HeldFile::open(work);
       return publish_series(work, out, with_fields, *problem, written, left.exit_code, summary);
     } catch (const std::exception& e) {
-      return fail(exit_code::io_failure, e.what());
+      return fail_unexpected(summary, e);
     }
   }
   if (!seed && !from) {

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <filesystem>
 
+#include "core/IoError.hpp"
 #include "runs/ExitCode.hpp"
 
 namespace keller {
@@ -14,6 +15,17 @@ int fail_run(RunSummary& summary, int code, const std::string& message) {
   summary.exit_code = code;
   summary.reason = message;
   return code;
+}
+
+int fail_unexpected(RunSummary& summary, const std::exception& e, const std::string& kept) {
+  const std::string also = kept.empty() ? "" : "; " + kept;
+  if (is_io_failure(e)) return fail_run(summary, exit_code::io_failure, e.what() + also);
+  const std::string message = fmt::format(
+      "{}{}; this is a defect of keller: please report it, with the command and this message", e.what(), also);
+  fmt::print(stderr, "keller: internal error: {}\n", message);
+  summary.exit_code = exit_code::internal_error;
+  summary.reason = "internal error: " + message;
+  return summary.exit_code;
 }
 
 bool takes_its_name(bool interrupted, bool failed, const std::string& out) {

@@ -40,6 +40,12 @@ void add_earlier_runs(RunSummary& now, const RunSummary* earlier);
 // `summary`; returns the code.
 int fail_run(RunSummary& summary, int code, const std::string& message);
 
+// Reports an error that has no message of its own in the command (caught as std::exception) and
+// returns its exit code: 3 where a file could not be written or kept (is_io_failure), else 4, a
+// defect of keller, whose message asks for a report. `kept` ("the branch stays in OUT.h5.part")
+// says what was kept.
+int fail_unexpected(RunSummary& summary, const std::exception& e, const std::string& kept = "");
+
 // Whether an ended run takes its name: not when interrupted (it is continued), nor when it failed
 // and `out` exists (a failing run never replaces a result).
 bool takes_its_name(bool interrupted, bool failed, const std::string& out);

@@ -128,10 +128,9 @@ int publish_run(const std::string& work, const std::string& out, bool with_field
     published =
         publish_branch(work, out, xdmf_path_for(out), with_fields, fields, &InterruptGuard::requested, &written);
   } catch (const std::exception& e) {
-    return fail_run(summary, exit_code::io_failure,
-                    written.at(work)
-                        ? fmt::format("the branch stays in {} (the same command publishes it): {}", work, e.what())
-                        : e.what());
+    return fail_unexpected(
+        summary, e,
+        written.at(work) ? fmt::format("the branch stays in {} (the same command publishes it)", work) : "");
   }
   if (published.modes > 0)
     fmt::print("wrote {} critical eigenmode(s): {}_mode<k>.xdmf\n", published.modes,

@@ -12,6 +12,7 @@
 
 #include "continuation/BranchFile.hpp"
 #include "core/H5File.hpp"
+#include "core/IoError.hpp"
 #include "core/PendingFile.hpp"
 #include "runs/ExitCode.hpp"
 #include "runs/OutputFile.hpp"
@@ -44,8 +45,8 @@ void set_aside(const Study& study, const StudyTask& task, const std::string& pat
     to = folder / fmt::format("{}-{}{}", from.stem().string(), n, from.extension().string());
   fs::rename(from, to, ec);
   if (ec)
-    throw std::runtime_error(fmt::format("task {} ({}): '{}' {}, and cannot be set aside as '{}': {}", task.index,
-                                         task.label(), path, why, to.string(), ec.message()));
+    throw IoError(fmt::format("task {} ({}): '{}' {}, and cannot be set aside as '{}': {}", task.index, task.label(),
+                              path, why, to.string(), ec.message()));
   fmt::print("task {} ({}): '{}' {}; set aside as '{}', the task runs again\n", task.index, task.label(), path, why,
              to.string());
   std::fflush(stdout);
@@ -91,8 +92,7 @@ TaskRecord run_study_task(const Study& study, const StudyTask& task) {
       run_solve(a, &record.summary);
     }
   } catch (const std::exception& e) {
-    record.summary.exit_code = exit_code::usage;
-    record.summary.reason = e.what();
+    fail_unexpected(record.summary, e);
   }
   struct rusage usage {};
   if (::getrusage(RUSAGE_SELF, &usage) == 0) record.peak_mb = static_cast<double>(usage.ru_maxrss) / 1024.0;  // KiB

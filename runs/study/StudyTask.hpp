@@ -51,8 +51,8 @@ bool task_done(const Study& study, const StudyTask& task);
 std::string output_fault(const Study& study, const StudyTask& task, const std::string& path);
 // Moves what is not the task's own out of its way, to FOLDER/set_aside/ (the first free name
 // STEM-N.EXT), saying so on the terminal: an output with an output_fault, and an unfinished run
-// (OUT.h5.part) that is not the task's to continue. Nothing is deleted. Throws
-// std::runtime_error naming the file where it cannot be moved.
+// (OUT.h5.part) that is not the task's to continue. Nothing is deleted. Throws IoError naming
+// the file where it cannot be moved.
 void set_aside_foreign_outputs(const Study& study, const StudyTask& task);
 
 }  // namespace keller
