@@ -435,27 +435,20 @@ int run_evolve(const EvolveArguments& args, RunSummary* out_summary) {
     TimePrinter printer(popt.print_every, columns);
     TimeObservers observers({file.get(), &printer});
     const auto stop = [] { return InterruptGuard::requested(); };
-    try {
-      if (seed) {
-        fmt::print("continuing the unfinished run in {} from its step {} (t = {:.10g}; --fresh starts over)\n", work,
-                   seed->step(), seed->history.back.front().t);
-        result = integrator.resume(seed->history, observers, stop);
-      } else {
-        result = integrator.run(u0, 0.0, observers, stop);
-      }
-      // an ended run whose file is to take its name says so first: the same command publishes it
-      // should this run be killed before it has
-      const bool at_floor = result.code == TimeStop::StepFloor;
-      if (takes_its_name(result.code == TimeStop::Interrupted, at_floor, out))
-        file->mark_for_publication(at_floor ? exit_code::numerical_failure : exit_code::ok);
-      file->close();
-    } catch (const IoError& e) {
-      return fail(exit_code::io_failure,
-                  written.at(work) ? fmt::format("{}; every step before it is kept in {}: run the same command again "
-                                                 "to continue the run",
-                                                 e.what(), work)
-                                   : e.what());
-    }
+    const std::optional<int> stopped = write_run_file(
+        work, out, written, "time series", "step",
+        [&] {
+          if (seed) {
+            fmt::print("continuing the unfinished run in {} from its step {} (t = {:.10g}; --fresh starts over)\n",
+                       work, seed->step(), seed->history.back.front().t);
+            result = integrator.resume(seed->history, observers, stop);
+          } else {
+            result = integrator.run(u0, 0.0, observers, stop);
+          }
+          return RunEnd{result.code == TimeStop::Interrupted, result.code == TimeStop::StepFloor};
+        },
+        [&](std::optional<int> code) { file->finish(code); }, summary);
+    if (stopped) return *stopped;
   }
   fmt::print("{} steps, {} rejected, {} factorisations ({:.2f} per step), {} Newton iterations, {:.2f} s; {}\n",
              result.steps, result.rejected, result.factorisations,

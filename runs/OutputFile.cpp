@@ -13,6 +13,7 @@
 #include "core/OutputLock.hpp"
 #include "core/PendingFile.hpp"
 #include "core/SolutionWriter.hpp"
+#include "runs/ExitCode.hpp"
 #include "runs/Provenance.hpp"
 
 namespace keller {
@@ -87,11 +88,10 @@ LeftRun left_run(const std::string& work, const std::string& record, const std::
                  const UnfinishedTable& table) {
   LeftRun left;
   if (!std::filesystem::exists(work)) return left;
-  long rows = 0;
   std::string stored;
   std::optional<int> code;
   try {
-    std::tie(rows, left.status) = table(work);
+    std::tie(left.rows, left.status) = table(work);
     H5File f(work, H5File::Mode::Read);
     if (f.exists("/problem/run")) stored = f.read_string("/problem/run");
     long marks = 0, cols = 0;
@@ -109,7 +109,7 @@ LeftRun left_run(const std::string& work, const std::string& record, const std::
   }
   if (fresh) {
     fmt::print("note: --fresh: the {} {} in '{}' ({} {}) is discarded\n", unfinished ? "unfinished" : "unpublished",
-               what, work, rows, unit);
+               what, work, left.rows, unit);
     return left;
   }
   if (!unfinished) {
@@ -121,10 +121,35 @@ LeftRun left_run(const std::string& work, const std::string& record, const std::
     throw std::invalid_argument(fmt::format(
         "'{}' holds the unfinished {} ({} {}) of another run ({}); move it away to keep it, or pass --fresh to "
         "discard it",
-        work, what, rows, unit,
+        work, what, left.rows, unit,
         stored.empty() ? "no record of its run" : "it differs in: " + record_difference(stored, record, defaults)));
   left.kind = LeftRun::Kind::unfinished;
   return left;
+}
+
+std::optional<int> write_run_file(const std::string& work, const std::string& out, const HeldFile& written,
+                                  const std::string& what, const std::string& unit, const std::function<RunEnd()>& run,
+                                  const std::function<void(std::optional<int>)>& finish, RunSummary& summary) {
+  std::optional<RunEnd> end;  // set once the run has ended
+  bool takes = false;
+  try {
+    end = run();
+    takes = takes_its_name(end->interrupted, end->failed, out);
+    finish(takes ? std::optional<int>(end->failed ? exit_code::numerical_failure : exit_code::ok) : std::nullopt);
+    return std::nullopt;
+  } catch (const IoError& e) {
+    // what `work` holds: its status is written with the publication code in one flush (finish), so
+    // the same command either continues the run from its last point or publishes it
+    std::string kept;
+    if (written.at(work) && (!end || end->interrupted))
+      kept = fmt::format("; every {} before it is kept in {}: run the same command again to continue the {}", unit,
+                         work, what);
+    else if (written.at(work) && takes)
+      kept = fmt::format("; the ended {} is kept in {}: run the same command again to finish it", what, work);
+    else if (written.at(work))
+      kept = fmt::format("; {} is kept as it was, this run's {} is in {}", out, what, work);
+    return fail_run(summary, exit_code::io_failure, e.what() + kept);
+  }
 }
 
 void expect_written(const std::string& work, const std::string& target, const HeldFile& written) {

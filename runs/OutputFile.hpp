@@ -6,6 +6,7 @@
 
 #include <functional>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -13,6 +14,7 @@
 #include "core/HeldFile.hpp"
 #include "core/Problem.hpp"
 #include "core/RunFiles.hpp"
+#include "runs/RunSummary.hpp"
 #include "runs/SceneLoader.hpp"
 
 namespace keller {
@@ -49,6 +51,7 @@ struct LeftRun {
   Kind kind = Kind::none;
   std::string status;  // the file's status
   int exit_code = 0;   // an ended run's exit code
+  long rows = 0;       // the rows of its table
 };
 // `table` reads the rows and status of `work`, `code_dataset` is "/branch/exit_code" or
 // "/evolve/exit_code", and `what` and `unit` name them ("branch", "rows"). The record of its run (/problem/run) must
@@ -58,6 +61,21 @@ using UnfinishedTable = std::function<std::pair<long, std::string>(const std::st
 LeftRun left_run(const std::string& work, const std::string& record, const std::string& defaults, bool fresh,
                  const std::string& what, const std::string& unit, const std::string& code_dataset,
                  const UnfinishedTable& table);
+// How a run that writes its file point by point ended.
+struct RunEnd {
+  bool interrupted = false;  // by SIGINT or SIGTERM: its file stays, to be continued
+  bool failed = false;       // at the step-size floor: it does not replace an existing output
+};
+// Runs `run`, which writes the run's file `written` at `work` (OUT.h5.part) point by point and says
+// how the run ended, then `finish` ends the file (BranchFile::finish), given the exit code of a
+// run that takes its name `out` (takes_its_name) and nothing for one that does not. An IoError on
+// the way ends the command with exit code 3 (the code is returned), its message saying what
+// `work` keeps and what the same command does with it (`what` and `unit` name the content and its
+// rows: "branch", "point"); nothing is returned where the file was ended.
+std::optional<int> write_run_file(const std::string& work, const std::string& out, const HeldFile& written,
+                                  const std::string& what, const std::string& unit, const std::function<RunEnd()>& run,
+                                  const std::function<void(std::optional<int>)>& finish, RunSummary& summary);
+
 // Refuses (IoError) to go on with `work` where it is not the file `written` the run wrote, saying
 // that `work` and `target` are left as they are and where the run's file is: moved elsewhere, or
 // (without a name left) saved as WORK.<pid> from the descriptor held.

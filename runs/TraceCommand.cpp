@@ -523,28 +523,20 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
     std::optional<HopfCurveProblem::BorderUpdate> hopf_borders;
     if (hopf_curve) observer = &hopf_borders.emplace(*hopf_curve, *observer);
     InterruptGuard::forward_to(run.get());
-    try {
-      result = event_curve               ? event_curve->trace(fixed, nopt, lopt, u0, *observer,
-                                                              [](Continuation* c) { InterruptGuard::forward_to(c); })
-               : unfinished              ? run->resume(*start, *observer)
-               : from && from->switching ? run->switch_branch(*start, args.switch_direction, *observer)
-               : start                   ? run->resume(*start, *observer)
-                                         : run->run(u0, *observer, std::move(start_factorisation));
-      // an ended branch that is to take its name says so first: the same command publishes it should
-      // this run be killed before it has
-      const bool at_floor = result.code == StopCode::StepFloor;
-      if (takes_its_name(result.code == StopCode::Interrupted, at_floor, out))
-        file->mark_for_publication(at_floor ? exit_code::numerical_failure : exit_code::ok);
-      file->close();
-    } catch (const IoError& e) {
-      InterruptGuard::forward_to(nullptr);
-      return fail(exit_code::io_failure,
-                  written.at(work) ? fmt::format("{}; every point before it is kept in {}: run the same command again "
-                                                 "to continue the branch",
-                                                 e.what(), work)
-                                   : e.what());
-    }
+    const std::optional<int> stopped = write_run_file(
+        work, out, written, "branch", "point",
+        [&] {
+          result = event_curve               ? event_curve->trace(fixed, nopt, lopt, u0, *observer,
+                                                                  [](Continuation* c) { InterruptGuard::forward_to(c); })
+                   : unfinished              ? run->resume(*start, *observer)
+                   : from && from->switching ? run->switch_branch(*start, args.switch_direction, *observer)
+                   : start                   ? run->resume(*start, *observer)
+                                             : run->run(u0, *observer, std::move(start_factorisation));
+          return RunEnd{result.code == StopCode::Interrupted, result.code == StopCode::StepFloor};
+        },
+        [&](std::optional<int> code) { file->finish(code); }, summary);
     InterruptGuard::forward_to(nullptr);
+    if (stopped) return *stopped;
   }
   if (stability)
     fmt::print("stability: {:.2f} s in {} factorisations and {} solves of (J - sB)\n", stability->seconds(),

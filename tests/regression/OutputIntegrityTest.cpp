@@ -222,6 +222,38 @@ TEST(OutputIntegrity, ASecondStudyOnAFolderIsRefusedNamingTheFirst) {
   EXPECT_FALSE(fs::exists(dir + "/s/study.lock"));
 }
 
+// A run killed as it ends, after its last point and before its end is marked for publication (as
+// an IoError there would leave it: disk full at the very end), is finished by the same command
+// from OUT.h5.part, not computed again: the published table is the killed run's to the bit, for a
+// branch and a time series.
+TEST(OutputIntegrity, ARunKilledAsItEndsIsFinishedNotComputedAgain) {
+  const std::string dir = test::scratch_dir("integrity_ended");
+  const std::string evolve = test::source_path("runs/scenes/brusselator1d_evolve.toml") +
+                             " --set evolve.t_end=10 --set evolve.print_every=1000";
+  const struct {
+    std::string command;
+    bool series;
+  } cases[] = {
+      {"trace " + bratu2d + small2d + " -o " + dir + "/k.h5", false},
+      {"evolve " + evolve + " -o " + dir + "/k.h5", true},
+  };
+  const std::string out = dir + "/k.h5", work = out + ".part";
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.command);
+    for (const std::string& f : {out, work, dir + "/k.xdmf"}) fs::remove(f);
+    auto r = test::run_keller(c.command, "KELLER_SIGNAL_AT=ended KELLER_SIGNAL=KILL");
+    ASSERT_EQ(r.exit_code, -1) << r.out << r.err;
+    ASSERT_TRUE(fs::exists(work));
+    const Eigen::MatrixXd killed = c.series ? read_time_table(work).rows : read_branch_table(work).rows;
+    r = test::run_keller(c.command);
+    ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+    EXPECT_EQ(r.out.find("this run replaces it"), std::string::npos) << r.out;
+    const Eigen::MatrixXd published = c.series ? read_time_table(out).rows : read_branch_table(out).rows;
+    EXPECT_TRUE(same_table(published, killed)) << "not the killed run's table";
+    EXPECT_FALSE(fs::exists(work));
+  }
+}
+
 // Item 11: a run killed after its last point, while its fields are written or once it has taken
 // its name, is finished by the same command from its complete OUT.h5.part, not computed again:
 // the published table is the killed run's to the bit (its `seconds` column included), for a
