@@ -197,37 +197,6 @@ std::optional<TimeSeed> unfinished_run(const std::string& work, const std::strin
   return read_time_seed(work);
 }
 
-// The ended time series in `work` (the file `written`) takes its name `out`, with the fields of
-// its stored states when `with_fields`; `code` is the run's exit code. Returns the command's.
-int publish_series(const std::string& work, const std::string& out, bool with_fields, Problem& problem,
-                   const HeldFile& written, int code, RunSummary& summary) {
-  PublishedBranch published;
-  try {
-    published = publish_output(
-        work, out, xdmf_path_for(out), with_fields,
-        [&](const std::string& staged, const std::string& xdmf_pending, const std::string& h5_name,
-            const std::string&) -> std::optional<std::vector<std::string>> {
-          if (!write_time_fields(
-                  staged, staged, xdmf_pending, h5_name, [&](const Vector& u) { return problem.fields(u); },
-                  &InterruptGuard::requested))
-            return std::nullopt;
-          return std::vector<std::string>{};
-        },
-        &InterruptGuard::requested, &written);
-  } catch (const std::exception& e) {
-    return fail_unexpected(
-        summary, e, written.at(work) ? fmt::format("the run stays in {} (the same command publishes it)", work) : "");
-  }
-  fmt::print("wrote {}\n", out);
-  summary.output = out;
-  summary.exit_code = code;
-  if (with_fields && !published.fields) {
-    fmt::print("interrupted while writing the fields: the run is complete in {} without them\n", out);
-    summary.exit_code = exit_code::interrupted;
-  }
-  return summary.exit_code;
-}
-
 }  // namespace
 
 void declare_evolve_keys(SceneSchema& s) {
@@ -341,18 +310,10 @@ int run_evolve(const EvolveArguments& args, RunSummary* out_summary) {
     for (const auto& [name, value] : header.parameters)
       if (problem->parameters().has(name)) problem->parameters().set(name, value);
   }
-  if (left.kind == LeftRun::Kind::ended) {
-    fmt::print("note: '{}' holds this command's time series, which ended before it was published; publishing it ({})\n",
-               work, left.status);
-    InterruptGuard interrupts;
-    summary.reason = left.status;
-    try {
-      const HeldFile written = HeldFile::open(work);
-      return publish_series(work, out, with_fields, *problem, written, left.exit_code, summary);
-    } catch (const std::exception& e) {
-      return fail_unexpected(summary, e);
-    }
-  }
+  const auto fields = [&problem](const Vector& u) { return problem->fields(u); };
+  if (left.kind == LeftRun::Kind::ended)
+    return publish_left_run(work, out, with_fields, series_fields(fields, &InterruptGuard::requested), left,
+                            "time series", summary);
   if (!seed && !from) {
     StartSolver start_solver(*problem, nopt, lopt, StartOptions::from_scene(scene),
                              [](const std::string& line) { fmt::print("{}\n", line); });
@@ -468,7 +429,8 @@ int run_evolve(const EvolveArguments& args, RunSummary* out_summary) {
     return *stays;
   const int code = summary.exit_code;
   signal_point("evolved");
-  return publish_series(work, out, with_fields, *problem, written, code, summary);
+  return publish_run(work, out, with_fields, series_fields(fields, &InterruptGuard::requested), written, code,
+                     "time series", summary);
 }
 
 }  // namespace keller

@@ -119,42 +119,11 @@ FieldsAt fields_of(Problem& problem, int p, int p1) {
   };
 }
 
-// The ended branch in `work` (the file `written`) takes its name `out`, with its fields when
-// `with_fields`; `code` is the run's exit code. Returns the command's exit code.
-int publish_run(const std::string& work, const std::string& out, bool with_fields, const FieldsAt& fields,
-                const HeldFile& written, int code, RunSummary& summary) {
-  PublishedBranch published;
-  try {
-    published =
-        publish_branch(work, out, xdmf_path_for(out), with_fields, fields, &InterruptGuard::requested, &written);
-  } catch (const std::exception& e) {
-    return fail_unexpected(
-        summary, e,
-        written.at(work) ? fmt::format("the branch stays in {} (the same command publishes it)", work) : "");
-  }
-  if (published.modes > 0)
-    fmt::print("wrote {} critical eigenmode(s): {}_mode<k>.xdmf\n", published.modes,
-               fs::path(xdmf_path_for(out)).replace_extension().string());
-  fmt::print("wrote {}\n", out);
-  summary.output = out;
-  summary.exit_code = code;
-  if (with_fields && !published.fields) {
-    fmt::print(
-        "interrupted while writing the fields: the branch is complete in {} without them; `keller export {} "
-        "--xdmf` writes them\n",
-        out, out);
-    summary.exit_code = exit_code::interrupted;
-  }
-  return summary.exit_code;
-}
-
 // The ended run of this command in `work`, killed before it took its name: published now, at the
 // parameter values it was traced at (a curve's second parameter from its --from branch).
-int publish_left_run(const std::string& work, const std::string& out, bool with_fields,
-                     const std::optional<StoredStart>& from, Problem& problem, const std::string& parameter,
-                     const LeftRun& left, RunSummary& summary) {
-  fmt::print("note: '{}' holds this command's branch, which ended before it was published; publishing it ({})\n", work,
-             left.status);
+int publish_left_branch(const std::string& work, const std::string& out, bool with_fields,
+                        const std::optional<StoredStart>& from, Problem& problem, const std::string& parameter,
+                        const LeftRun& left, RunSummary& summary) {
   RunHeader header;
   {
     H5File f(work, H5File::Mode::Read);
@@ -163,11 +132,11 @@ int publish_left_run(const std::string& work, const std::string& out, bool with_
   for (const auto& [name, value] : header.parameters)
     if (problem.parameters().has(name)) problem.parameters().set(name, value);
   const int p1 = from && from->curve ? problem.parameters().index(read_branch_table(from->file).parameter) : -1;
-  InterruptGuard interrupts;
-  const HeldFile written = HeldFile::open(work);
-  summary.reason = left.status;
-  return publish_run(work, out, with_fields, fields_of(problem, problem.parameters().index(parameter), p1), written,
-                     left.exit_code, summary);
+  return publish_left_run(
+      work, out, with_fields,
+      branch_fields(xdmf_path_for(out), fields_of(problem, problem.parameters().index(parameter), p1),
+                    &InterruptGuard::requested),
+      left, "branch", summary);
 }
 
 }  // namespace
@@ -270,7 +239,7 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
   try {
     unfinished = unfinished_run(work, record, loaded.defaults(), args.fresh, left);
     if (left.kind == LeftRun::Kind::ended)
-      return publish_left_run(work, out, with_fields, from, *problem, copt.parameter, left, summary);
+      return publish_left_branch(work, out, with_fields, from, *problem, copt.parameter, left, summary);
     if (unfinished) {
       start = unfinished->point;
       copt.state_scale = unfinished->state_scale;
@@ -563,10 +532,10 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
     return *stays;
   const int code = summary.exit_code;
   signal_point("traced");
-  return publish_run(
-      work, out, with_fields,
-      fields_of(*problem, problem->parameters().index(copt.parameter), traced_curve ? traced_curve->p1() : -1), written,
-      code, summary);
+  const FieldsAt fields =
+      fields_of(*problem, problem->parameters().index(copt.parameter), traced_curve ? traced_curve->p1() : -1);
+  return publish_run(work, out, with_fields, branch_fields(xdmf_path_for(out), fields, &InterruptGuard::requested),
+                     written, code, "branch", summary);
 }
 
 }  // namespace keller
