@@ -136,12 +136,20 @@ TEST(WriteFailure, AStudyWithoutAWritableFolderStopsWithAMessage) {
   }
   EXPECT_TRUE(test::file_contents(dir + "/afile") == "mine\n") << "changed";
   EXPECT_TRUE(test::file_contents(dir + "/t/tasks") == "mine\n") << "changed";
-  if (::geteuid() != 0) {  // the superuser writes in a read-only folder
-    fs::create_directories(dir + "/ro");
-    fs::permissions(dir + "/ro", fs::perms::owner_read | fs::perms::owner_exec);
-    const auto r = test::run_keller("study " + study + " --jobs 1 -o " + dir + "/ro/s");
+  {
+    // a folder in which its user cannot make one: read-only to it, or, for the superuser (who
+    // writes in read-only folders), /proc, where no process makes folders
+    std::string unwritable = "/proc";
+    if (::geteuid() != 0) {
+      unwritable = dir + "/ro";
+      fs::create_directories(unwritable);
+      fs::permissions(unwritable, fs::perms::owner_read | fs::perms::owner_exec);
+    }
+    const std::string folder = unwritable + "/keller_study_" + std::to_string(::getpid());
+    const auto r = test::run_keller("study " + study + " --jobs 1 -o " + folder);
     EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
-    EXPECT_NE(r.err.find(dir + "/ro/s"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("the study folder '" + folder + "' cannot be made"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(folder));
   }
   // every file, the tasks' records and the table included, limited to 1 KiB
   const auto r = test::run_keller("study " + study + " --jobs 1 -o " + dir + "/s", file_size_limit(1));
