@@ -143,6 +143,10 @@ int publish_left_run(const std::string& work, const std::string& out, bool with_
   fmt::print("note: '{}' holds this command's {}, which ended before it was published; publishing it ({})\n", work,
              what, left.status);
   summary.reason = left.status;
+  // nothing computed: its one row is the output's last, where it continued the earlier runs
+  // (whose cost a study adds: add_earlier_runs), so that the output's rows are counted once
+  summary.points = 1;
+  summary.continued_from = static_cast<int>(left.rows) - 1;
   InterruptGuard interrupts;
   HeldFile written;
   try {

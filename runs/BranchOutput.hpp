@@ -62,6 +62,8 @@ int publish_run(const std::string& work, const std::string& out, bool with_field
                 const HeldFile& written, int code, const std::string& what, RunSummary& summary);
 // The ended run that an earlier run of this command left in `work` (LeftRun::Kind::ended), killed
 // before it took its name: published now with its exit code, as publish_run, saying so first.
+// `summary` gets its reason and its cost, none of its own: a continuation of the output at its
+// last row (RunSummary::continued_from).
 int publish_left_run(const std::string& work, const std::string& out, bool with_fields, const AddFields& add,
                      const LeftRun& left, const std::string& what, RunSummary& summary);
 

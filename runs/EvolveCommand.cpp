@@ -311,6 +311,7 @@ int run_evolve(const EvolveArguments& args, RunSummary* out_summary) {
       if (problem->parameters().has(name)) problem->parameters().set(name, value);
   }
   const auto fields = [&problem](const Vector& u) { return problem->fields(u); };
+  summary.unknowns = problem->size();
   if (left.kind == LeftRun::Kind::ended)
     return publish_left_run(work, out, with_fields, series_fields(fields, &InterruptGuard::requested), left,
                             "time series", summary);

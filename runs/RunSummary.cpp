@@ -61,6 +61,11 @@ void add_earlier_runs(RunSummary& now, const RunSummary* earlier) {
   now.factor_seconds += earlier->factor_seconds;
   now.solve_seconds += earlier->solve_seconds;
   now.lu_peak_mb = std::max(now.lu_peak_mb, earlier->lu_peak_mb);
+  if (now.lu_backend.empty()) {  // a run that only published: the last factorisation was theirs
+    now.lu_backend = earlier->lu_backend;
+    now.nnz_lu = earlier->nnz_lu;
+  }
+  if (now.unknowns == 0) now.unknowns = earlier->unknowns;
 }
 
 }  // namespace keller

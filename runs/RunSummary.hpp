@@ -24,8 +24,9 @@ struct RunSummary {
   long solves = 0;
   double nnz_lu = 0, lu_peak_mb = 0;
   double factor_seconds = 0, solve_seconds = 0;
-  // the row of an unfinished output of interrupted runs that this run continued (-1: none); the
-  // runs whose work the output holds, and then the cost above may be theirs together (add_earlier_runs)
+  // the row of an unfinished output of interrupted runs that this run continued (-1: none; its
+  // last row for a run that only published an ended one); the runs whose work the output holds,
+  // and then the cost above may be theirs together (add_earlier_runs)
   int continued_from = -1;
   int runs = 1;
 };
@@ -33,7 +34,8 @@ struct RunSummary {
 // `now`, the cost of a run that continued an unfinished output (continued_from), plus `earlier`,
 // the cost of the runs that made that output (nothing where they left none: a run killed
 // outright): counts and times added, the points the rows of the output, the peak memory the
-// larger, the last factorisation's fill this run's.
+// larger, the last factorisation's fill this run's (theirs for a run that only published their
+// output: publish_left_run).
 void add_earlier_runs(RunSummary& now, const RunSummary* earlier);
 
 // Reports a run that stops on an error ("keller: error: ..." on stderr) with its exit code, kept in

@@ -131,6 +131,7 @@ int publish_left_branch(const std::string& work, const std::string& out, bool wi
   }
   for (const auto& [name, value] : header.parameters)
     if (problem.parameters().has(name)) problem.parameters().set(name, value);
+  summary.unknowns = header.unknowns;
   const int p1 = from && from->curve ? problem.parameters().index(read_branch_table(from->file).parameter) : -1;
   return publish_left_run(
       work, out, with_fields,

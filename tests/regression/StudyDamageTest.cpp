@@ -245,6 +245,34 @@ TEST(Study, TheCostOfAContinuedTaskAddsUpItsRuns) {
   EXPECT_EQ(std::stod(batch.at("factorisations")), logged_costs(dir + "/b.log")[2]);
 }
 
+// Issue 30, item 11 in a study: a task killed while its branch is published (after its last point)
+// is published by its next run, not computed again, and the table keeps the task's cost: its points
+// the rows of the branch, its other costs those its earlier runs recorded (a run killed leaves no
+// record of its own). Here the task is interrupted at its 40th point, then its continuation is
+// killed as its branch is published, and the study runs the task again at once.
+TEST(Study, ATaskKilledWhilePublishingKeepsItsCost) {
+  const std::string dir = test::scratch_dir("study_publish");
+  const std::string study = long_task_study(dir);
+  auto r = test::run_keller("study " + study + " -o " + dir + "/s", "KELLER_SIGNAL_AT=point:40 KELLER_SIGNAL=TERM");
+  ASSERT_EQ(r.exit_code, 130) << r.out << r.err;
+  const auto first = test::read_table(dir + "/s/long.csv").at(0);
+  ASSERT_EQ(first.at("status"), "interrupted");
+  ASSERT_GT(std::stod(first.at("factorisations")), 0);
+  r = test::run_keller("study " + study + " -o " + dir + "/s", "KELLER_SIGNAL_AT=traced KELLER_SIGNAL=KILL");
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_EQ(count(r.out, "running it again"), 1) << r.out;
+  const auto row = test::read_table(dir + "/s/long.csv").at(0);
+  const std::string log = test::file_contents(dir + "/s/tasks/" + row.at("name") + ".log");
+  EXPECT_EQ(count(log, "ended before it was published; publishing it"), 1) << log;
+  EXPECT_EQ(row.at("status"), "done");
+  EXPECT_EQ(row.at("points"), "247");
+  EXPECT_EQ(read_branch_table(dir + "/s/tasks/" + row.at("name") + ".h5").rows.rows(), 247);
+  EXPECT_EQ(row.at("runs"), "2");
+  for (const char* cost : {"unknowns", "factorisations", "rejected", "solves", "seconds", "factor_seconds",
+                           "solve_seconds", "lu_backend", "nnz_lu", "lu_peak_mb"})
+    EXPECT_EQ(row.at(cost), first.at(cost)) << cost;
+}
+
 // Issue 30, item 10: SIGTERM or SIGINT to the study's process alone reaches its running task,
 // which stops after its current point (not at the end of its branch); the study exits 130 and
 // its next run continues the task to the undisturbed branch.
