@@ -90,7 +90,7 @@ int run_solve(const SolveArguments& args, RunSummary* out_summary) {
       files.temporary("XDMF file's temporary", PendingFile::temporary_for(xdmf_path_for(out)));
     }
     files.check();
-    lock = OutputLock(OutputLock::path_for(out), "'" + out + "'");
+    if (!args.output_locked) lock = OutputLock(OutputLock::path_for(out), "'" + out + "'");
   } catch (const std::exception& e) {
     return fail(exit_code::usage, e.what());
   }

@@ -213,7 +213,7 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
     }
     declare_run_outputs(files, out, "branch file", with_fields);
     files.check();
-    lock = OutputLock(OutputLock::path_for(out), "'" + out + "'");
+    if (!args.output_locked) lock = OutputLock(OutputLock::path_for(out), "'" + out + "'");
   } catch (const std::exception& e) {
     return fail(exit_code::usage, e.what());
   }

@@ -222,6 +222,42 @@ TEST(OutputIntegrity, ASecondStudyOnAFolderIsRefusedNamingTheFirst) {
   EXPECT_FALSE(fs::exists(dir + "/s/study.lock"));
 }
 
+// Item 7 for a study's task: a duplicate of a running task (`keller study run --task K` again, as a
+// batch system may requeue it) is refused before it touches anything, even where the study file
+// has changed meanwhile and the running task's unfinished output looks like another task's: it is
+// not set aside; the duplicate is recorded as interrupted, saying that another process runs the
+// task (not as failed), and the running task completes.
+TEST(OutputIntegrity, ADuplicateOfARunningTaskLeavesItAlone) {
+  const std::string dir = test::scratch_dir("integrity_task");
+  const std::string study = dir + "/s.toml";
+  const auto write_study = [&](const std::string& max_step) {
+    std::ofstream(study) << "[study]\nscene = \"" << bratu1d << "\"\n\n[set]\n\"output.xdmf\" = false\n"
+                         << "\"continuation.max_step\" = " << max_step << "\n\n[grid]\n\"bratu.intervals\" = [40]\n";
+  };
+  write_study("0.3");
+  const std::string command = "study run " + study + " --task 0 -o " + dir + "/s";
+  const pid_t pid = start_keller(command, "KELLER_SIGNAL_AT=point:3 KELLER_SIGNAL=STOP", dir + "/first.log");
+  ASSERT_TRUE(stopped(pid));  // at its third point
+  std::string part;
+  for (const auto& e : fs::directory_iterator(dir + "/s/tasks"))
+    if (e.path().string().size() > 8 && e.path().string().substr(e.path().string().size() - 8) == ".h5.part")
+      part = e.path().string();
+  ASSERT_FALSE(part.empty());
+  const std::string record = part.substr(0, part.size() - 8) + ".toml";
+  write_study("0.25");  // the task as the duplicate sees it: its running output is another's
+  const auto r = test::run_keller(command);
+  EXPECT_EQ(r.exit_code, 130) << r.out << r.err;
+  EXPECT_NE(r.err.find("is in use by another keller process (pid " + std::to_string(pid) + ","), std::string::npos)
+      << r.err;
+  EXPECT_TRUE(fs::exists(part));
+  EXPECT_FALSE(fs::exists(dir + "/s/set_aside"));
+  EXPECT_NE(test::file_contents(record).find("status = \"interrupted\""), std::string::npos)
+      << test::file_contents(record);
+  EXPECT_EQ(resume(pid), 0) << test::file_contents(dir + "/first.log") << test::file_contents(dir + "/first.log.err");
+  EXPECT_FALSE(fs::exists(part));
+  EXPECT_NE(test::file_contents(record).find("status = \"done\""), std::string::npos) << test::file_contents(record);
+}
+
 // A run killed as it ends, after its last point and before its end is marked for publication (as
 // an IoError there would leave it: disk full at the very end), is finished by the same command
 // from OUT.h5.part, not computed again: the published table is the killed run's to the bit, for a
