@@ -130,8 +130,7 @@ int run_export(const ExportArguments& args) {
       files.temporary("--csv file's temporary", PendingFile::temporary_for(args.csv));
     }
     if (args.xdmf) {
-      files.output("XDMF file", xdmf_path_for(args.input));
-      files.temporary("XDMF file's temporary", xdmf_path_for(args.input) + ".pending");
+      declare_xdmf_outputs(files, args.input);
       files.output("companion fields file", companion_for(args.input));
       files.temporary("companion fields file's temporary", PendingFile::temporary_for(companion_for(args.input)));
       files.temporary("copy with fields", args.input + ".fields.part");

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <tuple>
 
@@ -78,9 +79,32 @@ void declare_run_outputs(RunFiles& files, const std::string& out, const std::str
   files.temporary(what + "'s temporary", PendingFile::temporary_for(work));
   files.temporary(what + "'s copy with fields", out + ".fields.part");
   files.temporary(what + "'s lock", OutputLock::path_for(out));
-  if (!with_fields) return;
-  files.output("XDMF file", xdmf_path_for(out));
-  files.temporary("XDMF file's temporary", xdmf_path_for(out) + ".pending");
+  if (with_fields) declare_xdmf_outputs(files, out);
+}
+
+void declare_xdmf_outputs(RunFiles& files, const std::string& h5) {
+  const auto declare = [&files](const std::string& role, const std::string& path) {
+    files.output(role, path);
+    files.temporary(role + "'s temporary", path + ".pending");
+    files.temporary(role + "'s temporary", PendingFile::temporary_for(path + ".pending"));
+  };
+  const std::filesystem::path xdmf(xdmf_path_for(h5));
+  declare("XDMF file", xdmf.string());
+  // the eigenmodes' files, STEM_mode<k>.xdmf: those whose names (or temporary names) are taken
+  // now, as a name that is free is no link
+  const std::string prefix = xdmf.stem().string() + "_mode";
+  std::set<std::string> modes;
+  std::error_code ec;
+  for (std::filesystem::directory_iterator it(xdmf.has_parent_path() ? xdmf.parent_path() : ".", ec), end;
+       !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    const size_t digits = name.rfind(prefix, 0) == 0 ? name.find_first_not_of("0123456789", prefix.size()) : 0;
+    if (digits == 0 || digits == prefix.size() || digits == std::string::npos) continue;
+    const std::string rest = name.substr(digits);
+    if (rest == ".xdmf" || rest == ".xdmf.pending" || rest == ".xdmf.pending.part")
+      modes.insert((xdmf.parent_path() / (name.substr(0, digits) + ".xdmf")).string());
+  }
+  for (const std::string& mode : modes) declare("eigenmode XDMF file", mode);
 }
 
 LeftRun left_run(const std::string& work, const std::string& record, const std::string& defaults, bool fresh,

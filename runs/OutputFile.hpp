@@ -35,10 +35,15 @@ bool records_agree(const std::string& stored, const std::string& now, const std:
 std::string record_difference(const std::string& stored, const std::string& now, const std::string& defaults = "");
 
 // The outputs of a run written to OUT.part and renamed to OUT when complete, with its fields added
-// to OUT.fields.part first and an XDMF file beside it (`with_fields`); `what` names OUT in messages
-// ("branch file"). The temporary names (OUT.part, the OUT.part.part it is made as, OUT.fields.part,
-// the XDMF file's .pending and the lock OUT.lock) must not be links.
+// to OUT.fields.part first and XDMF files beside it (`with_fields`: declare_xdmf_outputs); `what`
+// names OUT in messages ("branch file"). The temporary names (OUT.part, the OUT.part.part it is
+// made as, OUT.fields.part and the lock OUT.lock) must not be links.
 void declare_run_outputs(RunFiles& files, const std::string& out, const std::string& what, bool with_fields);
+// The XDMF files of the HDF5 file `h5` (OUT.xdmf, and STEM_mode<k>.xdmf for a branch's critical
+// eigenmodes), each written as NAME.pending by way of NAME.pending.part (PendingFile) and renamed
+// once `h5` is in place: none of those names may be a link. The eigenmodes' count is known only
+// once the branch has ended: the names of theirs that exist now are declared (a free name is no link).
+void declare_xdmf_outputs(RunFiles& files, const std::string& h5);
 
 // What an earlier run of a command left at `work` (OUT.part): nothing to take over (no file, an
 // unreadable one, or one that `fresh` discards or that ended without being marked for publication:

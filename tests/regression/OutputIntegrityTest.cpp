@@ -94,11 +94,14 @@ bool same_table(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
 }  // namespace
 
 // Item 5: a link at the run's own temporary names (OUT.h5.part.part of a trace and of evolve, a
-// CSV's .part, the copy that takes the fields) is refused at the start, and the file it points to
-// is untouched: an input it points to is named, any other file is refused as a link.
+// CSV's .part, the copy that takes the fields, the XDMF files' NAME.pending and NAME.pending.part,
+// the eigenmodes' included) is refused at the start, and the file it points to is untouched: an
+// input it points to is named, any other file is refused as a link.
 TEST(OutputIntegrity, NoTemporaryIsWrittenThroughALink) {
   const std::string dir = test::scratch_dir("integrity_links");
   auto r = test::run_keller("trace " + bratu1d + quick + " -o " + dir + "/b1.h5");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = test::run_keller("trace " + bratu2d + small2d + " -o " + dir + "/b2.h5");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   fs::copy_file(dir + "/b1.h5", dir + "/v.h5");
   const std::string b1 = test::file_contents(dir + "/b1.h5"), v = test::file_contents(dir + "/v.h5");
@@ -109,6 +112,9 @@ TEST(OutputIntegrity, NoTemporaryIsWrittenThroughALink) {
   fs::create_symlink(dir + "/v.h5", dir + "/e.h5.part.part");
   fs::create_hard_link(dir + "/v.h5", dir + "/t.csv.part");
   fs::create_hard_link(dir + "/v.h5", dir + "/f.h5.fields.part");
+  fs::create_symlink(dir + "/v.h5", dir + "/p.xdmf.pending.part");
+  fs::create_symlink(dir + "/v.h5", dir + "/q_mode0.xdmf.pending");
+  fs::create_symlink(dir + "/v.h5", dir + "/b2.xdmf.pending.part");
   const std::string evolve = test::source_path("runs/scenes/brusselator1d_evolve.toml") +
                              " --set evolve.t_end=10 --set evolve.print_every=1000";
   const std::string restart = " --restart " + dir + "/b1.h5:4";
@@ -124,6 +130,10 @@ TEST(OutputIntegrity, NoTemporaryIsWrittenThroughALink) {
       {"evolve " + evolve + " -o " + dir + "/e.h5", "e.h5.part.part", "is a symbolic link"},
       {"export " + dir + "/b1.h5 --csv " + dir + "/t.csv", "t.csv.part", "is a hard link to another file"},
       {"trace " + bratu1d + quick + " -o " + dir + "/f.h5", "f.h5.fields.part", "is a hard link to another file"},
+      {"trace " + bratu2d + small2d + " -o " + dir + "/p.h5", "p.xdmf.pending.part", "is a symbolic link"},
+      {"trace " + bratu2d + small2d + " --set stability.enabled=true -o " + dir + "/q.h5", "q_mode0.xdmf.pending",
+       "is a symbolic link"},
+      {"export " + dir + "/b2.h5 --xdmf", "b2.xdmf.pending.part", "is a symbolic link"},
   };
   for (const auto& c : cases) {
     SCOPED_TRACE(c.args);
@@ -133,7 +143,7 @@ TEST(OutputIntegrity, NoTemporaryIsWrittenThroughALink) {
     EXPECT_TRUE(test::file_contents(dir + "/b1.h5") == b1) << "b1.h5 changed";
     EXPECT_TRUE(test::file_contents(dir + "/v.h5") == v) << "v.h5 changed";
   }
-  for (const char* name : {"x.h5", "y.h5", "z.h5", "w.h5", "e.h5", "t.csv", "f.h5"})
+  for (const char* name : {"x.h5", "y.h5", "z.h5", "w.h5", "e.h5", "t.csv", "f.h5", "p.h5", "q.h5", "b2-fields.h5"})
     EXPECT_FALSE(fs::exists(dir + "/" + name)) << name;
 }
 
