@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <filesystem>
 
+#include "continuation/Continuation.hpp"
 #include "core/IoError.hpp"
 #include "runs/ExitCode.hpp"
 
@@ -47,6 +48,39 @@ std::optional<int> stays_unfinished(bool interrupted, bool failed, const std::st
     return summary.exit_code;
   }
   return std::nullopt;
+}
+
+void report_branch_run(const ContinuationResult& result, long unknowns, RunSummary& summary) {
+  fmt::print(
+      "{} points, {} rejected steps, {} factorisations ({:.2f} per point; {} of them branch-point probes), {} "
+      "tangent solves by iteration, renewal cost {:.1f} solves; {}\n",
+      result.points, result.rejected, result.factorisations,
+      result.points > 0 ? static_cast<double>(result.factorisations) / result.points : 0.0, result.probes,
+      result.tangent_iterations, result.renewal_cost, result.reason);
+  const ContinuationTimings& tm = result.timings;
+  fmt::print(
+      "time {:.2f} s: factorisations {:.2f}, solves {:.2f} ({}), Jacobians {:.2f} ({}), dF/dp {:.2f}, residuals {:.2f} "
+      "({}), "
+      "observables {:.2f}, stability {:.2f} ({} spectra), output {:.2f}, other {:.2f}\n",
+      tm.total, tm.factorisation, tm.solve, tm.solves, tm.jacobian, tm.jacobians, tm.parameter_derivative, tm.residual,
+      tm.residuals, tm.observables, tm.analysis, tm.analyses, tm.output,
+      tm.total - tm.factorisation - tm.solve - tm.jacobian - tm.parameter_derivative - tm.residual - tm.observables -
+          tm.analysis - tm.output);
+  if (!result.lu_backend.empty())
+    fmt::print("LU: {}, nnz(L+U) = {:.4g}, peak {:.0f} MB\n", result.lu_backend, result.nnz_lu,
+               result.lu_peak_bytes / kBytesPerMb);
+  summary.reason = result.reason;
+  summary.unknowns = unknowns;
+  summary.points = result.points;
+  summary.rejected = result.rejected;
+  summary.factorisations = result.factorisations;
+  summary.seconds = result.timings.total;
+  summary.solves = result.timings.solves;
+  summary.nnz_lu = result.nnz_lu;
+  summary.lu_peak_mb = result.lu_peak_bytes / kBytesPerMb;
+  summary.lu_backend = result.lu_backend;
+  summary.factor_seconds = result.timings.factorisation;
+  summary.solve_seconds = result.timings.solve;
 }
 
 void add_earlier_runs(RunSummary& now, const RunSummary* earlier) {

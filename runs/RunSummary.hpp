@@ -7,6 +7,8 @@
 
 namespace keller {
 
+struct ContinuationResult;
+
 inline constexpr double kBytesPerMb = 1024.0 * 1024.0;  // memory is reported in MiB
 
 struct RunSummary {
@@ -30,6 +32,11 @@ struct RunSummary {
   int continued_from = -1;
   int runs = 1;
 };
+
+// What a branch's run reports: the lines of its cost on the terminal (points, rejected steps,
+// factorisations, ...; where its time went; the LU) and, in `summary`, why it ended and its cost
+// (`unknowns` its problem's).
+void report_branch_run(const ContinuationResult& result, long unknowns, RunSummary& summary);
 
 // `now`, the cost of a run that continued an unfinished output (continued_from), plus `earlier`,
 // the cost of the runs that made that output (nothing where they left none: a run killed

@@ -73,42 +73,6 @@ std::optional<Unfinished> unfinished_run(const std::string& work, const std::str
   return u;
 }
 
-// The name of the monitor (or stop threshold, "min_m1 < stop_below") whose zero the located row
-// of a branch file is, from its /branch/events record; empty if none.
-std::string located_monitor(const std::string& file, int row, const BranchTable& t) {
-  H5File f(file, H5File::Mode::Read);
-  if (!f.exists("/branch/events")) return {};
-  long rows = 0, cols = 0;
-  const std::vector<double> ev = f.read_matrix("/branch/events", &rows, &cols);
-  for (long i = 0; i < rows && cols >= 4; ++i)
-    if (static_cast<int>(ev[static_cast<size_t>(i * cols)]) == row) {
-      const int m = static_cast<int>(ev[static_cast<size_t>(i * cols + 3)]);
-      if (m >= 0 && m < static_cast<int>(t.monitors.size())) return t.monitors[static_cast<size_t>(m)];
-    }
-  return {};
-}
-
-void print_summary(const ContinuationResult& result) {
-  fmt::print(
-      "{} points, {} rejected steps, {} factorisations ({:.2f} per point; {} of them branch-point probes), {} "
-      "tangent solves by iteration, renewal cost {:.1f} solves; {}\n",
-      result.points, result.rejected, result.factorisations,
-      result.points > 0 ? static_cast<double>(result.factorisations) / result.points : 0.0, result.probes,
-      result.tangent_iterations, result.renewal_cost, result.reason);
-  const ContinuationTimings& tm = result.timings;
-  fmt::print(
-      "time {:.2f} s: factorisations {:.2f}, solves {:.2f} ({}), Jacobians {:.2f} ({}), dF/dp {:.2f}, residuals {:.2f} "
-      "({}), "
-      "observables {:.2f}, stability {:.2f} ({} spectra), output {:.2f}, other {:.2f}\n",
-      tm.total, tm.factorisation, tm.solve, tm.solves, tm.jacobian, tm.jacobians, tm.parameter_derivative, tm.residual,
-      tm.residuals, tm.observables, tm.analysis, tm.analyses, tm.output,
-      tm.total - tm.factorisation - tm.solve - tm.jacobian - tm.parameter_derivative - tm.residual - tm.observables -
-          tm.analysis - tm.output);
-  if (!result.lu_backend.empty())
-    fmt::print("LU: {}, nnz(L+U) = {:.4g}, peak {:.0f} MB\n", result.lu_backend, result.nnz_lu,
-               result.lu_peak_bytes / kBytesPerMb);
-}
-
 // The fields of a stored state of the traced problem at its parameter value `lambda` (parameter p): a
 // curve's state holds the problem's unknowns and then the value of its second parameter (p1 >= 0).
 FieldsAt fields_of(Problem& problem, int p, int p1) {
@@ -511,19 +475,7 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
   if (stability)
     fmt::print("stability: {:.2f} s in {} factorisations and {} solves of (J - sB)\n", stability->seconds(),
                stability->factorisations(), stability->solves());
-  print_summary(result);
-  summary.reason = result.reason;
-  summary.unknowns = traced.size();
-  summary.points = result.points;
-  summary.rejected = result.rejected;
-  summary.factorisations = result.factorisations;
-  summary.seconds = result.timings.total;
-  summary.solves = result.timings.solves;
-  summary.nnz_lu = result.nnz_lu;
-  summary.lu_peak_mb = result.lu_peak_bytes / kBytesPerMb;
-  summary.lu_backend = result.lu_backend;
-  summary.factor_seconds = result.timings.factorisation;
-  summary.solve_seconds = result.timings.solve;
+  report_branch_run(result, traced.size(), summary);
   if (unfinished) summary.continued_from = unfinished->seed.row;
 
   // 4. the branch takes its name: an interrupted one stays where it is, to be continued; a
