@@ -156,14 +156,20 @@ void BranchFile::on_finish(const std::string& reason, const BranchPoint& last) {
   if (!file_) return;
   // the last point is always stored (for restarts); /branch/saved lists it
   if (last.index >= 0 && last.index != last_saved_row_ && last.u.size() == n_) save_solution(last);
-  file_->write_fixed_string("/branch/status", reason);
   file_->flush();
+  reason_ = reason;
+  signal_point("ended");
 }
 
-void BranchFile::mark_for_publication(int exit_code) {
-  const double code = exit_code;
-  file_->write_rows("/branch/exit_code", 0, &code, 1);
+void BranchFile::finish(std::optional<int> publication_code) {
+  if (!file_) return;
+  if (publication_code) {
+    const double code = *publication_code;
+    file_->write_rows("/branch/exit_code", 0, &code, 1);
+  }
+  file_->write_fixed_string("/branch/status", reason_);
   file_->flush();
+  close();
 }
 
 int BranchTable::column(const std::string& name) const {

@@ -69,9 +69,12 @@ class BranchFile final : public BranchObserver {
   const std::string& path() const { return path_; }
   // The file this run created, held: what it publishes must be this file.
   HeldFile& written() { return written_; }
-  // The branch has ended and takes its name: /branch/exit_code gets the code its run ends with (-1
-  // until then), so that the same command finishes the publication should the run be killed first.
-  void mark_for_publication(int exit_code);
+  // The run has ended (on_finish said why, and stored its last point): /branch/status gets why and,
+  // for a branch that takes its name, /branch/exit_code the code its run ends with (-1 until then),
+  // in one flush, and the file is closed. A run killed before it is continued by the same command
+  // from its last point (which ends it at once), one killed after it published by it; never is an
+  // ended branch left without its code, which would be taken for one that is not to be published.
+  void finish(std::optional<int> publication_code);
   void close();
 
  private:
@@ -87,6 +90,7 @@ class BranchFile final : public BranchObserver {
   int last_saved_row_ = -1;
   std::vector<std::string> columns_;
   size_t n_analysis_ = 0;
+  std::string reason_ = "running";  // why the branch ended, from on_finish
 };
 
 // Reading a branch file (also one whose writer was killed).

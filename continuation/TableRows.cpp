@@ -2,6 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
 
 #include "core/IoError.hpp"
@@ -63,7 +66,8 @@ void create_run_file(const std::string& path, const std::string& group, std::uni
     file->flush();
     if (!written.at(part))
       throw IoError(fmt::format("'{}' is not the file this run created (it was replaced meanwhile)", part));
-    std::filesystem::rename(part, path);
+    if (std::rename(part.c_str(), path.c_str()) != 0)
+      throw IoError(fmt::format("cannot rename '{}' to '{}': {}", part, path, std::strerror(errno)));
     file->renamed(path);
   } catch (...) {
     // this run's incomplete file: nothing of it is kept

@@ -30,7 +30,7 @@ void append_table_rows(H5File& file, const std::string& dataset, const Eigen::Ma
 // are added, and the file, in SWMR mode and flushed, is renamed to `path` once consistent on disk,
 // where its temporary name still holds this very file (`written`: the file held since its
 // creation). Where anything fails, the temporary (if still this run's) is removed and the error
-// rethrown (IoError where the file was replaced meanwhile).
+// rethrown (IoError where the file was replaced meanwhile or cannot take its name).
 void create_run_file(const std::string& path, const std::string& group, std::unique_ptr<H5File>& file,
                      HeldFile& written, const std::function<void()>& layout);
 

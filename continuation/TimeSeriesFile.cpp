@@ -146,14 +146,20 @@ void TimeSeriesFile::on_finish(const std::string& reason, const TimePoint& last)
   if (!file_) return;
   // the last state is always stored (fields at the end of the run)
   if (last.step != last_saved_step_ && last.u.size() == n_) store(last);
-  file_->write_fixed_string("/evolve/status", reason);
   file_->flush();
+  reason_ = reason;
+  signal_point("ended");
 }
 
-void TimeSeriesFile::mark_for_publication(int exit_code) {
-  const double code = exit_code;
-  file_->write_rows("/evolve/exit_code", 0, &code, 1);
+void TimeSeriesFile::finish(std::optional<int> publication_code) {
+  if (!file_) return;
+  if (publication_code) {
+    const double code = *publication_code;
+    file_->write_rows("/evolve/exit_code", 0, &code, 1);
+  }
+  file_->write_fixed_string("/evolve/status", reason_);
   file_->flush();
+  close();
 }
 
 int TimeTable::column(const std::string& name) const { return column_of(columns, name); }

@@ -15,6 +15,7 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -55,9 +56,10 @@ class TimeSeriesFile final : public TimeObserver {
 
   void on_step(const TimePoint& point) override;
   void on_finish(const std::string& reason, const TimePoint& last) override;
-  // The run has ended and its file takes its name: /evolve/exit_code gets the code the run ends
-  // with (-1 until then), so that the same command finishes the publication should it be killed.
-  void mark_for_publication(int exit_code);
+  // The run has ended (on_finish said why): /evolve/status gets why and, for a file that takes its
+  // name, /evolve/exit_code the code the run ends with (-1 until then), in one flush, and the file
+  // is closed; as BranchFile::finish.
+  void finish(std::optional<int> publication_code);
   void close();
   const std::vector<std::string>& columns() const { return columns_; }
   // The file this run created, held: what it publishes must be this file.
@@ -74,6 +76,7 @@ class TimeSeriesFile final : public TimeObserver {
   HeldFile written_;
   std::vector<std::string> columns_;
   int n_ = 0, saved_ = 0, last_saved_step_ = -1;
+  std::string reason_ = "running";  // why the run ended, from on_finish
 };
 
 // The table of a time-series file (also one whose writer was killed).

@@ -91,12 +91,15 @@ H5File::H5File(const std::string& path, Mode mode) : path_(path) {
     // the latest format is required for SWMR and gives the most robust metadata layout
     H5Pset_libver_bounds(fapl, H5F_LIBVER_LATEST, H5F_LIBVER_LATEST);
     // a new file only: never truncated through a name that exists (a link to another file)
+    std::error_code ec;
+    const bool existed = std::filesystem::symlink_status(path, ec).type() != std::filesystem::file_type::not_found;
     file_ = H5Fcreate(path.c_str(), H5F_ACC_EXCL, H5P_DEFAULT, fapl);
     if (file_ < 0) {
       const SystemError error = system_error();
-      if (error.number == EEXIST) fail_write(path, "cannot create: the name exists");
-      // created (exclusively: this call's own), then its first writes failed: nothing of it stays
-      std::error_code ec;
+      // HDF5 refuses a file it holds open without an errno: whatever was at the name stays
+      if (existed || error.number == EEXIST) fail_write(path, "cannot create: the name exists");
+      // created (exclusively: this call's own, the name being free before it), then its first
+      // writes failed: nothing of it stays
       if (std::filesystem::is_regular_file(std::filesystem::symlink_status(path, ec)))
         std::filesystem::remove(path, ec);
       throw IoError(fmt::format("HDF5 file '{}': cannot create{}", path,

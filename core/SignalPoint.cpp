@@ -3,6 +3,7 @@
 #include <csignal>
 #include <cstdlib>
 #include <map>
+#include <stdexcept>
 #include <string>
 
 namespace keller {
@@ -21,6 +22,7 @@ void signal_point(std::string_view phase) {
   if (++reached[want] != nth) return;
   const char* which = std::getenv("KELLER_SIGNAL");
   const std::string sig = which ? which : "KILL";
+  if (sig == "THROW") throw std::logic_error("KELLER_SIGNAL=THROW at " + want);
   std::raise(sig == "INT" ? SIGINT : sig == "TERM" ? SIGTERM : sig == "STOP" ? SIGSTOP : SIGKILL);
 }
 

@@ -8,10 +8,13 @@
 #include <filesystem>
 
 #include "continuation/BranchFile.hpp"
+#include "continuation/TimeSeriesFile.hpp"
 #include "core/IoError.hpp"
 #include "core/PendingFile.hpp"
 #include "core/RunFiles.hpp"
 #include "core/SignalPoint.hpp"
+#include "runs/ExitCode.hpp"
+#include "runs/Interrupts.hpp"
 #include "runs/OutputFile.hpp"
 
 namespace keller {
@@ -90,18 +93,68 @@ PublishedBranch publish_output(const std::string& work, const std::string& targe
   return out;
 }
 
-PublishedBranch publish_branch(const std::string& work, const std::string& target, const std::string& xdmf,
-                               bool with_fields, const FieldsAt& fields, const std::function<bool()>& stop,
-                               const HeldFile* written) {
+AddFields branch_fields(const std::string& xdmf, const FieldsAt& fields, const std::function<bool()>& stop) {
   const std::string stem = fs::path(xdmf).replace_extension().string();
-  return publish_output(
-      work, target, xdmf, with_fields,
-      [&](const std::string& staged, const std::string& xdmf_pending, const std::string& h5_name,
-          const std::string& suffix) -> std::optional<std::vector<std::string>> {
-        if (!write_branch_fields(staged, staged, xdmf_pending, h5_name, fields, stop)) return std::nullopt;
-        return write_branch_modes(staged, h5_name, stem, suffix, fields, stop);
-      },
-      stop, written);
+  return [stem, fields, stop](const std::string& staged, const std::string& xdmf_pending, const std::string& h5_name,
+                              const std::string& suffix) -> std::optional<std::vector<std::string>> {
+    if (!write_branch_fields(staged, staged, xdmf_pending, h5_name, fields, stop)) return std::nullopt;
+    return write_branch_modes(staged, h5_name, stem, suffix, fields, stop);
+  };
+}
+
+AddFields series_fields(const std::function<SolutionFields(const Vector& u)>& fields,
+                        const std::function<bool()>& stop) {
+  return [fields, stop](const std::string& staged, const std::string& xdmf_pending, const std::string& h5_name,
+                        const std::string&) -> std::optional<std::vector<std::string>> {
+    if (!write_time_fields(staged, staged, xdmf_pending, h5_name, fields, stop)) return std::nullopt;
+    return std::vector<std::string>{};
+  };
+}
+
+int publish_run(const std::string& work, const std::string& out, bool with_fields, const AddFields& add,
+                const HeldFile& written, int code, const std::string& what, RunSummary& summary) {
+  const std::string xdmf = xdmf_path_for(out);
+  PublishedBranch published;
+  try {
+    published = publish_output(work, out, xdmf, with_fields, add, &InterruptGuard::requested, &written);
+  } catch (const std::exception& e) {
+    return fail_unexpected(
+        summary, e,
+        written.at(work) ? fmt::format("the {} stays in {} (the same command publishes it)", what, work) : "");
+  }
+  if (published.modes > 0)
+    fmt::print("wrote {} critical eigenmode(s): {}_mode<k>.xdmf\n", published.modes,
+               fs::path(xdmf).replace_extension().string());
+  fmt::print("wrote {}\n", out);
+  summary.output = out;
+  summary.exit_code = code;
+  if (with_fields && !published.fields) {
+    fmt::print(
+        "interrupted while writing the fields: the {} is complete in {} without them; `keller export {} --xdmf` "
+        "writes them\n",
+        what, out, out);
+    summary.exit_code = exit_code::interrupted;
+  }
+  return summary.exit_code;
+}
+
+int publish_left_run(const std::string& work, const std::string& out, bool with_fields, const AddFields& add,
+                     const LeftRun& left, const std::string& what, RunSummary& summary) {
+  fmt::print("note: '{}' holds this command's {}, which ended before it was published; publishing it ({})\n", work,
+             what, left.status);
+  summary.reason = left.status;
+  // nothing computed: its one row is the output's last, where it continued the earlier runs
+  // (whose cost a study adds: add_earlier_runs), so that the output's rows are counted once
+  summary.points = 1;
+  summary.continued_from = static_cast<int>(left.rows) - 1;
+  InterruptGuard interrupts;
+  HeldFile written;
+  try {
+    written = HeldFile::open(work);
+  } catch (const std::exception& e) {
+    return fail_unexpected(summary, e);
+  }
+  return publish_run(work, out, with_fields, add, written, left.exit_code, what, summary);
 }
 
 }  // namespace keller

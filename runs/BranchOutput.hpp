@@ -1,6 +1,6 @@
-// The last phase of a trace, and `keller export --xdmf`: a finished branch file gets the fields
-// of its stored solutions and its critical eigenmodes, with XDMF files beside it for ParaView,
-// without a moment at which a file on disk is damaged. The fields are added to a copy
+// The last phase of a trace or of evolve, and `keller export --xdmf`: a finished branch (or time
+// series) file gets the fields of its stored solutions and its critical eigenmodes, with XDMF files
+// beside it for ParaView, without a moment at which a file on disk is damaged. The fields are added to a copy
 // (TARGET.fields.part) that is renamed over the target; the XDMF files follow once it is there.
 #pragma once
 
@@ -12,6 +12,8 @@
 #include "core/HeldFile.hpp"
 #include "core/SolutionFields.hpp"
 #include "core/Types.hpp"
+#include "runs/OutputFile.hpp"
+#include "runs/RunSummary.hpp"
 
 namespace keller {
 
@@ -41,10 +43,28 @@ PublishedBranch publish_output(const std::string& work, const std::string& targe
                                bool with_fields, const AddFields& add, const std::function<bool()>& stop,
                                const HeldFile* written = nullptr);
 
-// Puts the closed branch file `work` at `target` (they may be the same file), with fields and
-// XDMF files when `with_fields`, as publish_output. `stop` is asked between stored solutions.
-PublishedBranch publish_branch(const std::string& work, const std::string& target, const std::string& xdmf,
-                               bool with_fields, const FieldsAt& fields, const std::function<bool()>& stop,
-                               const HeldFile* written = nullptr);
+// What publish_output adds to a branch file: the fields of its stored solutions (`fields` at their
+// parameter values), the XDMF file `xdmf` and one per critical eigenmode (STEM_mode<k>.xdmf);
+// `stop` is asked between stored solutions.
+AddFields branch_fields(const std::string& xdmf, const FieldsAt& fields, const std::function<bool()>& stop);
+// What publish_output adds to a time-series file: the fields of its stored states and the XDMF file.
+AddFields series_fields(const std::function<SolutionFields(const Vector& u)>& fields,
+                        const std::function<bool()>& stop);
+
+// The ended run in `work` (the closed file `written`) takes its name `out`, as publish_output with
+// `add` when `with_fields` (a signal, SIGINT or SIGTERM, skips the fields), saying so on the
+// terminal ("wrote OUT", the eigenmode XDMF files) and in `summary`; `code` is the run's exit code
+// and `what` names the content in messages ("branch"). Returns the command's exit code: `code`;
+// 130 where a signal skipped the fields (`keller export OUT --xdmf` writes them); 3 where a file
+// could not be written or kept, 4 for any other error (fail_unexpected), the run staying in `work`,
+// where the same command publishes it.
+int publish_run(const std::string& work, const std::string& out, bool with_fields, const AddFields& add,
+                const HeldFile& written, int code, const std::string& what, RunSummary& summary);
+// The ended run that an earlier run of this command left in `work` (LeftRun::Kind::ended), killed
+// before it took its name: published now with its exit code, as publish_run, saying so first.
+// `summary` gets its reason and its cost, none of its own: a continuation of the output at its
+// last row (RunSummary::continued_from).
+int publish_left_run(const std::string& work, const std::string& out, bool with_fields, const AddFields& add,
+                     const LeftRun& left, const std::string& what, RunSummary& summary);
 
 }  // namespace keller

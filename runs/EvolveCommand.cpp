@@ -197,39 +197,6 @@ std::optional<TimeSeed> unfinished_run(const std::string& work, const std::strin
   return read_time_seed(work);
 }
 
-// The ended time series in `work` (the file `written`) takes its name `out`, with the fields of
-// its stored states when `with_fields`; `code` is the run's exit code. Returns the command's.
-int publish_series(const std::string& work, const std::string& out, bool with_fields, Problem& problem,
-                   const HeldFile& written, int code, RunSummary& summary) {
-  PublishedBranch published;
-  try {
-    published = publish_output(
-        work, out, xdmf_path_for(out), with_fields,
-        [&](const std::string& staged, const std::string& xdmf_pending, const std::string& h5_name,
-            const std::string&) -> std::optional<std::vector<std::string>> {
-          if (!write_time_fields(
-                  staged, staged, xdmf_pending, h5_name, [&](const Vector& u) { return problem.fields(u); },
-                  &InterruptGuard::requested))
-            return std::nullopt;
-          return std::vector<std::string>{};
-        },
-        &InterruptGuard::requested, &written);
-  } catch (const std::exception& e) {
-    return fail_run(summary, exit_code::io_failure,
-                    written.at(work)
-                        ? fmt::format("the run stays in {} (the same command publishes it): {}", work, e.what())
-                        : e.what());
-  }
-  fmt::print("wrote {}\n", out);
-  summary.output = out;
-  summary.exit_code = code;
-  if (with_fields && !published.fields) {
-    fmt::print("interrupted while writing the fields: the run is complete in {} without them\n", out);
-    summary.exit_code = exit_code::interrupted;
-  }
-  return summary.exit_code;
-}
-
 }  // namespace
 
 void declare_evolve_keys(SceneSchema& s) {
@@ -344,18 +311,11 @@ int run_evolve(const EvolveArguments& args, RunSummary* out_summary) {
     for (const auto& [name, value] : header.parameters)
       if (problem->parameters().has(name)) problem->parameters().set(name, value);
   }
-  if (left.kind == LeftRun::Kind::ended) {
-    fmt::print("note: '{}' holds this command's time series, which ended before it was published; publishing it ({})\n",
-               work, left.status);
-    InterruptGuard interrupts;
-    summary.reason = left.status;
-    try {
-      const HeldFile written = HeldFile::open(work);
-      return publish_series(work, out, with_fields, *problem, written, left.exit_code, summary);
-    } catch (const std::exception& e) {
-      return fail(exit_code::io_failure, e.what());
-    }
-  }
+  const auto fields = [&problem](const Vector& u) { return problem->fields(u); };
+  summary.unknowns = problem->size();
+  if (left.kind == LeftRun::Kind::ended)
+    return publish_left_run(work, out, with_fields, series_fields(fields, &InterruptGuard::requested), left,
+                            "time series", summary);
   if (!seed && !from) {
     StartSolver start_solver(*problem, nopt, lopt, StartOptions::from_scene(scene),
                              [](const std::string& line) { fmt::print("{}\n", line); });
@@ -438,27 +398,20 @@ int run_evolve(const EvolveArguments& args, RunSummary* out_summary) {
     TimePrinter printer(popt.print_every, columns);
     TimeObservers observers({file.get(), &printer});
     const auto stop = [] { return InterruptGuard::requested(); };
-    try {
-      if (seed) {
-        fmt::print("continuing the unfinished run in {} from its step {} (t = {:.10g}; --fresh starts over)\n", work,
-                   seed->step(), seed->history.back.front().t);
-        result = integrator.resume(seed->history, observers, stop);
-      } else {
-        result = integrator.run(u0, 0.0, observers, stop);
-      }
-      // an ended run whose file is to take its name says so first: the same command publishes it
-      // should this run be killed before it has
-      const bool at_floor = result.code == TimeStop::StepFloor;
-      if (takes_its_name(result.code == TimeStop::Interrupted, at_floor, out))
-        file->mark_for_publication(at_floor ? exit_code::numerical_failure : exit_code::ok);
-      file->close();
-    } catch (const IoError& e) {
-      return fail(exit_code::io_failure,
-                  written.at(work) ? fmt::format("{}; every step before it is kept in {}: run the same command again "
-                                                 "to continue the run",
-                                                 e.what(), work)
-                                   : e.what());
-    }
+    const std::optional<int> stopped = write_run_file(
+        work, out, written, "time series", "step",
+        [&] {
+          if (seed) {
+            fmt::print("continuing the unfinished run in {} from its step {} (t = {:.10g}; --fresh starts over)\n",
+                       work, seed->step(), seed->history.back.front().t);
+            result = integrator.resume(seed->history, observers, stop);
+          } else {
+            result = integrator.run(u0, 0.0, observers, stop);
+          }
+          return RunEnd{result.code == TimeStop::Interrupted, result.code == TimeStop::StepFloor};
+        },
+        [&](std::optional<int> code) { file->finish(code); }, summary);
+    if (stopped) return *stopped;
   }
   fmt::print("{} steps, {} rejected, {} factorisations ({:.2f} per step), {} Newton iterations, {:.2f} s; {}\n",
              result.steps, result.rejected, result.factorisations,
@@ -478,7 +431,8 @@ int run_evolve(const EvolveArguments& args, RunSummary* out_summary) {
     return *stays;
   const int code = summary.exit_code;
   signal_point("evolved");
-  return publish_series(work, out, with_fields, *problem, written, code, summary);
+  return publish_run(work, out, with_fields, series_fields(fields, &InterruptGuard::requested), written, code,
+                     "time series", summary);
 }
 
 }  // namespace keller

@@ -4,12 +4,9 @@
 
 #include <unistd.h>
 
-#include <cerrno>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <optional>
-#include <string_view>
 
 #include "continuation/BranchFile.hpp"
 #include "continuation/TimeSeriesFile.hpp"
@@ -88,16 +85,6 @@ std::string csv_text(const Table& t) {
   return o;
 }
 
-// Writes all of `text` to the standard output; throws IoError (a full device, a closed pipe).
-void write_stdout(std::string_view text) {
-  while (!text.empty()) {
-    const ssize_t n = ::write(STDOUT_FILENO, text.data(), text.size());
-    if (n < 0 && errno == EINTR) continue;
-    if (n < 0) throw IoError(fmt::format("cannot write the table to the standard output: {}", std::strerror(errno)));
-    text.remove_prefix(static_cast<size_t>(n));
-  }
-}
-
 // Refuses fields for a file without a mesh (a 1D problem's): there are none for ParaView.
 void expect_mesh(const std::string& path) {
   H5File f(path, H5File::Mode::Read);
@@ -143,8 +130,7 @@ int run_export(const ExportArguments& args) {
       files.temporary("--csv file's temporary", PendingFile::temporary_for(args.csv));
     }
     if (args.xdmf) {
-      files.output("XDMF file", xdmf_path_for(args.input));
-      files.temporary("XDMF file's temporary", xdmf_path_for(args.input) + ".pending");
+      declare_xdmf_outputs(files, args.input);
       files.output("companion fields file", companion_for(args.input));
       files.temporary("companion fields file's temporary", PendingFile::temporary_for(companion_for(args.input)));
       files.temporary("copy with fields", args.input + ".fields.part");
@@ -163,7 +149,7 @@ int run_export(const ExportArguments& args) {
   try {
     const Table t = read_table(args.input);
     if (to_stdout) {
-      write_stdout(csv_text(t));
+      write_all(STDOUT_FILENO, csv_text(t), "the standard output");
     } else if (!args.csv.empty()) {
       PendingFile csv(args.csv);
       csv.write(csv_text(t));
@@ -194,17 +180,10 @@ int run_export(const ExportArguments& args) {
       const std::string xdmf = xdmf_path_for(args.input);
       if (closed_cleanly(args.input)) {
         const PublishedBranch b =
-            t.time_series
-                ? publish_output(
-                      args.input, args.input, xdmf, true,
-                      [&](const std::string& staged, const std::string& pending, const std::string& h5_name,
-                          const std::string&) -> std::optional<std::vector<std::string>> {
-                        if (!write_time_fields(staged, staged, pending, h5_name, fields_of, &InterruptGuard::requested))
-                          return std::nullopt;
-                        return std::vector<std::string>{};
-                      },
-                      &InterruptGuard::requested)
-                : publish_branch(args.input, args.input, xdmf, true, fields_at, &InterruptGuard::requested);
+            publish_output(args.input, args.input, xdmf, true,
+                           t.time_series ? series_fields(fields_of, &InterruptGuard::requested)
+                                         : branch_fields(xdmf, fields_at, &InterruptGuard::requested),
+                           &InterruptGuard::requested);
         if (!b.fields) {
           fmt::print("interrupted: {} is as it was\n", args.input);
           return exit_code::interrupted;

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <tuple>
 
@@ -13,6 +14,7 @@
 #include "core/OutputLock.hpp"
 #include "core/PendingFile.hpp"
 #include "core/SolutionWriter.hpp"
+#include "runs/ExitCode.hpp"
 #include "runs/Provenance.hpp"
 
 namespace keller {
@@ -77,9 +79,32 @@ void declare_run_outputs(RunFiles& files, const std::string& out, const std::str
   files.temporary(what + "'s temporary", PendingFile::temporary_for(work));
   files.temporary(what + "'s copy with fields", out + ".fields.part");
   files.temporary(what + "'s lock", OutputLock::path_for(out));
-  if (!with_fields) return;
-  files.output("XDMF file", xdmf_path_for(out));
-  files.temporary("XDMF file's temporary", xdmf_path_for(out) + ".pending");
+  if (with_fields) declare_xdmf_outputs(files, out);
+}
+
+void declare_xdmf_outputs(RunFiles& files, const std::string& h5) {
+  const auto declare = [&files](const std::string& role, const std::string& path) {
+    files.output(role, path);
+    files.temporary(role + "'s temporary", path + ".pending");
+    files.temporary(role + "'s temporary", PendingFile::temporary_for(path + ".pending"));
+  };
+  const std::filesystem::path xdmf(xdmf_path_for(h5));
+  declare("XDMF file", xdmf.string());
+  // the eigenmodes' files, STEM_mode<k>.xdmf: those whose names (or temporary names) are taken
+  // now, as a name that is free is no link
+  const std::string prefix = xdmf.stem().string() + "_mode";
+  std::set<std::string> modes;
+  std::error_code ec;
+  for (std::filesystem::directory_iterator it(xdmf.has_parent_path() ? xdmf.parent_path() : ".", ec), end;
+       !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    const size_t digits = name.rfind(prefix, 0) == 0 ? name.find_first_not_of("0123456789", prefix.size()) : 0;
+    if (digits == 0 || digits == prefix.size() || digits == std::string::npos) continue;
+    const std::string rest = name.substr(digits);
+    if (rest == ".xdmf" || rest == ".xdmf.pending" || rest == ".xdmf.pending.part")
+      modes.insert((xdmf.parent_path() / (name.substr(0, digits) + ".xdmf")).string());
+  }
+  for (const std::string& mode : modes) declare("eigenmode XDMF file", mode);
 }
 
 LeftRun left_run(const std::string& work, const std::string& record, const std::string& defaults, bool fresh,
@@ -87,11 +112,10 @@ LeftRun left_run(const std::string& work, const std::string& record, const std::
                  const UnfinishedTable& table) {
   LeftRun left;
   if (!std::filesystem::exists(work)) return left;
-  long rows = 0;
   std::string stored;
   std::optional<int> code;
   try {
-    std::tie(rows, left.status) = table(work);
+    std::tie(left.rows, left.status) = table(work);
     H5File f(work, H5File::Mode::Read);
     if (f.exists("/problem/run")) stored = f.read_string("/problem/run");
     long marks = 0, cols = 0;
@@ -109,7 +133,7 @@ LeftRun left_run(const std::string& work, const std::string& record, const std::
   }
   if (fresh) {
     fmt::print("note: --fresh: the {} {} in '{}' ({} {}) is discarded\n", unfinished ? "unfinished" : "unpublished",
-               what, work, rows, unit);
+               what, work, left.rows, unit);
     return left;
   }
   if (!unfinished) {
@@ -121,10 +145,35 @@ LeftRun left_run(const std::string& work, const std::string& record, const std::
     throw std::invalid_argument(fmt::format(
         "'{}' holds the unfinished {} ({} {}) of another run ({}); move it away to keep it, or pass --fresh to "
         "discard it",
-        work, what, rows, unit,
+        work, what, left.rows, unit,
         stored.empty() ? "no record of its run" : "it differs in: " + record_difference(stored, record, defaults)));
   left.kind = LeftRun::Kind::unfinished;
   return left;
+}
+
+std::optional<int> write_run_file(const std::string& work, const std::string& out, const HeldFile& written,
+                                  const std::string& what, const std::string& unit, const std::function<RunEnd()>& run,
+                                  const std::function<void(std::optional<int>)>& finish, RunSummary& summary) {
+  std::optional<RunEnd> end;  // set once the run has ended
+  bool takes = false;
+  try {
+    end = run();
+    takes = takes_its_name(end->interrupted, end->failed, out);
+    finish(takes ? std::optional<int>(end->failed ? exit_code::numerical_failure : exit_code::ok) : std::nullopt);
+    return std::nullopt;
+  } catch (const IoError& e) {
+    // what `work` holds: its status is written with the publication code in one flush (finish), so
+    // the same command either continues the run from its last point or publishes it
+    std::string kept;
+    if (written.at(work) && (!end || end->interrupted))
+      kept = fmt::format("; every {} before it is kept in {}: run the same command again to continue the {}", unit,
+                         work, what);
+    else if (written.at(work) && takes)
+      kept = fmt::format("; the ended {} is kept in {}: run the same command again to finish it", what, work);
+    else if (written.at(work))
+      kept = fmt::format("; {} is kept as it was, this run's {} is in {}", out, what, work);
+    return fail_run(summary, exit_code::io_failure, e.what() + kept);
+  }
 }
 
 void expect_written(const std::string& work, const std::string& target, const HeldFile& written) {

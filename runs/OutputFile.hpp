@@ -6,6 +6,7 @@
 
 #include <functional>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -13,6 +14,7 @@
 #include "core/HeldFile.hpp"
 #include "core/Problem.hpp"
 #include "core/RunFiles.hpp"
+#include "runs/RunSummary.hpp"
 #include "runs/SceneLoader.hpp"
 
 namespace keller {
@@ -33,10 +35,15 @@ bool records_agree(const std::string& stored, const std::string& now, const std:
 std::string record_difference(const std::string& stored, const std::string& now, const std::string& defaults = "");
 
 // The outputs of a run written to OUT.part and renamed to OUT when complete, with its fields added
-// to OUT.fields.part first and an XDMF file beside it (`with_fields`); `what` names OUT in messages
-// ("branch file"). The temporary names (OUT.part, the OUT.part.part it is made as, OUT.fields.part,
-// the XDMF file's .pending and the lock OUT.lock) must not be links.
+// to OUT.fields.part first and XDMF files beside it (`with_fields`: declare_xdmf_outputs); `what`
+// names OUT in messages ("branch file"). The temporary names (OUT.part, the OUT.part.part it is
+// made as, OUT.fields.part and the lock OUT.lock) must not be links.
 void declare_run_outputs(RunFiles& files, const std::string& out, const std::string& what, bool with_fields);
+// The XDMF files of the HDF5 file `h5` (OUT.xdmf, and STEM_mode<k>.xdmf for a branch's critical
+// eigenmodes), each written as NAME.pending by way of NAME.pending.part (PendingFile) and renamed
+// once `h5` is in place: none of those names may be a link. The eigenmodes' count is known only
+// once the branch has ended: the names of theirs that exist now are declared (a free name is no link).
+void declare_xdmf_outputs(RunFiles& files, const std::string& h5);
 
 // What an earlier run of a command left at `work` (OUT.part): nothing to take over (no file, an
 // unreadable one, or one that `fresh` discards or that ended without being marked for publication:
@@ -49,6 +56,7 @@ struct LeftRun {
   Kind kind = Kind::none;
   std::string status;  // the file's status
   int exit_code = 0;   // an ended run's exit code
+  long rows = 0;       // the rows of its table
 };
 // `table` reads the rows and status of `work`, `code_dataset` is "/branch/exit_code" or
 // "/evolve/exit_code", and `what` and `unit` name them ("branch", "rows"). The record of its run (/problem/run) must
@@ -58,6 +66,21 @@ using UnfinishedTable = std::function<std::pair<long, std::string>(const std::st
 LeftRun left_run(const std::string& work, const std::string& record, const std::string& defaults, bool fresh,
                  const std::string& what, const std::string& unit, const std::string& code_dataset,
                  const UnfinishedTable& table);
+// How a run that writes its file point by point ended.
+struct RunEnd {
+  bool interrupted = false;  // by SIGINT or SIGTERM: its file stays, to be continued
+  bool failed = false;       // at the step-size floor: it does not replace an existing output
+};
+// Runs `run`, which writes the run's file `written` at `work` (OUT.h5.part) point by point and says
+// how the run ended, then `finish` ends the file (BranchFile::finish), given the exit code of a
+// run that takes its name `out` (takes_its_name) and nothing for one that does not. An IoError on
+// the way ends the command with exit code 3 (the code is returned), its message saying what
+// `work` keeps and what the same command does with it (`what` and `unit` name the content and its
+// rows: "branch", "point"); nothing is returned where the file was ended.
+std::optional<int> write_run_file(const std::string& work, const std::string& out, const HeldFile& written,
+                                  const std::string& what, const std::string& unit, const std::function<RunEnd()>& run,
+                                  const std::function<void(std::optional<int>)>& finish, RunSummary& summary);
+
 // Refuses (IoError) to go on with `work` where it is not the file `written` the run wrote, saying
 // that `work` and `target` are left as they are and where the run's file is: moved elsewhere, or
 // (without a name left) saved as WORK.<pid> from the descriptor held.

@@ -7,6 +7,8 @@
 
 namespace keller {
 
+struct ContinuationResult;
+
 inline constexpr double kBytesPerMb = 1024.0 * 1024.0;  // memory is reported in MiB
 
 struct RunSummary {
@@ -24,21 +26,34 @@ struct RunSummary {
   long solves = 0;
   double nnz_lu = 0, lu_peak_mb = 0;
   double factor_seconds = 0, solve_seconds = 0;
-  // the row of an unfinished output of interrupted runs that this run continued (-1: none); the
-  // runs whose work the output holds, and then the cost above may be theirs together (add_earlier_runs)
+  // the row of an unfinished output of interrupted runs that this run continued (-1: none; its
+  // last row for a run that only published an ended one); the runs whose work the output holds,
+  // and then the cost above may be theirs together (add_earlier_runs)
   int continued_from = -1;
   int runs = 1;
 };
 
+// What a branch's run reports: the lines of its cost on the terminal (points, rejected steps,
+// factorisations, ...; where its time went; the LU) and, in `summary`, why it ended and its cost
+// (`unknowns` its problem's).
+void report_branch_run(const ContinuationResult& result, long unknowns, RunSummary& summary);
+
 // `now`, the cost of a run that continued an unfinished output (continued_from), plus `earlier`,
 // the cost of the runs that made that output (nothing where they left none: a run killed
 // outright): counts and times added, the points the rows of the output, the peak memory the
-// larger, the last factorisation's fill this run's.
+// larger, the last factorisation's fill this run's (theirs for a run that only published their
+// output: publish_left_run).
 void add_earlier_runs(RunSummary& now, const RunSummary* earlier);
 
 // Reports a run that stops on an error ("keller: error: ..." on stderr) with its exit code, kept in
 // `summary`; returns the code.
 int fail_run(RunSummary& summary, int code, const std::string& message);
+
+// Reports an error that has no message of its own in the command (caught as std::exception) and
+// returns its exit code: 3 where a file could not be written or kept (is_io_failure), else 4, a
+// defect of keller, whose message asks for a report. `kept` ("the branch stays in OUT.h5.part")
+// says what was kept.
+int fail_unexpected(RunSummary& summary, const std::exception& e, const std::string& kept = "");
 
 // Whether an ended run takes its name: not when interrupted (it is continued), nor when it failed
 // and `out` exists (a failing run never replaces a result).

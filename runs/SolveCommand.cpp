@@ -91,7 +91,7 @@ int run_solve(const SolveArguments& args, RunSummary* out_summary) {
       files.temporary("XDMF file's temporary", PendingFile::temporary_for(xdmf_path_for(out)));
     }
     files.check();
-    lock = OutputLock(OutputLock::path_for(out), "'" + out + "'");
+    if (!args.output_locked) lock = OutputLock(OutputLock::path_for(out), "'" + out + "'");
   } catch (const std::exception& e) {
     return fail(exit_code::usage, e.what());
   }
@@ -211,14 +211,14 @@ int run_solve(const SolveArguments& args, RunSummary* out_summary) {
     }
     pending.commit();
   } catch (const std::exception& e) {
-    return fail(exit_code::io_failure, fmt::format("writing the output: {}; nothing written", e.what()));
+    return fail_unexpected(summary, e, "nothing written");
   }
   try {
     if (f.mesh && with_xdmf)
       write_xdmf(xdmf_path_for(out), fs::path(out).filename().string(), "mesh", *f.mesh,
                  {{"solution/fields", "solution", 0.0}}, f);
   } catch (const std::exception& e) {
-    return fail(exit_code::io_failure, fmt::format("wrote {}, but not its XDMF file: {}", out, e.what()));
+    return fail_unexpected(summary, e, fmt::format("wrote {}, but not its XDMF file", out));
   }
   fmt::print("wrote {}\n", out);
   summary.exit_code = exit_code::ok;

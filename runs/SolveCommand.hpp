@@ -13,6 +13,7 @@ struct SolveArguments {
   std::string scene;
   std::string output;                  // empty: <scene stem>.h5 in the current directory
   std::vector<std::string> overrides;  // "section.key=value"
+  bool output_locked = false;          // the caller holds OUT.h5.lock (a study's task): not taken again
 };
 
 // Returns the process exit code: 0 converged, 1 Newton failed (no output written),

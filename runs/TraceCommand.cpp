@@ -73,42 +73,6 @@ std::optional<Unfinished> unfinished_run(const std::string& work, const std::str
   return u;
 }
 
-// The name of the monitor (or stop threshold, "min_m1 < stop_below") whose zero the located row
-// of a branch file is, from its /branch/events record; empty if none.
-std::string located_monitor(const std::string& file, int row, const BranchTable& t) {
-  H5File f(file, H5File::Mode::Read);
-  if (!f.exists("/branch/events")) return {};
-  long rows = 0, cols = 0;
-  const std::vector<double> ev = f.read_matrix("/branch/events", &rows, &cols);
-  for (long i = 0; i < rows && cols >= 4; ++i)
-    if (static_cast<int>(ev[static_cast<size_t>(i * cols)]) == row) {
-      const int m = static_cast<int>(ev[static_cast<size_t>(i * cols + 3)]);
-      if (m >= 0 && m < static_cast<int>(t.monitors.size())) return t.monitors[static_cast<size_t>(m)];
-    }
-  return {};
-}
-
-void print_summary(const ContinuationResult& result) {
-  fmt::print(
-      "{} points, {} rejected steps, {} factorisations ({:.2f} per point; {} of them branch-point probes), {} "
-      "tangent solves by iteration, renewal cost {:.1f} solves; {}\n",
-      result.points, result.rejected, result.factorisations,
-      result.points > 0 ? static_cast<double>(result.factorisations) / result.points : 0.0, result.probes,
-      result.tangent_iterations, result.renewal_cost, result.reason);
-  const ContinuationTimings& tm = result.timings;
-  fmt::print(
-      "time {:.2f} s: factorisations {:.2f}, solves {:.2f} ({}), Jacobians {:.2f} ({}), dF/dp {:.2f}, residuals {:.2f} "
-      "({}), "
-      "observables {:.2f}, stability {:.2f} ({} spectra), output {:.2f}, other {:.2f}\n",
-      tm.total, tm.factorisation, tm.solve, tm.solves, tm.jacobian, tm.jacobians, tm.parameter_derivative, tm.residual,
-      tm.residuals, tm.observables, tm.analysis, tm.analyses, tm.output,
-      tm.total - tm.factorisation - tm.solve - tm.jacobian - tm.parameter_derivative - tm.residual - tm.observables -
-          tm.analysis - tm.output);
-  if (!result.lu_backend.empty())
-    fmt::print("LU: {}, nnz(L+U) = {:.4g}, peak {:.0f} MB\n", result.lu_backend, result.nnz_lu,
-               result.lu_peak_bytes / kBytesPerMb);
-}
-
 // The fields of a stored state of the traced problem at its parameter value `lambda` (parameter p): a
 // curve's state holds the problem's unknowns and then the value of its second parameter (p1 >= 0).
 FieldsAt fields_of(Problem& problem, int p, int p1) {
@@ -119,43 +83,11 @@ FieldsAt fields_of(Problem& problem, int p, int p1) {
   };
 }
 
-// The ended branch in `work` (the file `written`) takes its name `out`, with its fields when
-// `with_fields`; `code` is the run's exit code. Returns the command's exit code.
-int publish_run(const std::string& work, const std::string& out, bool with_fields, const FieldsAt& fields,
-                const HeldFile& written, int code, RunSummary& summary) {
-  PublishedBranch published;
-  try {
-    published =
-        publish_branch(work, out, xdmf_path_for(out), with_fields, fields, &InterruptGuard::requested, &written);
-  } catch (const std::exception& e) {
-    return fail_run(summary, exit_code::io_failure,
-                    written.at(work)
-                        ? fmt::format("the branch stays in {} (the same command publishes it): {}", work, e.what())
-                        : e.what());
-  }
-  if (published.modes > 0)
-    fmt::print("wrote {} critical eigenmode(s): {}_mode<k>.xdmf\n", published.modes,
-               fs::path(xdmf_path_for(out)).replace_extension().string());
-  fmt::print("wrote {}\n", out);
-  summary.output = out;
-  summary.exit_code = code;
-  if (with_fields && !published.fields) {
-    fmt::print(
-        "interrupted while writing the fields: the branch is complete in {} without them; `keller export {} "
-        "--xdmf` writes them\n",
-        out, out);
-    summary.exit_code = exit_code::interrupted;
-  }
-  return summary.exit_code;
-}
-
 // The ended run of this command in `work`, killed before it took its name: published now, at the
 // parameter values it was traced at (a curve's second parameter from its --from branch).
-int publish_left_run(const std::string& work, const std::string& out, bool with_fields,
-                     const std::optional<StoredStart>& from, Problem& problem, const std::string& parameter,
-                     const LeftRun& left, RunSummary& summary) {
-  fmt::print("note: '{}' holds this command's branch, which ended before it was published; publishing it ({})\n", work,
-             left.status);
+int publish_left_branch(const std::string& work, const std::string& out, bool with_fields,
+                        const std::optional<StoredStart>& from, Problem& problem, const std::string& parameter,
+                        const LeftRun& left, RunSummary& summary) {
   RunHeader header;
   {
     H5File f(work, H5File::Mode::Read);
@@ -163,12 +95,13 @@ int publish_left_run(const std::string& work, const std::string& out, bool with_
   }
   for (const auto& [name, value] : header.parameters)
     if (problem.parameters().has(name)) problem.parameters().set(name, value);
+  summary.unknowns = header.unknowns;
   const int p1 = from && from->curve ? problem.parameters().index(read_branch_table(from->file).parameter) : -1;
-  InterruptGuard interrupts;
-  const HeldFile written = HeldFile::open(work);
-  summary.reason = left.status;
-  return publish_run(work, out, with_fields, fields_of(problem, problem.parameters().index(parameter), p1), written,
-                     left.exit_code, summary);
+  return publish_left_run(
+      work, out, with_fields,
+      branch_fields(xdmf_path_for(out), fields_of(problem, problem.parameters().index(parameter), p1),
+                    &InterruptGuard::requested),
+      left, "branch", summary);
 }
 
 }  // namespace
@@ -245,7 +178,7 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
     }
     declare_run_outputs(files, out, "branch file", with_fields);
     files.check();
-    lock = OutputLock(OutputLock::path_for(out), "'" + out + "'");
+    if (!args.output_locked) lock = OutputLock(OutputLock::path_for(out), "'" + out + "'");
   } catch (const std::exception& e) {
     return fail(exit_code::usage, e.what());
   }
@@ -272,7 +205,7 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
   try {
     unfinished = unfinished_run(work, record, loaded.defaults(), args.fresh, left);
     if (left.kind == LeftRun::Kind::ended)
-      return publish_left_run(work, out, with_fields, from, *problem, copt.parameter, left, summary);
+      return publish_left_branch(work, out, with_fields, from, *problem, copt.parameter, left, summary);
     if (unfinished) {
       start = unfinished->point;
       copt.state_scale = unfinished->state_scale;
@@ -525,45 +458,25 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
     std::optional<HopfCurveProblem::BorderUpdate> hopf_borders;
     if (hopf_curve) observer = &hopf_borders.emplace(*hopf_curve, *observer);
     InterruptGuard::forward_to(run.get());
-    try {
-      result = event_curve               ? event_curve->trace(fixed, nopt, lopt, u0, *observer,
-                                                              [](Continuation* c) { InterruptGuard::forward_to(c); })
-               : unfinished              ? run->resume(*start, *observer)
-               : from && from->switching ? run->switch_branch(*start, args.switch_direction, *observer)
-               : start                   ? run->resume(*start, *observer)
-                                         : run->run(u0, *observer, std::move(start_factorisation));
-      // an ended branch that is to take its name says so first: the same command publishes it should
-      // this run be killed before it has
-      const bool at_floor = result.code == StopCode::StepFloor;
-      if (takes_its_name(result.code == StopCode::Interrupted, at_floor, out))
-        file->mark_for_publication(at_floor ? exit_code::numerical_failure : exit_code::ok);
-      file->close();
-    } catch (const IoError& e) {
-      InterruptGuard::forward_to(nullptr);
-      return fail(exit_code::io_failure,
-                  written.at(work) ? fmt::format("{}; every point before it is kept in {}: run the same command again "
-                                                 "to continue the branch",
-                                                 e.what(), work)
-                                   : e.what());
-    }
+    const std::optional<int> stopped = write_run_file(
+        work, out, written, "branch", "point",
+        [&] {
+          result = event_curve               ? event_curve->trace(fixed, nopt, lopt, u0, *observer,
+                                                                  [](Continuation* c) { InterruptGuard::forward_to(c); })
+                   : unfinished              ? run->resume(*start, *observer)
+                   : from && from->switching ? run->switch_branch(*start, args.switch_direction, *observer)
+                   : start                   ? run->resume(*start, *observer)
+                                             : run->run(u0, *observer, std::move(start_factorisation));
+          return RunEnd{result.code == StopCode::Interrupted, result.code == StopCode::StepFloor};
+        },
+        [&](std::optional<int> code) { file->finish(code); }, summary);
     InterruptGuard::forward_to(nullptr);
+    if (stopped) return *stopped;
   }
   if (stability)
     fmt::print("stability: {:.2f} s in {} factorisations and {} solves of (J - sB)\n", stability->seconds(),
                stability->factorisations(), stability->solves());
-  print_summary(result);
-  summary.reason = result.reason;
-  summary.unknowns = traced.size();
-  summary.points = result.points;
-  summary.rejected = result.rejected;
-  summary.factorisations = result.factorisations;
-  summary.seconds = result.timings.total;
-  summary.solves = result.timings.solves;
-  summary.nnz_lu = result.nnz_lu;
-  summary.lu_peak_mb = result.lu_peak_bytes / kBytesPerMb;
-  summary.lu_backend = result.lu_backend;
-  summary.factor_seconds = result.timings.factorisation;
-  summary.solve_seconds = result.timings.solve;
+  report_branch_run(result, traced.size(), summary);
   if (unfinished) summary.continued_from = unfinished->seed.row;
 
   // 4. the branch takes its name: an interrupted one stays where it is, to be continued; a
@@ -573,10 +486,10 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
     return *stays;
   const int code = summary.exit_code;
   signal_point("traced");
-  return publish_run(
-      work, out, with_fields,
-      fields_of(*problem, problem->parameters().index(copt.parameter), traced_curve ? traced_curve->p1() : -1), written,
-      code, summary);
+  const FieldsAt fields =
+      fields_of(*problem, problem->parameters().index(copt.parameter), traced_curve ? traced_curve->p1() : -1);
+  return publish_run(work, out, with_fields, branch_fields(xdmf_path_for(out), fields, &InterruptGuard::requested),
+                     written, code, "branch", summary);
 }
 
 }  // namespace keller

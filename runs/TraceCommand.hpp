@@ -27,6 +27,7 @@ struct TraceArguments {
   std::string free;                    // the curve's second parameter (empty: continuation.parameter)
   bool force = false;                  // start from a stored point that fails the compatibility checks
   bool fresh = false;                  // discard an unfinished OUT.h5.part instead of continuing it
+  bool output_locked = false;          // the caller holds OUT.h5.lock (a study's task): not taken again
   std::vector<std::string> overrides;  // "section.key=value"
 };
 

@@ -11,6 +11,7 @@
 #include "runs/ExportCommand.hpp"
 #include "runs/InfoCommand.hpp"
 #include "runs/Provenance.hpp"
+#include "runs/RunSummary.hpp"
 #include "runs/SceneLoader.hpp"
 #include "runs/SolveCommand.hpp"
 #include "runs/TraceCommand.hpp"
@@ -211,7 +212,7 @@ int main(int argc, char** argv) {
                "large for this machine); nothing written\n");
     return keller::exit_code::usage;
   } catch (const std::exception& e) {  // the last resort: every command reports its own failures
-    std::fprintf(stderr, "keller: error: %s\n", e.what());
-    return keller::exit_code::io_failure;
+    keller::RunSummary unreported;
+    return keller::fail_unexpected(unreported, e);
   }
 }

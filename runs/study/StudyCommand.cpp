@@ -47,8 +47,8 @@ int run_study_command(const StudyArguments& args, int& argc, char**& argv) {
              : r.status == "interrupted" ? exit_code::interrupted
                                          : exit_code::numerical_failure;
     } catch (const std::exception& e) {  // its record or its folder cannot be written
-      fmt::print(stderr, "keller: error: task {} of {}: {}\n", args.task, args.study, e.what());
-      return exit_code::io_failure;
+      RunSummary unrecorded;
+      return fail_unexpected(unrecorded, e, fmt::format("task {} of {} has no record", args.task, args.study));
     }
   }
   // what [collect] names, against the tasks' problems: before any task runs (or a table of

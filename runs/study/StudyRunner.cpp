@@ -146,8 +146,9 @@ std::vector<int> tasks_to_run(const Study& study) {
   for (const StudyTask& t : study.tasks()) {
     if (task_done(study, t)) continue;
     try {
-      set_aside_foreign_outputs(study, t);
-    } catch (const std::runtime_error& e) {  // the task's run meets it, and fails saying why
+      const OutputLock held = hold_task_output(study, t);
+      set_aside_foreign_outputs(study, t, held);
+    } catch (const std::runtime_error& e) {  // the task's run meets it, and says so
       fmt::print(stderr, "keller: warning: {}\n", e.what());
     }
     todo.push_back(t.index);

@@ -12,6 +12,8 @@
 
 #include "continuation/BranchFile.hpp"
 #include "core/H5File.hpp"
+#include "core/IoError.hpp"
+#include "core/OutputLock.hpp"
 #include "core/PendingFile.hpp"
 #include "runs/ExitCode.hpp"
 #include "runs/OutputFile.hpp"
@@ -44,11 +46,28 @@ void set_aside(const Study& study, const StudyTask& task, const std::string& pat
     to = folder / fmt::format("{}-{}{}", from.stem().string(), n, from.extension().string());
   fs::rename(from, to, ec);
   if (ec)
-    throw std::runtime_error(fmt::format("task {} ({}): '{}' {}, and cannot be set aside as '{}': {}", task.index,
-                                         task.label(), path, why, to.string(), ec.message()));
+    throw IoError(fmt::format("task {} ({}): '{}' {}, and cannot be set aside as '{}': {}", task.index, task.label(),
+                              path, why, to.string(), ec.message()));
   fmt::print("task {} ({}): '{}' {}; set aside as '{}', the task runs again\n", task.index, task.label(), path, why,
              to.string());
   std::fflush(stdout);
+}
+
+// The task is run by another process (a duplicate of it, as a batch system may requeue a task),
+// which holds its output: its files are left to it, and so is its record where it has finished
+// it; else the record says so, interrupted (the study's next run continues the task), with the
+// cost of the runs before the holder's, which the holder adds its own to.
+TaskRecord left_to_its_holder(const Study& study, const StudyTask& task, const std::optional<TaskRecord>& earlier,
+                              const std::string& why) {
+  fmt::print(stderr, "keller: task {} ({}) is left to the process that runs it: {}\n", task.index, task.label(), why);
+  TaskRecord r = earlier ? *earlier : TaskRecord{};
+  r.hash = task.hash;
+  r.status = "interrupted";
+  r.pid = ::getpid();
+  r.summary.exit_code = exit_code::interrupted;
+  r.summary.reason = "another process runs the task: " + why;
+  if (!task_done(study, task)) write_task_record(study, task, r);
+  return r;
 }
 
 std::string quoted(const std::string& s) {
@@ -74,25 +93,30 @@ TaskRecord run_study_task(const Study& study, const StudyTask& task) {
   TaskRecord record;
   record.hash = task.hash;
   record.pid = ::getpid();
+  OutputLock lock;  // the task's output is this process's before anything is set aside, to its record
   try {
-    set_aside_foreign_outputs(study, task);
+    lock = hold_task_output(study, task);
+    set_aside_foreign_outputs(study, task, lock);
     if (study.kind() == "trace") {
       TraceArguments a;
       a.scene = task.scene;
       a.output = out;
       a.restart = task.start;
       a.overrides = task.overrides;
+      a.output_locked = true;
       run_trace(a, &record.summary);
     } else {
       SolveArguments a;
       a.scene = task.scene;
       a.output = out;
       a.overrides = task.overrides;
+      a.output_locked = true;
       run_solve(a, &record.summary);
     }
+  } catch (const OutputLocked& e) {
+    return left_to_its_holder(study, task, earlier, e.what());
   } catch (const std::exception& e) {
-    record.summary.exit_code = exit_code::usage;
-    record.summary.reason = e.what();
+    fail_unexpected(record.summary, e);
   }
   struct rusage usage {};
   if (::getrusage(RUSAGE_SELF, &usage) == 0) record.peak_mb = static_cast<double>(usage.ru_maxrss) / 1024.0;  // KiB
@@ -215,8 +239,16 @@ std::string output_fault(const Study& study, const StudyTask& task, const std::s
   return "";
 }
 
-void set_aside_foreign_outputs(const Study& study, const StudyTask& task) {
+OutputLock hold_task_output(const Study& study, const StudyTask& task) {
+  const std::string out = study.task_output(task);
+  return OutputLock(OutputLock::path_for(out), "'" + out + "'");
+}
+
+void set_aside_foreign_outputs(const Study& study, const StudyTask& task, const OutputLock& held) {
   const std::string out = study.task_output(task), work = PendingFile::temporary_for(out);
+  if (held.path() != OutputLock::path_for(out))
+    throw std::logic_error(
+        fmt::format("task {}: its outputs are set aside under the lock of '{}' only", task.index, out));
   std::error_code ec;
   if (fs::symlink_status(out, ec).type() != fs::file_type::not_found)
     if (const std::string fault = output_fault(study, task, out); !fault.empty()) set_aside(study, task, out, fault);

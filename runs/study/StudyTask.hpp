@@ -9,6 +9,7 @@
 #include <optional>
 #include <string>
 
+#include "core/OutputLock.hpp"
 #include "runs/RunSummary.hpp"
 #include "runs/study/Study.hpp"
 
@@ -27,7 +28,9 @@ struct TaskRecord {
 // Runs the task (continuing its unfinished output if a run of it was interrupted, and adding its
 // cost to theirs; setting aside an output or unfinished run that is not its own), writes its
 // record and returns it. Never throws for a failure of the task: that is a record with status
-// "failed" and its reason.
+// "failed" and its reason. A task whose output another process holds (hold_task_output: it runs
+// the task) is left to it, touching nothing of it: recorded "interrupted", saying so, unless that
+// process has finished it meanwhile.
 TaskRecord run_study_task(const Study& study, const StudyTask& task);
 
 // The task's record, if it has one that can be read.
@@ -49,10 +52,14 @@ bool task_done(const Study& study, const StudyTask& task);
 // bratu.intervals = 128 in the file, 48 in this scene)"); empty where nothing does: a readable
 // file whose run record (/problem/run) agrees with the task's and whose results can be read.
 std::string output_fault(const Study& study, const StudyTask& task, const std::string& path);
+// Takes the lock of the task's output (OUT.h5.lock, core/OutputLock): what holds it is the one
+// process that runs the task. Throws OutputLocked naming the process that holds it.
+OutputLock hold_task_output(const Study& study, const StudyTask& task);
 // Moves what is not the task's own out of its way, to FOLDER/set_aside/ (the first free name
 // STEM-N.EXT), saying so on the terminal: an output with an output_fault, and an unfinished run
-// (OUT.h5.part) that is not the task's to continue. Nothing is deleted. Throws
-// std::runtime_error naming the file where it cannot be moved.
-void set_aside_foreign_outputs(const Study& study, const StudyTask& task);
+// (OUT.h5.part) that is not the task's to continue. The caller holds the task's output lock
+// (`held`, hold_task_output), so that no running process has its files moved. Nothing is
+// deleted. Throws IoError naming the file where it cannot be moved.
+void set_aside_foreign_outputs(const Study& study, const StudyTask& task, const OutputLock& held);
 
 }  // namespace keller

@@ -94,11 +94,14 @@ bool same_table(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
 }  // namespace
 
 // Item 5: a link at the run's own temporary names (OUT.h5.part.part of a trace and of evolve, a
-// CSV's .part, the copy that takes the fields) is refused at the start, and the file it points to
-// is untouched: an input it points to is named, any other file is refused as a link.
+// CSV's .part, the copy that takes the fields, the XDMF files' NAME.pending and NAME.pending.part,
+// the eigenmodes' included) is refused at the start, and the file it points to is untouched: an
+// input it points to is named, any other file is refused as a link.
 TEST(OutputIntegrity, NoTemporaryIsWrittenThroughALink) {
   const std::string dir = test::scratch_dir("integrity_links");
   auto r = test::run_keller("trace " + bratu1d + quick + " -o " + dir + "/b1.h5");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = test::run_keller("trace " + bratu2d + small2d + " -o " + dir + "/b2.h5");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   fs::copy_file(dir + "/b1.h5", dir + "/v.h5");
   const std::string b1 = test::file_contents(dir + "/b1.h5"), v = test::file_contents(dir + "/v.h5");
@@ -109,6 +112,9 @@ TEST(OutputIntegrity, NoTemporaryIsWrittenThroughALink) {
   fs::create_symlink(dir + "/v.h5", dir + "/e.h5.part.part");
   fs::create_hard_link(dir + "/v.h5", dir + "/t.csv.part");
   fs::create_hard_link(dir + "/v.h5", dir + "/f.h5.fields.part");
+  fs::create_symlink(dir + "/v.h5", dir + "/p.xdmf.pending.part");
+  fs::create_symlink(dir + "/v.h5", dir + "/q_mode0.xdmf.pending");
+  fs::create_symlink(dir + "/v.h5", dir + "/b2.xdmf.pending.part");
   const std::string evolve = test::source_path("runs/scenes/brusselator1d_evolve.toml") +
                              " --set evolve.t_end=10 --set evolve.print_every=1000";
   const std::string restart = " --restart " + dir + "/b1.h5:4";
@@ -124,6 +130,10 @@ TEST(OutputIntegrity, NoTemporaryIsWrittenThroughALink) {
       {"evolve " + evolve + " -o " + dir + "/e.h5", "e.h5.part.part", "is a symbolic link"},
       {"export " + dir + "/b1.h5 --csv " + dir + "/t.csv", "t.csv.part", "is a hard link to another file"},
       {"trace " + bratu1d + quick + " -o " + dir + "/f.h5", "f.h5.fields.part", "is a hard link to another file"},
+      {"trace " + bratu2d + small2d + " -o " + dir + "/p.h5", "p.xdmf.pending.part", "is a symbolic link"},
+      {"trace " + bratu2d + small2d + " --set stability.enabled=true -o " + dir + "/q.h5", "q_mode0.xdmf.pending",
+       "is a symbolic link"},
+      {"export " + dir + "/b2.h5 --xdmf", "b2.xdmf.pending.part", "is a symbolic link"},
   };
   for (const auto& c : cases) {
     SCOPED_TRACE(c.args);
@@ -133,7 +143,7 @@ TEST(OutputIntegrity, NoTemporaryIsWrittenThroughALink) {
     EXPECT_TRUE(test::file_contents(dir + "/b1.h5") == b1) << "b1.h5 changed";
     EXPECT_TRUE(test::file_contents(dir + "/v.h5") == v) << "v.h5 changed";
   }
-  for (const char* name : {"x.h5", "y.h5", "z.h5", "w.h5", "e.h5", "t.csv", "f.h5"})
+  for (const char* name : {"x.h5", "y.h5", "z.h5", "w.h5", "e.h5", "t.csv", "f.h5", "p.h5", "q.h5", "b2-fields.h5"})
     EXPECT_FALSE(fs::exists(dir + "/" + name)) << name;
 }
 
@@ -220,6 +230,74 @@ TEST(OutputIntegrity, ASecondStudyOnAFolderIsRefusedNamingTheFirst) {
   EXPECT_NE(test::file_contents(dir + "/first.log").find("(4 done, 0 failed, 0 not run)"), std::string::npos)
       << test::file_contents(dir + "/first.log");
   EXPECT_FALSE(fs::exists(dir + "/s/study.lock"));
+}
+
+// Item 7 for a study's task: a duplicate of a running task (`keller study run --task K` again, as a
+// batch system may requeue it) is refused before it touches anything, even where the study file
+// has changed meanwhile and the running task's unfinished output looks like another task's: it is
+// not set aside; the duplicate is recorded as interrupted, saying that another process runs the
+// task (not as failed), and the running task completes.
+TEST(OutputIntegrity, ADuplicateOfARunningTaskLeavesItAlone) {
+  const std::string dir = test::scratch_dir("integrity_task");
+  const std::string study = dir + "/s.toml";
+  const auto write_study = [&](const std::string& max_step) {
+    std::ofstream(study) << "[study]\nscene = \"" << bratu1d << "\"\n\n[set]\n\"output.xdmf\" = false\n"
+                         << "\"continuation.max_step\" = " << max_step << "\n\n[grid]\n\"bratu.intervals\" = [40]\n";
+  };
+  write_study("0.3");
+  const std::string command = "study run " + study + " --task 0 -o " + dir + "/s";
+  const pid_t pid = start_keller(command, "KELLER_SIGNAL_AT=point:3 KELLER_SIGNAL=STOP", dir + "/first.log");
+  ASSERT_TRUE(stopped(pid));  // at its third point
+  std::string part;
+  for (const auto& e : fs::directory_iterator(dir + "/s/tasks"))
+    if (e.path().string().size() > 8 && e.path().string().substr(e.path().string().size() - 8) == ".h5.part")
+      part = e.path().string();
+  ASSERT_FALSE(part.empty());
+  const std::string record = part.substr(0, part.size() - 8) + ".toml";
+  write_study("0.25");  // the task as the duplicate sees it: its running output is another's
+  const auto r = test::run_keller(command);
+  EXPECT_EQ(r.exit_code, 130) << r.out << r.err;
+  EXPECT_NE(r.err.find("is in use by another keller process (pid " + std::to_string(pid) + ","), std::string::npos)
+      << r.err;
+  EXPECT_TRUE(fs::exists(part));
+  EXPECT_FALSE(fs::exists(dir + "/s/set_aside"));
+  EXPECT_NE(test::file_contents(record).find("status = \"interrupted\""), std::string::npos)
+      << test::file_contents(record);
+  EXPECT_EQ(resume(pid), 0) << test::file_contents(dir + "/first.log") << test::file_contents(dir + "/first.log.err");
+  EXPECT_FALSE(fs::exists(part));
+  EXPECT_NE(test::file_contents(record).find("status = \"done\""), std::string::npos) << test::file_contents(record);
+}
+
+// A run killed as it ends, after its last point and before its end is marked for publication (as
+// an IoError there would leave it: disk full at the very end), is finished by the same command
+// from OUT.h5.part, not computed again: the published table is the killed run's to the bit, for a
+// branch and a time series.
+TEST(OutputIntegrity, ARunKilledAsItEndsIsFinishedNotComputedAgain) {
+  const std::string dir = test::scratch_dir("integrity_ended");
+  const std::string evolve = test::source_path("runs/scenes/brusselator1d_evolve.toml") +
+                             " --set evolve.t_end=10 --set evolve.print_every=1000";
+  const struct {
+    std::string command;
+    bool series;
+  } cases[] = {
+      {"trace " + bratu2d + small2d + " -o " + dir + "/k.h5", false},
+      {"evolve " + evolve + " -o " + dir + "/k.h5", true},
+  };
+  const std::string out = dir + "/k.h5", work = out + ".part";
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.command);
+    for (const std::string& f : {out, work, dir + "/k.xdmf"}) fs::remove(f);
+    auto r = test::run_keller(c.command, "KELLER_SIGNAL_AT=ended KELLER_SIGNAL=KILL");
+    ASSERT_EQ(r.exit_code, -1) << r.out << r.err;
+    ASSERT_TRUE(fs::exists(work));
+    const Eigen::MatrixXd killed = c.series ? read_time_table(work).rows : read_branch_table(work).rows;
+    r = test::run_keller(c.command);
+    ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+    EXPECT_EQ(r.out.find("this run replaces it"), std::string::npos) << r.out;
+    const Eigen::MatrixXd published = c.series ? read_time_table(out).rows : read_branch_table(out).rows;
+    EXPECT_TRUE(same_table(published, killed)) << "not the killed run's table";
+    EXPECT_FALSE(fs::exists(work));
+  }
 }
 
 // Item 11: a run killed after its last point, while its fields are written or once it has taken

@@ -80,6 +80,37 @@ TEST(WriteFailure, ExportToAFullDeviceStopsWithCode3) {
   expect_io_failure(r, "the standard output", "No space left on device");
 }
 
+// Exit code 3 is a file that could not be written or kept, and nothing else: an error keller has
+// no message of its own for (a defect of keller; KELLER_SIGNAL=THROW stands for one) ends the
+// command with exit code 4, asking for a report, whether it comes while the branch is traced (the
+// driver's last resort) or while its fields are written (the branch stays in OUT.h5.part). Either
+// way the same command then finishes the branch.
+TEST(WriteFailure, AnErrorThatIsNoWriteFailureIsAnInternalError) {
+  const std::string dir = test::scratch_dir("write_internal");
+  const std::string command = "trace " + bratu2d +
+                              " --set bratu.intervals=8 --set continuation.save_every=2 --set "
+                              "continuation.max_step=0.2 -o " +
+                              dir + "/c.h5";
+  for (const std::string at : {"point:3", "fields:2"}) {
+    SCOPED_TRACE(at);
+    fs::remove(dir + "/c.h5");
+    auto r = test::run_keller(command, "KELLER_SIGNAL_AT=" + at + " KELLER_SIGNAL=THROW");
+    EXPECT_EQ(r.exit_code, 4) << r.out << r.err;
+    EXPECT_NE(r.err.find("keller: internal error: KELLER_SIGNAL=THROW at " + at.substr(0, at.find(':'))),
+              std::string::npos)
+        << r.err;
+    EXPECT_NE(r.err.find("please report it"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir + "/c.h5"));
+    ASSERT_TRUE(fs::exists(dir + "/c.h5.part"));
+    if (at == "fields:2") {
+      EXPECT_NE(r.err.find("the branch stays in " + dir + "/c.h5.part"), std::string::npos) << r.err;
+    }
+    r = test::run_keller(command);
+    ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+    EXPECT_EQ(read_branch_table(dir + "/c.h5").rows.rows(), 46);
+  }
+}
+
 // A study whose folder cannot be one is refused at the start; a study whose records cannot be
 // written stops with code 3 and a message, never with a crash.
 TEST(WriteFailure, AStudyWithoutAWritableFolderStopsWithAMessage) {
@@ -105,12 +136,20 @@ TEST(WriteFailure, AStudyWithoutAWritableFolderStopsWithAMessage) {
   }
   EXPECT_TRUE(test::file_contents(dir + "/afile") == "mine\n") << "changed";
   EXPECT_TRUE(test::file_contents(dir + "/t/tasks") == "mine\n") << "changed";
-  if (::geteuid() != 0) {  // the superuser writes in a read-only folder
-    fs::create_directories(dir + "/ro");
-    fs::permissions(dir + "/ro", fs::perms::owner_read | fs::perms::owner_exec);
-    const auto r = test::run_keller("study " + study + " --jobs 1 -o " + dir + "/ro/s");
+  {
+    // a folder in which its user cannot make one: read-only to it, or, for the superuser (who
+    // writes in read-only folders), /proc, where no process makes folders
+    std::string unwritable = "/proc";
+    if (::geteuid() != 0) {
+      unwritable = dir + "/ro";
+      fs::create_directories(unwritable);
+      fs::permissions(unwritable, fs::perms::owner_read | fs::perms::owner_exec);
+    }
+    const std::string folder = unwritable + "/keller_study_" + std::to_string(::getpid());
+    const auto r = test::run_keller("study " + study + " --jobs 1 -o " + folder);
     EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
-    EXPECT_NE(r.err.find(dir + "/ro/s"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("the study folder '" + folder + "' cannot be made"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(folder));
   }
   // every file, the tasks' records and the table included, limited to 1 KiB
   const auto r = test::run_keller("study " + study + " --jobs 1 -o " + dir + "/s", file_size_limit(1));

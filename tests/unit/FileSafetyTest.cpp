@@ -13,6 +13,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "continuation/TableRows.hpp"
 #include "core/H5File.hpp"
 #include "core/HeldFile.hpp"
 #include "core/IoError.hpp"
@@ -197,6 +198,26 @@ TEST(FileSafety, TemporariesAreCreatedExclusivelyNeverThroughALink) {
   // a PendingFile refuses the link at its temporary name as it starts
   EXPECT_THROW(PendingFile(dir + "/symlink"), IoError);
   EXPECT_EQ(test::file_contents(dir + "/victim"), "keep me");
+}
+
+// A run file that cannot take its name (a folder is there) is an I/O failure like any other
+// (IoError, exit code 3), not a bad input; its temporary is removed and the folder left as it was.
+TEST(FileSafety, ARunFileThatCannotTakeItsNameIsAnIoFailure) {
+  const std::string dir = test::scratch_dir("run_file_rename");
+  fs::create_directory(dir + "/run.h5");
+  write(dir + "/run.h5/keep.txt", "mine");
+  std::unique_ptr<H5File> file;
+  HeldFile held;
+  try {
+    create_run_file(dir + "/run.h5", "/g", file, held, [&] { file->create_group("/g"); });
+    ADD_FAILURE() << "renamed over a folder";
+  } catch (const IoError& e) {
+    EXPECT_NE(std::string(e.what()).find(dir + "/run.h5.part' to '" + dir + "/run.h5'"), std::string::npos) << e.what();
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << "not an IoError: " << e.what();
+  }
+  EXPECT_FALSE(fs::exists(dir + "/run.h5.part"));
+  EXPECT_EQ(test::file_contents(dir + "/run.h5/keep.txt"), "mine");
 }
 
 // Item 6: a held file tells whether a name still refers to it, and what is published is the file

@@ -1,7 +1,11 @@
 // HDF5 wrapper: round trips of every kind of object it writes.
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
+
 #include "core/H5File.hpp"
+#include "core/IoError.hpp"
 #include "support/TestSupport.hpp"
 
 using namespace keller;
@@ -40,4 +44,23 @@ TEST(H5File, RoundTrips) {
   EXPECT_TRUE(f.exists("/g/m"));
   EXPECT_FALSE(f.exists("/nothing/here"));
   EXPECT_THROW(H5File("/nonexistent/dir/x.h5", H5File::Mode::Create), std::runtime_error);
+}
+
+// A create that fails never removes a file that was at the name before the call: not one that
+// exists on disk, nor one open in this process (HDF5's refusal of a file it holds open carries
+// no errno, which was taken for a failure of the call's own new file, and that file was removed).
+TEST(H5File, ACreateThatFailsKeepsTheFileThatWasThere) {
+  const std::string dir = test::scratch_dir("h5_create");
+  const std::string open_here = dir + "/open.h5", closed = dir + "/closed.h5";
+  {
+    H5File held(open_here, H5File::Mode::Create);
+    held.write_string("/text", "mine");
+    held.flush();
+    EXPECT_THROW(H5File(open_here, H5File::Mode::Create), IoError);
+    EXPECT_TRUE(std::filesystem::exists(open_here));
+  }
+  EXPECT_EQ(H5File(open_here, H5File::Mode::Read).read_string("/text"), "mine");
+  std::ofstream(closed) << "not HDF5\n";
+  EXPECT_THROW(H5File(closed, H5File::Mode::Create), IoError);
+  EXPECT_EQ(test::file_contents(closed), "not HDF5\n");
 }
