@@ -6,7 +6,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "continuation/BranchSwitcher.hpp"
+#include "continuation/events/BranchSwitcher.hpp"
 
 namespace keller {
 

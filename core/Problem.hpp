@@ -75,7 +75,7 @@ class Problem {
   // Parameters in which a steady state that Newton cannot reach from initial_guess() is reached by
   // continuation from an easier one: each with a value where the solve is easy (a load near rest,
   // a relaxation time near zero), in the order to try them. Empty: only the generic residual
-  // homotopy (continuation/StartSolver).
+  // homotopy (continuation/start/StartSolver).
   struct Homotopy {
     std::string parameter;
     double easy_value = 0.0;

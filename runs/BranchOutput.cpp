@@ -7,8 +7,8 @@
 #include <cstring>
 #include <filesystem>
 
-#include "continuation/BranchFile.hpp"
-#include "continuation/TimeSeriesFile.hpp"
+#include "continuation/output/BranchFile.hpp"
+#include "continuation/output/TimeSeriesFile.hpp"
 #include "core/IoError.hpp"
 #include "core/PendingFile.hpp"
 #include "core/RunFiles.hpp"

@@ -6,10 +6,10 @@
 #include <filesystem>
 #include <optional>
 
-#include "continuation/BranchFile.hpp"
-#include "continuation/StartSolver.hpp"
-#include "continuation/TimeIntegrator.hpp"
-#include "continuation/TimeSeriesFile.hpp"
+#include "continuation/output/BranchFile.hpp"
+#include "continuation/output/TimeSeriesFile.hpp"
+#include "continuation/start/StartSolver.hpp"
+#include "continuation/time/TimeIntegrator.hpp"
 #include "core/HeldFile.hpp"
 #include "core/IoError.hpp"
 #include "core/OutputLock.hpp"

@@ -1,5 +1,5 @@
 // `keller evolve SCENE.toml -o RUN.h5 [--restart BRANCH.h5:ROW]`: integrates B du/dt = -F(u) in time
-// (continuation/TimeIntegrator: adaptive BDF2) from the scene's steady state or from a point stored
+// (continuation/time/TimeIntegrator: adaptive BDF2) from the scene's steady state or from a point stored
 // in a branch file, optionally perturbed along an eigenvector (computed at the start, or the one
 // stored with the branch point), and writes the observables against time step by step to
 // RUN.h5.part (readable at every moment, whatever ends the run), which takes the name RUN.h5 once

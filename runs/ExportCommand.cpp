@@ -8,8 +8,8 @@
 #include <filesystem>
 #include <optional>
 
-#include "continuation/BranchFile.hpp"
-#include "continuation/TimeSeriesFile.hpp"
+#include "continuation/output/BranchFile.hpp"
+#include "continuation/output/TimeSeriesFile.hpp"
 #include "core/H5File.hpp"
 #include "core/IoError.hpp"
 #include "core/OutputLock.hpp"

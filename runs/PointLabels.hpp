@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "continuation/BranchFile.hpp"
-#include "continuation/BranchPoint.hpp"
+#include "continuation/engine/BranchPoint.hpp"
+#include "continuation/output/BranchFile.hpp"
 
 namespace keller {
 

@@ -5,7 +5,7 @@
 
 #include <fstream>
 
-#include "continuation/StartSolver.hpp"
+#include "continuation/start/StartSolver.hpp"
 #include "core/Newton.hpp"
 #include "core/SparseLU.hpp"
 

@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <optional>
 
-#include "continuation/StartSolver.hpp"
+#include "continuation/start/StartSolver.hpp"
 #include "core/Newton.hpp"
 #include "core/OutputLock.hpp"
 #include "core/PendingFile.hpp"

@@ -6,7 +6,7 @@
 #include <map>
 #include <sstream>
 
-#include "continuation/BranchFile.hpp"
+#include "continuation/output/BranchFile.hpp"
 #include "core/H5File.hpp"
 #include "runs/OutputFile.hpp"
 #include "runs/PointLabels.hpp"

@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "continuation/BranchFile.hpp"
-#include "continuation/BranchPoint.hpp"
+#include "continuation/engine/BranchPoint.hpp"
+#include "continuation/output/BranchFile.hpp"
 #include "core/Problem.hpp"
 #include "runs/OutputFile.hpp"
 #include "runs/SceneLoader.hpp"

@@ -7,14 +7,14 @@
 #include <limits>
 #include <optional>
 
-#include "continuation/BranchFile.hpp"
 #include "continuation/Continuation.hpp"
-#include "continuation/ContinuedBranch.hpp"
-#include "continuation/EventCurveProblem.hpp"
-#include "continuation/FoldCurveProblem.hpp"
-#include "continuation/HopfCurveProblem.hpp"
-#include "continuation/ProgressPrinter.hpp"
-#include "continuation/StartSolver.hpp"
+#include "continuation/curves/EventCurveProblem.hpp"
+#include "continuation/curves/FoldCurveProblem.hpp"
+#include "continuation/curves/HopfCurveProblem.hpp"
+#include "continuation/output/BranchFile.hpp"
+#include "continuation/output/ContinuedBranch.hpp"
+#include "continuation/output/ProgressPrinter.hpp"
+#include "continuation/start/StartSolver.hpp"
 #include "core/HeldFile.hpp"
 #include "core/IoError.hpp"
 #include "core/OutputLock.hpp"

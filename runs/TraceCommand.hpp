@@ -1,7 +1,7 @@
 // `keller trace SCENE.toml -o OUT.h5 [--restart FILE.h5:ROW | --switch FILE.h5:ROW |
 // --from FILE.h5:ROW --curve fold|hopf|event --free PARAMETER]`: traces a solution branch with the
 // continuation engine, or the curve of the fold, Hopf point or event located at a stored row in a second
-// parameter (continuation/FoldCurveProblem, HopfCurveProblem, EventCurveProblem; [continuation] then sets the
+// parameter (continuation/curves/FoldCurveProblem, HopfCurveProblem, EventCurveProblem; [continuation] then sets the
 // curve's range, stops and steps). The branch is written
 // point by point to OUT.h5.part (readable at every moment, whatever ends the run) and takes the name OUT.h5 once the
 // branch has ended, with the fields of its stored solutions and an XDMF file beside it. A run that was interrupted or

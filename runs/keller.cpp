@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <new>
 
-#include "continuation/ContinuationOptions.hpp"
+#include "continuation/engine/ContinuationOptions.hpp"
 #include "runs/EvolveCommand.hpp"
 #include "runs/ExitCode.hpp"
 #include "runs/ExportCommand.hpp"

@@ -14,8 +14,8 @@
 #include <set>
 #include <sstream>
 
-#include "continuation/BranchFile.hpp"
-#include "continuation/ContinuationOptions.hpp"
+#include "continuation/engine/ContinuationOptions.hpp"
+#include "continuation/output/BranchFile.hpp"
 #include "core/Scene.hpp"
 #include "runs/OutputFile.hpp"
 #include "runs/SceneLoader.hpp"

@@ -10,7 +10,7 @@
 #include <sstream>
 #include <tuple>
 
-#include "continuation/BranchFile.hpp"
+#include "continuation/output/BranchFile.hpp"
 #include "core/H5File.hpp"
 #include "core/PendingFile.hpp"
 #include "runs/Provenance.hpp"

@@ -10,7 +10,7 @@
 #include <filesystem>
 #include <sstream>
 
-#include "continuation/BranchFile.hpp"
+#include "continuation/output/BranchFile.hpp"
 #include "core/H5File.hpp"
 #include "core/IoError.hpp"
 #include "core/OutputLock.hpp"

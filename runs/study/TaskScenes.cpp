@@ -6,7 +6,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "continuation/ContinuationOptions.hpp"
+#include "continuation/engine/ContinuationOptions.hpp"
 #include "runs/OutputFile.hpp"
 #include "runs/SolveCommand.hpp"
 #include "runs/TraceCommand.hpp"

@@ -11,8 +11,8 @@
 #include <iostream>
 #include <string>
 
-#include "continuation/BranchFile.hpp"
-#include "continuation/BranchPoint.hpp"
+#include "continuation/engine/BranchPoint.hpp"
+#include "continuation/output/BranchFile.hpp"
 #include "core/H5File.hpp"
 #include "support/TestSupport.hpp"
 

@@ -10,8 +10,8 @@
 #include <filesystem>
 #include <fstream>
 
-#include "continuation/BranchFile.hpp"
-#include "continuation/TimeSeriesFile.hpp"
+#include "continuation/output/BranchFile.hpp"
+#include "continuation/output/TimeSeriesFile.hpp"
 #include "core/H5File.hpp"
 #include "support/TestSupport.hpp"
 

@@ -15,7 +15,7 @@
 #include <sstream>
 #include <string>
 
-#include "continuation/BranchFile.hpp"
+#include "continuation/output/BranchFile.hpp"
 #include "support/TestSupport.hpp"
 
 using namespace keller;

@@ -12,7 +12,7 @@
 #include <regex>
 #include <sstream>
 
-#include "continuation/BranchFile.hpp"
+#include "continuation/output/BranchFile.hpp"
 #include "core/H5File.hpp"
 #include "support/TestSupport.hpp"
 

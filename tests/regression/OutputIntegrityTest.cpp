@@ -15,8 +15,8 @@
 #include <sstream>
 #include <thread>
 
-#include "continuation/BranchFile.hpp"
-#include "continuation/TimeSeriesFile.hpp"
+#include "continuation/output/BranchFile.hpp"
+#include "continuation/output/TimeSeriesFile.hpp"
 #include "support/TestSupport.hpp"
 
 using namespace keller;

@@ -13,7 +13,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "continuation/BranchFile.hpp"
+#include "continuation/output/BranchFile.hpp"
 #include "core/H5File.hpp"
 #include "runs/OutputFile.hpp"
 #include "support/TestSupport.hpp"

@@ -14,7 +14,7 @@
 #include <cstdio>
 #include <string>
 
-#include "continuation/BranchFile.hpp"
+#include "continuation/output/BranchFile.hpp"
 #include "support/ShearClosedForms.hpp"
 #include "support/TestSupport.hpp"
 

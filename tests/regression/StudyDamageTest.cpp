@@ -18,7 +18,7 @@
 #include <string>
 #include <thread>
 
-#include "continuation/BranchFile.hpp"
+#include "continuation/output/BranchFile.hpp"
 #include "support/StudySupport.hpp"
 #include "support/TestSupport.hpp"
 

@@ -13,7 +13,7 @@
 #include <regex>
 #include <set>
 
-#include "continuation/BranchFile.hpp"
+#include "continuation/output/BranchFile.hpp"
 #include "core/H5File.hpp"
 #include "runs/OutputFile.hpp"
 #include "runs/study/StudyRunner.hpp"

@@ -13,7 +13,7 @@
 #include <sstream>
 #include <thread>
 
-#include "continuation/BranchFile.hpp"
+#include "continuation/output/BranchFile.hpp"
 #include "core/H5File.hpp"
 #include "support/TestSupport.hpp"
 

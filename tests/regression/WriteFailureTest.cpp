@@ -10,7 +10,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "continuation/BranchFile.hpp"
+#include "continuation/output/BranchFile.hpp"
 #include "support/TestSupport.hpp"
 
 using namespace keller;

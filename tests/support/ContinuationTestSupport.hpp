@@ -8,9 +8,9 @@
 #include <cmath>
 #include <iostream>
 #include <random>
-#include "continuation/BorderedSystem.hpp"
 #include "continuation/Continuation.hpp"
-#include "continuation/Hermite.hpp"
+#include "continuation/engine/BorderedSystem.hpp"
+#include "continuation/engine/Hermite.hpp"
 #include "core/ConvergenceTest.hpp"
 #include "problems/analytic/Bratu1DProblem.hpp"
 #include "problems/analytic/Pitchfork1DProblem.hpp"

@@ -13,7 +13,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "continuation/TableRows.hpp"
+#include "continuation/output/TableRows.hpp"
 #include "core/H5File.hpp"
 #include "core/HeldFile.hpp"
 #include "core/IoError.hpp"

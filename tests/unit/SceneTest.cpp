@@ -6,7 +6,7 @@
 #include <fstream>
 #include <limits>
 
-#include "continuation/ContinuationOptions.hpp"
+#include "continuation/engine/ContinuationOptions.hpp"
 #include "core/Scene.hpp"
 #include "problems/cylinder/CylinderProblem.hpp"
 #include "runs/SceneLoader.hpp"

@@ -1,5 +1,5 @@
 // Spectra verified by dynamics: a small perturbation of a steady state along the critical
-// eigenvector of J phi = sigma B phi, integrated in time (continuation/TimeIntegrator), grows or
+// eigenvector of J phi = sigma B phi, integrated in time (continuation/time/TimeIntegrator), grows or
 // decays at the rate -Re sigma and turns at Im sigma. The Brusselator's uniform state has its Hopf
 // point in closed form (b = 1 + a^2): checked on both sides of it. The collapsible channel in its
 // physical time-dependent form (moving wall) on a coarse mesh: Newtonian with inertia, Oldroyd-B.
@@ -9,7 +9,7 @@
 #include <complex>
 #include <iostream>
 
-#include "continuation/TimeIntegrator.hpp"
+#include "continuation/time/TimeIntegrator.hpp"
 #include "core/Newton.hpp"
 #include "problems/analytic/Brusselator1DProblem.hpp"
 #include "problems/channel/CollapsibleChannelProblem.hpp"

@@ -1,4 +1,4 @@
-// Event curves (continuation/EventCurveProblem): the zero of a monitor that is a minimum over
+// Event curves (continuation/curves/EventCurveProblem): the zero of a monitor that is a minimum over
 // places, continued in a second parameter, following the place of the minimum and switching
 // where it moves, on a problem whose curve is known in closed form.
 #include <gtest/gtest.h>
@@ -7,7 +7,7 @@
 #include <iostream>
 
 #include "continuation/Continuation.hpp"
-#include "continuation/EventCurveProblem.hpp"
+#include "continuation/curves/EventCurveProblem.hpp"
 #include "support/TestProblems.hpp"
 
 using namespace keller;

@@ -8,8 +8,8 @@
 #include <filesystem>
 #include <iostream>
 
-#include "continuation/BranchFile.hpp"
-#include "continuation/StartSolver.hpp"
+#include "continuation/output/BranchFile.hpp"
+#include "continuation/start/StartSolver.hpp"
 #include "core/H5File.hpp"
 #include "runs/SceneLoader.hpp"
 #include "runs/TraceCommand.hpp"

@@ -1,4 +1,4 @@
-// Fold curves by the minimally augmented system (continuation/FoldCurveProblem): the cusp
+// Fold curves by the minimally augmented system (continuation/curves/FoldCurveProblem): the cusp
 // u^3 - mu u - lambda = 0, whose fold curve is known in closed form, and the 1D Bratu problem
 // with a linear term, whose curve is checked against folds located on ordinary lambda branches.
 #include <gtest/gtest.h>
@@ -8,7 +8,7 @@
 #include <iostream>
 
 #include "continuation/Continuation.hpp"
-#include "continuation/FoldCurveProblem.hpp"
+#include "continuation/curves/FoldCurveProblem.hpp"
 #include "problems/analytic/ShiftedBratu1DProblem.hpp"
 #include "support/TestProblems.hpp"
 

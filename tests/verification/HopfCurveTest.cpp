@@ -1,4 +1,4 @@
-// Hopf curves by the minimally augmented system (continuation/HopfCurveProblem): the Brusselator,
+// Hopf curves by the minimally augmented system (continuation/curves/HopfCurveProblem): the Brusselator,
 // whose Hopf curve b = 1 + a^2 with omega = a is known in closed form on every grid, the augmented
 // Jacobian against differences of its residual, and the codimension-two points where a Hopf curve
 // meets a fold curve (Bogdanov-Takens, fold-Hopf) on normal forms whose points are known exactly.
@@ -9,7 +9,7 @@
 #include <iostream>
 
 #include "continuation/Continuation.hpp"
-#include "continuation/HopfCurveProblem.hpp"
+#include "continuation/curves/HopfCurveProblem.hpp"
 #include "problems/analytic/Brusselator1DProblem.hpp"
 #include "support/TestProblems.hpp"
 #include "support/TestSupport.hpp"

@@ -1,0 +1,410 @@
+#include "continuation/output/BranchFile.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <stdexcept>
+
+#include "continuation/output/TableRows.hpp"
+#include "core/IoError.hpp"
+#include "core/PendingFile.hpp"
+#include "core/RunFiles.hpp"
+#include "core/SignalPoint.hpp"
+#include "core/SolutionWriter.hpp"
+
+namespace keller {
+
+namespace {
+
+constexpr const char* kKinds = "0 point, 1 start, 2 stop, 3 event, 4 fold, 5 bp, 6 end, 7 hopf";
+
+}  // namespace
+
+std::vector<std::string> branch_table_columns(const std::string& parameter, const std::vector<std::string>& observables,
+                                              const std::vector<std::string>& monitors,
+                                              const std::vector<std::string>& analysis) {
+  std::vector<std::string> c = {"row", "kind", "s", parameter};
+  c.insert(c.end(), observables.begin(), observables.end());
+  for (const auto& m : monitors) c.push_back("monitor:" + m);
+  c.insert(c.end(), analysis.begin(), analysis.end());
+  for (const char* name : {"iterations", "step", "seconds", "det_sign", "tangent_parameter", "saved_slot"})
+    c.push_back(name);
+  return c;
+}
+
+BranchFile::BranchFile(const std::string& path, const Problem& problem, const ContinuationOptions& options,
+                       const std::vector<std::string>& monitor_names, double state_scale,
+                       const std::function<void(H5File&)>& header, const std::vector<std::string>& analysis_columns,
+                       const BranchSeed* seed)
+    : path_(path), n_(problem.size()), n_analysis_(analysis_columns.size()) {
+  // built under a temporary name and renamed once in SWMR mode: the final name never shows a
+  // file that is not consistent on disk
+  create_run_file(path, "/branch", file_, written_, [&] {
+    if (header) header(*file_);
+    file_->create_group("/branch");
+    columns_ = branch_table_columns(options.parameter, problem.observable_names(), monitor_names, analysis_columns);
+    file_->set_attribute("/branch", "parameter", options.parameter);
+    file_->set_attribute("/branch", "columns", join_names(columns_));
+    file_->set_attribute("/branch", "observables", join_names(problem.observable_names()));
+    file_->set_attribute("/branch", "monitors", join_names(monitor_names));
+    file_->set_attribute("/branch", "kinds", std::string(kKinds));
+    file_->set_attribute("/branch", "state_scale", state_scale);
+    file_->set_attribute("/branch", "theta", options.theta);
+    file_->set_attribute(
+        "/branch", "method",
+        std::string(options.method == ContinuationOptions::Method::Arclength ? "arclength" : "natural"));
+    file_->create_appendable("/branch/table", static_cast<long>(columns_.size()));
+    file_->create_appendable("/branch/saved", 6, 16);
+    file_->set_attribute("/branch/saved", "columns", std::string("row,kind,parameter,tangent_parameter,step,s"));
+    file_->create_appendable("/branch/solutions", n_, 1);
+    file_->create_appendable("/branch/tangents", n_, 1);
+    file_->create_appendable("/branch/events", 4, 16);
+    file_->set_attribute("/branch/events", "columns", std::string("row,kind,parameter,monitor"));
+    if (n_analysis_) {
+      file_->create_appendable("/branch/eigenvectors", n_, 1);
+      file_->create_appendable("/branch/eigenvector_rows", 4, 16);
+      file_->set_attribute("/branch/eigenvector_rows", "columns", std::string("row,kind,sigma_re,sigma_im"));
+    }
+    if (seed) write_seed(*seed);
+  });
+}
+
+void BranchFile::write_seed(const BranchSeed& seed) {
+  if (seed.columns != columns_)
+    throw std::runtime_error("the unfinished branch has other columns than this run's (" + join_names(seed.columns) +
+                             ")");
+  if (seed.solutions.cols() != n_) throw std::runtime_error("the unfinished branch has another number of unknowns");
+  append_table_rows(*file_, "/branch/table", seed.table);
+  append_table_rows(*file_, "/branch/saved", seed.saved);
+  append_table_rows(*file_, "/branch/solutions", seed.solutions);
+  append_table_rows(*file_, "/branch/tangents", seed.tangents);
+  append_table_rows(*file_, "/branch/events", seed.events);
+  if (n_analysis_) {
+    append_table_rows(*file_, "/branch/eigenvectors", seed.eigenvectors);
+    append_table_rows(*file_, "/branch/eigenvector_rows", seed.eigenvector_rows);
+    if (seed.eigenvector_rows.rows() > 0)
+      last_mode_row_ = static_cast<int>(seed.eigenvector_rows(seed.eigenvector_rows.rows() - 1, 0));
+  }
+  saved_ = static_cast<int>(seed.saved.rows());
+  last_saved_row_ = seed.row;
+}
+
+BranchFile::~BranchFile() {
+  try {
+    close();
+  } catch (const std::exception&) {  // a destructor must not throw; close() reports it when called directly
+  }
+}
+
+void BranchFile::close() {
+  if (file_) file_->close();
+  file_.reset();
+}
+
+void BranchFile::save_solution(const BranchPoint& p) {
+  file_->append_rows("/branch/solutions", p.u.data(), 1);
+  file_->append_rows("/branch/tangents", p.tu.data(), 1);
+  const double row[6] = {static_cast<double>(p.index), static_cast<double>(p.kind), p.lambda, p.tlambda, p.step, p.s};
+  file_->append_rows("/branch/saved", row, 1);
+  last_saved_row_ = p.index;
+  ++saved_;
+}
+
+void BranchFile::on_point(const BranchPoint& p) {
+  if (!file_) return;
+  const int slot = p.save ? saved_ : -1;
+  if (p.save) save_solution(p);
+  if (p.save && n_analysis_) save_mode(p);  // the critical eigenvector with every stored solution
+  std::vector<double> row = {static_cast<double>(p.index), static_cast<double>(p.kind), p.s, p.lambda};
+  row.insert(row.end(), p.observables.begin(), p.observables.end());
+  row.insert(row.end(), p.monitors.begin(), p.monitors.end());
+  for (size_t i = 0; i < n_analysis_; ++i) row.push_back(i < p.analysis.size() ? p.analysis[i] : NAN);
+  row.insert(row.end(), {static_cast<double>(p.iterations), p.step, p.seconds, static_cast<double>(p.det_sign),
+                         p.tlambda, static_cast<double>(slot)});
+  if (row.size() != columns_.size())
+    throw std::logic_error(fmt::format("branch row has {} values for {} columns", row.size(), columns_.size()));
+  file_->append_rows("/branch/table", row.data(), 1);
+  if (p.kind != PointKind::Regular && p.kind != PointKind::Start) {
+    double monitor = -1;  // an event's monitor, and an end's when a monitor's threshold ended the branch
+    if (p.kind == PointKind::Event || p.kind == PointKind::End) {
+      const auto names = split_names(file_->read_string_attribute("/branch", "monitors"));
+      auto it = std::find(names.begin(), names.end(), p.label);
+      if (it != names.end()) monitor = static_cast<double>(it - names.begin());
+    }
+    const double ev[4] = {static_cast<double>(p.index), static_cast<double>(p.kind), p.lambda, monitor};
+    file_->append_rows("/branch/events", ev, 1);
+    const bool critical = p.kind == PointKind::Fold || p.kind == PointKind::BranchPoint || p.kind == PointKind::Hopf;
+    if (n_analysis_ && critical) save_mode(p);
+  }
+  file_->flush();
+  signal_point("point");
+}
+
+void BranchFile::save_mode(const BranchPoint& p) {
+  if (p.critical_re.size() != n_ || p.index == last_mode_row_) return;  // none, or stored already
+  last_mode_row_ = p.index;
+  const Vector im = p.critical_im.size() == n_ ? p.critical_im : Vector::Zero(n_);
+  file_->append_rows("/branch/eigenvectors", p.critical_re.data(), 1);
+  file_->append_rows("/branch/eigenvectors", im.data(), 1);
+  const double er[4] = {static_cast<double>(p.index), static_cast<double>(p.kind), p.locator, p.critical_imag};
+  file_->append_rows("/branch/eigenvector_rows", er, 1);
+}
+
+void BranchFile::on_finish(const std::string& reason, const BranchPoint& last) {
+  if (!file_) return;
+  // the last point is always stored (for restarts); /branch/saved lists it
+  if (last.index >= 0 && last.index != last_saved_row_ && last.u.size() == n_) save_solution(last);
+  file_->flush();
+  reason_ = reason;
+  signal_point("ended");
+}
+
+void BranchFile::finish(std::optional<int> publication_code) {
+  if (!file_) return;
+  if (publication_code) {
+    const double code = *publication_code;
+    file_->write_rows("/branch/exit_code", 0, &code, 1);
+  }
+  file_->write_fixed_string("/branch/status", reason_);
+  file_->flush();
+  close();
+}
+
+int BranchTable::column(const std::string& name) const {
+  auto it = std::find(columns.begin(), columns.end(), name);
+  if (it == columns.end()) throw std::invalid_argument("branch table has no column '" + name + "'");
+  return static_cast<int>(it - columns.begin());
+}
+
+BranchTable read_branch_table(const std::string& path) {
+  H5File f(path, H5File::Mode::Read);
+  if (!f.exists("/branch/table")) throw std::runtime_error("'" + path + "' is not a branch file (no /branch/table)");
+  BranchTable t;
+  t.parameter = f.read_string_attribute("/branch", "parameter");
+  t.columns = split_names(f.read_string_attribute("/branch", "columns"));
+  t.observables = split_names(f.read_string_attribute("/branch", "observables"));
+  t.monitors = split_names(f.read_string_attribute("/branch", "monitors"));
+  t.state_scale = f.read_double_attribute("/branch", "state_scale");
+  t.theta = f.read_double_attribute("/branch", "theta");
+  t.status = f.read_string("/branch/status");
+  long r = 0, c = 0;
+  const auto data = f.read_matrix("/branch/table", &r, &c);
+  t.rows.resize(r, c);
+  for (long i = 0; i < r; ++i)
+    for (long j = 0; j < c; ++j) t.rows(i, j) = data[static_cast<size_t>(i * c + j)];
+  const auto saved = f.read_matrix("/branch/saved", &r, &c);
+  // a killed run may have appended a solution whose table row never got written: keep only
+  // solutions whose row exists
+  for (long i = 0; i < r; ++i) t.saved_rows.push_back(static_cast<int>(saved[static_cast<size_t>(i * c)]));
+  return t;
+}
+
+BranchPoint read_branch_point(const std::string& path, int row) {
+  H5File f(path, H5File::Mode::Read);
+  long r = 0, c = 0;
+  const auto saved = f.read_matrix("/branch/saved", &r, &c);
+  long solutions = 0, n = 0;
+  f.read_matrix("/branch/solutions", &solutions, &n);
+  long tangents = 0;
+  f.read_matrix("/branch/tangents", &tangents, nullptr);
+  const long usable = std::min({r, solutions, tangents});
+  if (usable == 0) throw std::invalid_argument("'" + path + "' holds no stored solution");
+  long slot = -1;
+  if (row < 0) {
+    slot = usable - 1;
+  } else {
+    for (long i = 0; i < usable; ++i)
+      if (static_cast<int>(saved[static_cast<size_t>(i * c)]) == row) slot = i;
+  }
+  if (slot < 0) {
+    std::string rows;
+    for (long i = 0; i < usable; ++i)
+      rows += (rows.empty() ? "" : ", ") + std::to_string(static_cast<int>(saved[i * c]));
+    throw std::invalid_argument(fmt::format("row {} of '{}' has no stored solution; stored rows: {}", row, path, rows));
+  }
+  const auto U = f.read_matrix("/branch/solutions", &solutions, &n);
+  const auto T = f.read_matrix("/branch/tangents", nullptr, nullptr);
+  BranchPoint p;
+  p.index = static_cast<int>(saved[static_cast<size_t>(slot * c)]);
+  p.kind = static_cast<PointKind>(static_cast<int>(saved[static_cast<size_t>(slot * c + 1)]));
+  p.lambda = saved[static_cast<size_t>(slot * c + 2)];
+  p.tlambda = saved[static_cast<size_t>(slot * c + 3)];
+  p.step = saved[static_cast<size_t>(slot * c + 4)];
+  p.s = saved[static_cast<size_t>(slot * c + 5)];
+  p.u = Eigen::Map<const Vector>(&U[static_cast<size_t>(slot * n)], n);
+  p.tu = Eigen::Map<const Vector>(&T[static_cast<size_t>(slot * n)], n);
+  return p;
+}
+
+bool read_critical_mode(const std::string& path, int row, Vector& re, Vector& im, double& imag) {
+  H5File f(path, H5File::Mode::Read);
+  if (!f.exists("/branch/eigenvector_rows") || !f.exists("/branch/eigenvectors")) return false;
+  long r = 0, c = 0, m = 0, n = 0;
+  const auto rows = f.read_matrix("/branch/eigenvector_rows", &r, &c);
+  const auto modes = f.read_matrix("/branch/eigenvectors", &m, &n);
+  for (long k = 0; k < r && 2 * k + 1 < m; ++k) {
+    if (static_cast<int>(rows[static_cast<size_t>(k * c)]) != row) continue;
+    re = Eigen::Map<const Vector>(&modes[static_cast<size_t>(2 * k * n)], n);
+    im = Eigen::Map<const Vector>(&modes[static_cast<size_t>((2 * k + 1) * n)], n);
+    imag = rows[static_cast<size_t>(k * c + 3)];
+    return true;
+  }
+  return false;
+}
+
+namespace {
+// The rows of m whose first column (a table row) is at most `row`; m is ordered by that column.
+Eigen::MatrixXd rows_up_to(const Eigen::MatrixXd& m, int row) {
+  long n = 0;
+  while (n < m.rows() && m(n, 0) <= row) ++n;
+  return m.topRows(n);
+}
+}  // namespace
+
+BranchSeed read_branch_seed(const std::string& path) {
+  H5File f(path, H5File::Mode::Read);
+  if (!f.exists("/branch/table")) throw std::runtime_error("'" + path + "' is not a branch file");
+  BranchSeed seed;
+  seed.columns = split_names(f.read_string_attribute("/branch", "columns"));
+  const Eigen::MatrixXd table = read_table_rows(f, "/branch/table"), saved = read_table_rows(f, "/branch/saved");
+  const Eigen::MatrixXd solutions = read_table_rows(f, "/branch/solutions"),
+                        tangents = read_table_rows(f, "/branch/tangents");
+  // a killed writer may have stored a solution whose table row never came, or half of a pair
+  const long usable = std::min({saved.rows(), solutions.rows(), tangents.rows()});
+  long slots = 0;
+  while (slots < usable && saved(slots, 0) < static_cast<double>(table.rows())) ++slots;
+  if (slots == 0) throw std::runtime_error("'" + path + "' holds no stored solution to continue from");
+  seed.row = static_cast<int>(saved(slots - 1, 0));
+  seed.table = table.topRows(seed.row + 1);
+  seed.saved = saved.topRows(slots);
+  seed.solutions = solutions.topRows(slots);
+  seed.tangents = tangents.topRows(slots);
+  seed.events = rows_up_to(read_table_rows(f, "/branch/events"), seed.row);
+  const Eigen::MatrixXd modes = read_table_rows(f, "/branch/eigenvector_rows"),
+                        vectors = read_table_rows(f, "/branch/eigenvectors");
+  long m = rows_up_to(modes, seed.row).rows();
+  m = std::min(m, vectors.rows() / 2);
+  seed.eigenvector_rows = modes.topRows(m);
+  seed.eigenvectors = vectors.topRows(2 * m);
+  return seed;
+}
+
+std::optional<StoredMode> read_branch_mode(const std::string& path, int row) {
+  H5File f(path, H5File::Mode::Read);
+  const Eigen::MatrixXd rows = read_table_rows(f, "/branch/eigenvector_rows"),
+                        vectors = read_table_rows(f, "/branch/eigenvectors");
+  for (long k = 0; k < rows.rows() && 2 * k + 1 < vectors.rows(); ++k)
+    if (static_cast<int>(rows(k, 0)) == row) {
+      StoredMode m;
+      m.re = vectors.row(2 * k).transpose();
+      m.im = vectors.row(2 * k + 1).transpose();
+      m.sigma_re = rows(k, 2);
+      m.sigma_im = rows(k, 3);
+      return m;
+    }
+  return std::nullopt;
+}
+
+bool write_branch_fields(const std::string& branch_path, const std::string& fields_path, const std::string& xdmf_path,
+                         const std::string& h5_name,
+                         const std::function<SolutionFields(const Vector& u, double lambda)>& fields,
+                         const std::function<bool()>& stop) {
+  H5File f(branch_path, H5File::Mode::Read);
+  long r = 0, c = 0, n = 0, sol = 0;
+  const auto saved = f.read_matrix("/branch/saved", &r, &c);
+  const auto U = f.read_matrix("/branch/solutions", &sol, &n);
+  const std::string parameter = f.read_string_attribute("/branch", "parameter");
+  f.close();
+  return write_state_fields(
+      fields_path, same_file(fields_path, branch_path), std::min(r, sol),
+      [&](long i) {
+        const long row = static_cast<long>(saved[static_cast<size_t>(i * c)]);
+        const double lambda = saved[static_cast<size_t>(i * c + 2)];
+        // time = table row: the parameter need not be monotone along a branch with folds
+        return StoredState{Eigen::Map<const Vector>(&U[static_cast<size_t>(i * n)], n),
+                           fmt::format("/branch/fields/{}", i),
+                           fmt::format("row {} ({} = {:.6g})", row, parameter, lambda),
+                           static_cast<double>(row),
+                           "row",
+                           row,
+                           parameter,
+                           lambda};
+      },
+      [&](const StoredState& s) { return fields(s.u, s.value); }, xdmf_path, h5_name, stop);
+}
+
+}  // namespace keller
+
+namespace keller {
+
+namespace {
+// (b - a) / eps field by field (a and b have the same layout): the linear part of the fields along
+// a direction, on a's mesh
+SolutionFields field_difference(const SolutionFields& a, const SolutionFields& b, double eps) {
+  SolutionFields d = a;
+  d.arrays.clear();
+  for (size_t i = 0; i < d.nodal.size() && i < b.nodal.size(); ++i)
+    d.nodal[i].values = (b.nodal[i].values - a.nodal[i].values) / eps;
+  for (size_t i = 0; i < d.element.size() && i < b.element.size(); ++i) {
+    d.element[i].coefficients = (b.element[i].coefficients - a.element[i].coefficients) / eps;
+    d.element[i].centre_values = (b.element[i].centre_values - a.element[i].centre_values) / eps;
+  }
+  return d;
+}
+}  // namespace
+
+std::vector<std::string> write_branch_modes(const std::string& branch_path, const std::string& h5_name,
+                                            const std::string& xdmf_prefix, const std::string& suffix,
+                                            const std::function<SolutionFields(const Vector& u, double lambda)>& fields,
+                                            const std::function<bool()>& stop) {
+  std::vector<std::string> written;
+  H5File f(branch_path, H5File::Mode::Read);
+  if (!f.exists("/branch/eigenvectors")) return written;
+  long r = 0, c = 0, n = 0, sol = 0, er = 0, ec = 0, vr = 0, vn = 0;
+  const auto saved = f.read_matrix("/branch/saved", &r, &c);
+  const auto U = f.read_matrix("/branch/solutions", &sol, &n);
+  const auto rows = f.read_matrix("/branch/eigenvector_rows", &er, &ec);
+  const auto V = f.read_matrix("/branch/eigenvectors", &vr, &vn);
+  f.close();
+  H5File out(branch_path, H5File::Mode::ReadWrite);
+  for (long k = 0; k < er && 2 * k + 1 < vr; ++k) {
+    if (stop && stop()) return {};
+    const int row = static_cast<int>(rows[static_cast<size_t>(k * ec)]);
+    long slot = -1;
+    for (long i = 0; i < std::min(r, sol); ++i)
+      if (static_cast<int>(saved[static_cast<size_t>(i * c)]) == row) slot = i;
+    if (slot < 0) continue;
+    const double lambda = saved[static_cast<size_t>(slot * c + 2)];
+    const Vector u = Eigen::Map<const Vector>(&U[static_cast<size_t>(slot * n)], n);
+    const std::string group = fmt::format("/branch/modes/{}", k);
+    if (out.exists(group)) continue;
+    std::vector<XdmfSolution> steps;
+    SolutionFields base;
+    for (int part = 0; part < 2; ++part) {
+      const Vector phi = Eigen::Map<const Vector>(&V[static_cast<size_t>((2 * k + part) * vn)], vn);
+      const double pmax = phi.lpNorm<Eigen::Infinity>();
+      if (!(pmax > 0)) continue;
+      const double eps = 1e-7 * std::max(1.0, u.lpNorm<Eigen::Infinity>()) / pmax;
+      const SolutionFields moved = fields(u + eps * phi, lambda);
+      base = fields(u, lambda);  // last: problems may keep one deformed mesh for both
+      const std::string g = group + (part == 0 ? "/re" : "/im");
+      write_fields(out, g, field_difference(base, moved, eps));
+      steps.push_back({g.substr(1), fmt::format("row {} mode, {} part", row, part == 0 ? "real" : "imaginary"),
+                       static_cast<double>(part)});
+    }
+    if (steps.empty() || !base.mesh) continue;
+    write_mesh(out, group + "/mesh", *base.mesh);
+    out.set_attribute(group, "row", static_cast<long>(row));
+    out.set_attribute(group, "sigma_re", rows[static_cast<size_t>(k * ec + 2)]);
+    out.set_attribute(group, "sigma_im", rows[static_cast<size_t>(k * ec + 3)]);
+    out.flush();
+    written.push_back(fmt::format("{}_mode{}.xdmf{}", xdmf_prefix, k, suffix));
+    write_xdmf(written.back(), h5_name, (group + "/mesh").substr(1), *base.mesh, steps, base);
+  }
+  out.close();
+  return written;
+}
+
+}  // namespace keller

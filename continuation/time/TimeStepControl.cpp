@@ -1,0 +1,49 @@
+#include "continuation/time/TimeStepControl.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace keller {
+
+std::array<double, 3> bdf_coefficients(int order, double h, double h_prev) {
+  if (order == 1) return {1.0, -1.0, 0.0};
+  if (order != 2) throw std::invalid_argument("bdf_coefficients: order 1 or 2");
+  const double w = h / h_prev;
+  return {(1.0 + 2.0 * w) / (1.0 + w), -(1.0 + w), w * w / (1.0 + w)};
+}
+
+std::array<double, 3> extrapolation_weights(int points, double h, double h1, double h2) {
+  if (points <= 1) return {1.0, 0.0, 0.0};
+  if (points == 2) return {1.0 + h / h1, -h / h1, 0.0};
+  // Lagrange weights at t = t_n + h of the nodes t_n = 0, t_(n-1) = -h1, t_(n-2) = -(h1 + h2)
+  const double a = 0.0, b = -h1, c = -(h1 + h2), t = h;
+  return {(t - b) * (t - c) / ((a - b) * (a - c)), (t - a) * (t - c) / ((b - a) * (b - c)),
+          (t - a) * (t - b) / ((c - a) * (c - b))};
+}
+
+double bdf2_error_factor(double h, double h1, double h2) {
+  const double w = h / h1;
+  const double r = h * (1.0 + w) / (1.0 + 2.0 * w);
+  return r / (h + h1 + h2 + r);
+}
+
+StepDecision decide_step(double error, double h, int order, double min_step, double max_step) {
+  StepDecision d;
+  d.accept = error <= 1.0;
+  double factor = kMaxStepGrowth;
+  if (std::isnan(error))
+    factor = kMinStepFactor;  // no estimate: cut as far as allowed
+  else if (error > 0.0)
+    factor = kStepSafety * std::pow(error, -1.0 / (order + 1));
+  factor = std::clamp(factor, kMinStepFactor, kMaxStepGrowth);
+  if (!d.accept) factor = std::min(factor, 1.0);
+  d.next = std::clamp(h * factor, min_step, max_step);
+  return d;
+}
+
+bool keeps_factorisation(double now, double factorised) {
+  return factorised > 0.0 && std::abs(now / factorised - 1.0) <= kMaxMatrixCoefficientChange;
+}
+
+}  // namespace keller
