@@ -89,7 +89,7 @@ Bratu2DProblem::Bratu2DProblem(int n, double lambda) : n_(n) {
   dirichlet_ = std::make_shared<DirichletTerm>("boundary", params_);
   for (int node : mesh_.boundary_nodes("boundary")) dirichlet_->add(dofs_->node_dof(0, node, 0), 0.0);
   auto kernel = std::make_shared<KernelTerm<BratuKernel>>(BratuKernel(*dofs_, &geometry_), params_);
-  assembler_ = std::make_unique<Assembler>(dofs_->size(), std::vector<std::shared_ptr<const Term>>{kernel, dirichlet_});
+  assemble(dofs_->size(), {kernel, dirichlet_});
 }
 
 double Bratu2DProblem::evaluate(const Vector& u, double x, double y) const {

@@ -6,35 +6,19 @@
 
 #include <memory>
 
-#include "core/Assembler.hpp"
+#include "core/AssembledProblem.hpp"
 #include "core/DirichletTerm.hpp"
 #include "core/DofMap.hpp"
-#include "core/Problem.hpp"
 #include "core/Scene.hpp"
 
 namespace keller {
 
-class Bratu2DProblem final : public Problem {
+class Bratu2DProblem final : public AssembledProblem {
  public:
   static constexpr int max_elements_per_side = 4000;
   Bratu2DProblem(int elements_per_side, double lambda);
-  Bratu2DProblem(const Bratu2DProblem&) = delete;
-  Bratu2DProblem& operator=(const Bratu2DProblem&) = delete;
 
   std::string name() const override { return "bratu2d"; }
-  int size() const override { return dofs_->size(); }
-  ParameterSet& parameters() override { return params_; }
-  const ParameterSet& parameters() const override { return params_; }
-  const SparseMatrix& jacobian_pattern() const override { return assembler_->pattern(); }
-  Status residual(const Vector& u, Vector& F) override { return assembler_->residual(u, F); }
-  Status jacobian(const Vector& u, Vector& F, SparseMatrix& J) override { return assembler_->jacobian(u, F, J); }
-  Status parameter_derivative(int p, const Vector& u, Vector& dF) override {
-    return assembler_->parameter_derivative(p, u, dF);
-  }
-  Status mass_matrix(const Vector& u, SparseMatrix& B) override { return assembler_->mass_matrix(u, B); }
-  Status time_residual(const Vector& u, const Vector& udot, Vector& R) override {
-    return assembler_->time_residual(u, udot, R);
-  }
   Vector initial_guess() override { return Vector::Zero(size()); }
   std::vector<std::string> observable_names() const override { return {"u_max", "u_centre"}; }
   Status observables(const Vector& u, std::vector<double>& values) override;
@@ -54,10 +38,8 @@ class Bratu2DProblem final : public Problem {
   int n_;
   Mesh mesh_;
   std::unique_ptr<DofMap> dofs_;
-  ParameterSet params_;
   std::vector<std::array<QpGeometry<double>, ref::kQp>> geometry_;
   std::shared_ptr<DirichletTerm> dirichlet_;
-  std::unique_ptr<Assembler> assembler_;
 };
 
 }  // namespace keller

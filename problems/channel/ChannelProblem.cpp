@@ -46,17 +46,9 @@ void ChannelProblem::setup() {
   ComposedSystem system = Composition().add(*flow_).build(mesh_, params_);
   dofs_ = std::move(system.dofs);
   dirichlet_ = system.dirichlet;
-  assembler_ = std::make_unique<Assembler>(dofs_->size(), system.terms());
+  assemble(dofs_->size(), system.terms());
   locator_ = std::make_unique<PointLocator>(mesh_, mesh_.group_index("fluid"));
   declare_quantities();
-}
-
-Status ChannelProblem::residual(const Vector& u, Vector& F) { return assembler_->residual(u, F); }
-
-Status ChannelProblem::jacobian(const Vector& u, Vector& F, SparseMatrix& J) { return assembler_->jacobian(u, F, J); }
-
-Status ChannelProblem::parameter_derivative(int p, const Vector& u, Vector& dF) {
-  return assembler_->parameter_derivative(p, u, dF);
 }
 
 double ChannelProblem::residual_scale() const { return params_.value(iGamma_); }

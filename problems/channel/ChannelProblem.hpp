@@ -9,11 +9,10 @@
 #include <string>
 #include <vector>
 
-#include "core/Assembler.hpp"
+#include "core/AssembledProblem.hpp"
 #include "core/DirichletTerm.hpp"
 #include "core/DofMap.hpp"
 #include "core/PointLocator.hpp"
-#include "core/Problem.hpp"
 #include "core/Quantities.hpp"
 #include "core/Scene.hpp"
 #include "problems/channel/ChannelMesh.hpp"
@@ -31,27 +30,14 @@ struct ChannelOptions {
   static ChannelOptions from_scene(const Scene& scene);
 };
 
-class ChannelProblem final : public Problem {
+class ChannelProblem final : public AssembledProblem {
  public:
   explicit ChannelProblem(const ChannelOptions& options);
   // With a given mesh (blocks and boundaries as build_channel_mesh names them), e.g. a
   // distorted one in tests.
   ChannelProblem(const ChannelOptions& options, Mesh mesh);
-  ChannelProblem(const ChannelProblem&) = delete;
-  ChannelProblem& operator=(const ChannelProblem&) = delete;
 
   std::string name() const override { return "channel"; }
-  int size() const override { return dofs_->size(); }
-  ParameterSet& parameters() override { return params_; }
-  const ParameterSet& parameters() const override { return params_; }
-  const SparseMatrix& jacobian_pattern() const override { return assembler_->pattern(); }
-  Status residual(const Vector& u, Vector& F) override;
-  Status jacobian(const Vector& u, Vector& F, SparseMatrix& J) override;
-  Status parameter_derivative(int p, const Vector& u, Vector& dF) override;
-  Status mass_matrix(const Vector& u, SparseMatrix& B) override { return assembler_->mass_matrix(u, B); }
-  Status time_residual(const Vector& u, const Vector& udot, Vector& R) override {
-    return assembler_->time_residual(u, udot, R);
-  }
   Vector initial_guess() override;
   double residual_scale() const override;
   std::vector<std::string> observable_names() const override { return observables_.names(); }
@@ -64,7 +50,6 @@ class ChannelProblem final : public Problem {
 
   const Mesh& mesh() const { return mesh_; }
   const DofMap& dofs() const { return *dofs_; }
-  const Assembler& assembler() const { return *assembler_; }
   const ChannelOptions& options() const { return options_; }
   const FlowEquations& flow() const { return *flow_; }
   // One observable by name, computed alone; throws std::invalid_argument for an unknown name.
@@ -84,11 +69,9 @@ class ChannelProblem final : public Problem {
   ChannelOptions options_;
   Mesh mesh_;
   std::unique_ptr<DofMap> dofs_;
-  ParameterSet params_;
   int iGamma_ = -1;
   std::unique_ptr<FlowEquations> flow_;
   std::shared_ptr<DirichletTerm> dirichlet_;
-  std::unique_ptr<Assembler> assembler_;
   std::unique_ptr<PointLocator> locator_;
   Quantities observables_, monitors_;
 };

@@ -110,7 +110,7 @@ CollapsibleChannelProblem::CollapsibleChannelProblem(const CollapsibleOptions& o
       const int to = dofs_->node_dof(fx, n, c);
       if (!dirichlet_->constrains(to)) redirects.emplace_back(dofs_->node_dof(fv, n, c), to);
     }
-  assembler_ = std::make_unique<Assembler>(dofs_->size(), system.terms(), redirects);
+  assemble(dofs_->size(), system.terms(), redirects);
   deformed_ = mesh_;
   declare_quantities();
 }
@@ -228,7 +228,7 @@ double CollapsibleChannelProblem::inlet_outlet_pressure_drop(const Vector& u) co
 
 std::array<double, 2> CollapsibleChannelProblem::fluid_force_on_wall(const Vector& u) const {
   Vector F;
-  if (!assembler_->weak_residual(u, F).is_ok()) return {NAN, NAN};
+  if (!assembler().weak_residual(u, F).is_ok()) return {NAN, NAN};
   const int fv = dofs_->field_index("velocity");
   const int fx = dofs_->field_index("position");
   std::array<double, 2> f = {0, 0};

@@ -21,10 +21,9 @@
 #include <string>
 #include <vector>
 
-#include "core/Assembler.hpp"
+#include "core/AssembledProblem.hpp"
 #include "core/DirichletTerm.hpp"
 #include "core/DofMap.hpp"
-#include "core/Problem.hpp"
 #include "core/Quantities.hpp"
 #include "core/Scene.hpp"
 #include "problems/channel/ChannelMesh.hpp"
@@ -57,26 +56,11 @@ struct CollapsibleOptions {
   void validate() const;
 };
 
-class CollapsibleChannelProblem final : public Problem {
+class CollapsibleChannelProblem final : public AssembledProblem {
  public:
   explicit CollapsibleChannelProblem(const CollapsibleOptions& options);
-  CollapsibleChannelProblem(const CollapsibleChannelProblem&) = delete;
-  CollapsibleChannelProblem& operator=(const CollapsibleChannelProblem&) = delete;
 
   std::string name() const override { return "collapsible-channel"; }
-  int size() const override { return dofs_->size(); }
-  ParameterSet& parameters() override { return params_; }
-  const ParameterSet& parameters() const override { return params_; }
-  const SparseMatrix& jacobian_pattern() const override { return assembler_->pattern(); }
-  Status residual(const Vector& u, Vector& F) override { return assembler_->residual(u, F); }
-  Status jacobian(const Vector& u, Vector& F, SparseMatrix& J) override { return assembler_->jacobian(u, F, J); }
-  Status parameter_derivative(int p, const Vector& u, Vector& dF) override {
-    return assembler_->parameter_derivative(p, u, dF);
-  }
-  Status mass_matrix(const Vector& u, SparseMatrix& B) override { return assembler_->mass_matrix(u, B); }
-  Status time_residual(const Vector& u, const Vector& udot, Vector& R) override {
-    return assembler_->time_residual(u, udot, R);
-  }
   Vector initial_guess() override;
   double residual_scale() const override;
   // Pe from 0 (no external load: the initial guess is then nearly the solution), then, for a
@@ -102,7 +86,6 @@ class CollapsibleChannelProblem final : public Problem {
 
   const Mesh& mesh() const { return mesh_; }
   const DofMap& dofs() const { return *dofs_; }
-  const Assembler& assembler() const { return *assembler_; }
   const SolidWall& wall() const { return *wall_; }
   const FlowEquations& flow() const { return *flow_; }
   const CollapsibleOptions& options() const { return options_; }
@@ -153,14 +136,12 @@ class CollapsibleChannelProblem final : public Problem {
 
   CollapsibleOptions options_;
   Mesh mesh_;
-  ParameterSet params_;
   int iGamma_ = -1;
   std::unique_ptr<FlowEquations> flow_;
   std::unique_ptr<SolidWall> wall_;
   std::unique_ptr<FluidMeshMotion> motion_;
   std::unique_ptr<DofMap> dofs_;
   std::shared_ptr<DirichletTerm> dirichlet_;
-  std::unique_ptr<Assembler> assembler_;
   std::vector<int> interface_nodes_;
   mutable Mesh deformed_;
   Quantities observables_, monitors_;

@@ -53,22 +53,13 @@ WallProblem::WallProblem(const WallOptions& options)
   // the uniform pressure Pin standing in for the fluid, on the bottom face
   const auto pin = std::make_shared<KernelTerm<FollowerPressureKernel>>(
       FollowerPressureKernel(mesh_, *dofs_, mesh_.boundary("interface"), iPin_), params_);
-  assembler_ = std::make_unique<Assembler>(dofs_->size(), system.terms({pin}));
+  // with inertia: rho* dw/dt in the equilibrium rows and w = dx/dt; without, no time-dependent form
+  assemble(dofs_->size(), system.terms({pin}), {}, wall_->has_inertia() ? TimeForm::Assembled : TimeForm::None);
   deformed_ = mesh_;
   observables_.add("dx_max", [this](const Vector& u) { return wall_->max_deflection(u)[0]; });
   observables_.add("dy_max", [this](const Vector& u) { return wall_->max_deflection(u)[1]; });
   observables_.add("area_change", [this](const Vector& u) { return wall_->area(u) - wall_->reference_area(); });
   observables_.add("min_detF", [this](const Vector& u) { return wall_->min_jacobian(u); });
-}
-
-Status WallProblem::mass_matrix(const Vector& u, SparseMatrix& B) {
-  if (!wall_->has_inertia()) return Problem::mass_matrix(u, B);
-  return assembler_->mass_matrix(u, B);
-}
-
-Status WallProblem::time_residual(const Vector& u, const Vector& udot, Vector& R) {
-  if (!wall_->has_inertia()) return Problem::time_residual(u, udot, R);
-  return assembler_->time_residual(u, udot, R);
 }
 
 Vector WallProblem::initial_guess() {

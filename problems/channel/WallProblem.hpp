@@ -9,10 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "core/Assembler.hpp"
+#include "core/AssembledProblem.hpp"
 #include "core/DirichletTerm.hpp"
 #include "core/DofMap.hpp"
-#include "core/Problem.hpp"
 #include "core/Quantities.hpp"
 #include "core/Scene.hpp"
 #include "problems/channel/ChannelMesh.hpp"
@@ -33,25 +32,11 @@ struct WallOptions {
   static WallOptions from_scene(const Scene& scene);
 };
 
-class WallProblem final : public Problem {
+class WallProblem final : public AssembledProblem {
  public:
   explicit WallProblem(const WallOptions& options);
-  WallProblem(const WallProblem&) = delete;
-  WallProblem& operator=(const WallProblem&) = delete;
 
   std::string name() const override { return "wall"; }
-  int size() const override { return dofs_->size(); }
-  ParameterSet& parameters() override { return params_; }
-  const ParameterSet& parameters() const override { return params_; }
-  const SparseMatrix& jacobian_pattern() const override { return assembler_->pattern(); }
-  Status residual(const Vector& u, Vector& F) override { return assembler_->residual(u, F); }
-  Status jacobian(const Vector& u, Vector& F, SparseMatrix& J) override { return assembler_->jacobian(u, F, J); }
-  Status parameter_derivative(int p, const Vector& u, Vector& dF) override {
-    return assembler_->parameter_derivative(p, u, dF);
-  }
-  // With inertia: rho* dw/dt in the equilibrium rows and w = dx/dt (else: none, Problem's default).
-  Status mass_matrix(const Vector& u, SparseMatrix& B) override;
-  Status time_residual(const Vector& u, const Vector& udot, Vector& R) override;
   Vector initial_guess() override;
   std::vector<std::string> observable_names() const override { return observables_.names(); }
   Status observables(const Vector& u, std::vector<double>& values) override;
@@ -60,7 +45,6 @@ class WallProblem final : public Problem {
 
   const Mesh& mesh() const { return mesh_; }
   const DofMap& dofs() const { return *dofs_; }
-  const Assembler& assembler() const { return *assembler_; }
   const SolidWall& wall() const { return *wall_; }
   // One observable by name, computed alone; throws std::invalid_argument for an unknown name.
   double observable(const std::string& name, const Vector& u) const { return observables_.value(name, u); }
@@ -68,12 +52,10 @@ class WallProblem final : public Problem {
  private:
   WallOptions options_;
   Mesh mesh_;
-  ParameterSet params_;
   std::unique_ptr<SolidWall> wall_;
   int iPin_ = -1;
   std::unique_ptr<DofMap> dofs_;
   std::shared_ptr<DirichletTerm> dirichlet_;
-  std::unique_ptr<Assembler> assembler_;
   mutable Mesh deformed_;  // the mesh at the last solution written out
   Quantities observables_;
 };

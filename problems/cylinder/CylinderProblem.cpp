@@ -195,7 +195,7 @@ CylinderProblem::CylinderProblem(const CylinderOptions& options)
   ComposedSystem system = Composition().add(*flow_).build(mesh_, params_);
   dofs_ = std::move(system.dofs);
   dirichlet_ = system.dirichlet;
-  assembler_ = std::make_unique<Assembler>(dofs_->size(), system.terms());
+  assemble(dofs_->size(), system.terms());
   const int fv = dofs_->field_index("velocity");
   on_cylinder_.assign(static_cast<size_t>(mesh_.num_nodes()), 0);
   for (int n : mesh_.boundary_nodes("cylinder")) {
@@ -219,7 +219,7 @@ Vector CylinderProblem::initial_guess() {
 
 double CylinderProblem::drag(const Vector& u) const {
   Vector R;
-  const Status st = assembler_->weak_residual(u, R);
+  const Status st = assembler().weak_residual(u, R);
   if (!st.is_ok()) return NAN;
   // sum of the weak residual over the cylinder's nodes = int T n_out ds (n_out into the
   // cylinder) = minus the force on it; both halves

@@ -13,10 +13,9 @@
 #include <string>
 #include <vector>
 
-#include "core/Assembler.hpp"
+#include "core/AssembledProblem.hpp"
 #include "core/DirichletTerm.hpp"
 #include "core/DofMap.hpp"
-#include "core/Problem.hpp"
 #include "core/Scene.hpp"
 #include "problems/components/FlowEquations.hpp"
 
@@ -58,26 +57,11 @@ struct CylinderOptions {
 // symmetry (y = 0), cylinder.
 Mesh build_cylinder_mesh(const CylinderOptions& options);
 
-class CylinderProblem final : public Problem {
+class CylinderProblem final : public AssembledProblem {
  public:
   explicit CylinderProblem(const CylinderOptions& options);
-  CylinderProblem(const CylinderProblem&) = delete;
-  CylinderProblem& operator=(const CylinderProblem&) = delete;
 
   std::string name() const override { return "cylinder"; }
-  int size() const override { return dofs_->size(); }
-  ParameterSet& parameters() override { return params_; }
-  const ParameterSet& parameters() const override { return params_; }
-  const SparseMatrix& jacobian_pattern() const override { return assembler_->pattern(); }
-  Status residual(const Vector& u, Vector& F) override { return assembler_->residual(u, F); }
-  Status jacobian(const Vector& u, Vector& F, SparseMatrix& J) override { return assembler_->jacobian(u, F, J); }
-  Status parameter_derivative(int p, const Vector& u, Vector& dF) override {
-    return assembler_->parameter_derivative(p, u, dF);
-  }
-  Status mass_matrix(const Vector& u, SparseMatrix& B) override { return assembler_->mass_matrix(u, B); }
-  Status time_residual(const Vector& u, const Vector& udot, Vector& R) override {
-    return assembler_->time_residual(u, udot, R);
-  }
   Vector initial_guess() override;
   std::vector<std::string> observable_names() const override;
   Status observables(const Vector& u, std::vector<double>& values) override;
@@ -100,16 +84,13 @@ class CylinderProblem final : public Problem {
   const Mesh& mesh() const { return mesh_; }
   const DofMap& dofs() const { return *dofs_; }
   const FlowEquations& flow() const { return *flow_; }
-  const Assembler::Timing& assembler_timing() const { return assembler_->timing(); }
 
  private:
   CylinderOptions options_;
   Mesh mesh_;
-  ParameterSet params_;
   std::unique_ptr<FlowEquations> flow_;
   std::unique_ptr<DofMap> dofs_;
   std::shared_ptr<DirichletTerm> dirichlet_;
-  std::unique_ptr<Assembler> assembler_;
   std::vector<int> cylinder_vx_;        // x-velocity rows of the cylinder's nodes
   std::vector<int> cylinder_elements_;  // elements with a node on the cylinder
   std::vector<char> on_cylinder_;       // per mesh node

@@ -9,7 +9,7 @@
 #include <memory>
 #include <random>
 
-#include "core/Assembler.hpp"
+#include "core/AssembledProblem.hpp"
 #include "core/KernelTerm.hpp"
 #include "core/Newton.hpp"
 #include "problems/channel/ChannelMesh.hpp"
@@ -21,7 +21,7 @@ using namespace keller;
 namespace {
 
 // Fluid mesh with the interface pushed down to y = 1 - A sin^2(pi (x - Lu) / L) (nodes keep x).
-class PrescribedInterfaceMesh final : public Problem {
+class PrescribedInterfaceMesh final : public AssembledProblem {
  public:
   PrescribedInterfaceMesh(const ChannelMeshSpec& spec, bool sliding)
       : mesh_(build_channel_mesh(ChannelGeometry{}, spec, false)), motion_(mesh_, "fluid", MeshMotionOptions{sliding}) {
@@ -38,18 +38,9 @@ class PrescribedInterfaceMesh final : public Problem {
     motion_.build(ComponentBuild{*dofs_, *dirichlet_, params_, true, interface});
     std::vector<std::shared_ptr<const Term>> terms = motion_.terms();
     terms.push_back(dirichlet_);
-    assembler_ = std::make_unique<Assembler>(dofs_->size(), terms);
+    assemble(dofs_->size(), terms);
   }
   std::string name() const override { return "mesh"; }
-  int size() const override { return dofs_->size(); }
-  ParameterSet& parameters() override { return params_; }
-  const ParameterSet& parameters() const override { return params_; }
-  const SparseMatrix& jacobian_pattern() const override { return assembler_->pattern(); }
-  Status residual(const Vector& u, Vector& F) override { return assembler_->residual(u, F); }
-  Status jacobian(const Vector& u, Vector& F, SparseMatrix& J) override { return assembler_->jacobian(u, F, J); }
-  Status parameter_derivative(int p, const Vector& u, Vector& dF) override {
-    return assembler_->parameter_derivative(p, u, dF);
-  }
   Vector initial_guess() override {
     Vector u = Vector::Zero(size());
     motion_.generated_state(*dofs_, u);
@@ -66,11 +57,9 @@ class PrescribedInterfaceMesh final : public Problem {
  private:
   Mesh mesh_;
   FluidMeshMotion motion_;
-  ParameterSet params_;
   int iA_ = -1;
   std::unique_ptr<DofMap> dofs_;
   std::shared_ptr<DirichletTerm> dirichlet_;
-  std::unique_ptr<Assembler> assembler_;
 };
 
 }  // namespace

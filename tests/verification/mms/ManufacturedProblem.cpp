@@ -177,7 +177,7 @@ ManufacturedProblem::ManufacturedProblem(const ManufacturedOptions& options)
     }
   }
   terms.push_back(dirichlet_);
-  assembler_ = std::make_unique<Assembler>(dofs_->size(), terms);
+  assemble(dofs_->size(), terms);
 }
 
 Mesh::Point ManufacturedProblem::position(int n) const {

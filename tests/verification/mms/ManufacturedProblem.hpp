@@ -17,11 +17,10 @@
 
 #include "ManufacturedFields.hpp"
 #include "StrongForm.hpp"
-#include "core/Assembler.hpp"
+#include "core/AssembledProblem.hpp"
 #include "core/DirichletTerm.hpp"
 #include "core/DofMap.hpp"
 #include "core/Mesh.hpp"
-#include "core/Problem.hpp"
 #include "problems/kernels/ViscoelasticFlowKernel.hpp"
 
 namespace keller::mms {
@@ -49,19 +48,11 @@ struct Errors {
   FieldError velocity, pressure, gradient, conformation;  // conformation: M, or Psi in the log form
 };
 
-class ManufacturedProblem final : public Problem {
+class ManufacturedProblem final : public AssembledProblem {
  public:
   explicit ManufacturedProblem(const ManufacturedOptions& options);
-  ManufacturedProblem(const ManufacturedProblem&) = delete;
-  ManufacturedProblem& operator=(const ManufacturedProblem&) = delete;
 
   std::string name() const override { return "manufactured"; }
-  int size() const override { return dofs_->size(); }
-  ParameterSet& parameters() override { return params_; }
-  const ParameterSet& parameters() const override { return params_; }
-  const SparseMatrix& jacobian_pattern() const override { return assembler_->pattern(); }
-  Status residual(const Vector& u, Vector& F) override { return assembler_->residual(u, F); }
-  Status jacobian(const Vector& u, Vector& F, SparseMatrix& J) override { return assembler_->jacobian(u, F, J); }
   // The exact solution interpolated: nodal values, and the pressure's value and gradient at
   // each element's centre node.
   Vector initial_guess() override;
@@ -82,11 +73,9 @@ class ManufacturedProblem final : public Problem {
   StrongForm<ManufacturedFields> strong_;
   Mesh mesh_;
   std::unique_ptr<DofMap> dofs_;
-  ParameterSet params_;
   std::vector<int> elements_;
   std::vector<std::array<QpGeometry<double>, ref::kQp>> geometry_;
   std::shared_ptr<DirichletTerm> dirichlet_;
-  std::unique_ptr<Assembler> assembler_;
 };
 
 }  // namespace keller::mms
