@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <stdexcept>
@@ -19,6 +20,34 @@ namespace keller {
 namespace {
 
 constexpr const char* kKinds = "0 point, 1 start, 2 stop, 3 event, 4 fold, 5 bp, 6 end, 7 hopf";
+
+// /branch/events: a row per located point, its monitor as an index into the monitors attribute
+// (-1: none). The writer's record and the reader's decoding of it.
+constexpr const char* kEventColumns = "row,kind,parameter,monitor";
+
+std::array<double, 4> event_record(const BranchPoint& p, const std::vector<std::string>& monitors) {
+  double monitor = -1;  // an event's monitor, and an end's when a monitor's threshold ended the branch
+  if (p.kind == PointKind::Event || p.kind == PointKind::End) {
+    auto it = std::find(monitors.begin(), monitors.end(), p.label);
+    if (it != monitors.end()) monitor = static_cast<double>(it - monitors.begin());
+  }
+  return {static_cast<double>(p.index), static_cast<double>(p.kind), p.lambda, monitor};
+}
+
+std::vector<BranchEvent> read_events(const H5File& f, const std::vector<std::string>& monitors) {
+  const Eigen::MatrixXd records = read_table_rows(f, "/branch/events");
+  std::vector<BranchEvent> events;
+  for (long i = 0; i < records.rows() && records.cols() >= 4; ++i) {
+    BranchEvent e;
+    e.row = static_cast<int>(records(i, 0));
+    e.kind = static_cast<PointKind>(static_cast<int>(records(i, 1)));
+    e.parameter = records(i, 2);
+    const int m = static_cast<int>(records(i, 3));
+    if (m >= 0 && m < static_cast<int>(monitors.size())) e.monitor = monitors[static_cast<size_t>(m)];
+    events.push_back(std::move(e));
+  }
+  return events;
+}
 
 }  // namespace
 
@@ -38,7 +67,7 @@ BranchFile::BranchFile(const std::string& path, const Problem& problem, const Co
                        const std::vector<std::string>& monitor_names, double state_scale,
                        const std::function<void(H5File&)>& header, const std::vector<std::string>& analysis_columns,
                        const BranchSeed* seed)
-    : path_(path), n_(problem.size()), n_analysis_(analysis_columns.size()) {
+    : path_(path), n_(problem.size()), monitors_(monitor_names), n_analysis_(analysis_columns.size()) {
   // built under a temporary name and renamed once in SWMR mode: the final name never shows a
   // file that is not consistent on disk
   create_run_file(path, "/branch", file_, written_, [&] {
@@ -61,7 +90,7 @@ BranchFile::BranchFile(const std::string& path, const Problem& problem, const Co
     file_->create_appendable("/branch/solutions", n_, 1);
     file_->create_appendable("/branch/tangents", n_, 1);
     file_->create_appendable("/branch/events", 4, 16);
-    file_->set_attribute("/branch/events", "columns", std::string("row,kind,parameter,monitor"));
+    file_->set_attribute("/branch/events", "columns", std::string(kEventColumns));
     if (n_analysis_) {
       file_->create_appendable("/branch/eigenvectors", n_, 1);
       file_->create_appendable("/branch/eigenvector_rows", 4, 16);
@@ -127,14 +156,7 @@ void BranchFile::on_point(const BranchPoint& p) {
     throw std::logic_error(fmt::format("branch row has {} values for {} columns", row.size(), columns_.size()));
   file_->append_rows("/branch/table", row.data(), 1);
   if (p.kind != PointKind::Regular && p.kind != PointKind::Start) {
-    double monitor = -1;  // an event's monitor, and an end's when a monitor's threshold ended the branch
-    if (p.kind == PointKind::Event || p.kind == PointKind::End) {
-      const auto names = split_names(file_->read_string_attribute("/branch", "monitors"));
-      auto it = std::find(names.begin(), names.end(), p.label);
-      if (it != names.end()) monitor = static_cast<double>(it - names.begin());
-    }
-    const double ev[4] = {static_cast<double>(p.index), static_cast<double>(p.kind), p.lambda, monitor};
-    file_->append_rows("/branch/events", ev, 1);
+    file_->append_rows("/branch/events", event_record(p, monitors_).data(), 1);
     const bool critical = p.kind == PointKind::Fold || p.kind == PointKind::BranchPoint || p.kind == PointKind::Hopf;
     if (n_analysis_ && critical) save_mode(p);
   }
@@ -178,6 +200,12 @@ int BranchTable::column(const std::string& name) const {
   return static_cast<int>(it - columns.begin());
 }
 
+std::string BranchTable::located_monitor(int row) const {
+  for (const BranchEvent& e : events)
+    if (e.row == row && !e.monitor.empty()) return e.monitor;
+  return {};
+}
+
 BranchTable read_branch_table(const std::string& path) {
   H5File f(path, H5File::Mode::Read);
   if (!f.exists("/branch/table")) throw std::runtime_error("'" + path + "' is not a branch file (no /branch/table)");
@@ -198,6 +226,7 @@ BranchTable read_branch_table(const std::string& path) {
   // a killed run may have appended a solution whose table row never got written: keep only
   // solutions whose row exists
   for (long i = 0; i < r; ++i) t.saved_rows.push_back(static_cast<int>(saved[static_cast<size_t>(i * c)]));
+  t.events = read_events(f, t.monitors);
   return t;
 }
 
@@ -236,22 +265,6 @@ BranchPoint read_branch_point(const std::string& path, int row) {
   p.u = Eigen::Map<const Vector>(&U[static_cast<size_t>(slot * n)], n);
   p.tu = Eigen::Map<const Vector>(&T[static_cast<size_t>(slot * n)], n);
   return p;
-}
-
-bool read_critical_mode(const std::string& path, int row, Vector& re, Vector& im, double& imag) {
-  H5File f(path, H5File::Mode::Read);
-  if (!f.exists("/branch/eigenvector_rows") || !f.exists("/branch/eigenvectors")) return false;
-  long r = 0, c = 0, m = 0, n = 0;
-  const auto rows = f.read_matrix("/branch/eigenvector_rows", &r, &c);
-  const auto modes = f.read_matrix("/branch/eigenvectors", &m, &n);
-  for (long k = 0; k < r && 2 * k + 1 < m; ++k) {
-    if (static_cast<int>(rows[static_cast<size_t>(k * c)]) != row) continue;
-    re = Eigen::Map<const Vector>(&modes[static_cast<size_t>(2 * k * n)], n);
-    im = Eigen::Map<const Vector>(&modes[static_cast<size_t>((2 * k + 1) * n)], n);
-    imag = rows[static_cast<size_t>(k * c + 3)];
-    return true;
-  }
-  return false;
 }
 
 namespace {

@@ -89,8 +89,19 @@ class BranchFile final : public BranchObserver {
   int saved_ = 0;
   int last_saved_row_ = -1;
   std::vector<std::string> columns_;
+  std::vector<std::string> monitors_;  // the names an event's monitor index refers to
   size_t n_analysis_ = 0;
   std::string reason_ = "running";  // why the branch ended, from on_finish
+};
+
+// A located point of a branch file (/branch/events): every point that is neither regular nor
+// the start, with the monitor whose zero it is (an event, or an end where a monitor's threshold
+// ended the branch: "min_m1 < stop_below"), by name; empty where the record names none.
+struct BranchEvent {
+  int row = -1;
+  PointKind kind = PointKind::Regular;
+  double parameter = 0.0;
+  std::string monitor;
 };
 
 // Reading a branch file (also one whose writer was killed).
@@ -102,19 +113,18 @@ struct BranchTable {
   std::string status;
   double state_scale = 1.0, theta = 0.5;
   std::vector<int> saved_rows;                // table rows with stored solutions, in storage order
+  std::vector<BranchEvent> events;            // the located points, in the order they were written
   int column(const std::string& name) const;  // throws if absent
+  // The monitor whose zero the located row `row` is (BranchEvent::monitor); empty if none.
+  std::string located_monitor(int row) const;
 };
 BranchTable read_branch_table(const std::string& path);
 // A stored point (solution, tangent, step, arclength). Throws std::invalid_argument listing the
 // stored rows if `row` has no stored solution; row = -1 means the last stored one.
 BranchPoint read_branch_point(const std::string& path, int row);
-// The critical eigenvector stored with a located row (a fold, branch point or Hopf point of a
-// branch traced with its stability): its real and imaginary parts and the imaginary part of its
-// eigenvalue (a Hopf point's frequency). False where the row has none.
-bool read_critical_mode(const std::string& path, int row, Vector& re, Vector& im, double& imag);
-
 // The critical eigenvector stored with a row of a branch file (/branch/eigenvectors): phi = re + i im
-// with its eigenvalue sigma. Nothing when the row has none (no [stability], or not a stored row).
+// with its eigenvalue sigma (at a Hopf point, sigma_im is its frequency). Nothing when the row has
+// none (no [stability], or neither a stored row nor a located fold, branch point or Hopf point).
 struct StoredMode {
   Vector re, im;
   double sigma_re = 0.0, sigma_im = 0.0;
