@@ -15,12 +15,12 @@
 #pragma once
 
 #include <functional>
-#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "continuation/Continuation.hpp"
+#include "continuation/output/RunFile.hpp"
 #include "core/H5File.hpp"
 
 namespace keller {
@@ -48,10 +48,9 @@ std::vector<std::string> branch_table_columns(const std::string& parameter, cons
 
 class BranchFile final : public BranchObserver {
  public:
-  // Creates the file as PATH.part (exclusively, after clearing what an earlier run left there:
-  // clear_leftover), lets `header` write what precedes the branch (scene, mesh), creates the branch
-  // datasets and enters SWMR mode; the file is renamed to `path` (replacing it) only then. Throws
-  // IoError on I/O errors (nothing left behind).
+  // Creates the file (a RunFile: as PATH.part, renamed to `path` once in SWMR mode), lets `header`
+  // write what precedes the branch (scene, mesh) and creates the branch datasets. Throws IoError on
+  // I/O errors (nothing left behind).
   // analysis_columns: those of the run's PointAnalysis (after the monitors in the table); the
   // critical eigenvector of every stored solution and located fold, branch point and Hopf point goes to
   // /branch/eigenvectors (real and imaginary part, one row each; /branch/eigenvector_rows: row,
@@ -62,36 +61,30 @@ class BranchFile final : public BranchObserver {
              const std::vector<std::string>& monitor_names, double state_scale,
              const std::function<void(H5File&)>& header, const std::vector<std::string>& analysis_columns = {},
              const BranchSeed* seed = nullptr);
-  ~BranchFile() override;
 
   void on_point(const BranchPoint& point) override;
   void on_finish(const std::string& reason, const BranchPoint& last) override;
-  const std::string& path() const { return path_; }
   // The file this run created, held: what it publishes must be this file.
-  HeldFile& written() { return written_; }
+  HeldFile& written() { return run_.written(); }
   // The run has ended (on_finish said why, and stored its last point): /branch/status gets why and,
   // for a branch that takes its name, /branch/exit_code the code its run ends with (-1 until then),
   // in one flush, and the file is closed. A run killed before it is continued by the same command
   // from its last point (which ends it at once), one killed after it published by it; never is an
   // ended branch left without its code, which would be taken for one that is not to be published.
-  void finish(std::optional<int> publication_code);
-  void close();
+  void finish(std::optional<int> publication_code) { run_.finish(publication_code); }
 
  private:
   void save_solution(const BranchPoint& p);
   void save_mode(const BranchPoint& p);
-  void write_seed(const BranchSeed& seed);
-  int last_mode_row_ = -1;
-  std::string path_;
-  std::unique_ptr<H5File> file_;
-  HeldFile written_;
+  void write_seed(H5File& f, const BranchSeed& seed);
   int n_ = 0;
-  int saved_ = 0;
-  int last_saved_row_ = -1;
   std::vector<std::string> columns_;
   std::vector<std::string> monitors_;  // the names an event's monitor index refers to
   size_t n_analysis_ = 0;
-  std::string reason_ = "running";  // why the branch ended, from on_finish
+  int saved_ = 0;
+  int last_saved_row_ = -1;
+  int last_mode_row_ = -1;
+  RunFile run_;  // last: creating it writes the seed, which sets the members above
 };
 
 // A located point of a branch file (/branch/events): every point that is neither regular nor
