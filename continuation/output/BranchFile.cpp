@@ -97,10 +97,7 @@ BranchFile::BranchFile(const std::string& path, const Problem& problem, const Co
       }) {}
 
 void BranchFile::write_seed(H5File& f, const BranchSeed& seed) {
-  if (seed.columns != columns_)
-    throw std::runtime_error("the unfinished branch has other columns than this run's (" + join_names(seed.columns) +
-                             ")");
-  if (seed.solutions.cols() != n_) throw std::runtime_error("the unfinished branch has another number of unknowns");
+  check_seed("branch", seed.columns, columns_, seed.solutions, n_);
   append_table_rows(f, "/branch/table", seed.table);
   append_table_rows(f, "/branch/saved", seed.saved);
   append_table_rows(f, "/branch/solutions", seed.solutions);

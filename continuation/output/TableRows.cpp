@@ -49,6 +49,15 @@ int column_index(const std::vector<std::string>& columns, const std::string& nam
   return static_cast<int>(it - columns.begin());
 }
 
+void check_seed(const std::string& what, const std::vector<std::string>& seed_columns,
+                const std::vector<std::string>& columns, const Eigen::MatrixXd& states, long n) {
+  if (seed_columns != columns)
+    throw std::runtime_error("the unfinished " + what + " has other columns than this run's (" +
+                             join_names(seed_columns) + ")");
+  if (states.rows() > 0 && states.cols() != n)
+    throw std::runtime_error("the unfinished " + what + " has another number of unknowns");
+}
+
 bool write_state_fields(const std::string& fields_path, bool in_place, long count,
                         const std::function<StoredState(long slot)>& state,
                         const std::function<SolutionFields(const StoredState&)>& fields, const std::string& xdmf_path,

@@ -23,6 +23,11 @@ Eigen::MatrixXd read_table_rows(const H5File& file, const std::string& dataset);
 void append_table_rows(H5File& file, const std::string& dataset, const Eigen::MatrixXd& m);
 // The index of the column `name`; throws std::invalid_argument ("<table> has no column 'name'").
 int column_index(const std::vector<std::string>& columns, const std::string& name, const std::string& table);
+// Refuses the seed of an unfinished run (`what`: "branch", "run") that a run with these columns
+// and `n` unknowns cannot continue: other columns, or stored states of another size. Throws
+// std::runtime_error.
+void check_seed(const std::string& what, const std::vector<std::string>& seed_columns,
+                const std::vector<std::string>& columns, const Eigen::MatrixXd& states, long n);
 
 // A stored state of a run file: where its fields go, what its XDMF step says and its time, and
 // two attributes of the group (the row or step it belongs to, and the parameter or time there).

@@ -67,10 +67,7 @@ TimeSeriesFile::TimeSeriesFile(const std::string& path, Problem& problem, TimeCo
       }) {}
 
 void TimeSeriesFile::write_seed(H5File& f, const TimeSeed& seed) {
-  if (seed.columns != columns_)
-    throw std::runtime_error("the unfinished run has other columns than this run's (" + join_names(seed.columns) + ")");
-  if (seed.solutions.rows() > 0 && seed.solutions.cols() != n_)
-    throw std::runtime_error("the unfinished run has another number of unknowns");
+  check_seed("run", seed.columns, columns_, seed.solutions, n_);
   append_table_rows(f, "/evolve/table", seed.table);
   append_table_rows(f, "/evolve/saved", seed.saved);
   append_table_rows(f, "/evolve/solutions", seed.solutions);
