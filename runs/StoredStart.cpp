@@ -135,17 +135,4 @@ StoredPoint read_stored_start(const StoredStart& start, const LoadedScene& scene
   return stored;
 }
 
-std::string located_monitor(const std::string& file, int row, const BranchTable& t) {
-  H5File f(file, H5File::Mode::Read);
-  if (!f.exists("/branch/events")) return {};
-  long rows = 0, cols = 0;
-  const std::vector<double> ev = f.read_matrix("/branch/events", &rows, &cols);
-  for (long i = 0; i < rows && cols >= 4; ++i)
-    if (static_cast<int>(ev[static_cast<size_t>(i * cols)]) == row) {
-      const int m = static_cast<int>(ev[static_cast<size_t>(i * cols + 3)]);
-      if (m >= 0 && m < static_cast<int>(t.monitors.size())) return t.monitors[static_cast<size_t>(m)];
-    }
-  return {};
-}
-
 }  // namespace keller

@@ -51,8 +51,4 @@ struct StoredPoint {
 StoredPoint read_stored_start(const StoredStart& start, const LoadedScene& scene, const Problem& problem,
                               const std::string& parameter, std::vector<std::string>& warnings);
 
-// The name of the monitor (or stop threshold, "min_m1 < stop_below") whose zero the located row
-// `row` of the branch file `file` (its table `t`) is, from its /branch/events record; empty if none.
-std::string located_monitor(const std::string& file, int row, const BranchTable& t);
-
 }  // namespace keller

@@ -252,8 +252,7 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
     const BranchPoint& event = stored->point;
     // the monitor whose zero the row is: an event's label, or the stop observable's ("min_m1 < stop_below")
     std::string monitor;
-    const std::string label =
-        event.label.empty() ? located_monitor(from->file, event.index, stored->table) : event.label;
+    const std::string label = event.label.empty() ? stored->table.located_monitor(event.index) : event.label;
     for (const std::string& m : problem->monitor_names())
       if (label == m || label.rfind(m + " ", 0) == 0) monitor = m;
     if (monitor.empty())
@@ -295,15 +294,15 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
     for (const Parameter& q : problem->parameters().list())
       if (const auto v = stored->value_of(q.name)) problem->parameters().set(q.name, *v);
     const BranchPoint& hopf = stored->point;
-    Vector re, im;
-    double omega = 0.0;
-    if (!read_critical_mode(from->file, hopf.index, re, im, omega))
+    const std::optional<StoredMode> critical = read_branch_mode(from->file, hopf.index);
+    if (!critical)
       return fail(exit_code::usage, fmt::format("--from '{}': row {} has no stored critical eigenvector (a Hopf point "
                                                 "of a branch traced with [stability] has one)",
                                                 from->file, hopf.index));
     hopf_curve = std::make_unique<HopfCurveProblem>(*problem, stored->table.parameter, lopt);
-    Vector U = hopf_curve->state(hopf.u, hopf.lambda, std::abs(omega));
-    const ComplexVector mode = re.cast<std::complex<double>>() + std::complex<double>(0.0, 1.0) * im;
+    Vector U = hopf_curve->state(hopf.u, hopf.lambda, std::abs(critical->sigma_im));
+    const ComplexVector mode =
+        critical->re.cast<std::complex<double>>() + std::complex<double>(0.0, 1.0) * critical->im;
     Status st = hopf_curve->start(U, mode, nopt, lopt);
     if (st.is_ok() && unfinished) {
       // the borders from the start's eigenvector, refined at the point the unfinished curve continues from

@@ -3,13 +3,11 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
-#include <filesystem>
 #include <stdexcept>
 
 #include "continuation/output/TableRows.hpp"
-#include "core/IoError.hpp"
-#include "core/PendingFile.hpp"
 #include "core/RunFiles.hpp"
 #include "core/SignalPoint.hpp"
 #include "core/SolutionWriter.hpp"
@@ -19,6 +17,34 @@ namespace keller {
 namespace {
 
 constexpr const char* kKinds = "0 point, 1 start, 2 stop, 3 event, 4 fold, 5 bp, 6 end, 7 hopf";
+
+// /branch/events: a row per located point, its monitor as an index into the monitors attribute
+// (-1: none). The writer's record and the reader's decoding of it.
+constexpr const char* kEventColumns = "row,kind,parameter,monitor";
+
+std::array<double, 4> event_record(const BranchPoint& p, const std::vector<std::string>& monitors) {
+  double monitor = -1;  // an event's monitor, and an end's when a monitor's threshold ended the branch
+  if (p.kind == PointKind::Event || p.kind == PointKind::End) {
+    auto it = std::find(monitors.begin(), monitors.end(), p.label);
+    if (it != monitors.end()) monitor = static_cast<double>(it - monitors.begin());
+  }
+  return {static_cast<double>(p.index), static_cast<double>(p.kind), p.lambda, monitor};
+}
+
+std::vector<BranchEvent> read_events(const H5File& f, const std::vector<std::string>& monitors) {
+  const Eigen::MatrixXd records = read_table_rows(f, "/branch/events");
+  std::vector<BranchEvent> events;
+  for (long i = 0; i < records.rows() && records.cols() >= 4; ++i) {
+    BranchEvent e;
+    e.row = static_cast<int>(records(i, 0));
+    e.kind = static_cast<PointKind>(static_cast<int>(records(i, 1)));
+    e.parameter = records(i, 2);
+    const int m = static_cast<int>(records(i, 3));
+    if (m >= 0 && m < static_cast<int>(monitors.size())) e.monitor = monitors[static_cast<size_t>(m)];
+    events.push_back(std::move(e));
+  }
+  return events;
+}
 
 }  // namespace
 
@@ -38,52 +64,48 @@ BranchFile::BranchFile(const std::string& path, const Problem& problem, const Co
                        const std::vector<std::string>& monitor_names, double state_scale,
                        const std::function<void(H5File&)>& header, const std::vector<std::string>& analysis_columns,
                        const BranchSeed* seed)
-    : path_(path), n_(problem.size()), n_analysis_(analysis_columns.size()) {
-  // built under a temporary name and renamed once in SWMR mode: the final name never shows a
-  // file that is not consistent on disk
-  create_run_file(path, "/branch", file_, written_, [&] {
-    if (header) header(*file_);
-    file_->create_group("/branch");
-    columns_ = branch_table_columns(options.parameter, problem.observable_names(), monitor_names, analysis_columns);
-    file_->set_attribute("/branch", "parameter", options.parameter);
-    file_->set_attribute("/branch", "columns", join_names(columns_));
-    file_->set_attribute("/branch", "observables", join_names(problem.observable_names()));
-    file_->set_attribute("/branch", "monitors", join_names(monitor_names));
-    file_->set_attribute("/branch", "kinds", std::string(kKinds));
-    file_->set_attribute("/branch", "state_scale", state_scale);
-    file_->set_attribute("/branch", "theta", options.theta);
-    file_->set_attribute(
-        "/branch", "method",
-        std::string(options.method == ContinuationOptions::Method::Arclength ? "arclength" : "natural"));
-    file_->create_appendable("/branch/table", static_cast<long>(columns_.size()));
-    file_->create_appendable("/branch/saved", 6, 16);
-    file_->set_attribute("/branch/saved", "columns", std::string("row,kind,parameter,tangent_parameter,step,s"));
-    file_->create_appendable("/branch/solutions", n_, 1);
-    file_->create_appendable("/branch/tangents", n_, 1);
-    file_->create_appendable("/branch/events", 4, 16);
-    file_->set_attribute("/branch/events", "columns", std::string("row,kind,parameter,monitor"));
-    if (n_analysis_) {
-      file_->create_appendable("/branch/eigenvectors", n_, 1);
-      file_->create_appendable("/branch/eigenvector_rows", 4, 16);
-      file_->set_attribute("/branch/eigenvector_rows", "columns", std::string("row,kind,sigma_re,sigma_im"));
-    }
-    if (seed) write_seed(*seed);
-  });
-}
+    : n_(problem.size()),
+      columns_(branch_table_columns(options.parameter, problem.observable_names(), monitor_names, analysis_columns)),
+      monitors_(monitor_names),
+      n_analysis_(analysis_columns.size()),
+      run_(path, "/branch", [&](H5File& f) {
+        if (header) header(f);
+        f.create_group("/branch");
+        f.set_attribute("/branch", "parameter", options.parameter);
+        f.set_attribute("/branch", "columns", join_names(columns_));
+        f.set_attribute("/branch", "observables", join_names(problem.observable_names()));
+        f.set_attribute("/branch", "monitors", join_names(monitor_names));
+        f.set_attribute("/branch", "kinds", std::string(kKinds));
+        f.set_attribute("/branch", "state_scale", state_scale);
+        f.set_attribute("/branch", "theta", options.theta);
+        f.set_attribute(
+            "/branch", "method",
+            std::string(options.method == ContinuationOptions::Method::Arclength ? "arclength" : "natural"));
+        f.create_appendable("/branch/table", static_cast<long>(columns_.size()));
+        f.create_appendable("/branch/saved", 6, 16);
+        f.set_attribute("/branch/saved", "columns", std::string("row,kind,parameter,tangent_parameter,step,s"));
+        f.create_appendable("/branch/solutions", n_, 1);
+        f.create_appendable("/branch/tangents", n_, 1);
+        f.create_appendable("/branch/events", 4, 16);
+        f.set_attribute("/branch/events", "columns", std::string(kEventColumns));
+        if (n_analysis_) {
+          f.create_appendable("/branch/eigenvectors", n_, 1);
+          f.create_appendable("/branch/eigenvector_rows", 4, 16);
+          f.set_attribute("/branch/eigenvector_rows", "columns", std::string("row,kind,sigma_re,sigma_im"));
+        }
+        if (seed) write_seed(f, *seed);
+      }) {}
 
-void BranchFile::write_seed(const BranchSeed& seed) {
-  if (seed.columns != columns_)
-    throw std::runtime_error("the unfinished branch has other columns than this run's (" + join_names(seed.columns) +
-                             ")");
-  if (seed.solutions.cols() != n_) throw std::runtime_error("the unfinished branch has another number of unknowns");
-  append_table_rows(*file_, "/branch/table", seed.table);
-  append_table_rows(*file_, "/branch/saved", seed.saved);
-  append_table_rows(*file_, "/branch/solutions", seed.solutions);
-  append_table_rows(*file_, "/branch/tangents", seed.tangents);
-  append_table_rows(*file_, "/branch/events", seed.events);
+void BranchFile::write_seed(H5File& f, const BranchSeed& seed) {
+  check_seed("branch", seed.columns, columns_, seed.solutions, n_);
+  append_table_rows(f, "/branch/table", seed.table);
+  append_table_rows(f, "/branch/saved", seed.saved);
+  append_table_rows(f, "/branch/solutions", seed.solutions);
+  append_table_rows(f, "/branch/tangents", seed.tangents);
+  append_table_rows(f, "/branch/events", seed.events);
   if (n_analysis_) {
-    append_table_rows(*file_, "/branch/eigenvectors", seed.eigenvectors);
-    append_table_rows(*file_, "/branch/eigenvector_rows", seed.eigenvector_rows);
+    append_table_rows(f, "/branch/eigenvectors", seed.eigenvectors);
+    append_table_rows(f, "/branch/eigenvector_rows", seed.eigenvector_rows);
     if (seed.eigenvector_rows.rows() > 0)
       last_mode_row_ = static_cast<int>(seed.eigenvector_rows(seed.eigenvector_rows.rows() - 1, 0));
   }
@@ -91,29 +113,17 @@ void BranchFile::write_seed(const BranchSeed& seed) {
   last_saved_row_ = seed.row;
 }
 
-BranchFile::~BranchFile() {
-  try {
-    close();
-  } catch (const std::exception&) {  // a destructor must not throw; close() reports it when called directly
-  }
-}
-
-void BranchFile::close() {
-  if (file_) file_->close();
-  file_.reset();
-}
-
 void BranchFile::save_solution(const BranchPoint& p) {
-  file_->append_rows("/branch/solutions", p.u.data(), 1);
-  file_->append_rows("/branch/tangents", p.tu.data(), 1);
+  run_.h5().append_rows("/branch/solutions", p.u.data(), 1);
+  run_.h5().append_rows("/branch/tangents", p.tu.data(), 1);
   const double row[6] = {static_cast<double>(p.index), static_cast<double>(p.kind), p.lambda, p.tlambda, p.step, p.s};
-  file_->append_rows("/branch/saved", row, 1);
+  run_.h5().append_rows("/branch/saved", row, 1);
   last_saved_row_ = p.index;
   ++saved_;
 }
 
 void BranchFile::on_point(const BranchPoint& p) {
-  if (!file_) return;
+  if (!run_.is_open()) return;
   const int slot = p.save ? saved_ : -1;
   if (p.save) save_solution(p);
   if (p.save && n_analysis_) save_mode(p);  // the critical eigenvector with every stored solution
@@ -125,20 +135,13 @@ void BranchFile::on_point(const BranchPoint& p) {
                          p.tlambda, static_cast<double>(slot)});
   if (row.size() != columns_.size())
     throw std::logic_error(fmt::format("branch row has {} values for {} columns", row.size(), columns_.size()));
-  file_->append_rows("/branch/table", row.data(), 1);
+  run_.h5().append_rows("/branch/table", row.data(), 1);
   if (p.kind != PointKind::Regular && p.kind != PointKind::Start) {
-    double monitor = -1;  // an event's monitor, and an end's when a monitor's threshold ended the branch
-    if (p.kind == PointKind::Event || p.kind == PointKind::End) {
-      const auto names = split_names(file_->read_string_attribute("/branch", "monitors"));
-      auto it = std::find(names.begin(), names.end(), p.label);
-      if (it != names.end()) monitor = static_cast<double>(it - names.begin());
-    }
-    const double ev[4] = {static_cast<double>(p.index), static_cast<double>(p.kind), p.lambda, monitor};
-    file_->append_rows("/branch/events", ev, 1);
+    run_.h5().append_rows("/branch/events", event_record(p, monitors_).data(), 1);
     const bool critical = p.kind == PointKind::Fold || p.kind == PointKind::BranchPoint || p.kind == PointKind::Hopf;
     if (n_analysis_ && critical) save_mode(p);
   }
-  file_->flush();
+  run_.h5().flush();
   signal_point("point");
 }
 
@@ -146,36 +149,25 @@ void BranchFile::save_mode(const BranchPoint& p) {
   if (p.critical_re.size() != n_ || p.index == last_mode_row_) return;  // none, or stored already
   last_mode_row_ = p.index;
   const Vector im = p.critical_im.size() == n_ ? p.critical_im : Vector::Zero(n_);
-  file_->append_rows("/branch/eigenvectors", p.critical_re.data(), 1);
-  file_->append_rows("/branch/eigenvectors", im.data(), 1);
+  run_.h5().append_rows("/branch/eigenvectors", p.critical_re.data(), 1);
+  run_.h5().append_rows("/branch/eigenvectors", im.data(), 1);
   const double er[4] = {static_cast<double>(p.index), static_cast<double>(p.kind), p.locator, p.critical_imag};
-  file_->append_rows("/branch/eigenvector_rows", er, 1);
+  run_.h5().append_rows("/branch/eigenvector_rows", er, 1);
 }
 
 void BranchFile::on_finish(const std::string& reason, const BranchPoint& last) {
-  if (!file_) return;
+  if (!run_.is_open()) return;
   // the last point is always stored (for restarts); /branch/saved lists it
   if (last.index >= 0 && last.index != last_saved_row_ && last.u.size() == n_) save_solution(last);
-  file_->flush();
-  reason_ = reason;
-  signal_point("ended");
+  run_.ended(reason);
 }
 
-void BranchFile::finish(std::optional<int> publication_code) {
-  if (!file_) return;
-  if (publication_code) {
-    const double code = *publication_code;
-    file_->write_rows("/branch/exit_code", 0, &code, 1);
-  }
-  file_->write_fixed_string("/branch/status", reason_);
-  file_->flush();
-  close();
-}
+int BranchTable::column(const std::string& name) const { return column_index(columns, name, "branch table"); }
 
-int BranchTable::column(const std::string& name) const {
-  auto it = std::find(columns.begin(), columns.end(), name);
-  if (it == columns.end()) throw std::invalid_argument("branch table has no column '" + name + "'");
-  return static_cast<int>(it - columns.begin());
+std::string BranchTable::located_monitor(int row) const {
+  for (const BranchEvent& e : events)
+    if (e.row == row && !e.monitor.empty()) return e.monitor;
+  return {};
 }
 
 BranchTable read_branch_table(const std::string& path) {
@@ -198,6 +190,7 @@ BranchTable read_branch_table(const std::string& path) {
   // a killed run may have appended a solution whose table row never got written: keep only
   // solutions whose row exists
   for (long i = 0; i < r; ++i) t.saved_rows.push_back(static_cast<int>(saved[static_cast<size_t>(i * c)]));
+  t.events = read_events(f, t.monitors);
   return t;
 }
 
@@ -236,22 +229,6 @@ BranchPoint read_branch_point(const std::string& path, int row) {
   p.u = Eigen::Map<const Vector>(&U[static_cast<size_t>(slot * n)], n);
   p.tu = Eigen::Map<const Vector>(&T[static_cast<size_t>(slot * n)], n);
   return p;
-}
-
-bool read_critical_mode(const std::string& path, int row, Vector& re, Vector& im, double& imag) {
-  H5File f(path, H5File::Mode::Read);
-  if (!f.exists("/branch/eigenvector_rows") || !f.exists("/branch/eigenvectors")) return false;
-  long r = 0, c = 0, m = 0, n = 0;
-  const auto rows = f.read_matrix("/branch/eigenvector_rows", &r, &c);
-  const auto modes = f.read_matrix("/branch/eigenvectors", &m, &n);
-  for (long k = 0; k < r && 2 * k + 1 < m; ++k) {
-    if (static_cast<int>(rows[static_cast<size_t>(k * c)]) != row) continue;
-    re = Eigen::Map<const Vector>(&modes[static_cast<size_t>(2 * k * n)], n);
-    im = Eigen::Map<const Vector>(&modes[static_cast<size_t>((2 * k + 1) * n)], n);
-    imag = rows[static_cast<size_t>(k * c + 3)];
-    return true;
-  }
-  return false;
 }
 
 namespace {

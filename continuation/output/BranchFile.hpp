@@ -15,12 +15,12 @@
 #pragma once
 
 #include <functional>
-#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "continuation/Continuation.hpp"
+#include "continuation/output/RunFile.hpp"
 #include "core/H5File.hpp"
 
 namespace keller {
@@ -48,10 +48,9 @@ std::vector<std::string> branch_table_columns(const std::string& parameter, cons
 
 class BranchFile final : public BranchObserver {
  public:
-  // Creates the file as PATH.part (exclusively, after clearing what an earlier run left there:
-  // clear_leftover), lets `header` write what precedes the branch (scene, mesh), creates the branch
-  // datasets and enters SWMR mode; the file is renamed to `path` (replacing it) only then. Throws
-  // IoError on I/O errors (nothing left behind).
+  // Creates the file (a RunFile: as PATH.part, renamed to `path` once in SWMR mode), lets `header`
+  // write what precedes the branch (scene, mesh) and creates the branch datasets. Throws IoError on
+  // I/O errors (nothing left behind).
   // analysis_columns: those of the run's PointAnalysis (after the monitors in the table); the
   // critical eigenvector of every stored solution and located fold, branch point and Hopf point goes to
   // /branch/eigenvectors (real and imaginary part, one row each; /branch/eigenvector_rows: row,
@@ -62,35 +61,40 @@ class BranchFile final : public BranchObserver {
              const std::vector<std::string>& monitor_names, double state_scale,
              const std::function<void(H5File&)>& header, const std::vector<std::string>& analysis_columns = {},
              const BranchSeed* seed = nullptr);
-  ~BranchFile() override;
 
   void on_point(const BranchPoint& point) override;
   void on_finish(const std::string& reason, const BranchPoint& last) override;
-  const std::string& path() const { return path_; }
   // The file this run created, held: what it publishes must be this file.
-  HeldFile& written() { return written_; }
+  HeldFile& written() { return run_.written(); }
   // The run has ended (on_finish said why, and stored its last point): /branch/status gets why and,
   // for a branch that takes its name, /branch/exit_code the code its run ends with (-1 until then),
   // in one flush, and the file is closed. A run killed before it is continued by the same command
   // from its last point (which ends it at once), one killed after it published by it; never is an
   // ended branch left without its code, which would be taken for one that is not to be published.
-  void finish(std::optional<int> publication_code);
-  void close();
+  void finish(std::optional<int> publication_code) { run_.finish(publication_code); }
 
  private:
   void save_solution(const BranchPoint& p);
   void save_mode(const BranchPoint& p);
-  void write_seed(const BranchSeed& seed);
-  int last_mode_row_ = -1;
-  std::string path_;
-  std::unique_ptr<H5File> file_;
-  HeldFile written_;
+  void write_seed(H5File& f, const BranchSeed& seed);
   int n_ = 0;
+  std::vector<std::string> columns_;
+  std::vector<std::string> monitors_;  // the names an event's monitor index refers to
+  size_t n_analysis_ = 0;
   int saved_ = 0;
   int last_saved_row_ = -1;
-  std::vector<std::string> columns_;
-  size_t n_analysis_ = 0;
-  std::string reason_ = "running";  // why the branch ended, from on_finish
+  int last_mode_row_ = -1;
+  RunFile run_;  // last: creating it writes the seed, which sets the members above
+};
+
+// A located point of a branch file (/branch/events): every point that is neither regular nor
+// the start, with the monitor whose zero it is (an event, or an end where a monitor's threshold
+// ended the branch: "min_m1 < stop_below"), by name; empty where the record names none.
+struct BranchEvent {
+  int row = -1;
+  PointKind kind = PointKind::Regular;
+  double parameter = 0.0;
+  std::string monitor;
 };
 
 // Reading a branch file (also one whose writer was killed).
@@ -102,19 +106,18 @@ struct BranchTable {
   std::string status;
   double state_scale = 1.0, theta = 0.5;
   std::vector<int> saved_rows;                // table rows with stored solutions, in storage order
+  std::vector<BranchEvent> events;            // the located points, in the order they were written
   int column(const std::string& name) const;  // throws if absent
+  // The monitor whose zero the located row `row` is (BranchEvent::monitor); empty if none.
+  std::string located_monitor(int row) const;
 };
 BranchTable read_branch_table(const std::string& path);
 // A stored point (solution, tangent, step, arclength). Throws std::invalid_argument listing the
 // stored rows if `row` has no stored solution; row = -1 means the last stored one.
 BranchPoint read_branch_point(const std::string& path, int row);
-// The critical eigenvector stored with a located row (a fold, branch point or Hopf point of a
-// branch traced with its stability): its real and imaginary parts and the imaginary part of its
-// eigenvalue (a Hopf point's frequency). False where the row has none.
-bool read_critical_mode(const std::string& path, int row, Vector& re, Vector& im, double& imag);
-
 // The critical eigenvector stored with a row of a branch file (/branch/eigenvectors): phi = re + i im
-// with its eigenvalue sigma. Nothing when the row has none (no [stability], or not a stored row).
+// with its eigenvalue sigma (at a Hopf point, sigma_im is its frequency). Nothing when the row has
+// none (no [stability], or neither a stored row nor a located fold, branch point or Hopf point).
 struct StoredMode {
   Vector re, im;
   double sigma_re = 0.0, sigma_im = 0.0;

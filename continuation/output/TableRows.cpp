@@ -1,14 +1,8 @@
 #include "continuation/output/TableRows.hpp"
 
-#include <fmt/format.h>
+#include <algorithm>
+#include <stdexcept>
 
-#include <cerrno>
-#include <cstdio>
-#include <cstring>
-#include <filesystem>
-
-#include "core/IoError.hpp"
-#include "core/PendingFile.hpp"
 #include "core/SignalPoint.hpp"
 #include "core/SolutionWriter.hpp"
 
@@ -49,33 +43,19 @@ void append_table_rows(H5File& file, const std::string& dataset, const Eigen::Ma
   file.append_rows(dataset, r.data(), r.rows());
 }
 
-void create_run_file(const std::string& path, const std::string& group, std::unique_ptr<H5File>& file,
-                     HeldFile& written, const std::function<void()>& layout) {
-  const std::string part = PendingFile::temporary_for(path);
-  clear_leftover(part);
-  file = std::make_unique<H5File>(part, H5File::Mode::Create);
-  written = file->hold();
-  try {
-    layout();
-    file->create_fixed_string(group + "/status", 2048);
-    file->write_fixed_string(group + "/status", "running");
-    file->create_appendable(group + "/exit_code", 1, 1);
-    const double unmarked = -1;
-    file->append_rows(group + "/exit_code", &unmarked, 1);
-    file->start_swmr();
-    file->flush();
-    if (!written.at(part))
-      throw IoError(fmt::format("'{}' is not the file this run created (it was replaced meanwhile)", part));
-    if (std::rename(part.c_str(), path.c_str()) != 0)
-      throw IoError(fmt::format("cannot rename '{}' to '{}': {}", part, path, std::strerror(errno)));
-    file->renamed(path);
-  } catch (...) {
-    // this run's incomplete file: nothing of it is kept
-    file.reset();
-    std::error_code ec;
-    if (written.at(part)) std::filesystem::remove(part, ec);
-    throw;
-  }
+int column_index(const std::vector<std::string>& columns, const std::string& name, const std::string& table) {
+  auto it = std::find(columns.begin(), columns.end(), name);
+  if (it == columns.end()) throw std::invalid_argument(table + " has no column '" + name + "'");
+  return static_cast<int>(it - columns.begin());
+}
+
+void check_seed(const std::string& what, const std::vector<std::string>& seed_columns,
+                const std::vector<std::string>& columns, const Eigen::MatrixXd& states, long n) {
+  if (seed_columns != columns)
+    throw std::runtime_error("the unfinished " + what + " has other columns than this run's (" +
+                             join_names(seed_columns) + ")");
+  if (states.rows() > 0 && states.cols() != n)
+    throw std::runtime_error("the unfinished " + what + " has another number of unknowns");
 }
 
 bool write_state_fields(const std::string& fields_path, bool in_place, long count,

@@ -1,15 +1,13 @@
-// What the run files of the engines (branch files, time series) share: a list of names stored as
-// one comma-separated attribute, 2D datasets read into and appended from Eigen matrices, and the
-// fields of their stored states with an XDMF file.
+// What the run files of the engines (branch files, time series) share beside their RunFile: a list
+// of names stored as one comma-separated attribute, 2D datasets read into and appended from Eigen
+// matrices, columns found by name, and the fields of their stored states with an XDMF file.
 #pragma once
 
 #include <functional>
-#include <memory>
 #include <string>
 #include <vector>
 
 #include "core/H5File.hpp"
-#include "core/HeldFile.hpp"
 #include "core/SolutionFields.hpp"
 #include "core/Types.hpp"
 
@@ -23,16 +21,13 @@ std::vector<std::string> split_names(const std::string& text);
 Eigen::MatrixXd read_table_rows(const H5File& file, const std::string& dataset);
 // Appends the rows of m to an appendable dataset (nothing for an empty m).
 void append_table_rows(H5File& file, const std::string& dataset, const Eigen::MatrixXd& m);
-
-// Creates the SWMR file of a run (a branch, a time series): under its temporary name
-// (PendingFile::temporary_for, what an earlier run left there cleared), `layout` writes the
-// groups and datasets, `group`/status ("running") and `group`/exit_code (-1 until the run ends)
-// are added, and the file, in SWMR mode and flushed, is renamed to `path` once consistent on disk,
-// where its temporary name still holds this very file (`written`: the file held since its
-// creation). Where anything fails, the temporary (if still this run's) is removed and the error
-// rethrown (IoError where the file was replaced meanwhile or cannot take its name).
-void create_run_file(const std::string& path, const std::string& group, std::unique_ptr<H5File>& file,
-                     HeldFile& written, const std::function<void()>& layout);
+// The index of the column `name`; throws std::invalid_argument ("<table> has no column 'name'").
+int column_index(const std::vector<std::string>& columns, const std::string& name, const std::string& table);
+// Refuses the seed of an unfinished run (`what`: "branch", "run") that a run with these columns
+// and `n` unknowns cannot continue: other columns, or stored states of another size. Throws
+// std::runtime_error.
+void check_seed(const std::string& what, const std::vector<std::string>& seed_columns,
+                const std::vector<std::string>& columns, const Eigen::MatrixXd& states, long n);
 
 // A stored state of a run file: where its fields go, what its XDMF step says and its time, and
 // two attributes of the group (the row or step it belongs to, and the parameter or time there).

@@ -4,12 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 #include <stdexcept>
 
 #include "continuation/output/TableRows.hpp"
-#include "core/IoError.hpp"
-#include "core/PendingFile.hpp"
 #include "core/RunFiles.hpp"
 #include "core/SignalPoint.hpp"
 #include "core/SolutionWriter.hpp"
@@ -29,90 +26,75 @@ const std::vector<std::string> kLeading = {"step",           "t",        "h",   
                                            "factorisations", "rejected", "next_step", "seconds"};
 
 int column_of(const std::vector<std::string>& columns, const std::string& name) {
-  auto it = std::find(columns.begin(), columns.end(), name);
-  if (it == columns.end()) throw std::invalid_argument("the time table has no column '" + name + "'");
-  return static_cast<int>(it - columns.begin());
+  return column_index(columns, name, "the time table");
+}
+
+std::vector<std::string> time_columns(const Problem& problem, const TimeColumns& extra) {
+  std::vector<std::string> columns = kLeading;
+  for (const std::string& o : problem.observable_names()) columns.push_back(o);
+  for (const std::string& e : extra.names) columns.push_back(e);
+  columns.push_back("saved_slot");
+  return columns;
 }
 
 }  // namespace
 
 TimeSeriesFile::TimeSeriesFile(const std::string& path, Problem& problem, TimeColumns extra, int save_every,
                                const std::function<void(H5File&)>& header, const TimeSeed* seed)
-    : path_(path),
-      problem_(problem),
+    : problem_(problem),
       extra_(std::move(extra)),
       save_every_(std::max(save_every, 1)),
-      n_(problem.size()) {
-  columns_ = kLeading;
-  for (const std::string& o : problem.observable_names()) columns_.push_back(o);
-  for (const std::string& e : extra_.names) columns_.push_back(e);
-  columns_.push_back("saved_slot");
-  // built under a temporary name and renamed once in SWMR mode: the final name never shows a file
-  // that is not consistent on disk
-  create_run_file(path, "/evolve", file_, written_, [&] {
-    if (header) header(*file_);
-    file_->create_group("/evolve");
-    file_->set_attribute("/evolve", "columns", join_names(columns_));
-    file_->set_attribute("/evolve", "observables", join_names(problem.observable_names()));
-    file_->set_attribute("/evolve", "save_every", static_cast<long>(save_every_));
-    file_->create_appendable("/evolve/table", static_cast<long>(columns_.size()));
-    file_->create_appendable("/evolve/history", n_, 1);
-    file_->create_appendable("/evolve/history_index", 2, kRing);
-    file_->set_attribute("/evolve/history_index", "columns", std::string("step,t"));
-    const RowMajor zeros = RowMajor::Zero(kRing, n_);
-    file_->append_rows("/evolve/history", zeros.data(), kRing);
-    const RowMajor none = RowMajor::Constant(kRing, 2, -1.0);
-    file_->append_rows("/evolve/history_index", none.data(), kRing);
-    file_->create_appendable("/evolve/solutions", n_, 1);
-    file_->create_appendable("/evolve/saved", 2, 16);
-    file_->set_attribute("/evolve/saved", "columns", std::string("step,t"));
-    if (seed) {
-      if (seed->columns != columns_)
-        throw std::runtime_error("the unfinished run has other columns than this run's (" + join_names(seed->columns) +
-                                 ")");
-      if (seed->solutions.rows() > 0 && seed->solutions.cols() != n_)
-        throw std::runtime_error("the unfinished run has another number of unknowns");
-      append_table_rows(*file_, "/evolve/table", seed->table);
-      append_table_rows(*file_, "/evolve/saved", seed->saved);
-      append_table_rows(*file_, "/evolve/solutions", seed->solutions);
-      for (auto it = seed->history.back.rbegin(); it != seed->history.back.rend(); ++it)
-        write_history(it->step, it->t, it->u);
-      saved_ = static_cast<int>(seed->saved.rows());
-      if (saved_ > 0) last_saved_step_ = static_cast<int>(seed->saved(saved_ - 1, 0));
-    }
-  });
+      columns_(time_columns(problem, extra_)),
+      n_(problem.size()),
+      run_(path, "/evolve", [&](H5File& f) {
+        if (header) header(f);
+        f.create_group("/evolve");
+        f.set_attribute("/evolve", "columns", join_names(columns_));
+        f.set_attribute("/evolve", "observables", join_names(problem.observable_names()));
+        f.set_attribute("/evolve", "save_every", static_cast<long>(save_every_));
+        f.create_appendable("/evolve/table", static_cast<long>(columns_.size()));
+        f.create_appendable("/evolve/history", n_, 1);
+        f.create_appendable("/evolve/history_index", 2, kRing);
+        f.set_attribute("/evolve/history_index", "columns", std::string("step,t"));
+        const RowMajor zeros = RowMajor::Zero(kRing, n_);
+        f.append_rows("/evolve/history", zeros.data(), kRing);
+        const RowMajor none = RowMajor::Constant(kRing, 2, -1.0);
+        f.append_rows("/evolve/history_index", none.data(), kRing);
+        f.create_appendable("/evolve/solutions", n_, 1);
+        f.create_appendable("/evolve/saved", 2, 16);
+        f.set_attribute("/evolve/saved", "columns", std::string("step,t"));
+        if (seed) write_seed(f, *seed);
+      }) {}
+
+void TimeSeriesFile::write_seed(H5File& f, const TimeSeed& seed) {
+  check_seed("run", seed.columns, columns_, seed.solutions, n_);
+  append_table_rows(f, "/evolve/table", seed.table);
+  append_table_rows(f, "/evolve/saved", seed.saved);
+  append_table_rows(f, "/evolve/solutions", seed.solutions);
+  for (auto it = seed.history.back.rbegin(); it != seed.history.back.rend(); ++it)
+    write_history(f, it->step, it->t, it->u);
+  saved_ = static_cast<int>(seed.saved.rows());
+  if (saved_ > 0) last_saved_step_ = static_cast<int>(seed.saved(saved_ - 1, 0));
 }
 
-TimeSeriesFile::~TimeSeriesFile() {
-  try {
-    close();
-  } catch (const std::exception&) {  // a destructor must not throw; close() reports it when called directly
-  }
-}
-
-void TimeSeriesFile::close() {
-  if (file_) file_->close();
-  file_.reset();
-}
-
-void TimeSeriesFile::write_history(int step, double t, const Vector& u) {
+void TimeSeriesFile::write_history(H5File& f, int step, double t, const Vector& u) {
   const long slot = step % kRing;
-  file_->write_rows("/evolve/history", slot, u.data(), 1);
+  f.write_rows("/evolve/history", slot, u.data(), 1);
   const double index[2] = {static_cast<double>(step), t};
-  file_->write_rows("/evolve/history_index", slot, index, 1);
+  f.write_rows("/evolve/history_index", slot, index, 1);
 }
 
 void TimeSeriesFile::store(const TimePoint& p) {
-  file_->append_rows("/evolve/solutions", p.u.data(), 1);
+  run_.h5().append_rows("/evolve/solutions", p.u.data(), 1);
   const double row[2] = {static_cast<double>(p.step), p.t};
-  file_->append_rows("/evolve/saved", row, 1);
+  run_.h5().append_rows("/evolve/saved", row, 1);
   last_saved_step_ = p.step;
   ++saved_;
 }
 
 void TimeSeriesFile::on_step(const TimePoint& p) {
-  if (!file_) return;
-  write_history(p.step, p.t, p.u);
+  if (!run_.is_open()) return;
+  write_history(run_.h5(), p.step, p.t, p.u);
   const bool save = p.step % save_every_ == 0;
   const int slot = save ? saved_ : -1;
   if (save) store(p);
@@ -137,29 +119,16 @@ void TimeSeriesFile::on_step(const TimePoint& p) {
   row.push_back(static_cast<double>(slot));
   if (row.size() != columns_.size())
     throw std::logic_error(fmt::format("time row has {} values for {} columns", row.size(), columns_.size()));
-  file_->append_rows("/evolve/table", row.data(), 1);
-  file_->flush();
+  run_.h5().append_rows("/evolve/table", row.data(), 1);
+  run_.h5().flush();
   signal_point("step");
 }
 
 void TimeSeriesFile::on_finish(const std::string& reason, const TimePoint& last) {
-  if (!file_) return;
+  if (!run_.is_open()) return;
   // the last state is always stored (fields at the end of the run)
   if (last.step != last_saved_step_ && last.u.size() == n_) store(last);
-  file_->flush();
-  reason_ = reason;
-  signal_point("ended");
-}
-
-void TimeSeriesFile::finish(std::optional<int> publication_code) {
-  if (!file_) return;
-  if (publication_code) {
-    const double code = *publication_code;
-    file_->write_rows("/evolve/exit_code", 0, &code, 1);
-  }
-  file_->write_fixed_string("/evolve/status", reason_);
-  file_->flush();
-  close();
+  run_.ended(reason);
 }
 
 int TimeTable::column(const std::string& name) const { return column_of(columns, name); }

@@ -14,11 +14,11 @@
 #pragma once
 
 #include <functional>
-#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "continuation/output/RunFile.hpp"
 #include "continuation/time/TimeIntegrator.hpp"
 #include "core/H5File.hpp"
 
@@ -46,37 +46,31 @@ TimeSeed read_time_seed(const std::string& path);
 
 class TimeSeriesFile final : public TimeObserver {
  public:
-  // Creates `path` (written as PATH.part, created exclusively after clearing what an earlier run
-  // left there, and renamed once in SWMR mode), lets `header` write what precedes the series (scene,
-  // mesh, the reference state), creates the datasets, writes the seed of an unfinished run if given.
-  // Throws IoError on I/O errors (nothing left behind).
+  // Creates the file (a RunFile: as PATH.part, renamed to `path` once in SWMR mode), lets `header`
+  // write what precedes the series (scene, mesh, the reference state), creates the datasets, writes
+  // the seed of an unfinished run if given. Throws IoError on I/O errors (nothing left behind).
   TimeSeriesFile(const std::string& path, Problem& problem, TimeColumns extra, int save_every,
                  const std::function<void(H5File&)>& header, const TimeSeed* seed = nullptr);
-  ~TimeSeriesFile() override;
 
   void on_step(const TimePoint& point) override;
   void on_finish(const std::string& reason, const TimePoint& last) override;
   // The run has ended (on_finish said why): /evolve/status gets why and, for a file that takes its
   // name, /evolve/exit_code the code the run ends with (-1 until then), in one flush, and the file
   // is closed; as BranchFile::finish.
-  void finish(std::optional<int> publication_code);
-  void close();
-  const std::vector<std::string>& columns() const { return columns_; }
+  void finish(std::optional<int> publication_code) { run_.finish(publication_code); }
   // The file this run created, held: what it publishes must be this file.
-  HeldFile& written() { return written_; }
+  HeldFile& written() { return run_.written(); }
 
  private:
   void store(const TimePoint& p);
-  void write_history(int step, double t, const Vector& u);
-  std::string path_;
+  void write_seed(H5File& f, const TimeSeed& seed);
+  void write_history(H5File& f, int step, double t, const Vector& u);
   Problem& problem_;
   TimeColumns extra_;
   int save_every_;
-  std::unique_ptr<H5File> file_;
-  HeldFile written_;
   std::vector<std::string> columns_;
   int n_ = 0, saved_ = 0, last_saved_step_ = -1;
-  std::string reason_ = "running";  // why the run ended, from on_finish
+  RunFile run_;  // last: creating it writes the seed, which sets the members above
 };
 
 // The table of a time-series file (also one whose writer was killed).

@@ -38,7 +38,7 @@ import sys
 import tempfile
 import time
 
-from bench_study import machine  # (its line also states the load at the start)
+from bench_support import machine  # (its line also states the load at the start)
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))

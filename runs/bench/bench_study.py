@@ -11,7 +11,6 @@ start on its worker, against a task's mean time).
 
 import argparse
 import os
-import platform
 import re
 import shutil
 import subprocess
@@ -19,21 +18,10 @@ import sys
 import tempfile
 import time
 
+from bench_support import machine
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
-
-
-def machine():
-    model = platform.processor() or "?"
-    try:
-        for line in open("/proc/cpuinfo"):
-            if line.startswith("model name"):
-                model = line.split(":", 1)[1].strip()
-                break
-    except OSError:
-        pass
-    load = os.getloadavg()[0]
-    return f"{model}, {os.cpu_count()} cores, load average {load:.2f} at the start"
 
 
 def main():

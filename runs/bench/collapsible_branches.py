@@ -13,7 +13,7 @@ the located values (requested values, events, ends) and the end of the branch.
 keller=PATH for another binary, e.g. an older build), alternating configurations branch by branch
 so that all see the same machine load: ratios between them are measured in one run. --compare checks the located and end values of every branch against a saved
 table to --relative (default 1e-8) and the total of factorisations against it.
-Prints the machine (CPU model, cores, BLAS threads, load average) first."""
+Prints the machine (CPU model, cores, memory, BLAS threads, load average) first."""
 
 import argparse
 import json
@@ -24,35 +24,11 @@ import sys
 import tempfile
 import time
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scripts"))
-from keller_h5 import read_branch  # noqa: E402
+from bench_support import ROOT, machine, scenes
+from keller_h5 import read_branch
 
-FLUIDS = ["newtonian", "oldroyd_b", "fene_p", "owens"]
-BRANCHES = ["gamma", "thickness", "wi_low_gamma", "wi_high_gamma"]
+# the located kinds of a branch table, by the names the saved JSON tables use
 KINDS = {2: "requested", 3: "event", 4: "fold", 5: "branch point", 6: "end", 7: "hopf"}
-ROOT = os.path.abspath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
-
-
-def scenes():
-    for fluid in FLUIDS:
-        for branch in BRANCHES:
-            if fluid == "newtonian" and branch.startswith("wi"):
-                continue
-            yield f"{fluid}_{branch}"
-
-
-def machine():
-    model, cores = "?", os.cpu_count()
-    try:
-        out = subprocess.run(["lscpu"], capture_output=True, text=True).stdout
-        for line in out.splitlines():
-            if line.startswith("Model name:"):
-                model = line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    blas = os.environ.get("OPENBLAS_NUM_THREADS", "default (all cores)")
-    load = " ".join(f"{x:.2f}" for x in os.getloadavg())
-    return f"machine: {model}, {cores} cores, BLAS threads {blas}, load average {load}"
 
 
 def trace(keller, name, overrides, workdir):
@@ -165,7 +141,7 @@ def main():
     args = ap.parse_args()
     configs = [(c[0], c[1:]) for c in args.config] or [("as shipped", [])]
     names = [n for n in scenes() if args.only is None or n in args.only]
-    print(machine())
+    print(f"machine: {machine()}")
     print(f"keller: {args.keller}; common overrides: {' '.join(args.set) or 'none'}")
     for label, ov in configs:
         print(f"configuration '{label}': {' '.join(ov) or 'no overrides'}")
@@ -184,7 +160,7 @@ def main():
             print(f"'{label}' / '{base}': factorisations {totals[label]['factorisations']}/"
                   f"{totals[base]['factorisations']}, trace time {totals[label]['trace_seconds']:.1f}/"
                   f"{totals[base]['trace_seconds']:.1f} s = {totals[label]['trace_seconds'] / totals[base]['trace_seconds']:.3f}")
-    print(machine())
+    print(f"machine: {machine()}")
     first = results[configs[0][0]]
     if args.save:
         with open(args.save, "w") as f:

@@ -23,10 +23,11 @@ import sys
 import tempfile
 import time
 
+from bench_support import machine
+from keller_h5 import open_h5, read_branch
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
-sys.path.insert(0, os.path.join(ROOT, "runs", "scripts"))
-from keller_h5 import open_h5, read_branch  # noqa: E402
 
 PUBLISHED = {0.0: 132.36, 0.1: 130.36, 0.2: 126.62, 0.3: 123.19, 0.4: 120.59, 0.5: 118.83, 0.6: 117.78,
              0.7: 117.32, 0.8: 117.36, 0.9: 117.79}
@@ -36,20 +37,6 @@ STOPS = [0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9]
 def load():
     with open("/proc/loadavg") as f:
         return " ".join(f.read().split()[:3])
-
-
-def machine():
-    """CPU model, cores and memory, from /proc."""
-    model = "unknown CPU"
-    with open("/proc/cpuinfo") as f:
-        for line in f:
-            if line.startswith("model name"):
-                model = line.split(":", 1)[1].strip()
-                break
-    with open("/proc/meminfo") as f:
-        mem = int(f.readline().split()[1]) / 2**20
-    return "%s, %d cores, %.0f GiB, OPENBLAS_NUM_THREADS=%s" % (
-        model, os.cpu_count(), mem, os.environ.get("OPENBLAS_NUM_THREADS", "unset"))
 
 
 def deviations(values):

@@ -19,8 +19,7 @@ import sys
 import tempfile
 import time
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from collapsible_branches import ROOT, machine, scenes  # noqa: E402
+from bench_support import ROOT, machine, scenes
 
 
 def first_state(keller, name, mesh, overrides, workdir):
@@ -52,7 +51,7 @@ def main():
     ap.add_argument("--only", nargs="+", default=None)
     ap.add_argument("--set", action="append", default=[])
     args = ap.parse_args()
-    print(machine(), flush=True)
+    print(f"machine: {machine()}", flush=True)
     names = [n for n in scenes() if args.only is None or n in args.only]
     failed = 0
     print(f"{'scene':<24} {'mesh':<4} {'unknowns':>8} {'iters':>5} {'fact':>4} {'seconds':>8}  path")
@@ -64,7 +63,7 @@ def main():
                 print(f"{name:<24} {mesh:<4} {r['unknowns']:>8} {r['iterations']:>5} {r['factorisations']:>4} "
                       f"{r['seconds']:>8.1f}  {r['path'] if r['ok'] else 'FAILED: ' + r['path']}", flush=True)
     print(f"{failed} failed")
-    print(machine())
+    print(f"machine: {machine()}")
     return 1 if failed else 0
 
 

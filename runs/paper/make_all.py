@@ -27,7 +27,6 @@ import traceback
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.normpath(os.path.join(HERE, "..", ".."))
-sys.path.insert(0, HERE)
 
 STUDIES = ["steady_shear", "gamma", "thickness", "wi", "wi_m3", "wi_thickness"]
 

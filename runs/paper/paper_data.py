@@ -3,13 +3,11 @@ branch file of each task, and the solutions stored on a branch (at its start, it
 values, its events and its end). Reads only keller's HDF5 files."""
 
 import os
-import sys
 
 import numpy as np
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scripts"))
-from keller_h5 import open_h5, read_branch, read_study, same_value  # noqa: E402
-from plot_collapsible import nodal_pressure, read_array, saved_solutions, triangulation  # noqa: E402
+from keller_h5 import (nodal_pressure, read_array, read_attribute, read_branch, read_mesh, read_study, same_value,
+                       saved_solutions, triangulation)
 
 
 class MissingData(Exception):
@@ -112,9 +110,7 @@ class Branch:
         return nodal_pressure(self.path, group, pos)
 
     def attribute(self, path, name):
-        with open_h5(self.path) as f:
-            v = f[path].attrs[name]
-        return v.decode() if isinstance(v, bytes) else v
+        return read_attribute(self.path, path, name)
 
     def mesh(self):
         """(reference node positions, 9-node elements, element group names per element). The
@@ -122,8 +118,5 @@ class Branch:
         holds the deformed mesh of a collapsible-channel branch)."""
         g = self.saved[0][2]
         nodes = self.array(g, "position") - self.array(g, "displacement")
-        with open_h5(self.path) as f:
-            elements = np.array(f["mesh/elements"][()], dtype=int)
-            groups = np.array(f["mesh/element_group"][()], dtype=int)
-            names = [n.decode() if isinstance(n, bytes) else str(n) for n in f["mesh/group_names"][()]]
+        elements, groups, names = read_mesh(self.path)
         return nodes, elements, [names[g] for g in groups]

@@ -3,15 +3,11 @@ map for a sequence of parameter values, axis labels that carry the quantity and 
 (model.md: lengths in W, pressures and stresses in G, velocities in G W / eta0, so the mean
 inflow velocity is Gamma), and saving through a temporary name (keller_h5.save_figure)."""
 
-import os
-import sys
-
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scripts"))
 from keller_h5 import quantity, save_figure  # noqa: E402
 
 FLUIDS = ["newtonian", "oldroyd-b", "fene-p", "owens"]

@@ -19,62 +19,10 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-import matplotlib.tri as mtri  # noqa: E402
 import numpy as np  # noqa: E402
 
-from keller_h5 import OutputError, check_outputs, open_h5, read_branch, save_figure  # noqa: E402
-
-
-def saved_solutions(path):
-    """[(parameter value, group name)] of the stored solutions, in branch order."""
-    parameter, _, _ = read_branch(path)
-    with open_h5(path) as f:
-        if "branch/fields" not in f:
-            return []
-        out = []
-        for name in f["branch/fields"]:
-            g = f["branch/fields"][name]
-            out.append((float(g.attrs[parameter]), int(g.attrs["row"]), name))
-        return sorted(out, key=lambda t: t[1])
-
-
-def read_array(path, group, name):
-    with open_h5(path) as f:
-        g = f["branch/fields"][group]
-        return np.array(g[name][()]) if name in g else None
-
-
-def triangulation(path, group):
-    """Triangles of the deformed fluid mesh (each 9-node quad split into 8) and node positions."""
-    with open_h5(path) as f:
-        elements = np.array(f["mesh/elements"][()], dtype=int)
-        groups = np.array(f["mesh/element_group"][()], dtype=int)
-        names = [n.decode() if isinstance(n, bytes) else str(n) for n in f["mesh/group_names"][()]]
-        pos = np.array(f["branch/fields"][group]["position"][()])
-    fluid = elements[groups == names.index("fluid")]
-    tris = []
-    for el in fluid:  # lexicographic 3x3 node grid
-        for j in range(2):
-            for i in range(2):
-                a, b, c, d = el[i + 3 * j], el[i + 1 + 3 * j], el[i + 3 * (j + 1)], el[i + 1 + 3 * (j + 1)]
-                tris += [(a, b, d), (a, d, c)]
-    return mtri.Triangulation(pos[:, 0], pos[:, 1], np.array(tris)), fluid, pos
-
-
-def nodal_pressure(path, group, pos):
-    """The P1-discontinuous pressure of a stored solution evaluated at each element's nodes (pos:
-    the deformed node positions); nodes shared by elements get the last value (enough for a
-    contour picture); NaN at nodes of no fluid element."""
-    pc = read_array(path, group, "pressure")
-    pn = np.full(len(pos), np.nan)
-    with open_h5(path) as f:
-        elements = np.array(f["mesh/elements"][()], dtype=int)
-    for e, el in enumerate(elements):
-        if np.isnan(pc[e, 0]):
-            continue
-        xc = pos[el[4]]
-        pn[el] = pc[e, 0] + pc[e, 1] * (pos[el, 0] - xc[0]) + pc[e, 2] * (pos[el, 1] - xc[1])
-    return pn
+from keller_h5 import (OutputError, check_outputs, nodal_pressure, read_array, read_branch, save_figure,  # noqa: E402
+                       saved_solutions, triangulation)
 
 
 def main():

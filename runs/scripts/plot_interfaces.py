@@ -16,8 +16,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from keller_h5 import OutputError, check_outputs, read_branch, save_figure  # noqa: E402
-from plot_collapsible import read_array, saved_solutions  # noqa: E402
+from keller_h5 import OutputError, check_outputs, read_array, read_branch, save_figure, saved_solutions  # noqa: E402
 
 
 def main():

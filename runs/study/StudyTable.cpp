@@ -22,8 +22,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr int kind_requested = 2, kind_event = 3, kind_fold = 4, kind_branch_point = 5, kind_end = 6, kind_hopf = 7;
-
 std::string unquoted(const std::string& v) {
   if (v.size() >= 2 && v.front() == '"' && v.back() == '"') return v.substr(1, v.size() - 2);
   return v;
@@ -37,43 +35,30 @@ void collect_branch(const Study& study, const std::string& path, StudyRow& row) 
   row.text["parameter"] = t.parameter;
   if (t.rows.rows() == 0) return;
   std::vector<std::string> found;
-  long ev_rows = 0, ev_cols = 0;
-  std::vector<double> events;
-  {
-    H5File f(path, H5File::Mode::Read);
-    if (f.exists("/branch/events")) events = f.read_matrix("/branch/events", &ev_rows, &ev_cols);
-  }
-  const std::string& monitor_names_joined = t.status;  // for files whose end rows name no monitor
   for (const std::string& name : c.events) {
-    int want_kind = kind_event;
+    PointKind want_kind = PointKind::Event;
     if (name == "fold")
-      want_kind = kind_fold;
+      want_kind = PointKind::Fold;
     else if (name == "bp" || name == "branch-point")
-      want_kind = kind_branch_point;
+      want_kind = PointKind::BranchPoint;
     else if (name == "hopf")
-      want_kind = kind_hopf;
+      want_kind = PointKind::Hopf;
     // a monitor's zero is an event, or the end of the branch where the stop observable of that
-    // name crossed its threshold (the engine reports such a point once, as the end)
-    std::vector<int> monitors, thresholds;
-    for (size_t m = 0; m < t.monitors.size(); ++m) {
-      if (t.monitors[m] == name) monitors.push_back(static_cast<int>(m));
-      if (t.monitors[m].rfind(name + " < ", 0) == 0 || t.monitors[m].rfind(name + " > ", 0) == 0)
-        thresholds.push_back(static_cast<int>(m));
-    }
-    auto in = [](const std::vector<int>& v, double x) {
-      return std::find(v.begin(), v.end(), static_cast<int>(x)) != v.end();
+    // name crossed its threshold (the engine reports such a point once, as the end; a file whose
+    // end names no monitor says so in its status)
+    const auto threshold_of = [&](const std::string& monitor) {
+      return monitor.rfind(name + " < ", 0) == 0 || monitor.rfind(name + " > ", 0) == 0;
     };
     double value = NAN;
-    for (long i = 0; i < ev_rows && std::isnan(value); ++i) {
-      const double* e = &events[static_cast<size_t>(i * ev_cols)];
-      const int k = static_cast<int>(e[1]);
-      if (want_kind != kind_event
-              ? k == want_kind
-              : (k == kind_event && in(monitors, e[3])) ||
-                    (k == kind_end &&
-                     (in(thresholds, e[3]) || (e[3] < 0 && (monitor_names_joined.rfind(name + " < ", 0) == 0 ||
-                                                            monitor_names_joined.rfind(name + " > ", 0) == 0)))))
-        value = e[2];
+    for (const BranchEvent& e : t.events) {
+      if (want_kind != PointKind::Event
+              ? e.kind == want_kind
+              : (e.kind == PointKind::Event && e.monitor == name) ||
+                    (e.kind == PointKind::End &&
+                     (e.monitor.empty() ? threshold_of(t.status) : threshold_of(e.monitor)))) {
+        value = e.parameter;
+        break;
+      }
     }
     row.number["event:" + name] = value;
     if (std::isfinite(value)) found.push_back(fmt::format("{} at {} = {:.7g}", name, t.parameter, value));
@@ -81,7 +66,7 @@ void collect_branch(const Study& study, const std::string& path, StudyRow& row) 
   // a stop crossed more than once (a branch that turns at a fold) gives o@v, then o@v#2, ...
   std::map<double, int> crossings;
   for (long i = 0; i < t.rows.rows(); ++i) {
-    if (static_cast<int>(t.rows(i, kind)) != kind_requested) continue;
+    if (static_cast<int>(t.rows(i, kind)) != static_cast<int>(PointKind::Requested)) continue;
     const double v = t.rows(i, param);
     const int k = ++crossings[v];
     for (const std::string& o : c.stops)

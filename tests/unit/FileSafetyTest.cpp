@@ -13,7 +13,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "continuation/output/TableRows.hpp"
+#include "continuation/output/RunFile.hpp"
 #include "core/H5File.hpp"
 #include "core/HeldFile.hpp"
 #include "core/IoError.hpp"
@@ -206,10 +206,8 @@ TEST(FileSafety, ARunFileThatCannotTakeItsNameIsAnIoFailure) {
   const std::string dir = test::scratch_dir("run_file_rename");
   fs::create_directory(dir + "/run.h5");
   write(dir + "/run.h5/keep.txt", "mine");
-  std::unique_ptr<H5File> file;
-  HeldFile held;
   try {
-    create_run_file(dir + "/run.h5", "/g", file, held, [&] { file->create_group("/g"); });
+    RunFile run(dir + "/run.h5", "/g", [](H5File& f) { f.create_group("/g"); });
     ADD_FAILURE() << "renamed over a folder";
   } catch (const IoError& e) {
     EXPECT_NE(std::string(e.what()).find(dir + "/run.h5.part' to '" + dir + "/run.h5'"), std::string::npos) << e.what();
