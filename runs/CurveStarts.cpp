@@ -24,9 +24,27 @@ ContinuationOptions curve_options(const TraceSettings& settings, const Unfinishe
   return o;
 }
 
-// How a curve begins: from its corrected first state U, or, continuing `unfinished`, from its last
-// stored row (the borders set there).
-void begin_curve(TraceStart& start, Vector U, const Unfinished* unfinished) {
+// Continuing `unfinished`: the curve's borders from its null vectors at its first state U (Vectors
+// and Gain: FoldCurveProblem's or HopfCurveProblem's), refined at the row the unfinished curve
+// continues from, at that row's value of the run's `parameter`.
+template <class Vectors, class Gain, class Curve>
+Status borders_at(Curve& curve, const Vector& U, Problem& problem, const std::string& parameter,
+                  const Unfinished& unfinished) {
+  Vectors v, w;
+  Gain g{};
+  Status st = curve.null_vectors(U, v, w, g);
+  problem.parameters().set(parameter, unfinished.point.lambda);
+  if (st.is_ok()) st = curve.set_borders(unfinished.point.u, v);
+  return st;
+}
+
+// A fold or Hopf curve's start: from its corrected first state U or, continuing `unfinished`, from
+// its last stored row; its borders moved to every point (Curve::BorderUpdate).
+template <class Curve>
+TraceStart bordered_start(std::unique_ptr<Curve> curve, Vector U, const TraceSettings& settings,
+                          const Unfinished* unfinished) {
+  TraceStart start;
+  start.options = curve_options(settings, unfinished);
   if (unfinished) {
     start.begin = TraceStart::Begin::Point;
     start.point = unfinished->point;
@@ -34,6 +52,11 @@ void begin_curve(TraceStart& start, Vector U, const Unfinished* unfinished) {
   } else {
     start.state = std::move(U);
   }
+  start.borders = [c = curve.get()](BranchObserver& next) {
+    return std::make_unique<typename Curve::BorderUpdate>(*c, next);
+  };
+  start.curve = std::move(curve);
+  return start;
 }
 
 // The monitor of `problem` whose zero the stored row is: its event's label, or the stop
@@ -68,23 +91,11 @@ TraceStart start_fold_curve(Problem& problem, const TraceSettings& settings, con
              stored.table.parameter, fold.index, from.file, stored.table.parameter, U[U.size() - 1], parameter,
              problem.parameters().get(parameter));
   if (unfinished) {
-    // the borders from the fold's null vector, refined at the point the unfinished curve continues from
-    Vector v, w;
-    double g = 0.0;
-    Status b = curve->null_vectors(U, v, w, g);
-    problem.parameters().set(parameter, unfinished->point.lambda);
-    if (b.is_ok()) b = curve->set_borders(unfinished->point.u, v);
+    const Status b = borders_at<Vector, double>(*curve, U, problem, parameter, *unfinished);
     if (!b.is_ok()) throw CommandFailure::numerical("the unfinished fold curve cannot be continued", b);
     say_continuing("curve", *unfinished, parameter);
   }
-  TraceStart start;
-  start.options = curve_options(settings, unfinished);
-  begin_curve(start, std::move(U), unfinished);
-  start.borders = [fold_curve = curve.get()](BranchObserver& next) {
-    return std::make_unique<FoldCurveProblem::BorderUpdate>(*fold_curve, next);
-  };
-  start.curve = std::move(curve);
-  return start;
+  return bordered_start(std::move(curve), std::move(U), settings, unfinished);
 }
 
 TraceStart start_hopf_curve(Problem& problem, const TraceSettings& settings, const StoredStart& from,
@@ -103,28 +114,15 @@ TraceStart start_hopf_curve(Problem& problem, const TraceSettings& settings, con
   Vector U = curve->state(hopf.u, hopf.lambda, std::abs(omega));
   const ComplexVector mode = re.cast<std::complex<double>>() + std::complex<double>(0.0, 1.0) * im;
   Status st = curve->start(U, mode, settings.newton, settings.lu);
-  if (st.is_ok() && unfinished) {
-    // the borders from the start's eigenvector, refined at the point the unfinished curve continues from
-    ComplexVector v, w;
-    std::complex<double> g;
-    st = curve->null_vectors(U, v, w, g);
-    problem.parameters().set(parameter, unfinished->point.lambda);
-    if (st.is_ok()) st = curve->set_borders(unfinished->point.u, v);
-  }
+  if (st.is_ok() && unfinished)
+    st = borders_at<ComplexVector, std::complex<double>>(*curve, U, problem, parameter, *unfinished);
   if (!st.is_ok()) throw CommandFailure::numerical("the Hopf curve's first point failed", st);
   fmt::print(
       "Hopf curve in ({}, {}) from the Hopf point at row {} of {} ({} = {:.10g}, omega = {:.10g}, {} = {:.10g})\n",
       parameter, stored.table.parameter, hopf.index, from.file, stored.table.parameter, U[U.size() - 2],
       U[U.size() - 1], parameter, problem.parameters().get(parameter));
   if (unfinished) say_continuing("curve", *unfinished, parameter);
-  TraceStart start;
-  start.options = curve_options(settings, unfinished);
-  begin_curve(start, std::move(U), unfinished);
-  start.borders = [hopf_curve = curve.get()](BranchObserver& next) {
-    return std::make_unique<HopfCurveProblem::BorderUpdate>(*hopf_curve, next);
-  };
-  start.curve = std::move(curve);
-  return start;
+  return bordered_start(std::move(curve), std::move(U), settings, unfinished);
 }
 
 TraceStart start_event_curve(Problem& problem, const TraceSettings& settings, const StoredStart& from,
