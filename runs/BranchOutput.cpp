@@ -13,6 +13,7 @@
 #include "core/PendingFile.hpp"
 #include "core/RunFiles.hpp"
 #include "core/SignalPoint.hpp"
+#include "runs/CommandFailure.hpp"
 #include "runs/ExitCode.hpp"
 #include "runs/Interrupts.hpp"
 #include "runs/OutputFile.hpp"
@@ -118,9 +119,8 @@ int publish_run(const std::string& work, const std::string& out, bool with_field
   try {
     published = publish_output(work, out, xdmf, with_fields, add, &InterruptGuard::requested, &written);
   } catch (const std::exception& e) {
-    return fail_unexpected(
-        summary, e,
-        written.at(work) ? fmt::format("the {} stays in {} (the same command publishes it)", what, work) : "");
+    throw CommandFailure::unexpected(
+        e, written.at(work) ? fmt::format("the {} stays in {} (the same command publishes it)", what, work) : "");
   }
   if (published.modes > 0)
     fmt::print("wrote {} critical eigenmode(s): {}_mode<k>.xdmf\n", published.modes,
@@ -152,7 +152,7 @@ int publish_left_run(const std::string& work, const std::string& out, bool with_
   try {
     written = HeldFile::open(work);
   } catch (const std::exception& e) {
-    return fail_unexpected(summary, e);
+    throw CommandFailure::unexpected(e);
   }
   return publish_run(work, out, with_fields, add, written, left.exit_code, what, summary);
 }

@@ -54,10 +54,10 @@ AddFields series_fields(const std::function<SolutionFields(const Vector& u)>& fi
 // The ended run in `work` (the closed file `written`) takes its name `out`, as publish_output with
 // `add` when `with_fields` (a signal, SIGINT or SIGTERM, skips the fields), saying so on the
 // terminal ("wrote OUT", the eigenmode XDMF files) and in `summary`; `code` is the run's exit code
-// and `what` names the content in messages ("branch"). Returns the command's exit code: `code`;
-// 130 where a signal skipped the fields (`keller export OUT --xdmf` writes them); 3 where a file
-// could not be written or kept, 4 for any other error (fail_unexpected), the run staying in `work`,
-// where the same command publishes it.
+// and `what` names the content in messages ("branch"). Returns the command's exit code: `code`, or
+// 130 where a signal skipped the fields (`keller export OUT --xdmf` writes them). Throws a
+// CommandFailure where a file could not be written or kept (exit 3) or for any other error (exit 4:
+// CommandFailure::unexpected), the run staying in `work`, where the same command publishes it.
 int publish_run(const std::string& work, const std::string& out, bool with_fields, const AddFields& add,
                 const HeldFile& written, int code, const std::string& what, RunSummary& summary);
 // The ended run that an earlier run of this command left in `work` (LeftRun::Kind::ended), killed

@@ -3,21 +3,15 @@
 #include <fmt/format.h>
 
 #include <cmath>
-#include <filesystem>
 #include <optional>
 
 #include "continuation/output/BranchFile.hpp"
 #include "continuation/output/TimeSeriesFile.hpp"
 #include "continuation/start/StartSolver.hpp"
 #include "continuation/time/TimeIntegrator.hpp"
-#include "core/HeldFile.hpp"
-#include "core/IoError.hpp"
-#include "core/OutputLock.hpp"
-#include "core/PendingFile.hpp"
-#include "core/RunFiles.hpp"
-#include "core/SignalPoint.hpp"
 #include "core/SolutionWriter.hpp"
 #include "runs/BranchOutput.hpp"
+#include "runs/CommandRun.hpp"
 #include "runs/ExitCode.hpp"
 #include "runs/Interrupts.hpp"
 #include "runs/OutputFile.hpp"
@@ -26,8 +20,6 @@
 #include "stability/EigenSolver.hpp"
 
 namespace keller {
-
-namespace fs = std::filesystem;
 
 namespace {
 
@@ -184,17 +176,154 @@ class TimeObservers final : public TimeObserver {
   std::vector<TimeObserver*> list_;
 };
 
-// The unfinished run of this very command at `work`, to be continued; `left` says what `work` holds
-// (left_run: an ended run of this command is published instead).
-std::optional<TimeSeed> unfinished_run(const std::string& work, const std::string& record, const std::string& defaults,
-                                       bool fresh, LeftRun& left) {
-  left =
-      left_run(work, record, defaults, fresh, "time series", "steps", "/evolve/exit_code", [](const std::string& path) {
-        const TimeTable t = read_time_table(path);
-        return std::pair<long, std::string>(t.rows.rows(), t.status);
-      });
-  if (left.kind != LeftRun::Kind::unfinished) return {};
-  return read_time_seed(work);
+const RunFileKind kTimeSeries{"time series",       "time-series file", "steps",  "step",
+                              "/evolve/exit_code", "before t_end",     "evolved"};
+
+// The options of a run, as its scene sets them ([evolve], [newton], [linear_solver], [start]).
+struct EvolveSettings {
+  TimeOptions time;
+  PerturbationOptions perturbation;
+  NewtonOptions newton;
+  SparseLUOptions lu;
+  StartOptions start;
+};
+
+// What the run starts from, read before anything is computed: what an earlier run of this command
+// left in OUT.h5.part (its unfinished steps, continued, with the reference they were measured from),
+// or the point of --restart (with its stored eigenvector where the perturbation is "stored").
+struct EvolveSource {
+  LeftRun left;
+  std::optional<TimeSeed> seed;
+  Reference reference;
+  std::vector<std::string> warnings;  // the refusals --force let through
+};
+
+EvolveSource read_evolve_source(const CommandRun& run, const std::string& record, bool fresh,
+                                const std::optional<StoredStart>& from, const PerturbationOptions& perturbation,
+                                Problem& problem) {
+  EvolveSource source;
+  source.left = run.left(record, fresh, [](const std::string& path) {
+    const TimeTable t = read_time_table(path);
+    return std::pair<long, std::string>(t.rows.rows(), t.status);
+  });
+  if (source.left.kind == LeftRun::Kind::unfinished) source.seed = read_time_seed(run.work());
+  if (source.left.kind != LeftRun::Kind::none) {
+    source.reference = read_reference(run.work());
+  } else if (from) {
+    const std::string parameter = read_branch_table(from->file).parameter;
+    const StoredPoint stored = read_stored_start(*from, run.loaded(), problem, parameter, source.warnings);
+    for (const Parameter& q : problem.parameters().list())
+      if (const auto v = stored.value_of(q.name)) problem.parameters().set(q.name, *v);
+    source.reference.state = stored.point.u;
+    if (perturbation.kind == "stored") {
+      source.reference.mode = read_branch_mode(from->file, stored.point.index);
+      if (!source.reference.mode)
+        throw std::invalid_argument(fmt::format(
+            "--restart '{}': row {} has no stored eigenvector (trace with [stability] enabled = true; rows with a "
+            "stored solution keep theirs); perturbation = \"computed\" computes one",
+            from->file, stored.point.index));
+    }
+    fmt::print("starting from row {} of {} ({} = {:.10g})\n", stored.point.index, from->file, parameter,
+               stored.point.lambda);
+  }
+  return source;
+}
+
+// The steady state the run starts from at the scene's parameter values (StartSolver). Throws
+// CommandFailure (exit 1, nothing written) where it fails.
+Vector steady_state(Problem& problem, const EvolveSettings& settings) {
+  StartSolver start_solver(problem, settings.newton, settings.lu, settings.start,
+                           [](const std::string& line) { fmt::print("{}\n", line); });
+  Vector u = problem.initial_guess();
+  fmt::print("steady state to start from\n");
+  print_newton_header();
+  const StartResult r = start_solver.solve(u, print_newton_row);
+  if (!r.status.is_ok()) throw CommandFailure::numerical("the steady state failed", r.status);
+  fmt::print("steady state: {}, {} Newton iterations\n", r.path, r.newton_iterations);
+  return u;
+}
+
+// 1 for the unknowns with a time derivative at `state` (B's nonzero columns). Throws CommandFailure:
+// exit 1 where B fails there, bad input for a problem without a time-dependent form.
+Vector differential_unknowns(Problem& problem, const Vector& state, const std::string& scene_file) {
+  SparseMatrix B;
+  try {
+    const Status st = problem.mass_matrix(state, B);
+    if (!st.is_ok())
+      throw CommandFailure(exit_code::numerical_failure, "the mass matrix at the start: " + st.describe());
+  } catch (const CommandFailure&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw CommandFailure::bad_input(
+        fmt::format("{}: problem '{}' has no time-dependent form ({})", scene_file, problem.name(), e.what()));
+  }
+  if (B.nonZeros() == 0 || B.coeffs().cwiseAbs().maxCoeff() == 0.0)
+    fmt::print("note: B = 0 (no row carries a time derivative): every step is the steady state\n");
+  Vector differential = Vector::Zero(state.size());
+  for (int k = 0; k < B.outerSize(); ++k)
+    for (SparseMatrix::InnerIterator it(B, k); it; ++it)
+      if (it.value() != 0.0) differential[it.col()] = 1.0;
+  return differential;
+}
+
+// The start perturbed along the mode's real part, its largest entry `amplitude` max(|state|_inf, 1).
+Vector perturbed(const Reference& ref, double amplitude) {
+  Vector u0 = ref.state;
+  if (!ref.mode) return u0;
+  const double biggest = ref.mode->re.lpNorm<Eigen::Infinity>();
+  if (!(biggest > 0.0)) throw CommandFailure(exit_code::numerical_failure, "the eigenvector's real part is zero");
+  u0 += (amplitude * std::max(ref.state.lpNorm<Eigen::Infinity>(), 1.0) / biggest) * ref.mode->re;
+  return u0;
+}
+
+// Where the run starts: the steady state it was given (continued or --restart) or solves now, the
+// unknowns with a time derivative there and, for a new run, the mode it is perturbed along (stored,
+// or computed now). Returns the first state: the steady state perturbed along the mode, or for a
+// continued run (whose steps hold its state) the steady state. Throws CommandFailure.
+Vector first_state(Problem& problem, const EvolveSettings& settings, EvolveSource& source, bool restarted,
+                   const std::string& scene_file) {
+  const bool continued = source.seed.has_value();
+  Reference& ref = source.reference;
+  if (!continued && !restarted) ref.state = steady_state(problem, settings);
+  ref.differential = differential_unknowns(problem, ref.state, scene_file);
+  if (!continued && settings.perturbation.kind == "computed") {
+    StoredMode mode;
+    const Status st = computed_mode(problem, ref.state, settings.perturbation, settings.lu, mode);
+    if (!st.is_ok() && mode.re.size() == 0) throw CommandFailure::numerical("no eigenvector to perturb along", st);
+    ref.mode = mode;
+  }
+  if (ref.mode)
+    fmt::print("perturbation along the eigenvector of sigma = {:.10g} {:+.10g} i (growth rate {:.10g}), amplitude {}\n",
+               ref.mode->sigma_re, ref.mode->sigma_im, -ref.mode->sigma_re, settings.perturbation.amplitude);
+  return continued ? ref.state : perturbed(ref, settings.perturbation.amplitude);
+}
+
+// What the time-series file holds before its steps: the run's header and record (`restart`: the
+// --restart it started from, or empty), the state and mode it is measured from, the mesh.
+std::function<void(H5File&)> series_header(const CommandRun& run, Problem& problem, const std::string& record,
+                                           const Reference& ref, const std::string& restart) {
+  return [&run, &problem, record, &ref, restart](H5File& f) {
+    write_run_header(f, run.loaded(), problem);
+    f.write_string("/problem/run", record);
+    if (!restart.empty()) f.set_attribute("/problem", "restarted_from", restart);
+    write_reference(f, ref);
+    const SolutionFields sf = problem.fields(ref.state);
+    if (sf.mesh) write_mesh(f, "/mesh", *sf.mesh);
+  };
+}
+
+// What the run reports: its cost on the terminal, and in `summary`.
+void report_time_run(const TimeResult& result, long unknowns, RunSummary& summary) {
+  fmt::print("{} steps, {} rejected, {} factorisations ({:.2f} per step), {} Newton iterations, {:.2f} s; {}\n",
+             result.steps, result.rejected, result.factorisations,
+             result.steps > 0 ? static_cast<double>(result.factorisations) / result.steps : 0.0,
+             result.newton_iterations, result.seconds, result.reason);
+  summary.reason = result.reason;
+  summary.unknowns = unknowns;
+  summary.points = result.steps;
+  summary.rejected = result.rejected;
+  summary.factorisations = result.factorisations;
+  summary.seconds = result.seconds;
 }
 
 }  // namespace
@@ -221,218 +350,79 @@ void declare_evolve_keys(SceneSchema& s) {
 }
 
 int run_evolve(const EvolveArguments& args, RunSummary* out_summary) {
-  RunSummary local;
-  RunSummary& summary = out_summary ? *out_summary : local;
-  summary = {};
-  auto fail = [&](int code, const std::string& message) { return fail_run(summary, code, message); };
-  // 1. the scene, its options and the files of the run: nothing is written before all are right
-  LoadedScene loaded;
-  TimeOptions topt;
-  PerturbationOptions popt;
-  std::optional<StoredStart> from;
-  try {
-    loaded = load_scene(args.scene, declare_evolve_keys, args.overrides);
-    check_memory(loaded);
-    topt = TimeOptions::from_scene(loaded.scene);
-    popt = perturbation_options_from(loaded.scene);
-    if (popt.kind == "stored" && args.restart.empty())
-      throw loaded.scene.error("evolve.perturbation",
-                               "'stored' takes the eigenvector stored with the --restart row; there is no --restart");
-  } catch (const SceneError& e) {
-    return fail(exit_code::usage, e.what());
-  }
-  const std::string out = args.output.empty() ? fs::path(args.scene).stem().string() + ".h5" : args.output;
-  const std::string work = PendingFile::temporary_for(out);
-  const bool with_fields = loaded.scene.boolean("output.xdmf");
-  OutputLock lock;  // one run at a time writes `out`
-  try {
-    if (args.force && args.restart.empty()) throw std::invalid_argument("--force applies to a start from --restart");
-    RunFiles files;
-    files.input("scene file", args.scene);
-    if (!args.restart.empty()) {
-      from = parse_stored_start("--restart", args.restart);
-      from->force = args.force;
-      files.input("--restart file", from->file);
-    }
-    declare_run_outputs(files, out, "time-series file", with_fields);
-    files.check();
-    lock = OutputLock(OutputLock::path_for(out), "'" + out + "'");
-  } catch (const std::exception& e) {
-    return fail(exit_code::usage, e.what());
-  }
-  fmt::print("{}\n", scene_summary(loaded, out));
-  std::unique_ptr<Problem> problem;
-  try {
-    problem = build_problem(loaded, args.scene);
-  } catch (const SceneError& e) {
-    return fail(exit_code::usage, e.what());
-  }
-
-  // 2. where the run starts: an unfinished run of this command, a stored point, or a steady state
-  const std::string record =
-      loaded.scene.canonical_values() + fmt::format("start = {}\n", from ? "restart " + args.restart : "steady state");
-  std::optional<TimeSeed> seed;
-  Reference ref;
-  std::vector<std::string> warnings;
-  LeftRun left;
-  try {
-    seed = unfinished_run(work, record, loaded.defaults(), args.fresh, left);
-    if (seed || left.kind == LeftRun::Kind::ended) {
-      ref = read_reference(work);
-    } else if (from) {
-      const std::string parameter = read_branch_table(from->file).parameter;
-      const StoredPoint stored = read_stored_start(*from, loaded, *problem, parameter, warnings);
-      for (const Parameter& q : problem->parameters().list())
-        if (const auto v = stored.value_of(q.name)) problem->parameters().set(q.name, *v);
-      ref.state = stored.point.u;
-      if (popt.kind == "stored") {
-        ref.mode = read_branch_mode(from->file, stored.point.index);
-        if (!ref.mode)
-          throw std::invalid_argument(fmt::format(
-              "--restart '{}': row {} has no stored eigenvector (trace with [stability] enabled = true; rows with a "
-              "stored solution keep theirs); perturbation = \"computed\" computes one",
-              from->file, stored.point.index));
+  return run_command(out_summary, [&](RunSummary& summary) {
+    CommandRun run(summary, kTimeSeries);
+    // 1. the scene, its options and the files of the run: nothing is written before all are right
+    EvolveSettings settings;
+    run.load(args.scene, args.output, declare_evolve_keys, args.overrides, [&](const Scene& scene) {
+      settings = {TimeOptions::from_scene(scene), perturbation_options_from(scene), newton_options_from(scene),
+                  sparse_lu_options_from(scene), StartOptions::from_scene(scene)};
+      if (settings.perturbation.kind == "stored" && args.restart.empty())
+        throw scene.error("evolve.perturbation",
+                          "'stored' takes the eigenvector stored with the --restart row; there is no --restart");
+    });
+    std::optional<StoredStart> from;
+    run.check([&](RunFiles& files) {
+      if (args.force && args.restart.empty()) throw std::invalid_argument("--force applies to a start from --restart");
+      if (!args.restart.empty()) {
+        from = parse_stored_start("--restart", args.restart);
+        from->force = args.force;
+        files.input("--restart file", from->file);
       }
-      fmt::print("starting from row {} of {} ({} = {:.10g})\n", stored.point.index, from->file, parameter,
-                 stored.point.lambda);
-    }
-  } catch (const std::exception& e) {
-    return fail(exit_code::usage, e.what());
-  }
-  for (const std::string& w : warnings) fmt::print(stderr, "keller: warning: {}\n", w);
-  const Scene& scene = loaded.scene;
-  fmt::print("problem: {}\n", problem->summary());
-  const NewtonOptions nopt = newton_options_from(scene);
-  const SparseLUOptions lopt = sparse_lu_options_from(scene);
-  if (seed || left.kind == LeftRun::Kind::ended) {
-    // the parameters the unfinished run used: the scene's, or its stored start's
-    H5File f(work, H5File::Mode::Read);
-    const RunHeader header = read_run_header(f);
-    for (const auto& [name, value] : header.parameters)
-      if (problem->parameters().has(name)) problem->parameters().set(name, value);
-  }
-  const auto fields = [&problem](const Vector& u) { return problem->fields(u); };
-  summary.unknowns = problem->size();
-  if (left.kind == LeftRun::Kind::ended)
-    return publish_left_run(work, out, with_fields, series_fields(fields, &InterruptGuard::requested), left,
-                            "time series", summary);
-  if (!seed && !from) {
-    StartSolver start_solver(*problem, nopt, lopt, StartOptions::from_scene(scene),
-                             [](const std::string& line) { fmt::print("{}\n", line); });
-    ref.state = problem->initial_guess();
-    fmt::print("steady state to start from\n");
-    print_newton_header();
-    const StartResult r = start_solver.solve(ref.state, print_newton_row);
-    if (!r.status.is_ok()) {
-      fmt::print(stderr, "keller: the steady state failed: {}; no output written\n", r.status.describe());
-      summary.reason = "the steady state failed: " + r.status.describe();
-      summary.exit_code = exit_code::numerical_failure;
-      return summary.exit_code;
-    }
-    fmt::print("steady state: {}, {} Newton iterations\n", r.path, r.newton_iterations);
-  }
-  {
-    SparseMatrix B;
-    try {
-      const Status st = problem->mass_matrix(ref.state, B);
-      if (!st.is_ok()) return fail(exit_code::numerical_failure, "the mass matrix at the start: " + st.describe());
-    } catch (const std::exception& e) {
-      return fail(exit_code::usage, fmt::format("{}: problem '{}' has no time-dependent form ({})", args.scene,
-                                                problem->name(), e.what()));
-    }
-    if (B.nonZeros() == 0 || B.coeffs().cwiseAbs().maxCoeff() == 0.0)
-      fmt::print("note: B = 0 (no row carries a time derivative): every step is the steady state\n");
-    ref.differential = Vector::Zero(ref.state.size());
-    for (int k = 0; k < B.outerSize(); ++k)
-      for (SparseMatrix::InnerIterator it(B, k); it; ++it)
-        if (it.value() != 0.0) ref.differential[it.col()] = 1.0;
-  }
-  if (!seed && popt.kind == "computed") {
-    StoredMode mode;
-    const Status st = computed_mode(*problem, ref.state, popt, lopt, mode);
-    if (!st.is_ok() && mode.re.size() == 0) {
-      fmt::print(stderr, "keller: no eigenvector to perturb along: {}; no output written\n", st.describe());
-      summary.reason = "no eigenvector to perturb along: " + st.describe();
-      summary.exit_code = exit_code::numerical_failure;
-      return summary.exit_code;
-    }
-    ref.mode = mode;
-  }
-  if (ref.mode)
-    fmt::print("perturbation along the eigenvector of sigma = {:.10g} {:+.10g} i (growth rate {:.10g}), amplitude {}\n",
-               ref.mode->sigma_re, ref.mode->sigma_im, -ref.mode->sigma_re, popt.amplitude);
-  Vector u0 = ref.state;
-  if (ref.mode && !seed) {
-    const double biggest = ref.mode->re.lpNorm<Eigen::Infinity>();
-    if (!(biggest > 0.0)) return fail(exit_code::numerical_failure, "the eigenvector's real part is zero");
-    u0 += (popt.amplitude * std::max(ref.state.lpNorm<Eigen::Infinity>(), 1.0) / biggest) * ref.mode->re;
-  }
+      declare_run_outputs(files, run.out(), kTimeSeries.file, run.with_fields());
+    });
+    Problem& problem = run.build();
 
-  // 3. the run, written to `work` step by step
-  const TimeColumns columns = reference_columns(ref);
-  TimeIntegrator integrator(*problem, topt, nopt, lopt);
-  if (ref.mode) integrator.set_error_reference(ref.state);
-  InterruptGuard interrupts;
-  TimeResult result;
-  HeldFile written;  // the file this run writes, to be published
-  {
-    std::unique_ptr<TimeSeriesFile> file;
-    try {
-      file = std::make_unique<TimeSeriesFile>(
-          work, *problem, columns, popt.save_every,
-          [&](H5File& f) {
-            write_run_header(f, loaded, *problem);
-            f.write_string("/problem/run", record);
-            if (from) f.set_attribute("/problem", "restarted_from", args.restart);
-            write_reference(f, ref);
-            const SolutionFields sf = problem->fields(ref.state);
-            if (sf.mesh) write_mesh(f, "/mesh", *sf.mesh);
-          },
-          seed ? &*seed : nullptr);
-      written = std::move(file->written());
-    } catch (const IoError& e) {
-      return fail(exit_code::io_failure, fmt::format("{}; nothing written", e.what()));
-    } catch (const std::exception& e) {
-      return fail(exit_code::usage, e.what());
+    // 2. where the run starts: an unfinished run of this command, a stored point, or a steady state
+    const std::string record =
+        run.scene().canonical_values() + fmt::format("start = {}\n", from ? "restart " + args.restart : "steady state");
+    EvolveSource source;
+    checking([&] { source = read_evolve_source(run, record, args.fresh, from, settings.perturbation, problem); });
+    for (const std::string& w : source.warnings) fmt::print(stderr, "keller: warning: {}\n", w);
+    fmt::print("problem: {}\n", problem.summary());
+    if (source.left.kind != LeftRun::Kind::none) {  // the parameters it used: the scene's, or its stored start's
+      H5File f(run.work(), H5File::Mode::Read);
+      for (const auto& [name, value] : read_run_header(f).parameters)
+        if (problem.parameters().has(name)) problem.parameters().set(name, value);
     }
-    TimePrinter printer(popt.print_every, columns);
-    TimeObservers observers({file.get(), &printer});
-    const auto stop = [] { return InterruptGuard::requested(); };
-    const std::optional<int> stopped = write_run_file(
-        work, out, written, "time series", "step",
+    const auto fields = [&problem](const Vector& u) { return problem.fields(u); };
+    summary.unknowns = problem.size();
+    if (source.left.kind == LeftRun::Kind::ended)
+      return run.publish_left(source.left, series_fields(fields, &InterruptGuard::requested));
+    const std::optional<TimeSeed>& seed = source.seed;
+    const Reference& ref = source.reference;
+    const Vector u0 = first_state(problem, settings, source, from.has_value(), args.scene);
+
+    // 3. the run, written to OUT.h5.part step by step
+    const TimeColumns columns = reference_columns(ref);
+    TimeIntegrator integrator(problem, settings.time, settings.newton, settings.lu);
+    if (ref.mode) integrator.set_error_reference(ref.state);
+    TimeResult result;
+    const RunEnd end = run.write<TimeSeriesFile>(
         [&] {
+          return std::make_unique<TimeSeriesFile>(run.work(), problem, columns, settings.perturbation.save_every,
+                                                  series_header(run, problem, record, ref, from ? args.restart : ""),
+                                                  seed ? &*seed : nullptr);
+        },
+        [&](TimeSeriesFile& file) {
+          TimePrinter printer(settings.perturbation.print_every, columns);
+          TimeObservers observers({&file, &printer});
+          const auto stop = [] { return InterruptGuard::requested(); };
           if (seed) {
             fmt::print("continuing the unfinished run in {} from its step {} (t = {:.10g}; --fresh starts over)\n",
-                       work, seed->step(), seed->history.back.front().t);
+                       run.work(), seed->step(), seed->history.back.front().t);
             result = integrator.resume(seed->history, observers, stop);
           } else {
             result = integrator.run(u0, 0.0, observers, stop);
           }
           return RunEnd{result.code == TimeStop::Interrupted, result.code == TimeStop::StepFloor};
-        },
-        [&](std::optional<int> code) { file->finish(code); }, summary);
-    if (stopped) return *stopped;
-  }
-  fmt::print("{} steps, {} rejected, {} factorisations ({:.2f} per step), {} Newton iterations, {:.2f} s; {}\n",
-             result.steps, result.rejected, result.factorisations,
-             result.steps > 0 ? static_cast<double>(result.factorisations) / result.steps : 0.0,
-             result.newton_iterations, result.seconds, result.reason);
-  summary.reason = result.reason;
-  summary.unknowns = problem->size();
-  summary.points = result.steps;
-  summary.rejected = result.rejected;
-  summary.factorisations = result.factorisations;
-  summary.seconds = result.seconds;
+        });
+    report_time_run(result, problem.size(), summary);
 
-  // 4. the file takes its name: an interrupted run stays where it is, to be continued; a failed one
-  // never replaces an existing file
-  if (const auto stays = stays_unfinished(result.code == TimeStop::Interrupted, result.code == TimeStop::StepFloor,
-                                          work, out, "time series", "before t_end", summary))
-    return *stays;
-  const int code = summary.exit_code;
-  signal_point("evolved");
-  return publish_run(work, out, with_fields, series_fields(fields, &InterruptGuard::requested), written, code,
-                     "time series", summary);
+    // 4. the file takes its name: an interrupted run stays where it is, to be continued; a failed one
+    // never replaces an existing file
+    return run.publish(end, series_fields(fields, &InterruptGuard::requested));
+  });
 }
 
 }  // namespace keller

@@ -16,6 +16,7 @@
 #include "core/PendingFile.hpp"
 #include "core/RunFiles.hpp"
 #include "runs/BranchOutput.hpp"
+#include "runs/CommandRun.hpp"
 #include "runs/EvolveCommand.hpp"
 #include "runs/ExitCode.hpp"
 #include "runs/Interrupts.hpp"
@@ -113,111 +114,106 @@ std::string companion_for(const std::string& branch) {
   return (p.parent_path() / (p.stem().string() + "-fields.h5")).string();
 }
 
+// The fields of the stored solutions (states) of the file at `input` (its table `t`), from the
+// problem its stored scene builds: written into the file and an XDMF file beside it, or where its
+// writer runs or was killed, into the companion BRANCH-fields.h5. Returns the exit code: 130 where a
+// signal stopped it (nothing changed).
+int export_fields(const std::string& input, const Table& t) {
+  std::string scene_text;
+  {
+    H5File f(input, H5File::Mode::Read);
+    scene_text = f.read_string("/scene");
+  }
+  LoadedScene loaded =
+      load_scene_text(scene_text, input + ":/scene", t.time_series ? declare_evolve_keys : declare_trace_keys);
+  auto problem = loaded.type->build(loaded.scene);
+  if (t.time_series) {  // the parameters the run used (the scene's, or those of the point it started from)
+    H5File f(input, H5File::Mode::Read);
+    for (const auto& [name, value] : read_run_header(f).parameters)
+      if (problem->parameters().has(name)) problem->parameters().set(name, value);
+  }
+  const int p = t.time_series ? -1 : problem->parameters().index(t.parameter);
+  const FieldsAt fields_at = [&](const Vector& u, double lambda) {
+    if (p >= 0) problem->parameters().set(p, lambda);
+    return problem->fields(u);
+  };
+  const auto fields_of = [&](const Vector& u) { return problem->fields(u); };
+  const std::string xdmf = xdmf_path_for(input);
+  if (closed_cleanly(input)) {
+    const PublishedBranch b = publish_output(input, input, xdmf, true,
+                                             t.time_series ? series_fields(fields_of, &InterruptGuard::requested)
+                                                           : branch_fields(xdmf, fields_at, &InterruptGuard::requested),
+                                             &InterruptGuard::requested);
+    if (!b.fields) {
+      fmt::print("interrupted: {} is as it was\n", input);
+      return exit_code::interrupted;
+    }
+    fmt::print("wrote the fields into {} and {}\n", input, xdmf);
+    return exit_code::ok;
+  }
+  // a file whose writer runs or was killed takes no datasets: the fields go beside it
+  const std::string companion = companion_for(input);
+  PendingFile fields(companion);
+  const std::string name = fs::path(companion).filename().string();
+  const bool complete =
+      t.time_series
+          ? write_time_fields(input, fields.path(), xdmf + ".pending", name, fields_of, &InterruptGuard::requested)
+          : write_branch_fields(input, fields.path(), xdmf + ".pending", name, fields_at, &InterruptGuard::requested);
+  if (!complete) {
+    fmt::print("interrupted: nothing written\n");
+    return exit_code::interrupted;
+  }
+  fields.commit();
+  if (fs::exists(xdmf + ".pending")) fs::rename(xdmf + ".pending", xdmf);
+  fmt::print("wrote the fields to {} and {}\n", companion, xdmf);
+  return exit_code::ok;
+}
+
 }  // namespace
 
 int run_export(const ExportArguments& args) {
-  if (args.csv.empty() && !args.xdmf) {
-    fmt::print(stderr, "keller: error: export needs --csv FILE (or - for the standard output) and/or --xdmf\n");
-    return exit_code::usage;
-  }
-  const bool to_stdout = args.csv == "-";
-  OutputLock lock;  // --xdmf rewrites the file: one run at a time
-  try {
-    RunFiles files;
-    files.input("branch or time-series file", args.input);
-    if (!args.csv.empty() && !to_stdout) {
-      files.output("--csv file", args.csv);
-      files.temporary("--csv file's temporary", PendingFile::temporary_for(args.csv));
-    }
-    if (args.xdmf) {
-      declare_xdmf_outputs(files, args.input);
-      files.output("companion fields file", companion_for(args.input));
-      files.temporary("companion fields file's temporary", PendingFile::temporary_for(companion_for(args.input)));
-      files.temporary("copy with fields", args.input + ".fields.part");
-      files.temporary("lock", OutputLock::path_for(args.input));
-    }
-    files.check();
-    if (args.xdmf) {
-      expect_mesh(args.input);
-      lock = OutputLock(OutputLock::path_for(args.input), "'" + args.input + "'");
-    }
-  } catch (const std::exception& e) {
-    fmt::print(stderr, "keller: error: {}\n", e.what());
-    return exit_code::usage;
-  }
-  InterruptGuard interrupts;
-  try {
-    const Table t = read_table(args.input);
-    if (to_stdout) {
-      write_all(STDOUT_FILENO, csv_text(t), "the standard output");
-    } else if (!args.csv.empty()) {
-      PendingFile csv(args.csv);
-      csv.write(csv_text(t));
-      csv.commit();
-      fmt::print("wrote {} ({} rows; status: {})\n", args.csv, t.rows.rows(), t.status);
-    }
-    if (args.xdmf) {
-      // the problem, rebuilt from the scene stored in the file
-      std::string scene_text;
-      {
-        H5File f(args.input, H5File::Mode::Read);
-        scene_text = f.read_string("/scene");
+  return run_command(nullptr, [&](RunSummary&) {
+    if (args.csv.empty() && !args.xdmf)
+      throw CommandFailure::bad_input("export needs --csv FILE (or - for the standard output) and/or --xdmf");
+    const bool to_stdout = args.csv == "-";
+    OutputLock lock;  // --xdmf rewrites the file: one run at a time
+    checking([&] {
+      RunFiles files;
+      files.input("branch or time-series file", args.input);
+      if (!args.csv.empty() && !to_stdout) {
+        files.output("--csv file", args.csv);
+        files.temporary("--csv file's temporary", PendingFile::temporary_for(args.csv));
       }
-      LoadedScene loaded =
-          load_scene_text(scene_text, args.input + ":/scene", t.time_series ? declare_evolve_keys : declare_trace_keys);
-      auto problem = loaded.type->build(loaded.scene);
-      if (t.time_series) {  // the parameters the run used (the scene's, or those of the point it started from)
-        H5File f(args.input, H5File::Mode::Read);
-        for (const auto& [name, value] : read_run_header(f).parameters)
-          if (problem->parameters().has(name)) problem->parameters().set(name, value);
+      if (args.xdmf) {
+        declare_xdmf_outputs(files, args.input);
+        files.output("companion fields file", companion_for(args.input));
+        files.temporary("companion fields file's temporary", PendingFile::temporary_for(companion_for(args.input)));
+        files.temporary("copy with fields", args.input + ".fields.part");
+        files.temporary("lock", OutputLock::path_for(args.input));
       }
-      const int p = t.time_series ? -1 : problem->parameters().index(t.parameter);
-      const FieldsAt fields_at = [&](const Vector& u, double lambda) {
-        if (p >= 0) problem->parameters().set(p, lambda);
-        return problem->fields(u);
-      };
-      const auto fields_of = [&](const Vector& u) { return problem->fields(u); };
-      const std::string xdmf = xdmf_path_for(args.input);
-      if (closed_cleanly(args.input)) {
-        const PublishedBranch b =
-            publish_output(args.input, args.input, xdmf, true,
-                           t.time_series ? series_fields(fields_of, &InterruptGuard::requested)
-                                         : branch_fields(xdmf, fields_at, &InterruptGuard::requested),
-                           &InterruptGuard::requested);
-        if (!b.fields) {
-          fmt::print("interrupted: {} is as it was\n", args.input);
-          return exit_code::interrupted;
-        }
-        fmt::print("wrote the fields into {} and {}\n", args.input, xdmf);
-      } else {
-        // a file whose writer runs or was killed takes no datasets: the fields go beside it
-        const std::string companion = companion_for(args.input);
-        PendingFile fields(companion);
-        const std::string name = fs::path(companion).filename().string();
-        const bool complete = t.time_series ? write_time_fields(args.input, fields.path(), xdmf + ".pending", name,
-                                                                fields_of, &InterruptGuard::requested)
-                                            : write_branch_fields(args.input, fields.path(), xdmf + ".pending", name,
-                                                                  fields_at, &InterruptGuard::requested);
-        if (!complete) {
-          fmt::print("interrupted: nothing written\n");
-          return exit_code::interrupted;
-        }
-        fields.commit();
-        if (fs::exists(xdmf + ".pending")) fs::rename(xdmf + ".pending", xdmf);
-        fmt::print("wrote the fields to {} and {}\n", companion, xdmf);
+      files.check();
+      if (args.xdmf) {
+        expect_mesh(args.input);
+        lock = OutputLock(OutputLock::path_for(args.input), "'" + args.input + "'");
       }
+    });
+    InterruptGuard interrupts;
+    try {
+      const Table t = read_table(args.input);
+      if (to_stdout) {
+        write_all(STDOUT_FILENO, csv_text(t), "the standard output");
+      } else if (!args.csv.empty()) {
+        PendingFile csv(args.csv);
+        csv.write(csv_text(t));
+        csv.commit();
+        fmt::print("wrote {} ({} rows; status: {})\n", args.csv, t.rows.rows(), t.status);
+      }
+      return args.xdmf ? export_fields(args.input, t) : exit_code::ok;
+    } catch (const std::exception& e) {
+      if (is_io_failure(e)) throw CommandFailure::io_failure(e.what());
+      throw CommandFailure::bad_input(e.what());
     }
-  } catch (const IoError& e) {
-    fmt::print(stderr, "keller: error: {}\n", e.what());
-    return exit_code::io_failure;
-  } catch (const fs::filesystem_error& e) {
-    fmt::print(stderr, "keller: error: {}\n", e.what());
-    return exit_code::io_failure;
-  } catch (const std::exception& e) {
-    fmt::print(stderr, "keller: error: {}\n", e.what());
-    return exit_code::usage;
-  }
-  return exit_code::ok;
+  });
 }
 
 }  // namespace keller

@@ -14,6 +14,7 @@
 #include "core/OutputLock.hpp"
 #include "core/PendingFile.hpp"
 #include "core/SolutionWriter.hpp"
+#include "runs/CommandFailure.hpp"
 #include "runs/ExitCode.hpp"
 #include "runs/Provenance.hpp"
 
@@ -151,16 +152,16 @@ LeftRun left_run(const std::string& work, const std::string& record, const std::
   return left;
 }
 
-std::optional<int> write_run_file(const std::string& work, const std::string& out, const HeldFile& written,
-                                  const std::string& what, const std::string& unit, const std::function<RunEnd()>& run,
-                                  const std::function<void(std::optional<int>)>& finish, RunSummary& summary) {
+RunEnd write_run_file(const std::string& work, const std::string& out, const HeldFile& written, const std::string& what,
+                      const std::string& unit, const std::function<RunEnd()>& run,
+                      const std::function<void(std::optional<int>)>& finish) {
   std::optional<RunEnd> end;  // set once the run has ended
   bool takes = false;
   try {
     end = run();
     takes = takes_its_name(end->interrupted, end->failed, out);
     finish(takes ? std::optional<int>(end->failed ? exit_code::numerical_failure : exit_code::ok) : std::nullopt);
-    return std::nullopt;
+    return *end;
   } catch (const IoError& e) {
     // what `work` holds: its status is written with the publication code in one flush (finish), so
     // the same command either continues the run from its last point or publishes it
@@ -172,7 +173,7 @@ std::optional<int> write_run_file(const std::string& work, const std::string& ou
       kept = fmt::format("; the ended {} is kept in {}: run the same command again to finish it", what, work);
     else if (written.at(work))
       kept = fmt::format("; {} is kept as it was, this run's {} is in {}", out, what, work);
-    return fail_run(summary, exit_code::io_failure, e.what() + kept);
+    throw CommandFailure::io_failure(e.what() + kept);
   }
 }
 

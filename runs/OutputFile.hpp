@@ -73,13 +73,13 @@ struct RunEnd {
 };
 // Runs `run`, which writes the run's file `written` at `work` (OUT.h5.part) point by point and says
 // how the run ended, then `finish` ends the file (BranchFile::finish), given the exit code of a
-// run that takes its name `out` (takes_its_name) and nothing for one that does not. An IoError on
-// the way ends the command with exit code 3 (the code is returned), its message saying what
-// `work` keeps and what the same command does with it (`what` and `unit` name the content and its
-// rows: "branch", "point"); nothing is returned where the file was ended.
-std::optional<int> write_run_file(const std::string& work, const std::string& out, const HeldFile& written,
-                                  const std::string& what, const std::string& unit, const std::function<RunEnd()>& run,
-                                  const std::function<void(std::optional<int>)>& finish, RunSummary& summary);
+// run that takes its name `out` (takes_its_name) and nothing for one that does not; returns how
+// the run ended. An IoError on the way ends the command with exit code 3 (a CommandFailure), its
+// message saying what `work` keeps and what the same command does with it (`what` and `unit` name
+// the content and its rows: "branch", "point").
+RunEnd write_run_file(const std::string& work, const std::string& out, const HeldFile& written, const std::string& what,
+                      const std::string& unit, const std::function<RunEnd()>& run,
+                      const std::function<void(std::optional<int>)>& finish);
 
 // Refuses (IoError) to go on with `work` where it is not the file `written` the run wrote, saying
 // that `work` and `target` are left as they are and where the run's file is: moved elsewhere, or

@@ -6,27 +6,13 @@
 #include <filesystem>
 
 #include "continuation/Continuation.hpp"
-#include "core/IoError.hpp"
+#include "runs/CommandFailure.hpp"
 #include "runs/ExitCode.hpp"
 
 namespace keller {
 
-int fail_run(RunSummary& summary, int code, const std::string& message) {
-  fmt::print(stderr, "keller: error: {}\n", message);
-  summary.exit_code = code;
-  summary.reason = message;
-  return code;
-}
-
 int fail_unexpected(RunSummary& summary, const std::exception& e, const std::string& kept) {
-  const std::string also = kept.empty() ? "" : "; " + kept;
-  if (is_io_failure(e)) return fail_run(summary, exit_code::io_failure, e.what() + also);
-  const std::string message = fmt::format(
-      "{}{}; this is a defect of keller: please report it, with the command and this message", e.what(), also);
-  fmt::print(stderr, "keller: internal error: {}\n", message);
-  summary.exit_code = exit_code::internal_error;
-  summary.reason = "internal error: " + message;
-  return summary.exit_code;
+  return CommandFailure::unexpected(e, kept).report(summary);
 }
 
 bool takes_its_name(bool interrupted, bool failed, const std::string& out) {

@@ -45,14 +45,10 @@ void report_branch_run(const ContinuationResult& result, long unknowns, RunSumma
 // output: publish_left_run).
 void add_earlier_runs(RunSummary& now, const RunSummary* earlier);
 
-// Reports a run that stops on an error ("keller: error: ..." on stderr) with its exit code, kept in
-// `summary`; returns the code.
-int fail_run(RunSummary& summary, int code, const std::string& message);
-
 // Reports an error that has no message of its own in the command (caught as std::exception) and
 // returns its exit code: 3 where a file could not be written or kept (is_io_failure), else 4, a
-// defect of keller, whose message asks for a report. `kept` ("the branch stays in OUT.h5.part")
-// says what was kept.
+// defect of keller, whose message asks for a report (CommandFailure::unexpected). `kept` ("the
+// branch stays in OUT.h5.part") says what was kept.
 int fail_unexpected(RunSummary& summary, const std::exception& e, const std::string& kept = "");
 
 // Whether an ended run takes its name: not when interrupted (it is continued), nor when it failed

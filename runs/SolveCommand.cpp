@@ -14,6 +14,7 @@
 #include "core/RunFiles.hpp"
 #include "core/SolutionWriter.hpp"
 #include "core/SparseLU.hpp"
+#include "runs/CommandRun.hpp"
 #include "runs/ExitCode.hpp"
 #include "runs/OutputFile.hpp"
 #include "runs/SceneLoader.hpp"
@@ -52,89 +53,53 @@ void write_spectrum(H5File& file, const std::string& path, const std::vector<Eig
   file.set_attribute(path, "unstable", unstable);
 }
 
-}  // namespace
-
-std::string solve_run_record(const LoadedScene& loaded) { return loaded.scene.canonical_values() + "start = solve\n"; }
-
-int run_solve(const SolveArguments& args, RunSummary* out_summary) {
-  RunSummary local;
-  RunSummary& summary = out_summary ? *out_summary : local;
-  summary = {};
-  auto fail = [&](int code, const std::string& message) {
-    fmt::print(stderr, "keller: error: {}\n", message);
-    summary.exit_code = code;
-    summary.reason = message;
-    return code;
-  };
-  namespace fs = std::filesystem;
-  LoadedScene loaded;
-  std::unique_ptr<Problem> problem;
-  std::string out = args.output;
-  try {
-    // a branch scene solves its first state: the trace sections are read and left aside
-    loaded = load_scene(args.scene, declare_trace_keys, args.overrides);
-    check_memory(loaded);
-  } catch (const SceneError& e) {
-    return fail(exit_code::usage, e.what());
-  }
-  if (out.empty()) out = fs::path(args.scene).stem().string() + ".h5";
-  const bool with_xdmf = loaded.scene.boolean("output.xdmf");
-  OutputLock lock;  // one run at a time writes `out`
-  try {
-    RunFiles files;
-    files.input("scene file", args.scene);
-    files.output("output file", out);
-    files.temporary("output file's temporary", PendingFile::temporary_for(out));
-    files.temporary("output file's lock", OutputLock::path_for(out));
-    if (with_xdmf) {
-      files.output("XDMF file", xdmf_path_for(out));
-      files.temporary("XDMF file's temporary", PendingFile::temporary_for(xdmf_path_for(out)));
-    }
-    files.check();
-    if (!args.output_locked) lock = OutputLock(OutputLock::path_for(out), "'" + out + "'");
-  } catch (const std::exception& e) {
-    return fail(exit_code::usage, e.what());
-  }
+// The options of a solve, as its scene sets them: [stability], [newton], [linear_solver], [start].
+struct SolveSettings {
   StabilityOptions stability;
-  try {
-    stability = StabilityOptions::from_scene(loaded.scene);
-  } catch (const SceneError& e) {
-    return fail(exit_code::usage, e.what());
+  NewtonOptions newton;
+  SparseLUOptions lu;
+  StartOptions start;
+};
+
+// The files a solve writes: OUT.h5 by way of its temporary, the lock, and the XDMF file beside it.
+void declare_solve_outputs(RunFiles& files, const std::string& out, bool with_xdmf) {
+  files.output("output file", out);
+  files.temporary("output file's temporary", PendingFile::temporary_for(out));
+  files.temporary("output file's lock", OutputLock::path_for(out));
+  if (with_xdmf) {
+    files.output("XDMF file", xdmf_path_for(out));
+    files.temporary("XDMF file's temporary", PendingFile::temporary_for(xdmf_path_for(out)));
   }
+}
+
+// A branch scene solves its first steady state: its [continuation] (and [stability] where it is
+// off) given keys are left aside, saying so.
+void say_left_aside(const Scene& scene, const StabilityOptions& stability) {
   std::vector<std::string> ignored;
-  for (const auto& [section, doc] : loaded.scene.schema().sections())
+  for (const auto& [section, doc] : scene.schema().sections())
     if (section == "continuation" || (section == "stability" && !stability.enabled))
-      for (const std::string& key : loaded.scene.schema().keys_in(section))
-        if (loaded.scene.given(section + "." + key)) {
+      for (const std::string& key : scene.schema().keys_in(section))
+        if (scene.given(section + "." + key)) {
           ignored.push_back("[" + section + "]");
           break;
         }
-  fmt::print("{}\n", scene_summary(loaded, out));
   if (!ignored.empty())
     fmt::print("note: keller solve solves the scene's first steady state; {} {} for keller trace and left aside\n",
                fmt::join(ignored, " and "), ignored.size() > 1 ? "are" : "is");
-  try {
-    problem = loaded.type->build(loaded.scene);
-    if (stability.enabled) stability.check_size(loaded.scene, problem->size());
-  } catch (const SceneError& e) {
-    return fail(exit_code::usage, e.what());
-  } catch (const std::exception& e) {
-    return fail(exit_code::usage, fmt::format("{}: {}", args.scene, e.what()));
-  }
-  const Scene& scene = loaded.scene;
-  fmt::print("problem: {}\n", problem->summary());
+}
 
-  NewtonSolver newton(*problem, newton_options_from(scene), sparse_lu_options_from(scene));
-  Vector u = problem->initial_guess();
+// Newton from the problem's guess and, where it fails and the scene allows a path, again from the
+// state a continuation from an easier one reaches (StartSolver); its cost on the terminal.
+NewtonResult solve_state(Problem& problem, const SolveSettings& settings, NewtonSolver& newton, Vector& u) {
+  u = problem.initial_guess();
   print_newton_header();
   NewtonResult res = newton.solve(u, print_newton_row);
-  const StartOptions start_options = StartOptions::from_scene(scene);
-  if (!res.converged() && start_options.path != StartOptions::Path::Off) {
+  if (!res.converged() && settings.start.path != StartOptions::Path::Off) {
     // from an easier state by continuation (StartSolver), then Newton's table from there
     fmt::print("Newton from the initial guess failed ({}); continuing from an easier state\n", res.status.describe());
-    StartSolver start(*problem, newton_options_from(scene), sparse_lu_options_from(scene), start_options,
+    StartSolver start(problem, settings.newton, settings.lu, settings.start,
                       [](const std::string& line) { fmt::print("{}\n", line); });
-    Vector v = problem->initial_guess();
+    Vector v = problem.initial_guess();
     const StartResult reached = start.reach(v);
     if (reached.status.is_ok()) {
       fmt::print("reached by {} ({} points, {} factorisations)\n", reached.path, reached.steps, reached.factorisations);
@@ -154,47 +119,22 @@ int run_solve(const SolveArguments& args, RunSummary* out_summary) {
     fmt::print("  LU ({}): n = {}, nnz(A) = {}, nnz(L+U) = {:.0f} (fill {:.1f}x), ordering {}, peak {:.0f} MB\n",
                lu.backend, lu.n, lu.nnz_matrix, lu.nnz_lu, lu.nnz_lu / static_cast<double>(lu.nnz_matrix),
                lu.ordering_used, lu.peak_memory_bytes / kBytesPerMb);
-  if (!res.converged()) {
-    fmt::print(stderr, "keller: Newton failed: {}; no output written\n", res.status.describe());
-    summary.exit_code = exit_code::numerical_failure;
-    summary.reason = "Newton failed: " + res.status.describe();
-    summary.unknowns = problem->size();
-    summary.seconds = res.seconds;
-    return summary.exit_code;
-  }
+  return res;
+}
 
-  std::vector<double> obs;
-  if (problem->observables(u, obs).is_ok()) {
-    const auto names = problem->observable_names();
-    for (size_t i = 0; i < names.size(); ++i) fmt::print("  {} = {:.10g}\n", names[i], obs[i]);
-  }
-
-  // the spectrum of the state, where the scene asks for it
-  std::optional<StabilityAnalysis> analysis;
-  long unstable = 0;
-  if (stability.enabled) {
-    analysis.emplace(stability, sparse_lu_options_from(scene));
-    PointAnalysisResult r;
-    const Status st = analysis->analyse(*problem, u, r);
-    if (!st.is_ok()) {
-      fmt::print(stderr, "keller: the stability analysis failed: {}; no output written\n", st.describe());
-      summary.exit_code = exit_code::numerical_failure;
-      summary.reason = "stability analysis failed: " + st.describe();
-      return summary.exit_code;
-    }
-    print_spectrum(analysis->spectrum(), r);
-    unstable = unstable_count(r);
-  }
-
+// OUT.h5 (by way of its temporary: all or nothing) with the state, its Newton history and its
+// spectrum, then the XDMF file beside it. Throws CommandFailure (exit 3 or 4) saying what was written.
+void write_solve_file(const CommandRun& run, Problem& problem, const Vector& u, const NewtonResult& res,
+                      const StabilityAnalysis* analysis, long unstable) {
   SolutionFields f;
   try {
-    PendingFile pending(out);
+    PendingFile pending(run.out());
     {
       H5File file(pending.path(), H5File::Mode::Create);
       pending.created(file.hold());
-      write_run_header(file, loaded, *problem);
-      file.write_string("/problem/run", solve_run_record(loaded));
-      write_solution(file, "/solution", *problem, u);
+      write_run_header(file, run.loaded(), problem);
+      file.write_string("/problem/run", solve_run_record(run.loaded()));
+      write_solution(file, "/solution", problem, u);
       std::vector<double> hist;
       for (const auto& it : res.history)
         hist.insert(hist.end(), {static_cast<double>(it.iteration), it.residual_norm, it.update_norm, it.step_length,
@@ -205,35 +145,83 @@ int run_solve(const SolveArguments& args, RunSummary* out_summary) {
                                      "factor_seconds,solve_seconds"));
       file.set_attribute("/solution/newton", "final_residual_norm", res.residual_norm);
       if (analysis) write_spectrum(file, "/solution/stability", analysis->spectrum(), unstable);
-      f = problem->fields(u);
+      f = problem.fields(u);
       if (f.mesh) write_mesh(file, "/mesh", *f.mesh);
       file.close();
     }
     pending.commit();
   } catch (const std::exception& e) {
-    return fail_unexpected(summary, e, "nothing written");
+    throw CommandFailure::unexpected(e, "nothing written");
   }
   try {
-    if (f.mesh && with_xdmf)
-      write_xdmf(xdmf_path_for(out), fs::path(out).filename().string(), "mesh", *f.mesh,
+    if (f.mesh && run.with_fields())
+      write_xdmf(xdmf_path_for(run.out()), std::filesystem::path(run.out()).filename().string(), "mesh", *f.mesh,
                  {{"solution/fields", "solution", 0.0}}, f);
   } catch (const std::exception& e) {
-    return fail_unexpected(summary, e, fmt::format("wrote {}, but not its XDMF file", out));
+    throw CommandFailure::unexpected(e, fmt::format("wrote {}, but not its XDMF file", run.out()));
   }
-  fmt::print("wrote {}\n", out);
-  summary.exit_code = exit_code::ok;
-  summary.reason = fmt::format("converged in {} iterations", res.iterations);
-  summary.output = out;
-  summary.unknowns = problem->size();
-  summary.factorisations = res.factorisations;
-  summary.seconds = res.seconds;
-  summary.solves = lu.solves;
-  summary.nnz_lu = lu.nnz_lu;
-  summary.lu_peak_mb = lu.peak_memory_bytes / kBytesPerMb;
-  summary.lu_backend = lu.backend;
-  summary.factor_seconds = res.factor_seconds;
-  summary.solve_seconds = res.solve_seconds;
-  return summary.exit_code;
+}
+
+}  // namespace
+
+std::string solve_run_record(const LoadedScene& loaded) { return loaded.scene.canonical_values() + "start = solve\n"; }
+
+int run_solve(const SolveArguments& args, RunSummary* out_summary) {
+  return run_command(out_summary, [&](RunSummary& summary) {
+    CommandRun run(summary);
+    // 1. the scene (a branch scene: its trace sections are read and left aside), its options and the
+    // files of the run: nothing is written before all are right
+    SolveSettings settings;
+    run.load(args.scene, args.output, declare_trace_keys, args.overrides, [&](const Scene& scene) {
+      settings = {StabilityOptions::from_scene(scene), newton_options_from(scene), sparse_lu_options_from(scene),
+                  StartOptions::from_scene(scene)};
+    });
+    run.check([&](RunFiles& files) { declare_solve_outputs(files, run.out(), run.with_fields()); }, args.output_locked);
+    say_left_aside(run.scene(), settings.stability);
+    Problem& problem = run.build([&](Problem& p) {
+      if (settings.stability.enabled) settings.stability.check_size(run.scene(), p.size());
+    });
+    fmt::print("problem: {}\n", problem.summary());
+
+    // 2. the steady state, and its spectrum where the scene asks for it
+    NewtonSolver newton(problem, settings.newton, settings.lu);
+    Vector u;
+    const NewtonResult res = solve_state(problem, settings, newton, u);
+    summary.unknowns = problem.size();
+    summary.seconds = res.seconds;
+    if (!res.converged()) throw CommandFailure::numerical("Newton failed", res.status);
+    std::vector<double> obs;
+    if (problem.observables(u, obs).is_ok()) {
+      const auto names = problem.observable_names();
+      for (size_t i = 0; i < names.size(); ++i) fmt::print("  {} = {:.10g}\n", names[i], obs[i]);
+    }
+    std::optional<StabilityAnalysis> analysis;
+    long unstable = 0;
+    if (settings.stability.enabled) {
+      analysis.emplace(settings.stability, settings.lu);
+      PointAnalysisResult r;
+      const Status st = analysis->analyse(problem, u, r);
+      if (!st.is_ok()) throw CommandFailure::numerical("the stability analysis failed", st);
+      print_spectrum(analysis->spectrum(), r);
+      unstable = unstable_count(r);
+    }
+
+    // 3. the file, all or nothing
+    write_solve_file(run, problem, u, res, analysis ? &*analysis : nullptr, unstable);
+    fmt::print("wrote {}\n", run.out());
+    const auto& lu = newton.lu().statistics();
+    summary.exit_code = exit_code::ok;
+    summary.reason = fmt::format("converged in {} iterations", res.iterations);
+    summary.output = run.out();
+    summary.factorisations = res.factorisations;
+    summary.solves = lu.solves;
+    summary.nnz_lu = lu.nnz_lu;
+    summary.lu_peak_mb = lu.peak_memory_bytes / kBytesPerMb;
+    summary.lu_backend = lu.backend;
+    summary.factor_seconds = res.factor_seconds;
+    summary.solve_seconds = res.solve_seconds;
+    return summary.exit_code;
+  });
 }
 
 }  // namespace keller
