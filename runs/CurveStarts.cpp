@@ -63,7 +63,7 @@ TraceStart bordered_start(std::unique_ptr<Curve> curve, Vector U, const TraceSet
 // observable's ("min_m1 < stop_below"); bad input where it has none.
 std::string located_monitor_of(const Problem& problem, const StoredStart& from, const StoredPoint& stored) {
   const BranchPoint& event = stored.point;
-  const std::string label = event.label.empty() ? located_monitor(from.file, event.index, stored.table) : event.label;
+  const std::string label = event.label.empty() ? stored.table.located_monitor(event.index) : event.label;
   std::string monitor;
   for (const std::string& m : problem.monitor_names())
     if (label == m || label.rfind(m + " ", 0) == 0) monitor = m;
@@ -103,16 +103,15 @@ TraceStart start_hopf_curve(Problem& problem, const TraceSettings& settings, con
   const std::string& parameter = settings.continuation.parameter;
   use_stored_parameters(problem, stored);
   const BranchPoint& hopf = stored.point;
-  Vector re, im;
-  double omega = 0.0;
-  if (!read_critical_mode(from.file, hopf.index, re, im, omega))
+  const std::optional<StoredMode> critical = read_branch_mode(from.file, hopf.index);
+  if (!critical)
     throw CommandFailure::bad_input(
         fmt::format("--from '{}': row {} has no stored critical eigenvector (a Hopf point "
                     "of a branch traced with [stability] has one)",
                     from.file, hopf.index));
   auto curve = std::make_unique<HopfCurveProblem>(problem, stored.table.parameter, settings.lu);
-  Vector U = curve->state(hopf.u, hopf.lambda, std::abs(omega));
-  const ComplexVector mode = re.cast<std::complex<double>>() + std::complex<double>(0.0, 1.0) * im;
+  Vector U = curve->state(hopf.u, hopf.lambda, std::abs(critical->sigma_im));
+  const ComplexVector mode = critical->re.cast<std::complex<double>>() + std::complex<double>(0.0, 1.0) * critical->im;
   Status st = curve->start(U, mode, settings.newton, settings.lu);
   if (st.is_ok() && unfinished)
     st = borders_at<ComplexVector, std::complex<double>>(*curve, U, problem, parameter, *unfinished);
