@@ -177,7 +177,7 @@ class Continuation {
   SparseLUOptions lu_options_;
   int stop_index_ = -1;  // index of the stop observable in the problem's observables
   std::vector<std::string> monitor_names_;
-  std::vector<Problem::NamedUnknown> turning_;  // the problem's turning unknowns
+  std::vector<AugmentedProblem::NamedUnknown> turning_;  // the problem's turning unknowns
   ArclengthNorm norm_;
   Evaluator ev_;
   KeptFactorisation kept_;

@@ -42,10 +42,6 @@ Status Problem::parameter_derivative(int p, const Vector& u, Vector& dF) {
   return {};
 }
 
-Status Problem::bordered_jacobian(const Vector&, Vector&, BorderedJacobian&) {
-  throw std::logic_error("problem '" + name() + "' has no bordered Jacobian (border_size() is 0)");
-}
-
 Status Problem::mass_matrix(const Vector&, SparseMatrix&) {
   throw std::logic_error("problem '" + name() + "' has no mass matrix (no time-dependent form)");
 }

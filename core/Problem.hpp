@@ -8,7 +8,6 @@
 #include <string>
 #include <vector>
 
-#include "core/BorderedJacobian.hpp"
 #include "core/ParameterSet.hpp"
 #include "core/SolutionFields.hpp"
 #include "core/Status.hpp"
@@ -36,28 +35,6 @@ class Problem {
   virtual Status jacobian(const Vector& u, Vector& F, SparseMatrix& J);
   // dF/dp for parameter index p. The default takes central differences.
   virtual Status parameter_derivative(int p, const Vector& u, Vector& dF);
-  // An augmented problem (a curve of codimension-one points) exposes its Jacobian as an inner
-  // sparse matrix bordered by border_size() dense rows and columns (core/BorderedJacobian.hpp; the
-  // last border_size() unknowns and equations), so that a solver factorises the inner matrix alone
-  // (the inner problem's J) and eliminates the border. 0 (the default): no border to eliminate
-  // (an ordinary problem, or one whose inner matrix is singular all along, as J on a fold curve).
-  virtual int border_size() const { return 0; }
-  // F(u) and the Jacobian in bordered form, K with the pattern inner_pattern() (its border may be
-  // wider than border_size() where that is 0). The default throws (a problem without a border).
-  virtual Status bordered_jacobian(const Vector& u, Vector& F, BorderedJacobian& J);
-  // F(u) and the border alone (J's B, C and D; K as it was): what a factorisation of K made
-  // nearby needs to be used at u. The default: bordered_jacobian, K included.
-  virtual Status border(const Vector& u, Vector& F, BorderedJacobian& J) { return bordered_jacobian(u, F, J); }
-  // The pattern of K where border_size() > 0; else the Jacobian's own.
-  virtual const SparseMatrix& inner_pattern() const { return jacobian_pattern(); }
-  // Unknowns that are parameters of an inner problem (an augmented problem's p1): the stepper
-  // locates where a branch turns in each (the unknown's part of the tangent changes sign), as it
-  // locates folds in the continuation parameter. Empty (the default) for an ordinary problem.
-  struct NamedUnknown {
-    int index = 0;
-    std::string name;
-  };
-  virtual std::vector<NamedUnknown> turning_unknowns() const { return {}; }
   // Mass matrix B of B du/dt = -F (structure of jacobian_pattern(); rows without a time
   // derivative are zero). The default throws: a problem without dynamics has no B.
   virtual Status mass_matrix(const Vector& u, SparseMatrix& B);

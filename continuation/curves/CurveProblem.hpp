@@ -4,27 +4,28 @@
 // extra unknowns (a Hopf curve's frequency); the inner problem's parameters, with p1 set from U and
 // its range checked; the augmented Jacobian's pattern (the inner pattern bordered by dense rows and
 // columns), assembled from the bordered form; and derivatives by central differences in a
-// parameter and along a direction of the state. (A base class below the Problem interface: the
-// three curves are Problems that differ only in their equations, and this is their one shared
-// implementation.)
+// parameter and along a direction of the state. (A base class below the AugmentedProblem
+// interface: the three curves are augmented problems that differ only in their equations, and
+// this is their one shared implementation.)
 #pragma once
 
 #include <functional>
 #include <string>
 #include <vector>
 
+#include "continuation/engine/AugmentedProblem.hpp"
 #include "continuation/engine/FixedParameterSolve.hpp"
 #include "core/Problem.hpp"
 
 namespace keller {
 
-class CurveProblem : public Problem {
+class CurveProblem : public AugmentedProblem {
  public:
   int size() const override { return n_ + tail_; }
   ParameterSet& parameters() override { return inner_.parameters(); }
   const ParameterSet& parameters() const override { return inner_.parameters(); }
   const SparseMatrix& jacobian_pattern() const override { return pattern_; }
-  // The inner problem's pattern where the curve exposes a border (Problem::border_size() > 0).
+  // The inner problem's pattern where the curve exposes a border (border_size() > 0).
   const SparseMatrix& inner_pattern() const override;
   // The whole augmented Jacobian, assembled from bordered_jacobian().
   Status jacobian(const Vector& U, Vector& F, SparseMatrix& J) override;

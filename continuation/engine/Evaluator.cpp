@@ -5,6 +5,8 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
+#include <string>
 
 #include "core/ConvergenceTest.hpp"
 
@@ -19,7 +21,8 @@ Evaluator::Evaluator(Problem& problem, int parameter, std::string parameter_name
     : problem_(problem),
       p_(parameter),
       name_(std::move(parameter_name)),
-      bordered_(problem.border_size() > 0),
+      augmented_(augmented(problem)),
+      bordered_(augmented_ && augmented_->border_size() > 0),
       J_(problem.jacobian_pattern()) {}
 
 Status Evaluator::set_parameter(double lambda) {
@@ -42,7 +45,7 @@ Status Evaluator::residual(const Vector& u, Vector& F) {
 
 Status Evaluator::jacobian(const Vector& u) {
   const auto t0 = Clock::now();
-  const Status st = bordered_ ? problem_.bordered_jacobian(u, F_, JB_) : problem_.jacobian(u, F_, J_);
+  const Status st = bordered_ ? augmented_->bordered_jacobian(u, F_, JB_) : problem_.jacobian(u, F_, J_);
   timings_.jacobian += since(t0);
   ++timings_.jacobians;
   assembled_ = !bordered_;
@@ -51,8 +54,9 @@ Status Evaluator::jacobian(const Vector& u) {
 }
 
 Status Evaluator::border(const Vector& u, BorderedJacobian& J) {
+  if (!augmented_) throw std::logic_error("problem '" + problem_.name() + "' has no border");
   const auto t0 = Clock::now();
-  const Status st = problem_.border(u, F_, J);
+  const Status st = augmented_->border(u, F_, J);
   timings_.jacobian += since(t0);
   if (st.is_ok()) floor_ = J.rounding_floor(u);  // (of K as it is: made nearby)
   return st;

@@ -1,11 +1,14 @@
 // The continuation engine's access to the problem: the continuation parameter set with its
 // admissible range checked, residuals, Jacobians, dF/dp and Jacobian-vector products, each timed
 // and counted (where a run's time goes), and the rounding floor of the last assembled Jacobian.
+// It finds what a problem offers beyond the contract (a border: AugmentedProblem) once, where it
+// is built.
 #pragma once
 
 #include <functional>
 #include <string>
 
+#include "continuation/engine/AugmentedProblem.hpp"
 #include "core/ConvergenceTest.hpp"
 #include "core/Problem.hpp"
 
@@ -38,8 +41,9 @@ class Evaluator {
   // J and F at u (into jacobian_matrix() or, for a problem with a border of its own,
   // bordered_jacobian(); residual_vector()); the rounding floor of J at u.
   Status jacobian(const Vector& u);
-  // F and the border of a problem with a border of its own at u, into J (Problem::border: K as it
-  // was), F into residual_vector(), the rounding floor of that J at u; timed with the Jacobians.
+  // F and the border of a problem with a border of its own at u, into J (AugmentedProblem::border:
+  // K as it was), F into residual_vector(), the rounding floor of that J at u; timed with the
+  // Jacobians.
   Status border(const Vector& u, BorderedJacobian& J);
   // The problem's monitor `index` (observable: its observable), minus threshold, with its gradient
   // (Problem::monitor_gradient, observable_gradient; in lambda by central differences), timed
@@ -55,8 +59,8 @@ class Evaluator {
 
   // The last Jacobian as one sparse matrix (a bordered one assembled on the first call).
   const SparseMatrix& jacobian_matrix() const;
-  // The problem has a border of its own (Problem::border_size() > 0): its Jacobians come in
-  // bordered form.
+  // The problem has a border of its own (AugmentedProblem::border_size() > 0): its Jacobians come
+  // in bordered form.
   bool bordered() const { return bordered_; }
   const BorderedJacobian& bordered_jacobian() const { return JB_; }
   const Vector& residual_vector() const { return F_; }
@@ -69,6 +73,7 @@ class Evaluator {
   Problem& problem_;
   int p_;
   std::string name_;
+  AugmentedProblem* augmented_;  // the problem's border (null: none)
   bool bordered_;
   // J_ holds the whole Jacobian; for a bordered problem JB_ does, J_ once assembled (assembled_)
   mutable SparseMatrix J_;
