@@ -65,23 +65,6 @@ class Problem {
   // Monitors: named functions whose sign changes along a branch are events.
   virtual std::vector<std::string> monitor_names() const { return {}; }
   virtual Status monitors(const Vector& u, std::vector<double>& values);
-  // A monitor that is a minimum over places (nodes, Gauss points, elements), such as the smallest
-  // conformation eigenvalue: its value at every place (the monitor is their minimum), so that an
-  // event curve can follow the place where the minimum sits. The default: one place, the monitor.
-  virtual Status monitor_places(int monitor, const Vector& u, std::vector<double>& values);
-  // The gradient in u of the monitor's value at one place. The default: one-sided differences,
-  // unknown by unknown, of monitor_places (small problems only).
-  virtual Status monitor_place_gradient(int monitor, int place, const Vector& u, Vector& gradient);
-  // Gradients in u of a monitor or an observable, where the problem has them cheaply: the engine
-  // then locates their zeros by Newton on F = 0 with the function linearised (a few chord
-  // iterations on the kept factorisation) instead of by secant trials along the branch.
-  // has_*: whether it offers one (default: none, the secant).
-  virtual bool has_monitor_gradient(int monitor) const;
-  // Default: the gradient at the place where the minimum sits (monitor_places,
-  // monitor_place_gradient).
-  virtual Status monitor_gradient(int monitor, const Vector& u, Vector& gradient);
-  virtual bool has_observable_gradient(int observable) const;
-  virtual Status observable_gradient(int observable, const Vector& u, Vector& gradient);
   // An observable that is the smallest of several smooth functions (a margin to the nearest of
   // many places) is only piecewise smooth, and where the smallest changes near its zero, Newton
   // and the secant lose their speed there. Held (at = the point), it is the function smallest

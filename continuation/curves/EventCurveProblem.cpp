@@ -94,7 +94,7 @@ EventCurveProblem::EventCurveProblem(Problem& inner, const std::string& event_pa
 Status EventCurveProblem::place_values(const Vector& U, std::vector<double>& values) {
   Status st = set_p1(U);
   if (!st.is_ok()) return st;
-  st = inner_.monitor_places(monitor_, U.head(n_), values);
+  st = places_of(inner_, monitor_, U.head(n_), values);
   if (!st.is_ok()) return st;
   if (place_ >= static_cast<int>(values.size()))
     throw std::logic_error("event curve: the monitor's places changed in number");
@@ -128,7 +128,7 @@ Status EventCurveProblem::place_parameter_derivative(int p, int place, const Vec
       p,
       [&](Vector& value) {
         std::vector<double> v;
-        const Status s = inner_.monitor_places(monitor_, u, v);
+        const Status s = places_of(inner_, monitor_, u, v);
         if (s.is_ok()) value = Vector::Constant(1, v[static_cast<size_t>(place)]);
         return s;
       },
@@ -173,7 +173,7 @@ Status EventCurveProblem::fill_border(const Vector& U, const Vector& f, Vector& 
   F[n_] = v[static_cast<size_t>(place_)];
   Vector Fp1, gu;
   st = inner_.parameter_derivative(p1(), u, Fp1);
-  if (st.is_ok()) st = inner_.monitor_place_gradient(monitor_, place_, u, gu);
+  if (st.is_ok()) st = place_gradient_of(inner_, monitor_, place_, u, gu);
   double gp1 = 0.0;
   if (st.is_ok()) st = place_parameter_derivative(p1(), place_, u, gp1);
   if (!st.is_ok()) return st;
@@ -226,7 +226,7 @@ int EventCurveProblem::other_place(const Vector& U, const std::vector<double>& v
 }
 
 Status EventCurveProblem::observable_gradient(int observable, const Vector& U, Vector& gradient) {
-  if (observable != margin_index()) return CurveProblem::observable_gradient(observable, U, gradient);
+  if (observable != margin_index()) return MonitorGradients::observable_gradient(observable, U, gradient);
   std::vector<double> v;
   Status st = place_values(U, v);
   if (!st.is_ok()) return st;
@@ -236,8 +236,8 @@ Status EventCurveProblem::observable_gradient(int observable, const Vector& U, V
   const Vector u = U.head(n_);
   Vector gj, gk;
   double pj = 0.0, pk = 0.0;
-  st = inner_.monitor_place_gradient(monitor_, j, u, gj);
-  if (st.is_ok()) st = inner_.monitor_place_gradient(monitor_, place_, u, gk);
+  st = place_gradient_of(inner_, monitor_, j, u, gj);
+  if (st.is_ok()) st = place_gradient_of(inner_, monitor_, place_, u, gk);
   if (st.is_ok()) st = place_parameter_derivative(p1(), j, u, pj);
   if (st.is_ok()) st = place_parameter_derivative(p1(), place_, u, pk);
   if (!st.is_ok()) return st;

@@ -12,6 +12,7 @@
 
 #include "continuation/Continuation.hpp"
 #include "continuation/curves/CurveProblem.hpp"
+#include "core/MonitorGradients.hpp"
 #include "core/Newton.hpp"
 #include "core/Problem.hpp"
 #include "core/SparseLU.hpp"
@@ -20,8 +21,10 @@ namespace keller {
 
 // Observables: the inner problem's, then p1, "place" (the followed place's index) and
 // "switch margin" (the smallest value elsewhere minus the followed one: >= 0 while the
-// minimum sits at the followed place). Monitors: the inner problem's but the curve's own.
-class EventCurveProblem final : public CurveProblem {
+// minimum sits at the followed place). Monitors: the inner problem's but the curve's own. The
+// places are those the inner problem offers (MonitorGradients::has_places), else the monitor
+// itself as one place (places_of()).
+class EventCurveProblem final : public CurveProblem, public MonitorGradients {
  public:
   // inner at the event's parameter values; event_parameter: p1 (the parameter of the branch the
   // event was located on, an unknown of the curve); monitor: the inner problem's monitor.

@@ -22,6 +22,7 @@ Evaluator::Evaluator(Problem& problem, int parameter, std::string parameter_name
       p_(parameter),
       name_(std::move(parameter_name)),
       augmented_(augmented(problem)),
+      gradients_(monitor_gradients(problem)),
       bordered_(augmented_ && augmented_->border_size() > 0),
       J_(problem.jacobian_pattern()) {}
 
@@ -63,7 +64,9 @@ Status Evaluator::border(const Vector& u, BorderedJacobian& J) {
 }
 
 GradientFunction Evaluator::gradient_function(int index, bool observable, double threshold) {
-  if (observable ? !problem_.has_observable_gradient(index) : !problem_.has_monitor_gradient(index)) return nullptr;
+  if (!gradients_ ||
+      !(observable ? gradients_->has_observable_gradient(index) : gradients_->has_monitor_gradient(index)))
+    return nullptr;
   return [this, index, observable, threshold](const Vector& u, double lambda, double h, bool gradient, double& g,
                                               Vector& gu, double& gl) {
     const auto t0 = Clock::now();
@@ -82,7 +85,7 @@ GradientFunction Evaluator::gradient_function(int index, bool observable, double
       if (st.is_ok()) st = set_parameter(lambda);
       if (st.is_ok()) {
         gl = (plus - minus) / (2.0 * h);
-        st = observable ? problem_.observable_gradient(index, u, gu) : problem_.monitor_gradient(index, u, gu);
+        st = observable ? gradients_->observable_gradient(index, u, gu) : gradients_->monitor_gradient(index, u, gu);
       }
     }
     timings_.observables += since(t0);

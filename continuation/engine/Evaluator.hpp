@@ -1,8 +1,8 @@
 // The continuation engine's access to the problem: the continuation parameter set with its
 // admissible range checked, residuals, Jacobians, dF/dp and Jacobian-vector products, each timed
 // and counted (where a run's time goes), and the rounding floor of the last assembled Jacobian.
-// It finds what a problem offers beyond the contract (a border: AugmentedProblem) once, where it
-// is built.
+// It finds what a problem offers beyond the contract (a border: AugmentedProblem; gradients:
+// MonitorGradients) once, where it is built.
 #pragma once
 
 #include <functional>
@@ -10,6 +10,7 @@
 
 #include "continuation/engine/AugmentedProblem.hpp"
 #include "core/ConvergenceTest.hpp"
+#include "core/MonitorGradients.hpp"
 #include "core/Problem.hpp"
 
 namespace keller {
@@ -46,8 +47,8 @@ class Evaluator {
   // Jacobians.
   Status border(const Vector& u, BorderedJacobian& J);
   // The problem's monitor `index` (observable: its observable), minus threshold, with its gradient
-  // (Problem::monitor_gradient, observable_gradient; in lambda by central differences), timed
-  // with the observables; null where the problem offers no gradient.
+  // (MonitorGradients::monitor_gradient, observable_gradient; in lambda by central differences),
+  // timed with the observables; null where the problem offers no gradient.
   GradientFunction gradient_function(int index, bool observable, double threshold);
   // The rounding floor of J (made nearby: a factorisation adopted) at u, as if assembled there.
   void set_rounding_floor(const SparseMatrix& J, const Vector& u) { floor_ = keller::rounding_floor(J, u); }
@@ -73,7 +74,8 @@ class Evaluator {
   Problem& problem_;
   int p_;
   std::string name_;
-  AugmentedProblem* augmented_;  // the problem's border (null: none)
+  AugmentedProblem* augmented_;  // what the problem offers beyond the contract (null: nothing)
+  MonitorGradients* gradients_;
   bool bordered_;
   // J_ holds the whole Jacobian; for a bordered problem JB_ does, J_ once assembled (assembled_)
   mutable SparseMatrix J_;

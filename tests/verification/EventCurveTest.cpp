@@ -8,6 +8,7 @@
 
 #include "continuation/Continuation.hpp"
 #include "continuation/curves/EventCurveProblem.hpp"
+#include "core/MonitorGradients.hpp"
 #include "support/TestProblems.hpp"
 
 using namespace keller;
@@ -19,7 +20,7 @@ namespace {
 // a = 1 + b for b < 0, u1 = 0 at a = 1 - b for b > 0: the event curve a = 1 - |b|, whose minimum
 // moves from place 0 to place 1 at b = 0 (a kink of the curve in (a, b)). The places' gradients
 // are the default differences.
-class PlacesProblem final : public Problem {
+class PlacesProblem final : public Problem, public MonitorGradients {
  public:
   PlacesProblem(double a, double b, std::vector<double> c, std::vector<double> e)
       : c_(std::move(c)), e_(std::move(e)), pattern_(size(), size()) {
@@ -56,6 +57,7 @@ class PlacesProblem final : public Problem {
     v = {u.minCoeff()};
     return {};
   }
+  bool has_places(int) const override { return true; }
   Status monitor_places(int, const Vector& u, std::vector<double>& v) override {
     v.assign(u.data(), u.data() + u.size());
     return {};
