@@ -64,6 +64,4 @@ Status Problem::monitors(const Vector&, std::vector<double>& values) {
   return {};
 }
 
-bool Problem::hold_piece(int, const Vector*) { return false; }
-
 }  // namespace keller

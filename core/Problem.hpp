@@ -65,13 +65,6 @@ class Problem {
   // Monitors: named functions whose sign changes along a branch are events.
   virtual std::vector<std::string> monitor_names() const { return {}; }
   virtual Status monitors(const Vector& u, std::vector<double>& values);
-  // An observable that is the smallest of several smooth functions (a margin to the nearest of
-  // many places) is only piecewise smooth, and where the smallest changes near its zero, Newton
-  // and the secant lose their speed there. Held (at = the point), it is the function smallest
-  // at that point alone, with its gradient, until released (at = null); the engine holds it to
-  // locate a zero it stepped over. False where the observable has no such pieces (the default).
-  virtual bool hold_piece(int observable, const Vector* at);
-
   // Fields of a solution for output.
   virtual SolutionFields fields(const Vector& u) const = 0;
   // One line on what the discretisation is ("Q2-P1disc, 320 elements, 8210 unknowns").

@@ -197,18 +197,7 @@ Status EventCurveProblem::observables(const Vector& U, std::vector<double>& valu
   return {};
 }
 
-bool EventCurveProblem::hold_piece(int observable, const Vector* at) {
-  if (observable != margin_index()) return false;
-  held_ = -1;
-  if (!at) return true;
-  std::vector<double> v;
-  if (!place_values(*at, v).is_ok()) return false;
-  held_ = other_place(*at, v);
-  return held_ >= 0;
-}
-
 int EventCurveProblem::other_place(const Vector& U, const std::vector<double>& v) const {
-  if (held_ >= 0) return held_;
   // At the switch a piece starts from, the place it left is level with the followed one (not a new
   // crossing): the margin there is that of the other places, so that a third one overtaking within
   // the piece's first step is still a crossing.
@@ -228,19 +217,59 @@ int EventCurveProblem::other_place(const Vector& U, const std::vector<double>& v
 Status EventCurveProblem::observable_gradient(int observable, const Vector& U, Vector& gradient) {
   if (observable != margin_index()) return MonitorGradients::observable_gradient(observable, U, gradient);
   std::vector<double> v;
-  Status st = place_values(U, v);
+  const Status st = place_values(U, v);
   if (!st.is_ok()) return st;
   const int j = other_place(U, v);
-  gradient = Vector::Zero(U.size());
-  if (j < 0) return {};  // one place: the margin is constant
+  if (j >= 0) return piece_gradient(observable, j, U, gradient);
+  gradient = Vector::Zero(U.size());  // one place: the margin is constant
+  return {};
+}
+
+void EventCurveProblem::check_margin(int observable) const {
+  if (observable != margin_index())
+    throw std::logic_error("event curve: observable " + std::to_string(observable) + " has no pieces");
+}
+
+void EventCurveProblem::check_piece(int observable, int piece) const {
+  check_margin(observable);
+  if (piece < 0 || piece == place_)
+    throw std::logic_error("event curve: the switch margin has no piece " + std::to_string(piece) +
+                           " (its pieces are the places other than the followed one, " + std::to_string(place_) + ")");
+}
+
+Status EventCurveProblem::smallest_piece(int observable, const Vector& U, int& piece) {
+  check_margin(observable);
+  std::vector<double> v;
+  const Status st = place_values(U, v);
+  if (st.is_ok()) piece = other_place(U, v);
+  return st;
+}
+
+Status EventCurveProblem::piece_value(int observable, int piece, const Vector& U, double& value) {
+  check_piece(observable, piece);
+  std::vector<double> v;
+  const Status st = place_values(U, v);
+  if (!st.is_ok()) return st;
+  if (piece >= static_cast<int>(v.size()))
+    throw std::out_of_range("event curve: the switch margin has no piece " + std::to_string(piece) + " (" +
+                            std::to_string(v.size()) + " places)");
+  value = v[static_cast<size_t>(piece)] - v[static_cast<size_t>(place_)];
+  return {};
+}
+
+Status EventCurveProblem::piece_gradient(int observable, int piece, const Vector& U, Vector& gradient) {
+  check_piece(observable, piece);
+  Status st = set_p1(U);
+  if (!st.is_ok()) return st;
   const Vector u = U.head(n_);
   Vector gj, gk;
   double pj = 0.0, pk = 0.0;
-  st = place_gradient_of(inner_, monitor_, j, u, gj);
+  st = place_gradient_of(inner_, monitor_, piece, u, gj);
   if (st.is_ok()) st = place_gradient_of(inner_, monitor_, place_, u, gk);
-  if (st.is_ok()) st = place_parameter_derivative(p1(), j, u, pj);
+  if (st.is_ok()) st = place_parameter_derivative(p1(), piece, u, pj);
   if (st.is_ok()) st = place_parameter_derivative(p1(), place_, u, pk);
   if (!st.is_ok()) return st;
+  gradient = Vector::Zero(U.size());
   gradient.head(n_) = gj - gk;
   gradient[n_] = pj - pk;
   return {};
@@ -356,7 +385,6 @@ ContinuationResult EventCurveProblem::trace(ContinuationOptions o, const NewtonO
                                  place_, next, o.parameter, sw.lambda));
     const int from = place_;
     place_ = next;
-    held_ = -1;
     if (!solve_kept(U, newton, lu).is_ok()) {
       total.reason = "event curve: no solution on the new place's piece at the switch";
       total.code = StopCode::StepFloor;

@@ -12,6 +12,7 @@
 
 #include "continuation/Continuation.hpp"
 #include "continuation/curves/CurveProblem.hpp"
+#include "continuation/engine/ObservablePieces.hpp"
 #include "core/MonitorGradients.hpp"
 #include "core/Newton.hpp"
 #include "core/Problem.hpp"
@@ -24,7 +25,7 @@ namespace keller {
 // minimum sits at the followed place). Monitors: the inner problem's but the curve's own. The
 // places are those the inner problem offers (MonitorGradients::has_places), else the monitor
 // itself as one place (places_of()).
-class EventCurveProblem final : public CurveProblem, public MonitorGradients {
+class EventCurveProblem final : public CurveProblem, public MonitorGradients, public ObservablePieces {
  public:
   // inner at the event's parameter values; event_parameter: p1 (the parameter of the branch the
   // event was located on, an unknown of the curve); monitor: the inner problem's monitor.
@@ -42,8 +43,12 @@ class EventCurveProblem final : public CurveProblem, public MonitorGradients {
   // elsewhere (its switches are located by Newton).
   bool has_observable_gradient(int observable) const override { return observable == margin_index(); }
   Status observable_gradient(int observable, const Vector& U, Vector& gradient) override;
-  // The switch margin held: m_j - m_k, j the place of the smallest value elsewhere at `at`.
-  bool hold_piece(int observable, const Vector* at) override;
+  // The switch margin's pieces: piece j is m_j - m_k, j a place other than the followed one k;
+  // the smallest at U is the margin there.
+  bool has_pieces(int observable) const override { return observable == margin_index(); }
+  Status smallest_piece(int observable, const Vector& U, int& piece) override;
+  Status piece_value(int observable, int piece, const Vector& U, double& value) override;
+  Status piece_gradient(int observable, int piece, const Vector& U, Vector& gradient) override;
   std::vector<std::string> monitor_names() const override;
   Status monitors(const Vector& U, std::vector<double>& values) override;
   std::string summary() const override;
@@ -70,6 +75,9 @@ class EventCurveProblem final : public CurveProblem, public MonitorGradients {
   // the switch a piece starts from), -1 where there is none.
   int other_place(const Vector& U, const std::vector<double>& values) const;
   int margin_index() const { return static_cast<int>(inner_.observable_names().size()) + 2; }
+  // Throw std::logic_error where observable is not the switch margin (or piece not another place).
+  void check_margin(int observable) const;
+  void check_piece(int observable, int piece) const;
   // F (f the inner residual) and the border of the Jacobian at U.
   Status fill_border(const Vector& U, const Vector& f, Vector& F, BorderedJacobian& J);
   // d m_place / d p at U (p1 set from U) by central differences in the parameter p.
@@ -80,7 +88,6 @@ class EventCurveProblem final : public CurveProblem, public MonitorGradients {
 
   int monitor_;
   int place_ = 0;
-  int held_ = -1;  // the other place the switch margin is held to (hold_piece), -1: none
   // the state of the switch a piece starts from, and the place it left there
   Vector switched_at_;
   int switched_from_ = -1;

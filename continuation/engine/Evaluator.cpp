@@ -23,6 +23,7 @@ Evaluator::Evaluator(Problem& problem, int parameter, std::string parameter_name
       name_(std::move(parameter_name)),
       augmented_(augmented(problem)),
       gradients_(monitor_gradients(problem)),
+      pieces_(pieces_of(problem)),
       bordered_(augmented_ && augmented_->border_size() > 0),
       J_(problem.jacobian_pattern()) {}
 
@@ -67,25 +68,56 @@ GradientFunction Evaluator::gradient_function(int index, bool observable, double
   if (!gradients_ ||
       !(observable ? gradients_->has_observable_gradient(index) : gradients_->has_monitor_gradient(index)))
     return nullptr;
-  return [this, index, observable, threshold](const Vector& u, double lambda, double h, bool gradient, double& g,
-                                              Vector& gu, double& gl) {
-    const auto t0 = Clock::now();
+  const auto value = [this, index, observable](const Vector& u, double& out) {
     std::vector<double> v;
-    const auto value = [&](double l, double& out) {
+    const Status st = observable ? problem_.observables(u, v) : problem_.monitors(u, v);
+    if (st.is_ok()) out = v[static_cast<size_t>(index)];
+    return st;
+  };
+  const auto gradient = [this, index, observable](const Vector& u, Vector& gu) {
+    return observable ? gradients_->observable_gradient(index, u, gu) : gradients_->monitor_gradient(index, u, gu);
+  };
+  return timed_function(value, gradient, threshold);
+}
+
+Status Evaluator::smallest_piece(int observable, const Vector& u, double lambda, int& piece) {
+  if (!has_pieces(observable))
+    throw std::logic_error("observable " + std::to_string(observable) + " of '" + problem_.name() + "' has no pieces");
+  const Status st = set_parameter(lambda);
+  return st.is_ok() ? pieces_->smallest_piece(observable, u, piece) : st;
+}
+
+GradientFunction Evaluator::piece_function(int observable, int piece, double threshold) {
+  if (!has_pieces(observable))
+    throw std::logic_error("observable " + std::to_string(observable) + " of '" + problem_.name() + "' has no pieces");
+  const auto value = [this, observable, piece](const Vector& u, double& out) {
+    return pieces_->piece_value(observable, piece, u, out);
+  };
+  const auto gradient = [this, observable, piece](const Vector& u, Vector& gu) {
+    return pieces_->piece_gradient(observable, piece, u, gu);
+  };
+  return timed_function(value, gradient, threshold);
+}
+
+GradientFunction Evaluator::timed_function(StateValue value, StateGradient gradient_in_u, double threshold) {
+  return [this, value = std::move(value), gradient_in_u = std::move(gradient_in_u), threshold](
+             const Vector& u, double lambda, double h, bool gradient, double& g, Vector& gu, double& gl) {
+    const auto t0 = Clock::now();
+    const auto at = [&](double l, double& out) {
       Status st = set_parameter(l);
-      if (st.is_ok()) st = observable ? problem_.observables(u, v) : problem_.monitors(u, v);
-      if (st.is_ok()) out = v[static_cast<size_t>(index)] - threshold;
+      if (st.is_ok()) st = value(u, out);
+      if (st.is_ok()) out -= threshold;
       return st;
     };
-    Status st = value(lambda, g);
+    Status st = at(lambda, g);
     double plus = 0.0, minus = 0.0;
     if (st.is_ok() && gradient) {
-      st = value(lambda + h, plus);
-      if (st.is_ok()) st = value(lambda - h, minus);
+      st = at(lambda + h, plus);
+      if (st.is_ok()) st = at(lambda - h, minus);
       if (st.is_ok()) st = set_parameter(lambda);
       if (st.is_ok()) {
         gl = (plus - minus) / (2.0 * h);
-        st = observable ? gradients_->observable_gradient(index, u, gu) : gradients_->monitor_gradient(index, u, gu);
+        st = gradient_in_u(u, gu);
       }
     }
     timings_.observables += since(t0);

@@ -2,13 +2,14 @@
 // admissible range checked, residuals, Jacobians, dF/dp and Jacobian-vector products, each timed
 // and counted (where a run's time goes), and the rounding floor of the last assembled Jacobian.
 // It finds what a problem offers beyond the contract (a border: AugmentedProblem; gradients:
-// MonitorGradients) once, where it is built.
+// MonitorGradients; the pieces of an observable: ObservablePieces) once, where it is built.
 #pragma once
 
 #include <functional>
 #include <string>
 
 #include "continuation/engine/AugmentedProblem.hpp"
+#include "continuation/engine/ObservablePieces.hpp"
 #include "core/ConvergenceTest.hpp"
 #include "core/MonitorGradients.hpp"
 #include "core/Problem.hpp"
@@ -50,6 +51,12 @@ class Evaluator {
   // (MonitorGradients::monitor_gradient, observable_gradient; in lambda by central differences),
   // timed with the observables; null where the problem offers no gradient.
   GradientFunction gradient_function(int index, bool observable, double threshold);
+  // Whether the observable is the smallest of smooth pieces (ObservablePieces).
+  bool has_pieces(int observable) const { return pieces_ && pieces_->has_pieces(observable); }
+  // The piece of such an observable smallest at (u, lambda) (the parameter set there), -1: none.
+  Status smallest_piece(int observable, const Vector& u, double lambda, int& piece);
+  // One piece of such an observable, minus threshold, with its gradient, as gradient_function.
+  GradientFunction piece_function(int observable, int piece, double threshold);
   // The rounding floor of J (made nearby: a factorisation adopted) at u, as if assembled there.
   void set_rounding_floor(const SparseMatrix& J, const Vector& u) { floor_ = keller::rounding_floor(J, u); }
   // dF/dp at u (into parameter_derivative_vector()).
@@ -71,11 +78,17 @@ class Evaluator {
   ContinuationTimings& timings() { return timings_; }
 
  private:
+  // A function of the state alone and its gradient in u, as a GradientFunction minus threshold.
+  using StateValue = std::function<Status(const Vector& u, double& value)>;
+  using StateGradient = std::function<Status(const Vector& u, Vector& gradient)>;
+  GradientFunction timed_function(StateValue value, StateGradient gradient_in_u, double threshold);
+
   Problem& problem_;
   int p_;
   std::string name_;
   AugmentedProblem* augmented_;  // what the problem offers beyond the contract (null: nothing)
   MonitorGradients* gradients_;
+  ObservablePieces* pieces_;
   bool bordered_;
   // J_ holds the whole Jacobian; for a bordered problem JB_ does, J_ once assembled (assembled_)
   mutable SparseMatrix J_;

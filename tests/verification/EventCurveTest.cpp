@@ -245,13 +245,15 @@ TEST(EventCurve, WhereTwoPlacesOvertakeInOneStepTheFirstIsTheSwitch) {
   EXPECT_EQ(curve.place(), 3);
 }
 
-// The switch margin held to one piece (Problem::hold_piece): m_j - m_k with j the place of the
-// smallest other value where it was held, its gradient that piece's, until released.
-TEST(EventCurve, TheSwitchMarginIsHeldToThePieceSmallestWhereItWasHeld) {
+// The switch margin's pieces (ObservablePieces): m_j - m_k for each place j but the followed one
+// k, the margin the smallest of them; which is smallest at a state, and any piece's value and
+// gradient at any state, each a function of that state alone.
+TEST(EventCurve, TheSwitchMarginIsTheSmallestOfItsPieces) {
   PlacesProblem p(0.5, -0.5, {1.0, 1.0, -3.0}, {0.0, 0.01, 0.0});
   EventCurveProblem curve(p, "a", "min u");
   Vector U = curve.state(Eigen::Vector3d(0.0, 0.01, 1.5), 0.5);
   ASSERT_TRUE(curve.start(U, {}).is_ok());
+  ASSERT_EQ(curve.place(), 0);
   const int margin = static_cast<int>(curve.observable_names().size()) - 1;
   const auto margin_at = [&](const Vector& X) {
     std::vector<double> v;
@@ -260,15 +262,28 @@ TEST(EventCurve, TheSwitchMarginIsHeldToThePieceSmallestWhereItWasHeld) {
   };
   Vector V = U;  // where place 2 is the smallest other: u2 below u1
   V[2] = 0.005;
-  EXPECT_NEAR(margin_at(U), U[1] - U[0], 1e-15);   // place 1, the smallest other at U
-  EXPECT_FALSE(curve.hold_piece(margin - 1, &V));  // (the place observable has no pieces)
-  ASSERT_TRUE(curve.hold_piece(margin, &V));
-  EXPECT_NEAR(margin_at(U), U[2] - U[0], 1e-15);  // place 2's piece, at U too
+  EXPECT_NEAR(margin_at(U), U[1] - U[0], 1e-15);  // place 1, the smallest other at U
+  EXPECT_FALSE(curve.has_pieces(margin - 1));     // (the place observable has no pieces)
+  ASSERT_TRUE(curve.has_pieces(margin));
+  int piece = -1;
+  ASSERT_TRUE(curve.smallest_piece(margin, U, piece).is_ok());
+  EXPECT_EQ(piece, 1);
+  ASSERT_TRUE(curve.smallest_piece(margin, V, piece).is_ok());
+  EXPECT_EQ(piece, 2);
+  double value = 0.0;
+  ASSERT_TRUE(curve.piece_value(margin, 2, U, value).is_ok());
+  EXPECT_NEAR(value, U[2] - U[0], 1e-15);  // place 2's piece, at U too
   Vector g;
-  ASSERT_TRUE(curve.observable_gradient(margin, U, g).is_ok());
+  ASSERT_TRUE(curve.piece_gradient(margin, 2, U, g).is_ok());
   EXPECT_NEAR(g[2], 1.0, 1e-6);  // (the places' gradients by one-sided differences)
   EXPECT_NEAR(g[1], 0.0, 1e-6);
   EXPECT_NEAR(g[0], -1.0, 1e-6);
-  ASSERT_TRUE(curve.hold_piece(margin, nullptr));
+  // the margin and its gradient are those of the piece smallest where they are taken: no piece is
+  // held by the calls before
   EXPECT_NEAR(margin_at(U), U[1] - U[0], 1e-15);
+  ASSERT_TRUE(curve.observable_gradient(margin, U, g).is_ok());
+  EXPECT_NEAR(g[2], 0.0, 1e-6);
+  EXPECT_NEAR(g[1], 1.0, 1e-6);
+  EXPECT_NEAR(g[0], -1.0, 1e-6);
+  EXPECT_THROW(curve.piece_value(margin, 0, U, value), std::logic_error);  // (the followed place is no piece)
 }
