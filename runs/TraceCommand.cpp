@@ -9,6 +9,7 @@
 
 #include "continuation/Continuation.hpp"
 #include "continuation/curves/EventCurveProblem.hpp"
+#include "continuation/curves/EventCurveTracer.hpp"
 #include "continuation/curves/FoldCurveProblem.hpp"
 #include "continuation/curves/HopfCurveProblem.hpp"
 #include "continuation/output/BranchFile.hpp"
@@ -245,6 +246,7 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
   StartFactorisation start_factorisation;          // the first state's last factorisation of J, handed to the branch
   std::unique_ptr<FoldCurveProblem> curve;         // --curve fold: the augmented problem traced instead
   std::unique_ptr<EventCurveProblem> event_curve;  // --curve event
+  std::unique_ptr<EventCurveTracer> event_tracer;  // (runs its pieces)
   std::unique_ptr<HopfCurveProblem> hopf_curve;    // --curve hopf
   if (from && from->curve && from->located == PointKind::Event) {
     for (const Parameter& q : problem->parameters().list())
@@ -272,12 +274,13 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
       copt.stop.observable.clear();
     }
     event_curve = std::make_unique<EventCurveProblem>(*problem, stored->table.parameter, monitor);
+    event_tracer = std::make_unique<EventCurveTracer>(*event_curve);
     Vector U = event_curve->state(event.u, event.lambda);
     if (unfinished) {
       problem->parameters().set(copt.parameter, start->lambda);
       U = start->u;
     }
-    const Status st = event_curve->start(U, nopt, lopt);
+    const Status st = event_tracer->start(U, nopt, lopt);
     if (!st.is_ok()) {
       return failed("the event curve's first point failed", st);
     }
@@ -461,8 +464,8 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
     const std::optional<int> stopped = write_run_file(
         work, out, written, "branch", "point",
         [&] {
-          result = event_curve               ? event_curve->trace(fixed, nopt, lopt, u0, *observer,
-                                                                  [](Continuation* c) { InterruptGuard::forward_to(c); })
+          result = event_curve               ? event_tracer->trace(fixed, nopt, lopt, u0, *observer,
+                                                                   [](Continuation* c) { InterruptGuard::forward_to(c); })
                    : unfinished              ? run->resume(*start, *observer)
                    : from && from->switching ? run->switch_branch(*start, args.switch_direction, *observer)
                    : start                   ? run->resume(*start, *observer)

@@ -42,6 +42,10 @@ class CurveProblem : public AugmentedProblem {
   const std::string& p1_name() const { return inner_.parameters().info(p1_).name; }
   // (u, p1, extra) as the curve's state.
   Vector state(const Vector& u, double p1, const Vector& extra = Vector()) const;
+  // U corrected at the present parameter values by block elimination (FixedParameterSolve, on
+  // `near` where given).
+  FixedParameterResult solve_here(Vector& U, const NewtonOptions& newton, const SparseLUOptions& lu,
+                                  const StartFactorisation& near = {});
 
  protected:
   // inner at the point's parameter values; p1: the inner problem's parameter that becomes an
@@ -51,10 +55,6 @@ class CurveProblem : public AugmentedProblem {
 
   // Sets p1 in the inner problem from U; a failure status where it is not finite or out of range.
   Status set_p1(const Vector& U) const;
-  // U corrected at the present parameter values by block elimination (FixedParameterSolve, on
-  // `near` where given).
-  FixedParameterResult solve_here(Vector& U, const NewtonOptions& newton, const SparseLUOptions& lu,
-                                  const StartFactorisation& near = {});
   // The derivative in the parameter p of the curve's own equations (those after F = 0) at U; sets
   // p1 from U (parameter_derivative adds dF/dp at the same values).
   virtual Status equations_parameter_derivative(int p, const Vector& U, Vector& d) = 0;

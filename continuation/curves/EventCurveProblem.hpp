@@ -2,21 +2,17 @@
 // second parameter p2: an ordinary branch of an augmented problem with unknowns (u, p1) and
 // equations F = 0, m_k(u, p) = 0, m_k the monitor's value at the place k where the minimum sits.
 // The curve follows k; where another place's value falls below it (the switch margin crosses
-// zero) the stepper ends the piece there, and trace() goes on from the located switch with the
-// new place, reporting the whole curve as one branch with each switch a labelled event.
+// zero) a piece of the curve ends, and the next one follows the new place (EventCurveTracer runs
+// the pieces and reports the whole curve as one branch).
 #pragma once
 
-#include <functional>
 #include <string>
 #include <vector>
 
-#include "continuation/Continuation.hpp"
 #include "continuation/curves/CurveProblem.hpp"
 #include "continuation/engine/ObservablePieces.hpp"
 #include "core/MonitorGradients.hpp"
-#include "core/Newton.hpp"
 #include "core/Problem.hpp"
-#include "core/SparseLU.hpp"
 
 namespace keller {
 
@@ -39,6 +35,10 @@ class EventCurveProblem final : public CurveProblem, public MonitorGradients, pu
   Status border(const Vector& U, Vector& F, BorderedJacobian& J) override;
   std::vector<std::string> observable_names() const override { return curve_observable_names({"place", kMargin}); }
   Status observables(const Vector& U, std::vector<double>& values) override;
+  std::vector<std::string> monitor_names() const override;
+  Status monitors(const Vector& U, std::vector<double>& values) override;
+  std::string summary() const override;
+
   // The switch margin's gradient in U: that of m_j - m_k, j the place of the smallest value
   // elsewhere (its switches are located by Newton).
   bool has_observable_gradient(int observable) const override { return observable == margin_index(); }
@@ -49,22 +49,20 @@ class EventCurveProblem final : public CurveProblem, public MonitorGradients, pu
   Status smallest_piece(int observable, const Vector& U, int& piece) override;
   Status piece_value(int observable, int piece, const Vector& U, double& value) override;
   Status piece_gradient(int observable, int piece, const Vector& U, Vector& gradient) override;
-  std::vector<std::string> monitor_names() const override;
-  Status monitors(const Vector& U, std::vector<double>& values) override;
-  std::string summary() const override;
 
   // The place followed, and the place where the minimum sits at U (the inner problem's
   // parameters set from U and the present p2).
   int place() const { return place_; }
   Status argmin(const Vector& U, int& place);
-  // Follows the minimum's place at U and corrects U by Newton at the present p2.
-  Status start(Vector& U, const NewtonOptions& newton, SparseLUOptions lu = {});
-  // Traces the curve from U0 (start() done) with options o in p2 (o.stop.observable empty or
-  // kMargin: the switch margin is the stop of each piece), as one branch reported to observer.
-  // each_run, when given, sees each piece's stepper before it runs (to forward interrupts).
-  ContinuationResult trace(ContinuationOptions o, const NewtonOptions& newton, const SparseLUOptions& lu,
-                           const Vector& U0, BranchObserver& observer,
-                           const std::function<void(Continuation*)>& each_run = {});
+  // The place of the smallest value at U but the followed one: where the minimum moves at a
+  // switch (the followed place where there is no other).
+  Status next_place(const Vector& U, int& place);
+  // Follows `place` from now on: its value is the curve's equation.
+  void follow(int place);
+  // The piece about to be traced starts at the switch U, where the curve left the place `left`:
+  // there (and within the run's correction of U) that place is level with the followed one, and
+  // the switch margin leaves it out. U empty: the piece starts at no switch (the curve's first).
+  void start_piece_at(const Vector& U, int left);
   // The name of the observable whose zero is a switch.
   static constexpr const char* kMargin = "switch margin";
 
@@ -82,18 +80,12 @@ class EventCurveProblem final : public CurveProblem, public MonitorGradients, pu
   Status fill_border(const Vector& U, const Vector& f, Vector& F, BorderedJacobian& J);
   // d m_place / d p at U (p1 set from U) by central differences in the parameter p.
   Status place_parameter_derivative(int p, int place, const Vector& u, double& derivative);
-  // U corrected at the present parameters (CurveProblem::solve_here), the chord on kept_ where
-  // there is one; kept_ becomes the factorisation it ended with.
-  Status solve_kept(Vector& U, const NewtonOptions& newton, const SparseLUOptions& lu);
 
   int monitor_;
   int place_ = 0;
   // the state of the switch a piece starts from, and the place it left there
   Vector switched_at_;
   int switched_from_ = -1;
-  // the inner J's factorisation the last solve or piece ended with: the next one starts on it
-  StartFactorisation kept_;
-  double solve_seconds_ = 0.0;  // in solves at switches (outside the pieces' own timings)
 };
 
 }  // namespace keller

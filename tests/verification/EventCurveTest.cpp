@@ -1,6 +1,6 @@
-// Event curves (continuation/curves/EventCurveProblem): the zero of a monitor that is a minimum over
-// places, continued in a second parameter, following the place of the minimum and switching
-// where it moves, on a problem whose curve is known in closed form.
+// Event curves (continuation/curves/EventCurveProblem, traced by EventCurveTracer): the zero of a
+// monitor that is a minimum over places, continued in a second parameter, following the place of
+// the minimum and switching where it moves, on a problem whose curve is known in closed form.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,6 +8,7 @@
 
 #include "continuation/Continuation.hpp"
 #include "continuation/curves/EventCurveProblem.hpp"
+#include "continuation/curves/EventCurveTracer.hpp"
 #include "core/MonitorGradients.hpp"
 #include "support/TestProblems.hpp"
 
@@ -108,10 +109,11 @@ TEST(EventCurve, TurnsInTheUnknownParameterAreLocated) {
   Vector U = curve.state(Vector::Constant(1, 1e-3), 0.25 + 1e-3);
   NewtonOptions tight;
   tight.residual_tolerance = 1e-12;  // two orders below what the curve is checked to
-  ASSERT_TRUE(curve.start(U, tight).is_ok());
+  EventCurveTracer tracer(curve);
+  ASSERT_TRUE(tracer.start(U, tight).is_ok());
   const ContinuationOptions o = in_b_to_half();
   test::RecordingObserver rec;
-  const ContinuationResult r = curve.trace(o, tight, {}, U, rec);
+  const ContinuationResult r = tracer.trace(o, tight, {}, U, rec);
   ASSERT_EQ(r.code, StopCode::UpperBound) << r.reason;
   for (const BranchPoint& q : rec.points) EXPECT_NEAR(q.u[1], q.lambda * q.lambda, 1e-10) << "b = " << q.lambda;
   std::vector<const BranchPoint*> turns;
@@ -134,12 +136,13 @@ TEST(EventCurve, MinimumOverPlacesFollowsItsPlaceAndSwitches) {
   Vector U = curve.state(Eigen::Vector2d(0.01, 0.5), 0.52);
   NewtonOptions tight;
   tight.residual_tolerance = 1e-12;  // two orders below what the curve is checked to
-  ASSERT_TRUE(curve.start(U, tight).is_ok());
+  EventCurveTracer tracer(curve);
+  ASSERT_TRUE(tracer.start(U, tight).is_ok());
   EXPECT_EQ(curve.place(), 0);
   EXPECT_NEAR(U[2], 0.5, 1e-12);
   const ContinuationOptions o = in_b_to_half();
   test::RecordingObserver rec;
-  const ContinuationResult r = curve.trace(o, tight, {}, U, rec);
+  const ContinuationResult r = tracer.trace(o, tight, {}, U, rec);
   ASSERT_EQ(r.code, StopCode::UpperBound) << r.reason;
   const int a = static_cast<int>(curve.observable_names().size()) - 3, place = a + 1, margin = a + 2;
   int switches = 0;
@@ -190,12 +193,13 @@ TEST(EventCurve, APlaceOvertakingALevelOneIsLocatedOnItsOwnPiece) {
   Vector U = curve.state(Eigen::Vector3d(0.01, 0.02, 1.5), 0.52);
   NewtonOptions tight;
   tight.residual_tolerance = 1e-12;
-  ASSERT_TRUE(curve.start(U, tight).is_ok());
+  EventCurveTracer tracer(curve);
+  ASSERT_TRUE(tracer.start(U, tight).is_ok());
   ASSERT_EQ(curve.place(), 0);
   ContinuationOptions o = in_b_to_half();
   o.events.land_on_zeros = false;  // (a step crosses the switch)
   test::RecordingObserver rec;
-  const ContinuationResult r = curve.trace(o, tight, {}, U, rec);
+  const ContinuationResult r = tracer.trace(o, tight, {}, U, rec);
   ASSERT_EQ(r.code, StopCode::UpperBound) << r.reason;
   const int a = static_cast<int>(curve.observable_names().size()) - 3;
   std::vector<const BranchPoint*> switches;
@@ -222,13 +226,14 @@ TEST(EventCurve, WhereTwoPlacesOvertakeInOneStepTheFirstIsTheSwitch) {
   Vector U = curve.state(Eigen::Vector4d(0.01, 0.02, 1.5, 2.0), 0.52);
   NewtonOptions tight;
   tight.residual_tolerance = 1e-12;
-  ASSERT_TRUE(curve.start(U, tight).is_ok());
+  EventCurveTracer tracer(curve);
+  ASSERT_TRUE(tracer.start(U, tight).is_ok());
   ASSERT_EQ(curve.place(), 0);
   ContinuationOptions o = in_b_to_half();
   o.stop.upper = 0.05;
   o.events.land_on_zeros = false;  // (steps cross the switches)
   test::RecordingObserver rec;
-  const ContinuationResult r = curve.trace(o, tight, {}, U, rec);
+  const ContinuationResult r = tracer.trace(o, tight, {}, U, rec);
   ASSERT_EQ(r.code, StopCode::UpperBound) << r.reason;
   const int a = static_cast<int>(curve.observable_names().size()) - 3, place = a + 1;
   std::vector<const BranchPoint*> switches;
@@ -252,7 +257,7 @@ TEST(EventCurve, TheSwitchMarginIsTheSmallestOfItsPieces) {
   PlacesProblem p(0.5, -0.5, {1.0, 1.0, -3.0}, {0.0, 0.01, 0.0});
   EventCurveProblem curve(p, "a", "min u");
   Vector U = curve.state(Eigen::Vector3d(0.0, 0.01, 1.5), 0.5);
-  ASSERT_TRUE(curve.start(U, {}).is_ok());
+  ASSERT_TRUE(EventCurveTracer(curve).start(U, {}).is_ok());
   ASSERT_EQ(curve.place(), 0);
   const int margin = static_cast<int>(curve.observable_names().size()) - 1;
   const auto margin_at = [&](const Vector& X) {
