@@ -64,4 +64,6 @@ Status Problem::monitors(const Vector&, std::vector<double>& values) {
   return {};
 }
 
+SolutionFields Problem::fields(const Vector&) const { return {}; }
+
 }  // namespace keller

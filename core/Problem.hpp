@@ -1,8 +1,17 @@
-// The problem interface: F(u, lambda) = 0 with named parameters. Everything above core/
-// (Newton, continuation, stability, the command-line driver) sees problems only through this.
+// The problem contract: F(u, lambda) = 0 with named parameters, what a user implements to have
+// keller solve, continue, analyse and integrate a problem. Everything above core/ (Newton,
+// continuation, stability, the command-line driver) sees a problem only through this page.
 //
-// Sign convention: the time-dependent form is B du/dt = -F(u), so a steady state is F = 0 and
-// the linear stability problem is J phi = sigma B phi with growth rate -sigma.
+// Sign convention: the time-dependent form is B du/dt = -F(u), so a steady state is F = 0 and the
+// linear stability problem is J phi = sigma B phi with growth rate -sigma.
+//
+// Parameters are the problem's own (parameters()); the algorithms set them before they evaluate,
+// so every evaluation below is at the parameters' present values. Numerical failure (a NaN, an
+// inverted element) is a returned Status the algorithms react to; misuse throws.
+//
+// Required: name, size, parameters, jacobian_pattern, residual, initial_guess.
+// Everything else has a default, and the defaults say what they cost. Beyond this page, a problem
+// may offer gradients of its monitors and observables (core/MonitorGradients.hpp).
 #pragma once
 
 #include <string>
@@ -19,55 +28,71 @@ class Problem {
  public:
   virtual ~Problem() = default;
 
+  // --- What the problem is (required) ---
+
   virtual std::string name() const = 0;
   // Number of unknowns; fixed for the lifetime of the object.
   virtual int size() const = 0;
+  // The named parameters (ParameterSet: value, admissible range, doc), owned by the problem.
   virtual ParameterSet& parameters() = 0;
   virtual const ParameterSet& parameters() const = 0;
   // Sparsity pattern of the Jacobian (values unused). Fixed for the lifetime of the object, so a
   // symbolic factorisation is done once per branch.
   virtual const SparseMatrix& jacobian_pattern() const = 0;
 
-  // F(u) at the current parameter values.
+  // --- The equations ---
+
+  // F(u) (required).
   virtual Status residual(const Vector& u, Vector& F) = 0;
-  // F(u) and J = dF/du (J takes the structure of jacobian_pattern()). The default takes
-  // one-sided finite differences column by column: acceptable for small problems only.
+  // F(u) and J = dF/du (J takes the structure of jacobian_pattern()). Default: one-sided finite
+  // differences column by column, one residual per column: for small problems only.
   virtual Status jacobian(const Vector& u, Vector& F, SparseMatrix& J);
-  // dF/dp for parameter index p. The default takes central differences.
+  // dF/dp for parameter index p (parameters().index(name)). Default: central differences, two
+  // residuals, the step kept inside the parameter's range.
   virtual Status parameter_derivative(int p, const Vector& u, Vector& dF);
+
+  // --- The time terms (stability analysis, time integration) ---
+
   // Mass matrix B of B du/dt = -F (structure of jacobian_pattern(); rows without a time
-  // derivative are zero). The default throws: a problem without dynamics has no B.
+  // derivative are zero). Default: throws, a problem without dynamics has no B.
   virtual Status mass_matrix(const Vector& u, SparseMatrix& B);
-  // The time terms of the time-dependent residual B(u) du/dt + F(u): R = B(u) udot. The default
-  // forms B; problems assembled from terms evaluate them directly (a time step needs them at
-  // every residual, B only with the Jacobian).
+  // The time terms of the time-dependent residual B(u) du/dt + F(u): R = B(u) udot, at every
+  // residual of a time step. Default: forms B and multiplies (a problem assembled from terms
+  // evaluates them directly).
   virtual Status time_residual(const Vector& u, const Vector& udot, Vector& R);
 
-  // A starting guess consistent with the boundary conditions.
+  // --- Starting and scaling ---
+
+  // A starting guess consistent with the boundary conditions (required).
   virtual Vector initial_guess() = 0;
   // Typical size of F entries for a solution of unit scale; Newton's residual tolerance is
-  // relative to it (velocities scale with Gamma in the channel problems).
+  // relative to it (velocities scale with Gamma in the channel problems). Default: 1.
   virtual double residual_scale() const { return 1.0; }
-
   // Parameters in which a steady state that Newton cannot reach from initial_guess() is reached by
   // continuation from an easier one: each with a value where the solve is easy (a load near rest,
-  // a relaxation time near zero), in the order to try them. Empty: only the generic residual
-  // homotopy (continuation/start/StartSolver).
+  // a relaxation time near zero), in the order to try them. Default: none, only the generic
+  // residual homotopy (continuation/start/StartSolver).
   struct Homotopy {
     std::string parameter;
     double easy_value = 0.0;
   };
   virtual std::vector<Homotopy> homotopies() const { return {}; }
 
-  // Observables: named scalars computed from a solution (pressure drop, max u, ...).
+  // --- What is computed from a solution ---
+
+  // Observables: named scalars in the branch table (pressure drop, max u, ...); a run may stop
+  // where one crosses a threshold. Default: none.
   virtual std::vector<std::string> observable_names() const { return {}; }
   virtual Status observables(const Vector& u, std::vector<double>& values);
-  // Monitors: named functions whose sign changes along a branch are events.
+  // Monitors: named functions whose sign changes along a branch are events, located and labelled.
+  // Default: none.
   virtual std::vector<std::string> monitor_names() const { return {}; }
   virtual Status monitors(const Vector& u, std::vector<double>& values);
-  // Fields of a solution for output.
-  virtual SolutionFields fields(const Vector& u) const = 0;
-  // One line on what the discretisation is ("Q2-P1disc, 320 elements, 8210 unknowns").
+  // Fields of a solution for the output files (HDF5, XDMF). Default: none (the state vector
+  // alone is stored).
+  virtual SolutionFields fields(const Vector& u) const;
+  // One line on what the discretisation is ("Q2-P1disc, 320 elements, 8210 unknowns"). Default:
+  // name().
   virtual std::string summary() const { return name(); }
 };
 
