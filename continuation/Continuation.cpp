@@ -60,7 +60,7 @@ Continuation::Continuation(Problem& problem, ContinuationOptions options, Newton
     stop_index_ = static_cast<int>(it - names.begin());
   }
   monitor_names_ = problem_.monitor_names();
-  turning_ = problem_.turning_unknowns();
+  turning_ = turning_unknowns(problem_);
   for (const std::string& m : options_.stop.threshold_monitor_names()) monitor_names_.push_back(m);
   lander_.configure(stop_index_, static_cast<int>(problem_.monitor_names().size()), monitor_names_);
 }

@@ -147,10 +147,15 @@ class Continuation {
   void locate_crossings(const BranchPoint& cur, const BranchPoint& nxt, const Step& step,
                         std::vector<LocatedPoint>& located, BranchObserver& observer);
   // The zero of a monitor or stop threshold crossed on cur -> nxt: by Newton where it has a
-  // gradient, else by secant; a stop observable with smooth pieces (Problem::hold_piece) piece by
+  // gradient, else by secant; a stop observable with smooth pieces (ObservablePieces) piece by
   // piece, from the one smallest at nxt back to the first that crosses.
   std::optional<BranchPoint> locate_zero(const BranchPoint& cur, const BranchPoint& nxt, const Crossing& c,
                                          std::string& note);
+  // The zero of one piece of the stop observable of c on cur -> end (by Newton, else by secant),
+  // with the piece's value there (at_zero); nothing where the piece does not change sign on it or
+  // it is not located.
+  std::optional<BranchPoint> locate_on_piece(const BranchPoint& cur, const BranchPoint& end, const Crossing& c,
+                                             int piece, double& at_zero, std::string& note);
   // last: the branch ends on this step (its determinant sign is then probed if unknown)
   void locate_branch_points(const BranchPoint& cur, BranchPoint& nxt, bool last, std::vector<LocatedPoint>& located,
                             BranchObserver& observer);
@@ -177,7 +182,7 @@ class Continuation {
   SparseLUOptions lu_options_;
   int stop_index_ = -1;  // index of the stop observable in the problem's observables
   std::vector<std::string> monitor_names_;
-  std::vector<Problem::NamedUnknown> turning_;  // the problem's turning unknowns
+  std::vector<AugmentedProblem::NamedUnknown> turning_;  // the problem's turning unknowns
   ArclengthNorm norm_;
   Evaluator ev_;
   KeptFactorisation kept_;

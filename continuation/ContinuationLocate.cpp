@@ -102,35 +102,55 @@ std::optional<BranchPoint> Continuation::locate_zero(const BranchPoint& cur, con
     return p;
   };
   const int observable = c.target.kind == EventTarget::Monitor ? lander_.observable_of(c.target.monitor) : -1;
-  if (observable < 0 || !g) return locate(nxt, c.ga, c.gb);
+  if (observable < 0 || !g || !ev_.has_pieces(observable)) return locate(nxt, c.ga, c.gb);
   // A stop observable that is the smallest of smooth pieces (the switch margin of an event curve,
   // the nearest of many places): where the smallest changes near its zero (a place far away
   // overtaking a level neighbour), Newton linearises the wrong piece and the secant creeps along
-  // the level one. Held to the piece smallest at the segment's end, it is smooth; where another
-  // piece is below that one at the zero found, that one crossed first, before it.
-  const auto held_value = [&](const BranchPoint& q, double& v) {  // (the value alone: no difference step)
-    Vector gu;
-    double gl = 0.0;
-    return g(q.u, q.lambda, 0.0, false, v, gu, gl).is_ok();
-  };
+  // the level one. The piece smallest at the segment's end is smooth; where another piece is below
+  // that one at the zero found on it, that one crossed first, before it.
   BranchPoint end = nxt;  // the segment cur -> end holds the first crossing
   double g_end = c.gb;
   for (int k = 0; k < kPieceLocations; ++k) {
-    if (!problem_.hold_piece(observable, &end.u)) break;
-    double ga = 0.0, gb = 0.0, at_zero = 0.0;
-    std::optional<BranchPoint> p;
-    // (a piece that does not change sign on the segment: the observable itself, below)
-    if (held_value(cur, ga) && held_value(end, gb) && ga * gb < 0) p = locate(end, ga, gb);
-    if (p && !held_value(*p, at_zero)) p.reset();
-    problem_.hold_piece(observable, nullptr);
+    int piece = -1;
+    if (!ev_.smallest_piece(observable, end.u, end.lambda, piece).is_ok() || piece < 0) break;
+    double at_zero = 0.0;
+    std::optional<BranchPoint> p = locate_on_piece(cur, end, c, piece, at_zero, note);
     if (!p || !evaluate(*p, false).is_ok()) break;
-    const double value = c.target.of(*p);  // the observable, no piece held
+    const double value = c.target.of(*p);  // the observable itself
     if (value >= 0.0 || value >= at_zero || std::abs(p->lambda - end.lambda) <= options_.events.tolerance) return p;
     end = std::move(*p);
     g_end = value;
   }
-  problem_.hold_piece(observable, nullptr);
   return locate(end, c.ga, g_end);
+}
+
+std::optional<BranchPoint> Continuation::locate_on_piece(const BranchPoint& cur, const BranchPoint& end,
+                                                         const Crossing& c, int piece, double& at_zero,
+                                                         std::string& note) {
+  const GradientFunction g = lander_.piece_of(c.target.monitor, piece);
+  const auto value = [&](const BranchPoint& q, double& v) {  // (the value alone: no difference step)
+    Vector gu;
+    double gl = 0.0;
+    return g(q.u, q.lambda, 0.0, false, v, gu, gl);
+  };
+  double ga = 0.0, gb = 0.0;
+  // (a piece that does not change sign on the segment: the observable itself, in locate_zero)
+  if (!(value(cur, ga).is_ok() && value(end, gb).is_ok() && ga * gb < 0)) return std::nullopt;
+  // the secant's trial points carry the piece's value as the threshold's monitor
+  EventLocator on_piece(
+      corrector_, tangents_, kept_, norm_, options_,
+      [&](BranchPoint& p, bool analyse_point) {
+        Status st = evaluate(p, analyse_point);
+        double v = 0.0;
+        if (st.is_ok()) st = value(p, v);
+        if (st.is_ok()) p.monitors[static_cast<size_t>(c.target.monitor)] = v;
+        return st;
+      },
+      [this]() { return analysis_note_; });
+  std::optional<BranchPoint> p = on_piece.locate_by_newton(cur, end, g, ga, gb, note);
+  if (!p) p = on_piece.locate_root(cur, end, c.target, ga, gb, note);
+  if (p && !value(*p, at_zero).is_ok()) p.reset();
+  return p;
 }
 
 int Continuation::probe_determinant(BranchPoint& p) {

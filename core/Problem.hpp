@@ -1,14 +1,22 @@
-// The problem interface: F(u, lambda) = 0 with named parameters. Everything above core/
-// (Newton, continuation, stability, the command-line driver) sees problems only through this.
+// The problem contract: F(u, lambda) = 0 with named parameters, what a user implements to have
+// keller solve, continue, analyse and integrate a problem. Everything above core/ (Newton,
+// continuation, stability, the command-line driver) sees a problem only through this page.
 //
-// Sign convention: the time-dependent form is B du/dt = -F(u), so a steady state is F = 0 and
-// the linear stability problem is J phi = sigma B phi with growth rate -sigma.
+// Sign convention: the time-dependent form is B du/dt = -F(u), so a steady state is F = 0 and the
+// linear stability problem is J phi = sigma B phi with growth rate -sigma.
+//
+// Parameters are the problem's own (parameters()); the algorithms set them before they evaluate,
+// so every evaluation below is at the parameters' present values. Numerical failure (a NaN, an
+// inverted element) is a returned Status the algorithms react to; misuse throws.
+//
+// Required: name, size, parameters, jacobian_pattern, residual, initial_guess.
+// Everything else has a default, and the defaults say what they cost. Beyond this page, a problem
+// may offer gradients of its monitors and observables (core/MonitorGradients.hpp).
 #pragma once
 
 #include <string>
 #include <vector>
 
-#include "core/BorderedJacobian.hpp"
 #include "core/ParameterSet.hpp"
 #include "core/SolutionFields.hpp"
 #include "core/Status.hpp"
@@ -20,101 +28,71 @@ class Problem {
  public:
   virtual ~Problem() = default;
 
+  // --- What the problem is (required) ---
+
   virtual std::string name() const = 0;
   // Number of unknowns; fixed for the lifetime of the object.
   virtual int size() const = 0;
+  // The named parameters (ParameterSet: value, admissible range, doc), owned by the problem.
   virtual ParameterSet& parameters() = 0;
   virtual const ParameterSet& parameters() const = 0;
   // Sparsity pattern of the Jacobian (values unused). Fixed for the lifetime of the object, so a
   // symbolic factorisation is done once per branch.
   virtual const SparseMatrix& jacobian_pattern() const = 0;
 
-  // F(u) at the current parameter values.
+  // --- The equations ---
+
+  // F(u) (required).
   virtual Status residual(const Vector& u, Vector& F) = 0;
-  // F(u) and J = dF/du (J takes the structure of jacobian_pattern()). The default takes
-  // one-sided finite differences column by column: acceptable for small problems only.
+  // F(u) and J = dF/du (J takes the structure of jacobian_pattern()). Default: one-sided finite
+  // differences column by column, one residual per column: for small problems only.
   virtual Status jacobian(const Vector& u, Vector& F, SparseMatrix& J);
-  // dF/dp for parameter index p. The default takes central differences.
+  // dF/dp for parameter index p (parameters().index(name)). Default: central differences, two
+  // residuals, the step kept inside the parameter's range.
   virtual Status parameter_derivative(int p, const Vector& u, Vector& dF);
-  // An augmented problem (a curve of codimension-one points) exposes its Jacobian as an inner
-  // sparse matrix bordered by border_size() dense rows and columns (core/BorderedJacobian.hpp; the
-  // last border_size() unknowns and equations), so that a solver factorises the inner matrix alone
-  // (the inner problem's J) and eliminates the border. 0 (the default): no border to eliminate
-  // (an ordinary problem, or one whose inner matrix is singular all along, as J on a fold curve).
-  virtual int border_size() const { return 0; }
-  // F(u) and the Jacobian in bordered form, K with the pattern inner_pattern() (its border may be
-  // wider than border_size() where that is 0). The default throws (a problem without a border).
-  virtual Status bordered_jacobian(const Vector& u, Vector& F, BorderedJacobian& J);
-  // F(u) and the border alone (J's B, C and D; K as it was): what a factorisation of K made
-  // nearby needs to be used at u. The default: bordered_jacobian, K included.
-  virtual Status border(const Vector& u, Vector& F, BorderedJacobian& J) { return bordered_jacobian(u, F, J); }
-  // The pattern of K where border_size() > 0; else the Jacobian's own.
-  virtual const SparseMatrix& inner_pattern() const { return jacobian_pattern(); }
-  // Unknowns that are parameters of an inner problem (an augmented problem's p1): the stepper
-  // locates where a branch turns in each (the unknown's part of the tangent changes sign), as it
-  // locates folds in the continuation parameter. Empty (the default) for an ordinary problem.
-  struct NamedUnknown {
-    int index = 0;
-    std::string name;
-  };
-  virtual std::vector<NamedUnknown> turning_unknowns() const { return {}; }
+
+  // --- The time terms (stability analysis, time integration) ---
+
   // Mass matrix B of B du/dt = -F (structure of jacobian_pattern(); rows without a time
-  // derivative are zero). The default throws: a problem without dynamics has no B.
+  // derivative are zero). Default: throws, a problem without dynamics has no B.
   virtual Status mass_matrix(const Vector& u, SparseMatrix& B);
-  // The time terms of the time-dependent residual B(u) du/dt + F(u): R = B(u) udot. The default
-  // forms B; problems assembled from terms evaluate them directly (a time step needs them at
-  // every residual, B only with the Jacobian).
+  // The time terms of the time-dependent residual B(u) du/dt + F(u): R = B(u) udot, at every
+  // residual of a time step. Default: forms B and multiplies (a problem assembled from terms
+  // evaluates them directly).
   virtual Status time_residual(const Vector& u, const Vector& udot, Vector& R);
 
-  // A starting guess consistent with the boundary conditions.
+  // --- Starting and scaling ---
+
+  // A starting guess consistent with the boundary conditions (required).
   virtual Vector initial_guess() = 0;
   // Typical size of F entries for a solution of unit scale; Newton's residual tolerance is
-  // relative to it (velocities scale with Gamma in the channel problems).
+  // relative to it (velocities scale with Gamma in the channel problems). Default: 1.
   virtual double residual_scale() const { return 1.0; }
-
   // Parameters in which a steady state that Newton cannot reach from initial_guess() is reached by
   // continuation from an easier one: each with a value where the solve is easy (a load near rest,
-  // a relaxation time near zero), in the order to try them. Empty: only the generic residual
-  // homotopy (continuation/start/StartSolver).
+  // a relaxation time near zero), in the order to try them. Default: none, only the generic
+  // residual homotopy (continuation/start/StartSolver).
   struct Homotopy {
     std::string parameter;
     double easy_value = 0.0;
   };
   virtual std::vector<Homotopy> homotopies() const { return {}; }
 
-  // Observables: named scalars computed from a solution (pressure drop, max u, ...).
+  // --- What is computed from a solution ---
+
+  // Observables: named scalars in the branch table (pressure drop, max u, ...); a run may stop
+  // where one crosses a threshold. Default: none.
   virtual std::vector<std::string> observable_names() const { return {}; }
   virtual Status observables(const Vector& u, std::vector<double>& values);
-  // Monitors: named functions whose sign changes along a branch are events.
+  // Monitors: named functions whose sign changes along a branch are events, located and labelled.
+  // Default: none.
   virtual std::vector<std::string> monitor_names() const { return {}; }
   virtual Status monitors(const Vector& u, std::vector<double>& values);
-  // A monitor that is a minimum over places (nodes, Gauss points, elements), such as the smallest
-  // conformation eigenvalue: its value at every place (the monitor is their minimum), so that an
-  // event curve can follow the place where the minimum sits. The default: one place, the monitor.
-  virtual Status monitor_places(int monitor, const Vector& u, std::vector<double>& values);
-  // The gradient in u of the monitor's value at one place. The default: one-sided differences,
-  // unknown by unknown, of monitor_places (small problems only).
-  virtual Status monitor_place_gradient(int monitor, int place, const Vector& u, Vector& gradient);
-  // Gradients in u of a monitor or an observable, where the problem has them cheaply: the engine
-  // then locates their zeros by Newton on F = 0 with the function linearised (a few chord
-  // iterations on the kept factorisation) instead of by secant trials along the branch.
-  // has_*: whether it offers one (default: none, the secant).
-  virtual bool has_monitor_gradient(int monitor) const;
-  // Default: the gradient at the place where the minimum sits (monitor_places,
-  // monitor_place_gradient).
-  virtual Status monitor_gradient(int monitor, const Vector& u, Vector& gradient);
-  virtual bool has_observable_gradient(int observable) const;
-  virtual Status observable_gradient(int observable, const Vector& u, Vector& gradient);
-  // An observable that is the smallest of several smooth functions (a margin to the nearest of
-  // many places) is only piecewise smooth, and where the smallest changes near its zero, Newton
-  // and the secant lose their speed there. Held (at = the point), it is the function smallest
-  // at that point alone, with its gradient, until released (at = null); the engine holds it to
-  // locate a zero it stepped over. False where the observable has no such pieces (the default).
-  virtual bool hold_piece(int observable, const Vector* at);
-
-  // Fields of a solution for output.
-  virtual SolutionFields fields(const Vector& u) const = 0;
-  // One line on what the discretisation is ("Q2-P1disc, 320 elements, 8210 unknowns").
+  // Fields of a solution for the output files (HDF5, XDMF). Default: none (the state vector
+  // alone is stored).
+  virtual SolutionFields fields(const Vector& u) const;
+  // One line on what the discretisation is ("Q2-P1disc, 320 elements, 8210 unknowns"). Default:
+  // name().
   virtual std::string summary() const { return name(); }
 };
 

@@ -147,7 +147,8 @@ TraceStart start_event_curve(Problem& problem, const TraceSettings& settings, co
     problem.parameters().set(parameter, unfinished->point.lambda);
     U = unfinished->point.u;
   }
-  const Status st = curve->start(U, settings.newton, settings.lu);
+  auto tracer = std::make_unique<EventCurveTracer>(*curve);
+  const Status st = tracer->start(U, settings.newton, settings.lu);
   if (!st.is_ok()) throw CommandFailure::numerical("the event curve's first point failed", st);
   fmt::print(
       "event curve of {} = 0 in ({}, {}) from row {} of {} ({} = {:.10g}, {} = {:.10g}), the minimum at place "
@@ -161,6 +162,7 @@ TraceStart start_event_curve(Problem& problem, const TraceSettings& settings, co
   start.begin = TraceStart::Begin::EventCurve;
   start.state = std::move(U);
   start.event_curve = curve.get();
+  start.event_tracer = std::move(tracer);
   start.curve = std::move(curve);
   return start;
 }

@@ -170,8 +170,8 @@ ContinuationResult trace_branch(Continuation& stepper, TraceStart& start, const 
     case TraceStart::Begin::Point: return stepper.resume(*start.point, *observer);
     case TraceStart::Begin::Switch: return stepper.switch_branch(*start.point, start.direction, *observer);
     case TraceStart::Begin::EventCurve:
-      return start.event_curve->trace(start.options, settings.newton, settings.lu, start.state, *observer,
-                                      [](Continuation* piece) { InterruptGuard::forward_to(piece); });
+      return start.event_tracer->trace(start.options, settings.newton, settings.lu, start.state, *observer,
+                                       [](Continuation* piece) { InterruptGuard::forward_to(piece); });
   }
   return {};
 }

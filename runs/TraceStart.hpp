@@ -16,6 +16,7 @@
 #include "continuation/Continuation.hpp"
 #include "continuation/curves/CurveProblem.hpp"
 #include "continuation/curves/EventCurveProblem.hpp"
+#include "continuation/curves/EventCurveTracer.hpp"
 #include "continuation/output/BranchFile.hpp"
 #include "continuation/start/StartSolver.hpp"
 #include "core/Newton.hpp"
@@ -77,6 +78,7 @@ struct TraceStart {
   ContinuationOptions options;               // the run's: the scene's, a continued branch's scales, a curve's stops
   std::unique_ptr<CurveProblem> curve;       // a curve's augmented problem, traced instead of the scene's
   EventCurveProblem* event_curve = nullptr;  // EventCurve: `curve`, whose pieces it traces
+  std::unique_ptr<EventCurveTracer> event_tracer;  // EventCurve: runs the pieces of `event_curve`
   // A fold or Hopf curve: the observer that moves the curve's borders to each point before `next`
   // sees it (CurveBorderUpdate).
   std::function<std::unique_ptr<BranchObserver>(BranchObserver& next)> borders;

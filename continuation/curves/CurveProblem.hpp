@@ -4,27 +4,28 @@
 // extra unknowns (a Hopf curve's frequency); the inner problem's parameters, with p1 set from U and
 // its range checked; the augmented Jacobian's pattern (the inner pattern bordered by dense rows and
 // columns), assembled from the bordered form; and derivatives by central differences in a
-// parameter and along a direction of the state. (A base class below the Problem interface: the
-// three curves are Problems that differ only in their equations, and this is their one shared
-// implementation.)
+// parameter and along a direction of the state. (A base class below the AugmentedProblem
+// interface: the three curves are augmented problems that differ only in their equations, and
+// this is their one shared implementation.)
 #pragma once
 
 #include <functional>
 #include <string>
 #include <vector>
 
+#include "continuation/engine/AugmentedProblem.hpp"
 #include "continuation/engine/FixedParameterSolve.hpp"
 #include "core/Problem.hpp"
 
 namespace keller {
 
-class CurveProblem : public Problem {
+class CurveProblem : public AugmentedProblem {
  public:
   int size() const override { return n_ + tail_; }
   ParameterSet& parameters() override { return inner_.parameters(); }
   const ParameterSet& parameters() const override { return inner_.parameters(); }
   const SparseMatrix& jacobian_pattern() const override { return pattern_; }
-  // The inner problem's pattern where the curve exposes a border (Problem::border_size() > 0).
+  // The inner problem's pattern where the curve exposes a border (border_size() > 0).
   const SparseMatrix& inner_pattern() const override;
   // The whole augmented Jacobian, assembled from bordered_jacobian().
   Status jacobian(const Vector& U, Vector& F, SparseMatrix& J) override;
@@ -41,6 +42,10 @@ class CurveProblem : public Problem {
   const std::string& p1_name() const { return inner_.parameters().info(p1_).name; }
   // (u, p1, extra) as the curve's state.
   Vector state(const Vector& u, double p1, const Vector& extra = Vector()) const;
+  // U corrected at the present parameter values by block elimination (FixedParameterSolve, on
+  // `near` where given).
+  FixedParameterResult solve_here(Vector& U, const NewtonOptions& newton, const SparseLUOptions& lu,
+                                  const StartFactorisation& near = {});
 
  protected:
   // inner at the point's parameter values; p1: the inner problem's parameter that becomes an
@@ -50,10 +55,6 @@ class CurveProblem : public Problem {
 
   // Sets p1 in the inner problem from U; a failure status where it is not finite or out of range.
   Status set_p1(const Vector& U) const;
-  // U corrected at the present parameter values by block elimination (FixedParameterSolve, on
-  // `near` where given).
-  FixedParameterResult solve_here(Vector& U, const NewtonOptions& newton, const SparseLUOptions& lu,
-                                  const StartFactorisation& near = {});
   // The derivative in the parameter p of the curve's own equations (those after F = 0) at U; sets
   // p1 from U (parameter_derivative adds dF/dp at the same values).
   virtual Status equations_parameter_derivative(int p, const Vector& U, Vector& d) = 0;

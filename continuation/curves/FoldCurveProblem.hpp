@@ -36,6 +36,7 @@ class FoldCurveProblem final : public CurveProblem {
   Status residual(const Vector& U, Vector& F) override;
   // [J F_p1; g_u^T g_p1]. J is singular all along a fold curve: no border for block elimination on
   // it (border_size() 0), the augmented Jacobian is factorised whole.
+  int border_size() const override { return 0; }
   Status bordered_jacobian(const Vector& U, Vector& F, BorderedJacobian& J) override;
   std::vector<std::string> observable_names() const override { return curve_observable_names(); }
   Status observables(const Vector& U, std::vector<double>& values) override;

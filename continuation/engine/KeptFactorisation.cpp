@@ -3,7 +3,7 @@
 namespace keller {
 
 KeptFactorisation::KeptFactorisation(const Problem& problem, SparseLUOptions lu, bool block_elimination)
-    : system_(problem.inner_pattern(), problem.border_size(), lu,
+    : system_(inner_pattern(problem), border_size(problem), lu,
               block_elimination ? BorderedSystem::Mode::Block : BorderedSystem::Mode::Full) {}
 
 Status KeptFactorisation::factorise_at(Evaluator& ev, const Vector& u, double lambda, const Constraint& c) {
@@ -45,7 +45,7 @@ Status KeptFactorisation::adopt_at(Evaluator& ev, const StartFactorisation& near
   }
   BorderedJacobian J;
   J.K = near.jacobian;
-  const int nk = static_cast<int>(J.K.rows()), m = ev.problem().border_size();
+  const int nk = static_cast<int>(J.K.rows()), m = border_size(ev.problem());
   J.B = Matrix::Zero(nk, m);
   J.C = Matrix::Zero(nk, m);
   J.D = Matrix::Zero(m, m);

@@ -15,7 +15,8 @@ namespace keller {
 
 // J's factorisation that the solve of the start left (NewtonSolver::factorisation(), jacobian(),
 // factorised_at()), or another run's kept one: a branch starts on it instead of factorising J at
-// the start again. For a problem with a border (Problem::border_size() > 0), its inner matrix K.
+// the start again. For a problem with a border (AugmentedProblem::border_size() > 0), its inner
+// matrix K.
 struct StartFactorisation {
   std::shared_ptr<SparseLU> lu;
   SparseMatrix jacobian;
@@ -25,7 +26,7 @@ struct StartFactorisation {
 
 class KeptFactorisation {
  public:
-  // For the problem's Jacobian pattern, or its inner pattern and border (Problem::border_size()).
+  // For the problem's Jacobian pattern, or its inner pattern and border (AugmentedProblem).
   KeptFactorisation(const Problem& problem, SparseLUOptions lu, bool block_elimination);
 
   // Assembles J and F_p at (u, lambda) (the parameter set there), sets the border row c and
@@ -43,7 +44,7 @@ class KeptFactorisation {
   Status adopt(std::shared_ptr<SparseLU> lu, const BorderedJacobian& J, const Vector& u_j, double lambda,
                const Vector& Fp, const Constraint& c);
   // near (another run's factorisation) at the point (u, lambda): the parameter set there, F_p and,
-  // for a problem with a border, the border evaluated at u (Problem::border, not the inner
+  // for a problem with a border, the border evaluated at u (AugmentedProblem::border, not the inner
   // Jacobian), then adopt().
   Status adopt_at(Evaluator& ev, const StartFactorisation& near, const Vector& u, double lambda, const Constraint& c);
   // J's (the inner matrix's) factorisation in use, the matrix and where it was made; empty where

@@ -10,7 +10,7 @@ namespace keller {
 std::vector<Crossing> detect_crossings(const BranchPoint& cur, const BranchPoint& nxt,
                                        const std::optional<Landing>& land, const ContinuationOptions& o,
                                        const std::vector<std::string>& monitor_names, size_t problem_monitors,
-                                       const std::vector<Problem::NamedUnknown>& turning_unknowns) {
+                                       const std::vector<AugmentedProblem::NamedUnknown>& turning_unknowns) {
   std::vector<Crossing> out;
   auto value = [&](double v, PointKind kind, std::string label, std::optional<StopCode> end) {
     Crossing c;
@@ -69,7 +69,7 @@ std::vector<Crossing> detect_crossings(const BranchPoint& cur, const BranchPoint
     out.push_back(std::move(c));
   }
   if (o.method == ContinuationOptions::Method::Arclength && o.events.folds)
-    for (const Problem::NamedUnknown& t : turning_unknowns) {
+    for (const AugmentedProblem::NamedUnknown& t : turning_unknowns) {
       const double gc = cur.tu[t.index], gn = nxt.tu[t.index];
       if (!(gc * gn < 0)) continue;
       Crossing c;

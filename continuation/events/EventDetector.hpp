@@ -8,12 +8,12 @@
 #include <string>
 #include <vector>
 
+#include "continuation/engine/AugmentedProblem.hpp"
 #include "continuation/engine/BranchPoint.hpp"
 #include "continuation/engine/ContinuationOptions.hpp"
 #include "continuation/engine/Predictor.hpp"
 #include "continuation/engine/StopCode.hpp"
 #include "continuation/events/EventLocator.hpp"
-#include "core/Problem.hpp"
 
 namespace keller {
 
@@ -36,7 +36,7 @@ struct Crossing {
 std::vector<Crossing> detect_crossings(const BranchPoint& cur, const BranchPoint& nxt,
                                        const std::optional<Landing>& land, const ContinuationOptions& options,
                                        const std::vector<std::string>& monitor_names, size_t problem_monitors,
-                                       const std::vector<Problem::NamedUnknown>& turning_unknowns = {});
+                                       const std::vector<AugmentedProblem::NamedUnknown>& turning_unknowns = {});
 
 struct LocatedPoint {
   BranchPoint point;

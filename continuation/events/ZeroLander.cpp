@@ -14,8 +14,16 @@ void ZeroLander::configure(int stop_index, int problem_monitors, std::vector<std
 GradientFunction ZeroLander::gradient_of(int monitor) {
   // the problem's monitors, then the stop observable's distance to stop_above, to stop_below
   if (monitor < problem_monitors_) return ev_.gradient_function(monitor, false, 0.0);
+  return ev_.gradient_function(stop_index_, true, threshold_of(monitor));
+}
+
+GradientFunction ZeroLander::piece_of(int monitor, int piece) {
+  return ev_.piece_function(stop_index_, piece, threshold_of(monitor));
+}
+
+double ZeroLander::threshold_of(int monitor) const {
   const bool above = monitor == problem_monitors_ && std::isfinite(options_.stop.above);
-  return ev_.gradient_function(stop_index_, true, above ? options_.stop.above : options_.stop.below);
+  return above ? options_.stop.above : options_.stop.below;
 }
 
 std::optional<ZeroLanding> ZeroLander::plan(const BranchPoint& cur, const Vector& du, double dl, double ds) {

@@ -39,6 +39,9 @@ class ZeroLander {
   // The observable a monitor is the threshold of (the stop observable's index), -1 for the
   // problem's own monitors.
   int observable_of(int monitor) const { return monitor >= problem_monitors_ ? stop_index_ : -1; }
+  // One piece of the stop observable (ObservablePieces) minus the threshold `monitor` is of, with
+  // its gradient.
+  GradientFunction piece_of(int monitor, int piece);
   // The threshold's zero a step of size ds from cur along the unit direction (du, dl) lands on.
   std::optional<ZeroLanding> plan(const BranchPoint& cur, const Vector& du, double dl, double ds);
   // The step's prediction: at the predicted zero, under the function linearised at cur (which
@@ -55,6 +58,9 @@ class ZeroLander {
   Settled settle(const ZeroLanding& z, const BranchPoint& cur, BranchPoint& nxt, double floor);
 
  private:
+  // The stop threshold a monitor (one after the problem's) is the distance to.
+  double threshold_of(int monitor) const;
+
   Evaluator& ev_;
   EventLocator& locator_;
   const ContinuationOptions& options_;

@@ -364,7 +364,7 @@ bool CollapsibleChannelProblem::has_observable_gradient(int observable) const {
 }
 
 Status CollapsibleChannelProblem::observable_gradient(int observable, const Vector& u, Vector& gradient) {
-  if (!has_observable_gradient(observable)) return Problem::observable_gradient(observable, u, gradient);
+  if (!has_observable_gradient(observable)) return MonitorGradients::observable_gradient(observable, u, gradient);
   return monitor_gradient(0, u, gradient);
 }
 

@@ -24,6 +24,7 @@
 #include "core/AssembledProblem.hpp"
 #include "core/DirichletTerm.hpp"
 #include "core/DofMap.hpp"
+#include "core/MonitorGradients.hpp"
 #include "core/Quantities.hpp"
 #include "core/Scene.hpp"
 #include "problems/channel/ChannelMesh.hpp"
@@ -56,7 +57,7 @@ struct CollapsibleOptions {
   void validate() const;
 };
 
-class CollapsibleChannelProblem final : public AssembledProblem {
+class CollapsibleChannelProblem final : public AssembledProblem, public MonitorGradients {
  public:
   explicit CollapsibleChannelProblem(const CollapsibleOptions& options);
 
@@ -73,6 +74,7 @@ class CollapsibleChannelProblem final : public AssembledProblem {
   Status monitors(const Vector& u, std::vector<double>& values) override;
   // min_m1 over the conformation's vertex nodes: m1 at each of them (FlowEquations::conformation_eigenvalues'
   // order), and its gradient by central differences in that node's conformation unknowns.
+  bool has_places(int monitor) const override { return options_.fluid.viscoelastic() && monitor == 0; }
   Status monitor_places(int monitor, const Vector& u, std::vector<double>& values) override;
   Status monitor_place_gradient(int monitor, int place, const Vector& u, Vector& gradient) override;
   // min_m1's gradient (at its place): its zero is located by Newton.

@@ -1,6 +1,6 @@
-// Event curves (continuation/curves/EventCurveProblem): the zero of a monitor that is a minimum over
-// places, continued in a second parameter, following the place of the minimum and switching
-// where it moves, on a problem whose curve is known in closed form.
+// Event curves (continuation/curves/EventCurveProblem, traced by EventCurveTracer): the zero of a
+// monitor that is a minimum over places, continued in a second parameter, following the place of
+// the minimum and switching where it moves, on a problem whose curve is known in closed form.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,6 +8,8 @@
 
 #include "continuation/Continuation.hpp"
 #include "continuation/curves/EventCurveProblem.hpp"
+#include "continuation/curves/EventCurveTracer.hpp"
+#include "core/MonitorGradients.hpp"
 #include "support/TestProblems.hpp"
 
 using namespace keller;
@@ -19,7 +21,7 @@ namespace {
 // a = 1 + b for b < 0, u1 = 0 at a = 1 - b for b > 0: the event curve a = 1 - |b|, whose minimum
 // moves from place 0 to place 1 at b = 0 (a kink of the curve in (a, b)). The places' gradients
 // are the default differences.
-class PlacesProblem final : public Problem {
+class PlacesProblem final : public Problem, public MonitorGradients {
  public:
   PlacesProblem(double a, double b, std::vector<double> c, std::vector<double> e)
       : c_(std::move(c)), e_(std::move(e)), pattern_(size(), size()) {
@@ -56,6 +58,7 @@ class PlacesProblem final : public Problem {
     v = {u.minCoeff()};
     return {};
   }
+  bool has_places(int) const override { return true; }
   Status monitor_places(int, const Vector& u, std::vector<double>& v) override {
     v.assign(u.data(), u.data() + u.size());
     return {};
@@ -106,10 +109,11 @@ TEST(EventCurve, TurnsInTheUnknownParameterAreLocated) {
   Vector U = curve.state(Vector::Constant(1, 1e-3), 0.25 + 1e-3);
   NewtonOptions tight;
   tight.residual_tolerance = 1e-12;  // two orders below what the curve is checked to
-  ASSERT_TRUE(curve.start(U, tight).is_ok());
+  EventCurveTracer tracer(curve);
+  ASSERT_TRUE(tracer.start(U, tight).is_ok());
   const ContinuationOptions o = in_b_to_half();
   test::RecordingObserver rec;
-  const ContinuationResult r = curve.trace(o, tight, {}, U, rec);
+  const ContinuationResult r = tracer.trace(o, tight, {}, U, rec);
   ASSERT_EQ(r.code, StopCode::UpperBound) << r.reason;
   for (const BranchPoint& q : rec.points) EXPECT_NEAR(q.u[1], q.lambda * q.lambda, 1e-10) << "b = " << q.lambda;
   std::vector<const BranchPoint*> turns;
@@ -132,12 +136,13 @@ TEST(EventCurve, MinimumOverPlacesFollowsItsPlaceAndSwitches) {
   Vector U = curve.state(Eigen::Vector2d(0.01, 0.5), 0.52);
   NewtonOptions tight;
   tight.residual_tolerance = 1e-12;  // two orders below what the curve is checked to
-  ASSERT_TRUE(curve.start(U, tight).is_ok());
+  EventCurveTracer tracer(curve);
+  ASSERT_TRUE(tracer.start(U, tight).is_ok());
   EXPECT_EQ(curve.place(), 0);
   EXPECT_NEAR(U[2], 0.5, 1e-12);
   const ContinuationOptions o = in_b_to_half();
   test::RecordingObserver rec;
-  const ContinuationResult r = curve.trace(o, tight, {}, U, rec);
+  const ContinuationResult r = tracer.trace(o, tight, {}, U, rec);
   ASSERT_EQ(r.code, StopCode::UpperBound) << r.reason;
   const int a = static_cast<int>(curve.observable_names().size()) - 3, place = a + 1, margin = a + 2;
   int switches = 0;
@@ -188,12 +193,13 @@ TEST(EventCurve, APlaceOvertakingALevelOneIsLocatedOnItsOwnPiece) {
   Vector U = curve.state(Eigen::Vector3d(0.01, 0.02, 1.5), 0.52);
   NewtonOptions tight;
   tight.residual_tolerance = 1e-12;
-  ASSERT_TRUE(curve.start(U, tight).is_ok());
+  EventCurveTracer tracer(curve);
+  ASSERT_TRUE(tracer.start(U, tight).is_ok());
   ASSERT_EQ(curve.place(), 0);
   ContinuationOptions o = in_b_to_half();
   o.events.land_on_zeros = false;  // (a step crosses the switch)
   test::RecordingObserver rec;
-  const ContinuationResult r = curve.trace(o, tight, {}, U, rec);
+  const ContinuationResult r = tracer.trace(o, tight, {}, U, rec);
   ASSERT_EQ(r.code, StopCode::UpperBound) << r.reason;
   const int a = static_cast<int>(curve.observable_names().size()) - 3;
   std::vector<const BranchPoint*> switches;
@@ -220,13 +226,14 @@ TEST(EventCurve, WhereTwoPlacesOvertakeInOneStepTheFirstIsTheSwitch) {
   Vector U = curve.state(Eigen::Vector4d(0.01, 0.02, 1.5, 2.0), 0.52);
   NewtonOptions tight;
   tight.residual_tolerance = 1e-12;
-  ASSERT_TRUE(curve.start(U, tight).is_ok());
+  EventCurveTracer tracer(curve);
+  ASSERT_TRUE(tracer.start(U, tight).is_ok());
   ASSERT_EQ(curve.place(), 0);
   ContinuationOptions o = in_b_to_half();
   o.stop.upper = 0.05;
   o.events.land_on_zeros = false;  // (steps cross the switches)
   test::RecordingObserver rec;
-  const ContinuationResult r = curve.trace(o, tight, {}, U, rec);
+  const ContinuationResult r = tracer.trace(o, tight, {}, U, rec);
   ASSERT_EQ(r.code, StopCode::UpperBound) << r.reason;
   const int a = static_cast<int>(curve.observable_names().size()) - 3, place = a + 1;
   std::vector<const BranchPoint*> switches;
@@ -243,13 +250,15 @@ TEST(EventCurve, WhereTwoPlacesOvertakeInOneStepTheFirstIsTheSwitch) {
   EXPECT_EQ(curve.place(), 3);
 }
 
-// The switch margin held to one piece (Problem::hold_piece): m_j - m_k with j the place of the
-// smallest other value where it was held, its gradient that piece's, until released.
-TEST(EventCurve, TheSwitchMarginIsHeldToThePieceSmallestWhereItWasHeld) {
+// The switch margin's pieces (ObservablePieces): m_j - m_k for each place j but the followed one
+// k, the margin the smallest of them; which is smallest at a state, and any piece's value and
+// gradient at any state, each a function of that state alone.
+TEST(EventCurve, TheSwitchMarginIsTheSmallestOfItsPieces) {
   PlacesProblem p(0.5, -0.5, {1.0, 1.0, -3.0}, {0.0, 0.01, 0.0});
   EventCurveProblem curve(p, "a", "min u");
   Vector U = curve.state(Eigen::Vector3d(0.0, 0.01, 1.5), 0.5);
-  ASSERT_TRUE(curve.start(U, {}).is_ok());
+  ASSERT_TRUE(EventCurveTracer(curve).start(U, {}).is_ok());
+  ASSERT_EQ(curve.place(), 0);
   const int margin = static_cast<int>(curve.observable_names().size()) - 1;
   const auto margin_at = [&](const Vector& X) {
     std::vector<double> v;
@@ -258,15 +267,28 @@ TEST(EventCurve, TheSwitchMarginIsHeldToThePieceSmallestWhereItWasHeld) {
   };
   Vector V = U;  // where place 2 is the smallest other: u2 below u1
   V[2] = 0.005;
-  EXPECT_NEAR(margin_at(U), U[1] - U[0], 1e-15);   // place 1, the smallest other at U
-  EXPECT_FALSE(curve.hold_piece(margin - 1, &V));  // (the place observable has no pieces)
-  ASSERT_TRUE(curve.hold_piece(margin, &V));
-  EXPECT_NEAR(margin_at(U), U[2] - U[0], 1e-15);  // place 2's piece, at U too
+  EXPECT_NEAR(margin_at(U), U[1] - U[0], 1e-15);  // place 1, the smallest other at U
+  EXPECT_FALSE(curve.has_pieces(margin - 1));     // (the place observable has no pieces)
+  ASSERT_TRUE(curve.has_pieces(margin));
+  int piece = -1;
+  ASSERT_TRUE(curve.smallest_piece(margin, U, piece).is_ok());
+  EXPECT_EQ(piece, 1);
+  ASSERT_TRUE(curve.smallest_piece(margin, V, piece).is_ok());
+  EXPECT_EQ(piece, 2);
+  double value = 0.0;
+  ASSERT_TRUE(curve.piece_value(margin, 2, U, value).is_ok());
+  EXPECT_NEAR(value, U[2] - U[0], 1e-15);  // place 2's piece, at U too
   Vector g;
-  ASSERT_TRUE(curve.observable_gradient(margin, U, g).is_ok());
+  ASSERT_TRUE(curve.piece_gradient(margin, 2, U, g).is_ok());
   EXPECT_NEAR(g[2], 1.0, 1e-6);  // (the places' gradients by one-sided differences)
   EXPECT_NEAR(g[1], 0.0, 1e-6);
   EXPECT_NEAR(g[0], -1.0, 1e-6);
-  ASSERT_TRUE(curve.hold_piece(margin, nullptr));
+  // the margin and its gradient are those of the piece smallest where they are taken: no piece is
+  // held by the calls before
   EXPECT_NEAR(margin_at(U), U[1] - U[0], 1e-15);
+  ASSERT_TRUE(curve.observable_gradient(margin, U, g).is_ok());
+  EXPECT_NEAR(g[2], 0.0, 1e-6);
+  EXPECT_NEAR(g[1], 1.0, 1e-6);
+  EXPECT_NEAR(g[0], -1.0, 1e-6);
+  EXPECT_THROW(curve.piece_value(margin, 0, U, value), std::logic_error);  // (the followed place is no piece)
 }

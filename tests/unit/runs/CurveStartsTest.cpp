@@ -172,6 +172,7 @@ TEST(CurveStarts, AnEventCurveBeginsAtTheStoredZeroOfItsMonitor) {
   EXPECT_EQ(start.begin, TraceStart::Begin::EventCurve);
   ASSERT_TRUE(start.curve);
   EXPECT_EQ(start.event_curve, start.curve.get());
+  EXPECT_NE(start.event_tracer, nullptr);
   ASSERT_EQ(start.state.size(), 2);
   EXPECT_NEAR(start.state[0], 0.0, 1e-12);
   EXPECT_NEAR(start.state[1], 0.5, 1e-12);

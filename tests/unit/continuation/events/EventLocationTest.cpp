@@ -1,5 +1,5 @@
 // Zeros of monitors and stop observables whose gradient the problem offers, located by Newton on
-// F = 0 with the function linearised (Problem::has_monitor_gradient, has_observable_gradient),
+// F = 0 with the function linearised (MonitorGradients::has_monitor_gradient, has_observable_gradient),
 // against closed forms and against the secant trials used without a gradient; and a start solved
 // only to near the tolerance, finished on the factorisation it is given.
 #include <gtest/gtest.h>
@@ -8,6 +8,7 @@
 #include <iostream>
 
 #include "continuation/Continuation.hpp"
+#include "core/MonitorGradients.hpp"
 #include "support/ContinuationTestSupport.hpp"
 #include "support/TestProblems.hpp"
 
@@ -19,7 +20,7 @@ namespace {
 // u_i = exp(c_i lambda): F_i = u_i - exp(c_i lambda). Monitor and observable "u0 u1" - K, a
 // nonlinear function of the state that is exp((c_0 + c_1) lambda) - K on the branch: zero at
 // lambda = ln K / (c_0 + c_1).
-class ExponentialBranch final : public DiagonalProblem {
+class ExponentialBranch final : public DiagonalProblem, public MonitorGradients {
  public:
   enum class Gradient { None, Exact, Zero };
   ExponentialBranch(double K, Gradient g) : DiagonalProblem("exponential", 4, 0.0), K_(K), gradient_(g) {}
