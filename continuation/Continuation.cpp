@@ -108,7 +108,6 @@ ContinuationResult Continuation::run(const Vector& u0, BranchObserver& observer,
     if (st.is_ok()) {
       // a start solved only to near the tolerance (a switch of an event curve) is finished on the
       // adopted factorisation: a chord iteration or two instead of a solve of its own
-      kept_.set_reusable(true);
       Vector F;
       st = ev_.residual(start.u, F);
       if (st.is_ok() && F.lpNorm<Eigen::Infinity>() > corrector_.tolerance()) {
@@ -124,7 +123,6 @@ ContinuationResult Continuation::run(const Vector& u0, BranchObserver& observer,
       t.tl = -t.tl;
     }
     adopted_ = st.is_ok() && !t.factorised;
-    if (st.is_ok()) kept_.set_reusable(true);
   }
   if (!st.is_ok()) st = tangents_.initial(start.u, start.lambda, t);
   if (!st.is_ok()) {
@@ -200,13 +198,12 @@ Status Continuation::begin(BranchPoint& start) {
     start.residual = (arclength && !factorised_here ? ev_.residual_vector() : F).lpNorm<Eigen::Infinity>();
   const Constraint row = norm_.tangent_row(start.tu, start.tlambda);
   if (st.is_ok() && factorised_here && kept_.set_row(row).is_ok()) {
-    kept_.set_reusable(true);
+    kept_.record(ReuseEvent::Accepted);
     start.bordered_det_sign = kept_.determinant_sign();
   } else if (st.is_ok() && arclength) {
     st = ev_.parameter_derivative(start.u);
     if (st.is_ok()) {
       const Status sf = kept_.factorise_assembled(ev_, start.u, start.lambda, row);
-      kept_.set_reusable(sf.is_ok());
       start.bordered_det_sign = sf.is_ok() ? kept_.determinant_sign() : 0;
     }
   }
@@ -311,7 +308,7 @@ Continuation::Step Continuation::attempt(const BranchPoint& cur, const BranchPoi
     const double lambda_landed = nxt.lambda;
     // the branch ends here: where the step made no factorisation, the sign of det for branch
     // points at its end would need one (a probe); Newton's first correction makes it instead
-    if (options_.events.branch_points && kept_.count() == factorisations) kept_.set_reusable(false);
+    if (options_.events.branch_points && kept_.count() == factorisations) kept_.record(ReuseEvent::SignWanted);
     const ZeroLander::Settled z = lander_.settle(*zero, cur, nxt, floor);
     const bool settled = z.settled;
     nxt.iterations += z.solves;
@@ -351,7 +348,7 @@ Continuation::Step Continuation::attempt(const BranchPoint& cur, const BranchPoi
     nxt.tlambda = t.tl;
     nxt.det_sign = t.det_sign;
   } else {
-    kept_.set_reusable(false);
+    kept_.record(ReuseEvent::TangentFailed);
   }
   // a sharp turn of the tangent means the step skipped a feature of the branch or, in natural
   // continuation, jumped to another branch past a fold
