@@ -11,12 +11,6 @@
 namespace keller {
 
 namespace {
-// A step at the floor that turns by more than the angle limit is passed where its point lies
-// within this many steps of the last (a turn of up to 60 degrees puts it within 2).
-constexpr double kFloorReach = 2.0;
-}  // namespace
-
-namespace {
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -353,18 +347,16 @@ Continuation::Step Continuation::attempt(const BranchPoint& cur, const BranchPoi
   // a sharp turn of the tangent means the step skipped a feature of the branch or, in natural
   // continuation, jumped to another branch past a fold
   if (st.is_ok()) {
-    const double limit = options_.step.max_angle_degrees * M_PI / 180.0;
     const double angle = std::acos(std::clamp(norm_.dot(nxt.tu, nxt.tlambda, cur.tu, cur.tlambda), -1.0, 1.0));
-    if (angle > limit && ds > options_.step.min) {
-      st = {StatusCode::NotConverged, fmt::format("tangent turned by {:.1f} degrees", angle * 180.0 / M_PI)};
-      // (a natural step that turned jumped to another branch past a fold: never passed)
-      s.turned = arclength;
-    } else if (st.is_ok() && angle > limit && arclength && norm_.distance(cur, nxt) > kFloorReach * ds) {
-      // at the floor a turn is passed where the point is the step's own, not one far away
+    const double distance = norm_.distance(cur, nxt);
+    const TurnVerdict turn = steps_.judge_turn(angle, ds, distance, arclength);
+    if (turn == TurnVerdict::Far)
       st = {StatusCode::NotConverged,
             fmt::format("tangent turned by {:.1f} degrees at the step floor, to a point {:.3g} away",
-                        angle * 180.0 / M_PI, norm_.distance(cur, nxt))};
-    }
+                        angle * 180.0 / M_PI, distance)};
+    else if (turn != TurnVerdict::Passed)
+      st = {StatusCode::NotConverged, fmt::format("tangent turned by {:.1f} degrees", angle * 180.0 / M_PI)};
+    s.turned = turn == TurnVerdict::Shorter;
   }
   if (st.is_ok()) st = evaluate(nxt, analyse_now);
   s.status = st;

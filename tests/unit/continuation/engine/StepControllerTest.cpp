@@ -1,5 +1,8 @@
-// The step controller (continuation/engine/StepController) from a sequence of outcomes.
+// The step controller (continuation/engine/StepController) from a sequence of outcomes, and its
+// verdict on the turn of the tangent over a step.
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 #include "continuation/engine/StepController.hpp"
 
@@ -48,4 +51,26 @@ TEST(StepController, FromASequenceOfOutcomes) {
     ++failures;
   }
   EXPECT_EQ(failures, 7);  // 0.1 / 2^7 = 7.8e-4 < 1e-3
+}
+
+// The turn of the tangent over a step (limit 20 degrees): a sharper one rejects an arclength step,
+// which is tried shorter, down to the floor, where it is passed if its point lies within two
+// steps of the last (the step's own) and is a failed step if it lies further; a natural step that
+// turns sharply above the floor has jumped to another branch (a failed step).
+TEST(StepController, TheTurnOfTheTangentOverAStep) {
+  StepOptions o;
+  o.min = 1e-3;
+  o.max_angle_degrees = 20.0;
+  const StepController c(o, 14);
+  const double degree = M_PI / 180.0;
+  EXPECT_EQ(c.judge_turn(10 * degree, 0.1, 0.1, true), TurnVerdict::Passed);
+  EXPECT_EQ(c.judge_turn(20 * degree, 0.1, 0.1, true), TurnVerdict::Passed);  // at the limit
+  EXPECT_EQ(c.judge_turn(25 * degree, 0.1, 0.1, true), TurnVerdict::Shorter);
+  EXPECT_EQ(c.judge_turn(25 * degree, 0.1, 0.1, false), TurnVerdict::Jumped);
+  EXPECT_EQ(c.judge_turn(25 * degree, 1.01e-3, 1e-3, true), TurnVerdict::Shorter);  // just above the floor
+  // at the floor
+  EXPECT_EQ(c.judge_turn(90 * degree, 1e-3, 1.5e-3, true), TurnVerdict::Passed);
+  EXPECT_EQ(c.judge_turn(90 * degree, 1e-3, 2e-3, true), TurnVerdict::Passed);  // two steps: still its own
+  EXPECT_EQ(c.judge_turn(90 * degree, 1e-3, 2.1e-3, true), TurnVerdict::Far);
+  EXPECT_EQ(c.judge_turn(90 * degree, 1e-3, 1.0, false), TurnVerdict::Passed);
 }
