@@ -121,8 +121,8 @@ ContinuationResult Continuation::run(const Vector& u0, BranchObserver& observer,
   if (!st.is_ok()) st = tangents_.initial(start.u, start.lambda, t);
   if (!st.is_ok()) {
     ContinuationResult r;
-    r.code = StopCode::StepFloor;
-    r.reason = "no tangent at the starting point: " + st.describe();
+    r.code = StopCode::StartFailed;
+    r.reason = "the branch could not start: no tangent at the starting point: " + st.describe();
     return r;
   }
   start.tu = std::move(t.tu);
@@ -164,8 +164,8 @@ ContinuationResult Continuation::switch_branch(BranchPoint bp, int direction, Br
   const Status st = branch_direction(ev_, lu_options_, norm_, bp, direction, start.tu, start.tlambda);
   if (!st.is_ok()) {
     ContinuationResult r;
-    r.code = StopCode::StepFloor;
-    r.reason = "no branch to switch to: " + st.describe();
+    r.code = StopCode::StartFailed;
+    r.reason = "the branch could not start: no branch to switch to: " + st.describe();
     observer.on_finish(r.reason, bp);
     return r;
   }
@@ -211,8 +211,8 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
   observer.on_start(problem_.observable_names(), monitor_names_);
   const Status st = begin(start);
   if (!st.is_ok()) {
-    result_.code = StopCode::StepFloor;
-    result_.reason = "the starting point cannot be evaluated: " + st.describe();
+    result_.code = StopCode::StartFailed;
+    result_.reason = "the branch could not start: the starting point cannot be evaluated: " + st.describe();
     return result_;
   }
   start.index = next_index_++;

@@ -467,7 +467,7 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
                    : from && from->switching ? run->switch_branch(*start, args.switch_direction, *observer)
                    : start                   ? run->resume(*start, *observer)
                                              : run->run(u0, *observer, std::move(start_factorisation));
-          return RunEnd{result.code == StopCode::Interrupted, result.code == StopCode::StepFloor};
+          return RunEnd{result.code == StopCode::Interrupted, is_failure(result.code)};
         },
         [&](std::optional<int> code) { file->finish(code); }, summary);
     InterruptGuard::forward_to(nullptr);
@@ -481,8 +481,8 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
 
   // 4. the branch takes its name: an interrupted one stays where it is, to be continued; a
   // failed one never replaces an existing file
-  if (const auto stays = stays_unfinished(result.code == StopCode::Interrupted, result.code == StopCode::StepFloor,
-                                          work, out, "branch", "before its range", summary))
+  if (const auto stays = stays_unfinished(result.code == StopCode::Interrupted, is_failure(result.code), work, out,
+                                          "branch", "before its range", summary))
     return *stays;
   const int code = summary.exit_code;
   signal_point("traced");
