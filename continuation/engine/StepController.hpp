@@ -28,7 +28,7 @@ enum class TurnVerdict {
   Shorter,  // an arclength step turned too sharply (it skipped a feature of the branch): rejected,
             // tried again shorter (after_turn), down to the floor
   Jumped,   // a natural step turned too sharply above the floor (it jumped to another branch past a
-            // fold): a failed step (after_failure), never passed
+            // fold): a failed step (after_failure), not tried shorter as a turn
   Far,      // an arclength step at the floor turned too sharply to a point far away: a failed step
 };
 
