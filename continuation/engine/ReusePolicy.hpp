@@ -2,8 +2,8 @@
 // it, under that correction's own row) instead of factorising at its prediction: one policy, a pure
 // function of what happened to the factorisation (tested on synthetic sequences of events).
 // KeptFactorisation reacts to its own factorisations and adoptions; the corrector says how each
-// correction ended; the stepper says where a step's tangent failed and where the next correction
-// must factorise. Nothing else decides.
+// correction ended; the stepper says where the start takes its row, where a step's tangent failed
+// and where the next correction must factorise. Nothing else decides.
 #pragma once
 
 namespace keller {
