@@ -11,12 +11,6 @@
 namespace keller {
 
 namespace {
-// A step at the floor that turns by more than the angle limit is passed where its point lies
-// within this many steps of the last (a turn of up to 60 degrees puts it within 2).
-constexpr double kFloorReach = 2.0;
-}  // namespace
-
-namespace {
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -108,7 +102,6 @@ ContinuationResult Continuation::run(const Vector& u0, BranchObserver& observer,
     if (st.is_ok()) {
       // a start solved only to near the tolerance (a switch of an event curve) is finished on the
       // adopted factorisation: a chord iteration or two instead of a solve of its own
-      kept_.set_reusable(true);
       Vector F;
       st = ev_.residual(start.u, F);
       if (st.is_ok() && F.lpNorm<Eigen::Infinity>() > corrector_.tolerance()) {
@@ -124,13 +117,12 @@ ContinuationResult Continuation::run(const Vector& u0, BranchObserver& observer,
       t.tl = -t.tl;
     }
     adopted_ = st.is_ok() && !t.factorised;
-    if (st.is_ok()) kept_.set_reusable(true);
   }
   if (!st.is_ok()) st = tangents_.initial(start.u, start.lambda, t);
   if (!st.is_ok()) {
     ContinuationResult r;
-    r.code = StopCode::StepFloor;
-    r.reason = "no tangent at the starting point: " + st.describe();
+    r.code = StopCode::StartFailed;
+    r.reason = "the branch could not start: no tangent at the starting point: " + st.describe();
     return r;
   }
   start.tu = std::move(t.tu);
@@ -172,8 +164,8 @@ ContinuationResult Continuation::switch_branch(BranchPoint bp, int direction, Br
   const Status st = branch_direction(ev_, lu_options_, norm_, bp, direction, start.tu, start.tlambda);
   if (!st.is_ok()) {
     ContinuationResult r;
-    r.code = StopCode::StepFloor;
-    r.reason = "no branch to switch to: " + st.describe();
+    r.code = StopCode::StartFailed;
+    r.reason = "the branch could not start: no branch to switch to: " + st.describe();
     observer.on_finish(r.reason, bp);
     return r;
   }
@@ -200,13 +192,12 @@ Status Continuation::begin(BranchPoint& start) {
     start.residual = (arclength && !factorised_here ? ev_.residual_vector() : F).lpNorm<Eigen::Infinity>();
   const Constraint row = norm_.tangent_row(start.tu, start.tlambda);
   if (st.is_ok() && factorised_here && kept_.set_row(row).is_ok()) {
-    kept_.set_reusable(true);
+    kept_.record(ReuseEvent::Accepted);
     start.bordered_det_sign = kept_.determinant_sign();
   } else if (st.is_ok() && arclength) {
     st = ev_.parameter_derivative(start.u);
     if (st.is_ok()) {
       const Status sf = kept_.factorise_assembled(ev_, start.u, start.lambda, row);
-      kept_.set_reusable(sf.is_ok());
       start.bordered_det_sign = sf.is_ok() ? kept_.determinant_sign() : 0;
     }
   }
@@ -220,8 +211,8 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
   observer.on_start(problem_.observable_names(), monitor_names_);
   const Status st = begin(start);
   if (!st.is_ok()) {
-    result_.code = StopCode::StepFloor;
-    result_.reason = "the starting point cannot be evaluated: " + st.describe();
+    result_.code = StopCode::StartFailed;
+    result_.reason = "the branch could not start: the starting point cannot be evaluated: " + st.describe();
     return result_;
   }
   start.index = next_index_++;
@@ -311,7 +302,7 @@ Continuation::Step Continuation::attempt(const BranchPoint& cur, const BranchPoi
     const double lambda_landed = nxt.lambda;
     // the branch ends here: where the step made no factorisation, the sign of det for branch
     // points at its end would need one (a probe); Newton's first correction makes it instead
-    if (options_.events.branch_points && kept_.count() == factorisations) kept_.set_reusable(false);
+    if (options_.events.branch_points && kept_.count() == factorisations) kept_.record(ReuseEvent::SignWanted);
     const ZeroLander::Settled z = lander_.settle(*zero, cur, nxt, floor);
     const bool settled = z.settled;
     nxt.iterations += z.solves;
@@ -351,23 +342,21 @@ Continuation::Step Continuation::attempt(const BranchPoint& cur, const BranchPoi
     nxt.tlambda = t.tl;
     nxt.det_sign = t.det_sign;
   } else {
-    kept_.set_reusable(false);
+    kept_.record(ReuseEvent::TangentFailed);
   }
   // a sharp turn of the tangent means the step skipped a feature of the branch or, in natural
   // continuation, jumped to another branch past a fold
   if (st.is_ok()) {
-    const double limit = options_.step.max_angle_degrees * M_PI / 180.0;
     const double angle = std::acos(std::clamp(norm_.dot(nxt.tu, nxt.tlambda, cur.tu, cur.tlambda), -1.0, 1.0));
-    if (angle > limit && ds > options_.step.min) {
-      st = {StatusCode::NotConverged, fmt::format("tangent turned by {:.1f} degrees", angle * 180.0 / M_PI)};
-      // (a natural step that turned jumped to another branch past a fold: never passed)
-      s.turned = arclength;
-    } else if (st.is_ok() && angle > limit && arclength && norm_.distance(cur, nxt) > kFloorReach * ds) {
-      // at the floor a turn is passed where the point is the step's own, not one far away
+    const double distance = norm_.distance(cur, nxt);
+    const TurnVerdict turn = steps_.judge_turn(angle, ds, distance, arclength);
+    if (turn == TurnVerdict::Far)
       st = {StatusCode::NotConverged,
             fmt::format("tangent turned by {:.1f} degrees at the step floor, to a point {:.3g} away",
-                        angle * 180.0 / M_PI, norm_.distance(cur, nxt))};
-    }
+                        angle * 180.0 / M_PI, distance)};
+    else if (turn != TurnVerdict::Passed)
+      st = {StatusCode::NotConverged, fmt::format("tangent turned by {:.1f} degrees", angle * 180.0 / M_PI)};
+    s.turned = turn == TurnVerdict::Shorter;
   }
   if (st.is_ok()) st = evaluate(nxt, analyse_now);
   s.status = st;

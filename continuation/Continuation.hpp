@@ -8,7 +8,7 @@
 // branch_direction (branch switching); KeptFactorisation is the factorisation they share and
 // ArclengthNorm the norm and constraints. Every point is reported to a BranchObserver as it is
 // accepted. Numerical failures shrink the step; they never end the run except through the
-// step-size floor, whose reason is reported.
+// step-size floor, or a start that fails (StopCode::StartFailed), whose reason is reported.
 #pragma once
 
 #include <atomic>

@@ -157,7 +157,6 @@ int Continuation::probe_determinant(BranchPoint& p) {
   ++result_.probes;
   const Status st = kept_.factorise_at(ev_, p.u, p.lambda, norm_.tangent_row(p.tu, p.tlambda));
   if (!st.is_ok()) return 0;
-  kept_.set_reusable(true);
   p.bordered_det_sign = kept_.determinant_sign();
   return p.bordered_det_sign;
 }

@@ -4,8 +4,9 @@
 namespace keller::exit_code {
 
 inline constexpr int ok = 0;
-// A numerical failure: the first steady state did not converge (nothing written), or a branch
-// ended at the step-size floor (its file holds every point before it).
+// A numerical failure: the first steady state did not converge (nothing written), a branch could
+// not start (StopCode::StartFailed), or it ended at the step-size floor (its file holds every point
+// before it).
 inline constexpr int numerical_failure = 1;
 // Bad command line, scene, study or path, or an output (or study folder) that another keller run
 // is writing: stopped before any work, nothing written.
@@ -23,11 +24,11 @@ inline constexpr int interrupted = 130;
 
 // The table above, for --help.
 inline constexpr const char* help =
-    "Exit codes: 0 done; 1 numerical failure (the first steady state did not converge, or the branch ended at the "
-    "step-size floor); 2 bad command line, scene or path, or an output another keller run is writing (nothing "
-    "written); 3 a file could not be written (full disk, file-size limit, I/O error, an output replaced during the "
-    "run: what was completed is kept, and the message says where); 4 internal error (a defect of keller: please "
-    "report it); 130 interrupted by SIGINT or SIGTERM "
+    "Exit codes: 0 done; 1 numerical failure (the first steady state did not converge, the branch could not start, "
+    "or it ended at the step-size floor); 2 bad command line, scene or path, or an output another keller run is "
+    "writing (nothing written); 3 a file could not be written (full disk, file-size limit, I/O error, an output "
+    "replaced during the run: what was completed is kept, and the message says where); 4 internal error (a defect "
+    "of keller: please report it); 130 interrupted by SIGINT or SIGTERM "
     "(everything completed is kept; run the same command again to continue).";
 
 }  // namespace keller::exit_code

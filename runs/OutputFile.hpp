@@ -69,7 +69,7 @@ LeftRun left_run(const std::string& work, const std::string& record, const std::
 // How a run that writes its file point by point ended.
 struct RunEnd {
   bool interrupted = false;  // by SIGINT or SIGTERM: its file stays, to be continued
-  bool failed = false;       // at the step-size floor: it does not replace an existing output
+  bool failed = false;       // at the step-size floor, or at its start: it does not replace an existing output
 };
 // Runs `run`, which writes the run's file `written` at `work` (OUT.h5.part) point by point and says
 // how the run ended, then `finish` ends the file (BranchFile::finish), given the exit code of a

@@ -217,7 +217,7 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
         },
         [&](BranchFile& file) {
           result = trace_branch(*stepper, start, settings, file);
-          return RunEnd{result.code == StopCode::Interrupted, result.code == StopCode::StepFloor};
+          return RunEnd{result.code == StopCode::Interrupted, is_failure(result.code)};
         });
     if (stability)
       fmt::print("stability: {:.2f} s in {} factorisations and {} solves of (J - sB)\n", stability->seconds(),

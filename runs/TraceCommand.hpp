@@ -6,7 +6,7 @@
 // point by point to OUT.h5.part (readable at every moment, whatever ends the run) and takes the name OUT.h5 once the
 // branch has ended, with the fields of its stored solutions and an XDMF file beside it. A run that was interrupted or
 // killed leaves OUT.h5.part, and the same command continues it from its last stored solution; a branch that ended at
-// the step-size floor does not replace an existing OUT.h5.
+// the step-size floor (or could not start) does not replace an existing OUT.h5.
 #pragma once
 
 #include <string>

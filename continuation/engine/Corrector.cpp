@@ -46,13 +46,12 @@ CorrectorResult Corrector::correct(Vector& u, double& lambda, const Constraint& 
     // more from the same prediction with a factorisation made there
     u = std::move(u0);
     lambda = lambda0;
-    kept_.set_reusable(false);
+    kept_.record(ReuseEvent::Diverged);
     const int first = r.iterations;
     r = iterate(u, lambda, c, kind, floor);
     r.iterations += first;
   }
-  // a factorisation made at a diverging iterate is not kept for the next attempt
-  kept_.set_reusable(r.status.is_ok());
+  kept_.record(r.status.is_ok() ? ReuseEvent::Converged : ReuseEvent::Diverged);
   return r;
 }
 

@@ -4,7 +4,8 @@
 // where the renewal policy asks (RenewalPolicy, shared with core's Newton), stopping where the
 // convergence test says (ConvergenceTest, shared too), and rejecting at once a step whose Newton
 // iteration leaves Newton's region of contraction (Deuflhard's monotonicity test). Returns what
-// happened as a result; keeps no state between calls beyond the shared factorisation.
+// happened as a result, and tells the shared factorisation how the correction ended (ReusePolicy:
+// whether the next one may start on it); keeps no state between calls.
 #pragma once
 
 #include "continuation/engine/ArclengthNorm.hpp"

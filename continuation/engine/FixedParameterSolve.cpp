@@ -25,10 +25,9 @@ FixedParameterResult solve_at_fixed_parameter(Problem& problem, const std::strin
   Corrector corrector(ev, kept, norm, o, newton);
   double value = problem.parameters().value(p);
   const Constraint row = Constraint::parameter(value);
-  if (near.lu) {
-    // the chord starts on the nearby factorisation, the border evaluated at u
-    kept.set_reusable(kept.adopt_at(ev, near, u, value, row).is_ok());
-  }
+  // the chord starts on the nearby factorisation, the border evaluated at u (where it cannot be
+  // adopted, the chord's first iteration factorises)
+  if (near.lu) kept.adopt_at(ev, near, u, value, row);
   const CorrectorResult r = corrector.correct(u, value, row, Corrector::Kind::Located);
   FixedParameterResult out;
   out.status = r.status;

@@ -61,6 +61,7 @@ Status KeptFactorisation::adopt(std::shared_ptr<SparseLU> lu, const BorderedJaco
 
 Status KeptFactorisation::remember(const Status& st, const Vector& u, double lambda) {
   known_ = st.is_ok();
+  reuse_.react(known_ ? ReuseEvent::Factorised : ReuseEvent::Lost);
   if (known_) {
     u_ = u;
     lambda_ = lambda;

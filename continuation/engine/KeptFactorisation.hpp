@@ -1,12 +1,13 @@
 // The factorisation of the bordered system [J F_p; c^T d] that the corrector and the tangent
 // solver share, as an object that knows where J was factorised (the state and parameter), whether
-// it may be kept for the next correction, how many numeric factorisations were made, and what a
-// renewal costs against a chord iteration in the run's own measured times.
+// it may be kept for the next correction (ReusePolicy), how many numeric factorisations were
+// made, and what a renewal costs against a chord iteration in the run's own measured times.
 #pragma once
 
 #include "continuation/engine/ArclengthNorm.hpp"
 #include "continuation/engine/BorderedSystem.hpp"
 #include "continuation/engine/Evaluator.hpp"
+#include "continuation/engine/ReusePolicy.hpp"
 #include "core/SparseLU.hpp"
 
 #include <memory>
@@ -62,10 +63,12 @@ class KeptFactorisation {
   bool made_at(const Vector& u, double lambda) const;
   // J's own factorisation if it was made at exactly (u, lambda) (block elimination), else null.
   SparseLU* j_factorisation_at(const Vector& u, double lambda);
-  // Whether the next correction may start on this factorisation (it belongs to a converged
-  // correction or to a point of the branch, not to an iterate that diverged).
-  bool reusable() const { return reusable_ && system_.block_factorised(); }
-  void set_reusable(bool r) { reusable_ = r; }
+  // Whether the next correction may start on this factorisation (ReusePolicy: it belongs to a
+  // converged correction or to a point of the branch, not to an iterate that diverged) with the
+  // correction's own row (block elimination).
+  bool reusable() const { return reuse_.reusable() && system_.block_factorised(); }
+  // What happened to it beyond its own factorisations and adoptions (ReusePolicy).
+  void record(ReuseEvent e) { reuse_.react(e); }
   // Block elimination on J's factorisation is in use (what set_row and a kept chord need).
   bool block() const { return system_.block_factorised(); }
   // Sign of det of the factorised bordered matrix with its present row.
@@ -81,13 +84,14 @@ class KeptFactorisation {
  private:
   double adopted_renewal_cost_ = 0.0;
   Status factorise(const Vector& u, double lambda);
-  // Where J was factorised (u, lambda) after a factorisation or adoption that returned st.
+  // Where J was factorised (u, lambda) after a factorisation or adoption that returned st (and
+  // for the reuse policy, that it was made or lost).
   Status remember(const Status& st, const Vector& u, double lambda);
   BorderedSystem system_;
   Vector u_;
   double lambda_ = 0.0;
   bool known_ = false;  // u_, lambda_ say where J was factorised
-  bool reusable_ = false;
+  ReusePolicy reuse_;
   long count_ = 0;
 };
 

@@ -1,9 +1,16 @@
 #include "continuation/engine/StepController.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 namespace keller {
+
+namespace {
+// A step at the floor that turns by more than the angle limit is passed where its point lies
+// within this many steps of the last (a turn of up to 60 degrees puts it within 2).
+constexpr double kFloorReach = 2.0;
+}  // namespace
 
 StepController::StepController(const StepOptions& options, int target_iterations)
     : options_(options), target_(target_iterations) {
@@ -20,6 +27,14 @@ double StepController::after_accepted(double ds, const StepOutcome& o) const {
   else if (o.iterations > target_ && !o.stale)
     next = ds * options_.slow_shrink;
   return std::clamp(next, options_.min, options_.max);
+}
+
+TurnVerdict StepController::judge_turn(double angle, double ds, double distance, bool arclength) const {
+  const double limit = options_.max_angle_degrees * M_PI / 180.0;
+  if (!(angle > limit)) return TurnVerdict::Passed;
+  if (ds > options_.min) return arclength ? TurnVerdict::Shorter : TurnVerdict::Jumped;
+  // at the floor a turn is passed where the point is the step's own, not one far away
+  return arclength && distance > kFloorReach * ds ? TurnVerdict::Far : TurnVerdict::Passed;
 }
 
 }  // namespace keller

@@ -2,7 +2,8 @@
 // `growth` after a corrector that needed fewer than the target iterations, shrink by `slow_shrink`
 // after one that needed more, shrink by `shrink` after a failure, within [min, max]; the branch ends
 // where a failed step would fall below the floor (a step rejected only for its turn stops at the
-// floor instead: the turn is passed there).
+// floor instead: the turn is passed there). Also what the turn of the tangent over a step says of
+// it (judge_turn).
 #pragma once
 
 #include <algorithm>
@@ -20,6 +21,17 @@ struct StepOutcome {
   bool landed = false;
 };
 
+// What the turn of the unit tangent over a step says of the step.
+enum class TurnVerdict {
+  Passed,   // within the angle limit; or at the floor, where an arclength step's point lies within
+            // reach of the last (the step's own), or a natural step's
+  Shorter,  // an arclength step turned too sharply (it skipped a feature of the branch): rejected,
+            // tried again shorter (after_turn), down to the floor
+  Jumped,   // a natural step turned too sharply above the floor (it jumped to another branch past a
+            // fold): a failed step (after_failure), not tried shorter as a turn
+  Far,      // an arclength step at the floor turned too sharply to a point far away: a failed step
+};
+
 class StepController {
  public:
   StepController(const StepOptions& options, int target_iterations);
@@ -32,6 +44,9 @@ class StepController {
   // The step after one rejected only for turning by more than the angle limit: shrunk, but not
   // below the floor, where the angle is not judged (a sharp fold is passed there).
   double after_turn(double ds) const { return std::max(ds * options_.shrink, options_.min); }
+  // A step of size ds whose unit tangents at its ends are angle radians apart and whose point lies
+  // distance from the last (arclength norm); arclength: pseudo-arclength, else natural steps.
+  TurnVerdict judge_turn(double angle, double ds, double distance, bool arclength) const;
   double min() const { return options_.min; }
   bool below_floor(double ds) const { return ds < options_.min; }
   int target_iterations() const { return target_; }

@@ -85,7 +85,6 @@ Status TangentSolver::initial(const Vector& u, double lambda, Tangent& t) {
     st = kept_.factorise_assembled(ev_, u, lambda, generic);
   }
   if (!st.is_ok()) return st;
-  kept_.set_reusable(true);
   t.factorised = true;
   st = from_factorisation(Vector(), 0.0, t);
   if (!st.is_ok()) return st;
@@ -103,7 +102,6 @@ Status TangentSolver::at_point(const BranchPoint& p, const Constraint& c, const 
     if (refresh) {
       const Status st = kept_.factorise_at(ev_, p.u, p.lambda, c);
       if (!st.is_ok()) return st;
-      kept_.set_reusable(true);
       t.factorised = true;
     }
     return from_factorisation(tu_prev, tl_prev, t);
@@ -116,7 +114,6 @@ Status TangentSolver::at_point(const BranchPoint& p, const Constraint& c, const 
   // a kept factorisation that has grown too old for the iteration (or refresh): one at p
   Status st = kept_.factorise_at(ev_, p.u, p.lambda, c);
   if (!st.is_ok()) return st;
-  kept_.set_reusable(true);
   t.factorised = true;
   return from_factorisation(tu_prev, tl_prev, t);
 }

@@ -1,6 +1,7 @@
 // Helpers shared by the continuation engine tests (ContinuationTest, ContinuationChordTest,
-// ContinuationKeptFactorisationTest): options for the cubic, points on a circle, the kept-chord
-// options, a trace from a guess, and small diagonal problems whose chord rates are known.
+// ContinuationKeptFactorisationTest, and the direct tests of the engine's parts): options for the
+// cubic, points on a circle, the kept-chord options, a trace from a guess, the engine's parts
+// wired together, and small diagonal problems whose chord rates are known.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -93,6 +94,39 @@ inline ContinuationResult trace_from_guess(Problem& p, const ContinuationOptions
   Continuation cont(p, o);
   return cont.run(p.initial_guess(), rec);
 }
+
+// The engine's parts on a problem in its parameter "lambda", wired as Continuation wires them (the
+// arclength norm of state scale 1; a point's evaluation: its observables and monitors), for the
+// direct tests of the corrector, the kept factorisation, the locator and the lander.
+struct EngineParts {
+  EngineParts(Problem& problem, ContinuationOptions o)
+      : options(std::move(o)),
+        ev(problem, problem.parameters().index("lambda"), "lambda"),
+        kept(problem, {}, options.corrector.block_elimination),
+        norm(problem.size(), 1.0, options.theta),
+        corrector(ev, kept, norm, options, {}),
+        tangents(ev, kept, norm, options),
+        locator(
+            corrector, tangents, kept, norm, options,
+            [this](BranchPoint& p, bool) {
+              Status st = ev.set_parameter(p.lambda);
+              if (st.is_ok()) st = ev.problem().observables(p.u, p.observables);
+              if (st.is_ok()) st = ev.problem().monitors(p.u, p.monitors);
+              return st;
+            },
+            [] { return std::string(); }),
+        lander(ev, locator, options) {}
+  EngineParts(const EngineParts&) = delete;  // (the parts refer to each other)
+  EngineParts& operator=(const EngineParts&) = delete;
+  ContinuationOptions options;
+  Evaluator ev;
+  KeptFactorisation kept;
+  ArclengthNorm norm;
+  Corrector corrector;
+  TangentSolver tangents;
+  EventLocator locator;
+  ZeroLander lander;
+};
 
 // (x, y) and the determinant sign against a dense LU of [J b; c^T d] (x, y) = (f, g): to 1e-12.
 inline void expect_dense_solution(const SparseMatrix& J, const Vector& b, const Vector& c, double d, const Vector& f,

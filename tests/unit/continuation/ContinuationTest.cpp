@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <Eigen/Dense>
 #include <cmath>
+#include <functional>
 #include <iostream>
 #include <random>
 
@@ -336,6 +337,41 @@ TEST(Continuation, FailureStatusHalvesTheStepAndStopsWithTheReason) {
   EXPECT_FALSE(rec.rejections.empty());
   EXPECT_LT(rec.points.back().lambda, 1.5);
   EXPECT_GT(rec.points.back().lambda, 1.5 - 1e-2);  // halving crept up to the band
+}
+
+// A branch that cannot start ends as StartFailed (a failure, like the step floor: exit code 1),
+// its reason saying so, with no point: from a first state where J fails (no tangent), from a
+// stored point where J fails (a restart), from a branch point where J fails (a switch).
+TEST(Continuation, ABranchThatCannotStartEndsAsStartFailed) {
+  auto problem = std::make_unique<test::FailingBand>(std::make_unique<Bratu1DProblem>(32, 0.0), 1.5, 2.9);
+  ContinuationOptions o;
+  o.parameter = "lambda";
+  o.stop.upper = 3.0;
+  o.state_scale = 1.0;
+  problem->parameters().set("lambda", 2.0);
+  Continuation cont(*problem, o);
+  BranchPoint stored;
+  stored.u = Vector::Zero(problem->size());
+  stored.lambda = 2.0;
+  stored.tu = Vector::Zero(problem->size());
+  stored.tlambda = 1.0;
+  const struct {
+    std::string why;
+    std::function<ContinuationResult(RecordingObserver&)> start;
+  } starts[] = {
+      {"no tangent at the starting point", [&](RecordingObserver& rec) { return cont.run(stored.u, rec); }},
+      {"the starting point cannot be evaluated", [&](RecordingObserver& rec) { return cont.resume(stored, rec); }},
+      {"no branch to switch to", [&](RecordingObserver& rec) { return cont.switch_branch(stored, 1, rec); }},
+  };
+  for (const auto& s : starts) {
+    RecordingObserver rec;
+    const ContinuationResult r = s.start(rec);
+    EXPECT_EQ(r.code, StopCode::StartFailed) << s.why;
+    EXPECT_TRUE(is_failure(r.code));
+    EXPECT_EQ(r.reason, "the branch could not start: " + s.why + ": invalid-state: the model breaks down here");
+    EXPECT_TRUE(rec.points.empty()) << s.why;
+    EXPECT_EQ(r.points, 0) << s.why;
+  }
 }
 
 TEST(Continuation, AnOversizedStepIsHalvedUntilItWorks) {

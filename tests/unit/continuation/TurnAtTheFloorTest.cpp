@@ -1,5 +1,5 @@
 // Turns of a branch sharper than its smallest step: passed at the step floor, every point on the
-// branch (continuation/Continuation.cpp, StepController::after_turn).
+// branch (StepController::judge_turn and after_turn, in Continuation::attempt and its trace loop).
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
