@@ -43,7 +43,17 @@ Status Problem::parameter_derivative(int p, const Vector& u, Vector& dF) {
 }
 
 Status Problem::mass_matrix(const Vector&, SparseMatrix&) {
-  throw std::logic_error("problem '" + name() + "' has no mass matrix (no time-dependent form)");
+  throw NoTimeForm("problem '" + name() + "' has no mass matrix (no time-dependent form)");
+}
+
+bool has_time_form(Problem& problem) {
+  SparseMatrix B;
+  try {
+    (void)problem.mass_matrix(problem.initial_guess(), B);
+  } catch (const NoTimeForm&) {
+    return false;
+  }
+  return true;
 }
 
 Status Problem::time_residual(const Vector& u, const Vector& udot, Vector& R) {

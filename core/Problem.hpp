@@ -14,6 +14,7 @@
 // may offer gradients of its monitors and observables (core/MonitorGradients.hpp).
 #pragma once
 
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -54,7 +55,7 @@ class Problem {
   // --- The time terms (stability analysis, time integration) ---
 
   // Mass matrix B of B du/dt = -F (structure of jacobian_pattern(); rows without a time
-  // derivative are zero). Default: throws, a problem without dynamics has no B.
+  // derivative are zero). Default: throws NoTimeForm, a problem without dynamics has no B.
   virtual Status mass_matrix(const Vector& u, SparseMatrix& B);
   // The time terms of the time-dependent residual B(u) du/dt + F(u): R = B(u) udot, at every
   // residual of a time step. Default: forms B and multiplies (a problem assembled from terms
@@ -95,5 +96,16 @@ class Problem {
   // name().
   virtual std::string summary() const { return name(); }
 };
+
+// What mass_matrix throws for a problem without a time-dependent form (the default): a run that
+// needs one (a spectrum, a time integration) asks has_time_form() first and refuses its scene.
+class NoTimeForm : public std::logic_error {
+ public:
+  using std::logic_error::logic_error;
+};
+
+// Whether the problem has a time-dependent form: mass_matrix at its initial guess gives B instead
+// of throwing NoTimeForm (one assembly of B).
+bool has_time_form(Problem& problem);
 
 }  // namespace keller

@@ -243,20 +243,12 @@ Vector steady_state(Problem& problem, const EvolveSettings& settings) {
   return u;
 }
 
-// 1 for the unknowns with a time derivative at `state` (B's nonzero columns). Throws CommandFailure:
-// exit 1 where B fails there, bad input for a problem without a time-dependent form.
-Vector differential_unknowns(Problem& problem, const Vector& state, const std::string& scene_file) {
+// 1 for the unknowns with a time derivative at `state` (B's nonzero columns; a problem without a
+// time-dependent form was refused when it was built). Throws CommandFailure: exit 1 where B fails there.
+Vector differential_unknowns(Problem& problem, const Vector& state) {
   SparseMatrix B;
-  try {
-    const Status st = problem.mass_matrix(state, B);
-    if (!st.is_ok())
-      throw CommandFailure(exit_code::numerical_failure, "the mass matrix at the start: " + st.describe());
-  } catch (const CommandFailure&) {
-    throw;
-  } catch (const std::exception& e) {
-    throw CommandFailure::bad_input(
-        fmt::format("{}: problem '{}' has no time-dependent form ({})", scene_file, problem.name(), e.what()));
-  }
+  const Status st = problem.mass_matrix(state, B);
+  if (!st.is_ok()) throw CommandFailure(exit_code::numerical_failure, "the mass matrix at the start: " + st.describe());
   if (B.nonZeros() == 0 || B.coeffs().cwiseAbs().maxCoeff() == 0.0)
     fmt::print("note: B = 0 (no row carries a time derivative): every step is the steady state\n");
   Vector differential = Vector::Zero(state.size());
@@ -280,12 +272,11 @@ Vector perturbed(const Reference& ref, double amplitude) {
 // unknowns with a time derivative there and, for a new run, the mode it is perturbed along (stored,
 // or computed now). Returns the first state: the steady state perturbed along the mode, or for a
 // continued run (whose steps hold its state) the steady state. Throws CommandFailure.
-Vector first_state(Problem& problem, const EvolveSettings& settings, EvolveSource& source, bool restarted,
-                   const std::string& scene_file) {
+Vector first_state(Problem& problem, const EvolveSettings& settings, EvolveSource& source, bool restarted) {
   const bool continued = source.seed.has_value();
   Reference& ref = source.reference;
   if (!continued && !restarted) ref.state = steady_state(problem, settings);
-  ref.differential = differential_unknowns(problem, ref.state, scene_file);
+  ref.differential = differential_unknowns(problem, ref.state);
   if (!continued && settings.perturbation.kind == "computed") {
     StoredMode mode;
     const Status st = computed_mode(problem, ref.state, settings.perturbation, settings.lu, mode);
@@ -371,7 +362,12 @@ int run_evolve(const EvolveArguments& args, RunSummary* out_summary) {
       }
       declare_run_outputs(files, run.out(), kTimeSeries.file, run.with_fields());
     });
-    Problem& problem = run.build();
+    Problem& problem = run.build([](Problem& p) {
+      if (!has_time_form(p))
+        throw std::invalid_argument("problem '" + p.name() +
+                                    "' has no time-dependent form as this scene sets it up (no row has a time "
+                                    "derivative): there is nothing to integrate in time");
+    });
 
     // 2. where the run starts: an unfinished run of this command, a stored point, or a steady state
     const std::string record =
@@ -391,7 +387,7 @@ int run_evolve(const EvolveArguments& args, RunSummary* out_summary) {
       return run.publish_left(source.left, series_fields(fields, &InterruptGuard::requested));
     const std::optional<TimeSeed>& seed = source.seed;
     const Reference& ref = source.reference;
-    const Vector u0 = first_state(problem, settings, source, from.has_value(), args.scene);
+    const Vector u0 = first_state(problem, settings, source, from.has_value());
 
     // 3. the run, written to OUT.h5.part step by step
     const TimeColumns columns = reference_columns(ref);

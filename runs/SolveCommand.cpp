@@ -179,7 +179,7 @@ int run_solve(const SolveArguments& args, RunSummary* out_summary) {
     run.check([&](RunFiles& files) { declare_solve_outputs(files, run.out(), run.with_fields()); }, args.output_locked);
     say_left_aside(run.scene(), settings.stability);
     Problem& problem = run.build([&](Problem& p) {
-      if (settings.stability.enabled) settings.stability.check_size(run.scene(), p.size());
+      if (settings.stability.enabled) settings.stability.check_problem(run.scene(), p);
     });
     fmt::print("problem: {}\n", problem.summary());
 

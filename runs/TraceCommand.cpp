@@ -77,12 +77,12 @@ std::optional<StoredStart> checked_start(const TraceArguments& args, const Trace
 
 // Refuses (SceneError naming the key) a problem without the run's parameter, or too small for the
 // spectrum [stability] asks for.
-void refuse_problem(const Problem& problem, const TraceSettings& settings, const Scene& scene) {
+void refuse_problem(Problem& problem, const TraceSettings& settings, const Scene& scene) {
   const std::string& parameter = settings.continuation.parameter;
   if (!problem.parameters().has(parameter))
     throw scene.error("continuation.parameter",
                       "unknown parameter '" + parameter + "'; this problem has: " + problem.parameters().names());
-  if (settings.stability.enabled) settings.stability.check_size(scene, problem.size());
+  if (settings.stability.enabled) settings.stability.check_problem(scene, problem);
 }
 
 // The fields of a stored state of the traced problem at its parameter value `lambda` (parameter p): a

@@ -57,7 +57,13 @@ StabilityOptions StabilityOptions::from_scene(const Scene& sc) {
   return o;
 }
 
-void StabilityOptions::check_size(const Scene& sc, long n) const {
+void StabilityOptions::check_problem(const Scene& sc, Problem& problem) const {
+  if (!has_time_form(problem))
+    throw sc.error("stability.enabled",
+                   fmt::format("problem '{}' has no time-dependent form as this scene sets it up (no row has a time "
+                               "derivative), so it has no spectrum to analyse",
+                               problem.name()));
+  const long n = problem.size();
   if (count > n - 2)
     throw sc.error("stability.count",
                    fmt::format("{} eigenvalues asked for, but a problem of {} unknowns has at most {} to give", count,

@@ -34,9 +34,10 @@ struct StabilityOptions {
   bool warm_start = true;                            // Arnoldi starts from the eigenvectors of the last analysed point
   static void declare(SceneSchema& schema);
   static StabilityOptions from_scene(const Scene& scene);
-  // Throws SceneError (naming stability.count) where count does not fit a problem of n unknowns
-  // (ARPACK finds at most n - 2 eigenvalues).
-  void check_size(const Scene& scene, long n) const;
+  // Throws SceneError where the problem cannot be analysed as the scene asks: it has no
+  // time-dependent form (naming stability.enabled), or count does not fit its n unknowns (naming
+  // stability.count: ARPACK finds at most n - 2 eigenvalues).
+  void check_problem(const Scene& scene, Problem& problem) const;
 };
 
 class StabilityAnalysis final : public PointAnalysis {

@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
+#include <string>
 
 #include "core/H5File.hpp"
 #include "support/TestSupport.hpp"
@@ -72,4 +74,33 @@ TEST(SolveStability, ACountBeyondTheProblemSizeIsRefusedNamingTheKey) {
       EXPECT_FALSE(fs::exists(dir + "/c.h5"));
       EXPECT_FALSE(fs::exists(dir + "/c.h5.part"));
     }
+}
+
+// A problem that the scene gives no time-dependent form (the wall without inertia: every row is
+// quasi-static) has no spectrum and nothing to integrate in time: solve and trace with [stability]
+// and evolve refuse the scene before any work, without an output (it was "internal error", exit 4,
+// and trace left OUT.h5.part behind).
+TEST(SolveStability, AProblemWithoutATimeFormIsRefusedForItsSpectrumAndItsDynamics) {
+  const std::string dir = test::scratch_dir("solve_stability_no_time_form");
+  const std::string wall = test::source_path("runs/scenes/wall_pressure.toml");
+  // evolve's scene: the shipped one up to its [continuation] section, which evolve does not read
+  const std::string evolve_scene = dir + "/wall_evolve.toml";
+  {
+    std::ifstream in(wall);
+    std::ofstream out(evolve_scene);
+    for (std::string line; std::getline(in, line) && line != "[continuation]";) out << line << '\n';
+  }
+  for (const std::string command : {"solve", "trace", "evolve"}) {
+    SCOPED_TRACE(command);
+    const std::string scene = command == "evolve" ? evolve_scene : wall + " --set stability.enabled=true";
+    const auto r = test::run_keller(command + " " + scene + " -o " + dir + "/w.h5");
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_NE(r.err.find("problem 'wall' has no time-dependent form"), std::string::npos) << r.err;
+    if (command != "evolve") {
+      EXPECT_NE(r.err.find("'stability.enabled'"), std::string::npos) << r.err;
+    }
+    EXPECT_EQ(r.err.find("internal error"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir + "/w.h5"));
+    EXPECT_FALSE(fs::exists(dir + "/w.h5.part"));
+  }
 }

@@ -163,7 +163,10 @@ TEST(Problem, TheDefaultsAreDifferencesOfTheResidual) {
   EXPECT_TRUE(fields.nodal.empty());
   EXPECT_EQ(fields.mesh, nullptr);
   SparseMatrix B;
-  EXPECT_THROW(p.mass_matrix(u, B), std::logic_error);
+  EXPECT_THROW(p.mass_matrix(u, B), NoTimeForm);
+  EXPECT_FALSE(has_time_form(p));  // what a run that needs B asks before any work
+  Bratu2DProblem library(2, 0.0);
+  EXPECT_TRUE(has_time_form(library));
   EXPECT_TRUE(p.monitor_names().empty());
   EXPECT_EQ(p.summary(), "user-bratu");
 }
