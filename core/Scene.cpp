@@ -128,6 +128,52 @@ const KeySpec* SceneSchema::find(const std::string& path) const {
   return nullptr;
 }
 
+namespace {
+
+std::vector<std::string> split_path(const std::string& path) {
+  std::vector<std::string> parts;
+  size_t start = 0;
+  while (true) {
+    const size_t dot = path.find('.', start);
+    parts.push_back(path.substr(start, dot == std::string::npos ? std::string::npos : dot - start));
+    if (dot == std::string::npos) return parts;
+    start = dot + 1;
+  }
+}
+
+bool bare_key(const std::string& s) {
+  return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-';
+  });
+}
+
+// Whether `path` is `pattern` with its "*" segment replaced by a member's name; the name, or "".
+std::string member_in(const std::string& pattern, const std::string& path) {
+  const std::vector<std::string> a = split_path(pattern), b = split_path(path);
+  if (a.size() != b.size()) return "";
+  std::string name;
+  for (size_t i = 0; i < a.size(); ++i) {
+    if (a[i] == "*") {
+      if (!bare_key(b[i])) return "";
+      name = b[i];
+    } else if (a[i] != b[i]) {
+      return "";
+    }
+  }
+  return name;
+}
+
+// The family of a template path: what comes before its "*" ("boundaries" of "boundaries.*.type").
+std::string family_of(const std::string& pattern) { return pattern.substr(0, pattern.find(".*")); }
+
+}  // namespace
+
+const KeySpec* SceneSchema::template_of(const std::string& path) const {
+  for (const auto& k : keys_)
+    if (k.is_template() && !member_in(k.path, path).empty()) return &k;
+  return nullptr;
+}
+
 bool SceneSchema::has_section(const std::string& name) const {
   return std::any_of(sections_.begin(), sections_.end(), [&](const auto& s) { return s.first == name; });
 }
@@ -305,8 +351,16 @@ Scene Scene::parse(const std::string& text, const std::string& source, const Sce
     for (const auto& [name, doc] : schema.sections()) s += (s.empty() ? "" : ", ") + name;
     return s;
   };
+  // tables and keys of a family's members ([boundaries.inlet]) get their concrete keys first
+  for (const auto& [path, line] : tables)
+    for (const auto& [name, doc] : schema.sections())
+      if (name.find('*') != std::string::npos && !member_in(name, path).empty())
+        scene.add_member(family_of(name), member_in(name, path));
+  for (const Leaf& leaf : leaves)
+    if (const KeySpec* k = schema.template_of(leaf.path))
+      scene.add_member(family_of(k->path), member_in(k->path, leaf.path));
   for (const auto& [path, line] : tables) {
-    if (schema.has_section(path)) continue;
+    if (scene.schema_.has_section(path)) continue;
     bool prefix_of_section = false;
     for (const auto& [name, doc] : schema.sections())
       if (name.rfind(path + ".", 0) == 0) prefix_of_section = true;
@@ -315,15 +369,16 @@ Scene Scene::parse(const std::string& text, const std::string& source, const Sce
           fmt::format("{}: unknown section [{}]; allowed sections: {}", location(source, line), path, section_list()));
   }
   for (const Leaf& leaf : leaves) {
-    const KeySpec* spec = schema.find(leaf.path);
+    const KeySpec* spec = scene.schema_.find(leaf.path);
+    if (spec && spec->is_template()) spec = nullptr;  // a member named "*"
     if (!spec) {
       const auto dot = leaf.path.rfind('.');
       const std::string sec = dot == std::string::npos ? "" : leaf.path.substr(0, dot);
-      if (sec.empty() || !schema.has_section(sec))
+      if (sec.empty() || !scene.schema_.has_section(sec))
         throw SceneError(fmt::format("{}: unknown key '{}' outside any known section; allowed sections: {}",
                                      location(source, leaf.line), leaf.path, section_list()));
       std::string allowed;
-      for (const auto& k : schema.keys_in(sec)) allowed += (allowed.empty() ? "" : ", ") + k;
+      for (const auto& k : scene.schema_.keys_in(sec)) allowed += (allowed.empty() ? "" : ", ") + k;
       throw SceneError(fmt::format("{}: unknown key '{}'; keys allowed in [{}]: {}", location(source, leaf.line),
                                    leaf.path, sec, allowed));
     }
@@ -403,9 +458,39 @@ Scene Scene::parse(const std::string& text, const std::string& source, const Sce
     scene.values_[leaf.path] = std::move(value);
     scene.lines_[leaf.path] = leaf.line;
   }
-  for (const KeySpec& k : schema.keys())
-    if (!scene.values_.count(k.path)) scene.values_[k.path] = k.default_value;
+  for (const KeySpec& k : scene.schema_.keys())
+    if (!k.is_template() && !scene.values_.count(k.path)) scene.values_[k.path] = k.default_value;
   return scene;
+}
+
+void Scene::add_member(const std::string& family, const std::string& name) {
+  const std::string pattern = family + ".*";
+  std::vector<KeySpec> concrete;
+  for (const KeySpec& k : schema_.keys())
+    if (k.is_template() && k.path.rfind(pattern, 0) == 0) {
+      KeySpec c = k;
+      c.path = family + "." + name + k.path.substr(pattern.size());
+      if (!schema_.find(c.path)) concrete.push_back(std::move(c));
+    }
+  for (const auto& [section, doc] : schema_.sections())
+    if (section == pattern && !schema_.has_section(family + "." + name)) {
+      const std::string member_doc = doc;
+      schema_.section(family + "." + name, member_doc);
+      break;
+    }
+  for (KeySpec& c : concrete) schema_.add(std::move(c));
+}
+
+std::vector<std::string> Scene::members(const std::string& family) const {
+  std::vector<std::string> out;
+  for (const KeySpec& k : schema_.keys()) {
+    if (k.is_template()) continue;
+    const KeySpec* t = schema_.template_of(k.path);
+    if (!t || family_of(t->path) != family) continue;
+    const std::string name = member_in(t->path, k.path);
+    if (std::find(out.begin(), out.end(), name) == out.end()) out.push_back(name);
+  }
+  return out;
 }
 
 const SceneValue& Scene::get(const std::string& path, KeySpec::Type type) const {
@@ -444,7 +529,7 @@ SceneError Scene::error(const std::string& path, const std::string& what) const 
 std::string Scene::canonical_values(const std::vector<std::string>& keys) const {
   std::string out;
   for (const auto& k : schema_.keys()) {
-    if (!keys.empty() && std::find(keys.begin(), keys.end(), k.path) == keys.end()) continue;
+    if (k.is_template() || (!keys.empty() && std::find(keys.begin(), keys.end(), k.path) == keys.end())) continue;
     out += fmt::format("{} = {}\n", k.path, format_value(values_.at(k.path)));
   }
   return out;
@@ -453,7 +538,7 @@ std::string Scene::canonical_values(const std::vector<std::string>& keys) const 
 std::string Scene::canonical_defaults(const std::vector<std::string>& keys) const {
   std::string out;
   for (const auto& k : schema_.keys()) {
-    if (!keys.empty() && std::find(keys.begin(), keys.end(), k.path) == keys.end()) continue;
+    if (k.is_template() || (!keys.empty() && std::find(keys.begin(), keys.end(), k.path) == keys.end())) continue;
     out += fmt::format("{} = {}\n", k.path, format_value(k.default_value));
   }
   return out;
@@ -464,7 +549,7 @@ std::string Scene::resolved_toml() const {
   for (const auto& [name, doc] : schema_.sections()) {
     std::string body;
     for (const auto& k : schema_.keys()) {
-      if (k.section() != name) continue;
+      if (k.section() != name || k.is_template()) continue;
       body += fmt::format("{} = {}{}\n", k.key(), format_value(values_.at(k.path)), given(k.path) ? "" : "  # default");
     }
     if (!body.empty()) out += fmt::format("\n[{}]\n{}", name, body);
@@ -477,7 +562,7 @@ std::string Scene::non_default_toml() const {
   for (const auto& [name, doc] : schema_.sections()) {
     std::string body;
     for (const auto& k : schema_.keys())
-      if (k.section() == name && differs_from_default(k.path))
+      if (k.section() == name && !k.is_template() && differs_from_default(k.path))
         body += fmt::format("{} = {}\n", k.key(), format_value(values_.at(k.path)));
     if (!body.empty()) out += fmt::format("\n[{}]\n{}", name, body);
   }

@@ -37,6 +37,10 @@ struct KeySpec {
   // Numbers must be finite, except in a Real key whose default is infinite (meaning "none",
   // as for a bound): it also takes inf or -inf. NaN is never a value.
   bool allows_infinity() const;
+  // A template key of a family of tables the scene names freely: a path with "*" for the member's
+  // name, as "boundaries.*.type" ([boundaries.inlet] type = ...) or "mesh.geo_parameters.*" (any
+  // number of named numbers). A scene's members get concrete keys made from their templates.
+  bool is_template() const { return path.find('*') != std::string::npos; }
 };
 
 class SceneSchema {
@@ -58,6 +62,9 @@ class SceneSchema {
   void set_default(const std::string& path, const std::string& value, const std::string& why);
 
   const KeySpec* find(const std::string& path) const;
+  // The template key a concrete path is a member of ("boundaries.inlet.type" of "boundaries.*.type"),
+  // or null. A member's name is one TOML bare key: letters, digits, '_' and '-'.
+  const KeySpec* template_of(const std::string& path) const;
   bool has_section(const std::string& name) const;
   const std::vector<KeySpec>& keys() const { return keys_; }
   const std::vector<std::pair<std::string, std::string>>& sections() const { return sections_; }
@@ -66,6 +73,7 @@ class SceneSchema {
   std::string help() const;
 
  private:
+  friend class Scene;  // adds the concrete keys of a family's members
   void add(KeySpec spec);
   std::vector<KeySpec> keys_;
   std::vector<std::pair<std::string, std::string>> sections_;
@@ -91,6 +99,10 @@ class Scene {
   bool boolean(const std::string& path) const;
   const std::string& string(const std::string& path) const;
   const std::vector<double>& real_list(const std::string& path) const;
+  // The names of the members the scene gives a family, in the order of the schema's keys: the
+  // tables [boundaries.<name>] for "boundaries", the keys of [mesh.geo_parameters] for
+  // "mesh.geo_parameters". Their keys are read with their concrete paths ("boundaries.inlet.type").
+  std::vector<std::string> members(const std::string& family) const;
   // Whether the file set this key explicitly (rather than taking the default).
   bool given(const std::string& path) const;
   // Whether the key's value differs from its default (set explicitly to something else). Checks
@@ -115,6 +127,9 @@ class Scene {
 
  private:
   const SceneValue& get(const std::string& path, KeySpec::Type type) const;
+  // Adds the concrete keys of the member `name` of the family `family` (every template key of the
+  // family, with its default) to this scene's schema, once.
+  void add_member(const std::string& family, const std::string& name);
   SceneSchema schema_;
   std::string source_;
   std::map<std::string, SceneValue> values_;

@@ -40,10 +40,15 @@ LoadedScene loaded(const ProblemType& type, const std::function<void(SceneSchema
   if (extra) extra(schema);
   SceneSchema own;
   type.declare(own);
+  Scene scene = load(schema);
+  // the type's own keys, and the members the scene gives the type's families ([boundaries.inlet])
   std::vector<std::string> physics;
-  for (const KeySpec& k : own.keys())
-    if (k.section() != "parameters") physics.push_back(k.path);
-  return {load(schema), &type, std::move(physics)};
+  for (const KeySpec& k : scene.schema().keys()) {
+    if (k.is_template() || k.section() == "parameters") continue;
+    const KeySpec* t = schema.template_of(k.path);
+    if (own.find(k.path) || (t && own.find(t->path))) physics.push_back(k.path);
+  }
+  return {std::move(scene), &type, std::move(physics)};
 }
 
 // problem.type as the overrides leave it

@@ -253,3 +253,72 @@ TEST(Scene, CylinderMeshCountsAreCapped) {
   EXPECT_EQ(o.mesh.wake_ratio, 10.0);
   EXPECT_EQ(o.mesh.rear_ratio, 4.0);
 }
+
+// Families of tables the scene names ([boundaries.<name>]) and of named numbers
+// ([mesh.geo_parameters]): their members get concrete keys with the template's type, default and
+// range; they survive the resolved scene; unknown keys inside a member are still errors.
+namespace {
+
+SceneSchema family_schema() {
+  SceneSchema s = schema();
+  s.section("boundaries.*", "a condition on a named boundary");
+  s.string("boundaries.*.type", "", "kind of condition", {"", "wall", "inflow"});
+  s.real_list("boundaries.*.velocity", {0.0, 0.0}, "a velocity");
+  s.section("mesh.geo_parameters", "numbers passed to the .geo");
+  s.real("mesh.geo_parameters.*", 0.0, "a number of the .geo", Range::positive());
+  return s;
+}
+
+}  // namespace
+
+TEST(Scene, FamilyMembersGetConcreteKeysAndDefaults) {
+  const Scene s = Scene::parse(
+      "[boundaries.inlet]\ntype = \"inflow\"\nvelocity = [1, 0]\n[boundaries.top-wall]\ntype = \"wall\"\n"
+      "[boundaries.empty]\n[mesh.geo_parameters]\nratio = 4\nlc = 0.5\n",
+      "s.toml", family_schema());
+  EXPECT_EQ(s.members("boundaries"), (std::vector<std::string>{"empty", "inlet", "top-wall"}));
+  EXPECT_EQ(s.string("boundaries.inlet.type"), "inflow");
+  EXPECT_EQ(s.real_list("boundaries.inlet.velocity"), (std::vector<double>{1.0, 0.0}));
+  EXPECT_EQ(s.real_list("boundaries.top-wall.velocity"), (std::vector<double>{0.0, 0.0}));  // the default
+  EXPECT_EQ(s.string("boundaries.empty.type"), "");
+  EXPECT_FALSE(s.given("boundaries.empty.type"));
+  EXPECT_EQ(s.members("mesh.geo_parameters"), (std::vector<std::string>{"lc", "ratio"}));
+  EXPECT_DOUBLE_EQ(s.real("mesh.geo_parameters.ratio"), 4.0);
+  EXPECT_TRUE(Scene::parse("", "e.toml", family_schema()).members("boundaries").empty());
+  EXPECT_THROW(s.real("mesh.geo_parameters.absent"), std::logic_error);  // never given: not a key
+}
+
+TEST(Scene, FamilyMembersSurviveTheResolvedSceneAndOverrides) {
+  const Scene s = Scene::parse("[boundaries.inlet]\ntype = \"inflow\"\n[mesh.geo_parameters]\nratio = 4\n", "s.toml",
+                               family_schema(), {"boundaries.outlet.type=wall", "mesh.geo_parameters.lc=0.25"});
+  EXPECT_EQ(s.members("boundaries"), (std::vector<std::string>{"inlet", "outlet"}));
+  EXPECT_DOUBLE_EQ(s.real("mesh.geo_parameters.lc"), 0.25);
+  const Scene t = Scene::parse(s.resolved_toml(), "resolved", family_schema());
+  EXPECT_EQ(t.canonical_values(), s.canonical_values());
+  EXPECT_EQ(t.members("boundaries"), s.members("boundaries"));
+  EXPECT_NE(s.canonical_values().find("boundaries.outlet.type = \"wall\"\n"), std::string::npos);
+  EXPECT_EQ(s.canonical_values().find('*'), std::string::npos);  // templates are not values
+  EXPECT_EQ(Scene::parse(s.non_default_toml(), "again", family_schema()).canonical_values(), s.canonical_values());
+}
+
+TEST(Scene, FamilyMembersAreValidatedLikeAnyKey) {
+  auto error_in = [](const std::string& text) {
+    try {
+      Scene::parse(text, "s.toml", family_schema());
+    } catch (const SceneError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(error_in("[boundaries.inlet]\ntyp = \"wall\"\n"),
+            "s.toml:2: unknown key 'boundaries.inlet.typ'; keys allowed in [boundaries.inlet]: type, velocity");
+  EXPECT_EQ(error_in("[boundaries.inlet]\ntype = \"slip\"\n"),
+            "s.toml:2: key 'boundaries.inlet.type' = \"slip\" is not one of: wall, inflow");
+  EXPECT_EQ(error_in("[mesh.geo_parameters]\nratio = -1\n"),
+            "s.toml:2: key 'mesh.geo_parameters.ratio' = -1 is out of range: must be > 0");
+  EXPECT_EQ(error_in("[mesh.geo_parameters]\nratio = \"four\"\n"),
+            "s.toml:2: key 'mesh.geo_parameters.ratio' must be a number, got a string (\"four\")");
+  EXPECT_NE(error_in("[boundaries.\"*\"]\ntype = \"wall\"\n").find("unknown"), std::string::npos);
+  EXPECT_NE(error_in("[boundaries.\"a b\"]\ntype = \"wall\"\n").find("unknown"), std::string::npos);
+  EXPECT_NE(error_in("[boundaries.inlet.deeper]\ntype = \"wall\"\n").find("unknown"), std::string::npos);
+}
