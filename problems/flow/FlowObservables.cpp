@@ -144,6 +144,9 @@ FlowObservables::FlowObservables(const Mesh& mesh, const DofMap& dofs, const Flo
         if (!flow.options().viscoelastic()) throw spec_error(s, "the fluid is Newtonian: it has no conformation");
         if (s.component < 0 || s.component > 2)
           throw spec_error(s, "component must be 0 (the value), 1 (its x) or 2 (its y)");
+        if (s.component > 0 && s.monitor)
+          throw spec_error(s,
+                           "the place of min m1 jumps from node to node: it cannot be a monitor (min m1 itself can)");
         break;
     }
   }

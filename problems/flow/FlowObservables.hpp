@@ -105,7 +105,8 @@ class FlowObservables {
   // Validates every spec against the mesh and the fluid: std::invalid_argument naming the
   // observable, its kind and what to change (a boundary the mesh lacks, a reattachment wall that
   // is not one chain or whose ends are not at origin, a region with no node, min m1 of a
-  // Newtonian fluid, a repeated name). Keeps references to its arguments.
+  // Newtonian fluid, its place as a monitor, a repeated name). Keeps references to its
+  // arguments but `specs` and `constraints`.
   FlowObservables(const Mesh& mesh, const DofMap& dofs, const FlowEquations& flow, const ParameterSet& params,
                   const FlowConstraints& constraints, std::vector<FlowObservableSpec> specs);
   ~FlowObservables();

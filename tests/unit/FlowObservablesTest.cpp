@@ -342,6 +342,13 @@ TEST(FlowObservables, BadSpecsAreRefusedNamingTheObservable) {
   box.region = {0.01, 0.02, 0.3, 0.31};
   EXPECT_TRUE(has(message(box), "the region holds no node of the fluid's mesh"));
   EXPECT_TRUE(has(message(spec("m", Kind::MinM1, "")), "the fluid is Newtonian: it has no conformation"));
+  FluidOptions fluid;
+  fluid.model = FluidModel::OldroydB;
+  Channel ve(true, fluid);
+  FlowObservableSpec place = spec("min_m1_x", Kind::MinM1, "", "", 1);
+  place.monitor = true;
+  EXPECT_THROW(FlowObservables(ve.mesh, ve.dofs(), *ve.flow, ve.params, ve.constraints(true), {place}),
+               std::invalid_argument);
 }
 
 // On the built-in cylinder's mesh and state the force on "cylinder" is its drag: the reaction is
