@@ -26,6 +26,17 @@ const char* to_string(FlowObservableSpec::Kind k) {
   return "?";
 }
 
+FlowObservableSpec::Kind flow_observable_kind(const std::string& name) {
+  using K = FlowObservableSpec::Kind;
+  std::string known;
+  for (K k : {K::Force, K::FlowRate, K::MeanPressure, K::PressureDrop, K::CouetteCorrection, K::Reattachment,
+              K::StreamFunctionExtremum, K::MinM1}) {
+    if (name == to_string(k)) return k;
+    known += (known.empty() ? "" : ", ") + std::string(to_string(k));
+  }
+  throw std::invalid_argument("unknown observable kind '" + name + "' (" + known + ")");
+}
+
 // The wall's Gauss points in the order of their arclength s from origin.
 struct FlowObservables::Chain {
   struct Point {

@@ -92,7 +92,10 @@ struct FlowObservableSpec {
   bool monitor = false;  // also a monitor (for the caller: continuation events on its zeros)
 };
 
+// "force", "flow-rate", "mean-pressure", "pressure-drop", "couette-correction", "reattachment",
+// "stream-function-extremum", "min-m1"; the inverse throws std::invalid_argument listing them.
 const char* to_string(FlowObservableSpec::Kind kind);
+FlowObservableSpec::Kind flow_observable_kind(const std::string& name);
 
 // What the observables need to know of the boundary conditions.
 struct FlowConstraints {

@@ -349,6 +349,17 @@ TEST(FlowObservables, BadSpecsAreRefusedNamingTheObservable) {
   place.monitor = true;
   EXPECT_THROW(FlowObservables(ve.mesh, ve.dofs(), *ve.flow, ve.params, ve.constraints(true), {place}),
                std::invalid_argument);
+  for (Kind k : {Kind::Force, Kind::FlowRate, Kind::MeanPressure, Kind::PressureDrop, Kind::CouetteCorrection,
+                 Kind::Reattachment, Kind::StreamFunctionExtremum, Kind::MinM1})
+    EXPECT_EQ(flow_observable_kind(to_string(k)), k);
+  try {
+    flow_observable_kind("drag");
+    ADD_FAILURE() << "an unknown kind was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_TRUE(has(e.what(),
+                    "unknown observable kind 'drag' (force, flow-rate, mean-pressure, pressure-drop, "
+                    "couette-correction, reattachment, stream-function-extremum, min-m1)"));
+  }
 }
 
 // On the built-in cylinder's mesh and state the force on "cylinder" is its drag: the reaction is
