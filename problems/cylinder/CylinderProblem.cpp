@@ -6,9 +6,9 @@
 #include <stdexcept>
 
 #include "core/BlockMeshBuilder.hpp"
+#include "problems/components/BoundaryTraction.hpp"
 #include "problems/components/Composition.hpp"
 #include "problems/laws/ConstitutiveLaw.hpp"
-#include "problems/laws/LogConformation.hpp"
 
 namespace keller {
 
@@ -233,12 +233,8 @@ CylinderProblem::DragTerms CylinderProblem::drag_terms(const Vector& u) const {
   out.reaction = drag(u);
   const FluidOptions& fo = options_.fluid;
   const bool ve = fo.viscoelastic();
-  const int nc = fo.conformation_components();
-  const int fv = dofs_->field_index("velocity"), fp = dofs_->field_index("pressure");
-  const int fl = ve ? dofs_->field_index("gradient") : -1, fm = ve ? dofs_->field_index("conformation") : -1;
+  const int fv = dofs_->field_index("velocity"), fl = ve ? dofs_->field_index("gradient") : -1;
   const double beta = ve ? params_.get("beta") : 1.0;
-  const double modulus = ve ? (1.0 - beta) / params_.get("Wi") : 0.0;  // (1 - beta) Gamma / Wi, Gamma = 1
-  const double b = fo.model == FluidModel::FeneP ? params_.get("b") : 0.0;
   const double beta_a = fo.kernel.devss >= 0 ? fo.kernel.devss : 1.0 - beta;
   const ref::Tables& tb = ref::tables();
   auto gather = [&](int f, int e, int n) {
@@ -248,45 +244,13 @@ CylinderProblem::DragTerms CylinderProblem::drag_terms(const Vector& u) const {
     for (int i = 0; i < n; ++i) v[static_cast<size_t>(i)] = u[d[static_cast<size_t>(i)]];
     return v;
   };
-  // polymer stress from the conformation unknowns at Q1 shape values N
-  auto polymer = [&](const std::vector<double>& mc, const double* N) {
-    double m[4] = {0, 0, 0, 0};
-    for (int c = 0; c < nc; ++c)
-      for (int k = 0; k < 4; ++k) m[c] += N[k] * mc[static_cast<size_t>(4 * c + k)];
-    Conformation<double> M{m[0], m[1], m[2], nc == 4 ? m[3] : 1.0};
-    if (fo.log_conformation) {
-      const Sym2<double> E = sym_exp(Sym2<double>{m[0], m[1], m[2]});
-      M = {E.xx, E.xy, E.yy, nc == 4 ? std::exp(m[3]) : 1.0};
-    }
-    const double f = fo.model == FluidModel::FeneP ? peterlin(fo.model, nc == 4, M, b) : 1.0;
-    return polymer_stress(M, f, modulus);
-  };
+  const BoundaryTraction traction(mesh_, *dofs_, fo, flow_->parameter_indices());
+  std::array<TractionPoint, ref::kEdgeQp> tp;
   for (const BoundaryEdge& be : mesh_.boundary("cylinder")) {
-    double xy[9][2];
-    mesh_.element_nodes(be.element, xy);
-    std::array<EdgeQpGeometry<double>, ref::kEdgeQp> geo;
-    if (!map_edge(xy, be.edge, geo)) return {NAN, NAN, NAN};
-    const std::vector<double> v = gather(fv, be.element, 18), pc = gather(fp, be.element, 3);
-    const std::vector<double> mc = ve ? gather(fm, be.element, 4 * nc) : std::vector<double>{};
-    for (int q = 0; q < ref::kEdgeQp; ++q) {
-      const EdgeQpGeometry<double>& g = geo[static_cast<size_t>(q)];
-      double K[2][2] = {{0, 0}, {0, 0}};
-      for (int a = 0; a < 9; ++a)
-        for (int j = 0; j < 2; ++j) {
-          K[0][j] += g.dN2dx[a][j] * v[static_cast<size_t>(a)];
-          K[1][j] += g.dN2dx[a][j] * v[static_cast<size_t>(9 + a)];
-        }
-      const double P = pc[0] + (g.x[0] - xy[4][0]) * pc[1] + (g.x[1] - xy[4][1]) * pc[2];
-      double sxx = -P + 2.0 * beta * K[0][0], sxy = beta * (K[0][1] + K[1][0]);
-      if (ve) {
-        const Conformation<double> tp = polymer(mc, tb.edge_N1[be.edge][q]);
-        sxx += tp.xx;
-        sxy += tp.xy;
-      }
-      // the normal is the fluid's outward one (into the cylinder): the force on the cylinder
-      // is minus the integral of T n_out; both halves
-      out.surface -= 2.0 * g.wds * (sxx * g.normal[0] + sxy * g.normal[1]);
-    }
+    if (!traction.evaluate(u, params_, be, tp)) return {NAN, NAN, NAN};
+    // the normal is the fluid's outward one (into the cylinder): the force on the cylinder
+    // is minus the integral of T n_out; both halves
+    for (const TractionPoint& t : tp) out.surface -= 2.0 * t.wds * t.traction[0];
   }
   if (ve) {
     for (int e : cylinder_elements_) {

@@ -41,6 +41,7 @@ expect_violation problems/laws/Bad.hpp '#include "problems/kernels/FlowSource.hp
 expect_violation problems/kernels/Bad.hpp '#include "problems/components/FlowEquations.hpp"' "a kernel includes a component"
 expect_violation problems/components/Bad.cpp '#include "problems/channel/ChannelMesh.hpp"' "a component includes a problem builder"
 expect_violation problems/cylinder/Bad.cpp '#include "problems/channel/ChannelMesh.hpp"' "the cylinder includes the channel"
+expect_violation problems/flow/Bad.cpp '#include "problems/cylinder/CylinderProblem.hpp"' "the flow layer includes the cylinder"
 expect_violation problems/rheometry/Bad.cpp '#include "problems/components/FlowEquations.hpp"' "a homogeneous flow includes a component"
 expect_violation problems/analytic/Bad.hpp '#include "problems/laws/ConstitutiveLaw.hpp"' "an analytic problem includes a law"
 expect_violation problems/kernels/Bad.hpp '#include "problems/ProblemRegistry.hpp"' "a kernel includes the registry"

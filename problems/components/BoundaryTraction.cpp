@@ -1,0 +1,90 @@
+#include "problems/components/BoundaryTraction.hpp"
+
+#include <cmath>
+
+#include "core/ElementGeometry.hpp"
+#include "problems/laws/ConstitutiveLaw.hpp"
+#include "problems/laws/LogConformation.hpp"
+
+namespace keller {
+
+BoundaryTraction::BoundaryTraction(const Mesh& mesh, const DofMap& dofs, const FluidOptions& fluid,
+                                   const FlowParameterIndices& index)
+    : mesh_(&mesh), dofs_(&dofs), fluid_(fluid), index_(index) {
+  fv_ = dofs.field_index("velocity");
+  fp_ = dofs.field_index("pressure");
+  if (fluid.viscoelastic()) fm_ = dofs.field_index("conformation");
+}
+
+bool BoundaryTraction::evaluate(const Vector& u, const ParameterSet& params, const BoundaryEdge& be,
+                                std::array<TractionPoint, ref::kEdgeQp>& out) const {
+  const bool ve = fluid_.viscoelastic();
+  const int nc = fluid_.conformation_components();
+  const double* p = params.values();
+  const double beta = ve ? solvent_viscosity(index_, p) : 1.0;
+  const double modulus = ve ? polymer_modulus(index_, p) : 0.0;
+  const double b = index_.b >= 0 ? p[index_.b] : 0.0;
+  const ref::Tables& tb = ref::tables();
+  auto gather = [&](int f, int n, double* v) {
+    int d[36];
+    dofs_->element_dofs(f, be.element, d);
+    for (int i = 0; i < n; ++i) v[i] = u[d[i]];
+  };
+  double xy[9][2];
+  mesh_->element_nodes(be.element, xy);
+  std::array<EdgeQpGeometry<double>, ref::kEdgeQp> geo;
+  if (!map_edge(xy, be.edge, geo)) return false;
+  double v[18], pc[3], mc[16] = {};
+  gather(fv_, 18, v);
+  gather(fp_, 3, pc);
+  if (ve) gather(fm_, 4 * nc, mc);
+  for (int q = 0; q < ref::kEdgeQp; ++q) {
+    const EdgeQpGeometry<double>& g = geo[static_cast<size_t>(q)];
+    TractionPoint& t = out[static_cast<size_t>(q)];
+    double K[2][2] = {{0, 0}, {0, 0}};
+    for (int a = 0; a < 9; ++a)
+      for (int j = 0; j < 2; ++j) {
+        K[0][j] += g.dN2dx[a][j] * v[a];
+        K[1][j] += g.dN2dx[a][j] * v[9 + a];
+      }
+    t.velocity[0] = t.velocity[1] = 0;
+    for (int a = 0; a < 9; ++a) {
+      t.velocity[0] += tb.edge_N2[be.edge][q][a] * v[a];
+      t.velocity[1] += tb.edge_N2[be.edge][q][a] * v[9 + a];
+    }
+    // the P1disc pressure is linear in physical coordinates about the element's centre node
+    t.pressure = pc[0] + (g.x[0] - xy[4][0]) * pc[1] + (g.x[1] - xy[4][1]) * pc[2];
+    t.sxx = -t.pressure + 2.0 * beta * K[0][0];
+    t.sxy = beta * (K[0][1] + K[1][0]);
+    t.syy = -t.pressure + 2.0 * beta * K[1][1];
+    if (ve) {
+      const double* N = tb.edge_N1[be.edge][q];
+      double m[4] = {0, 0, 0, 0};
+      for (int c = 0; c < nc; ++c)
+        for (int k = 0; k < 4; ++k) m[c] += N[k] * mc[4 * c + k];
+      Conformation<double> M{m[0], m[1], m[2], nc == 4 ? m[3] : 1.0};
+      if (fluid_.log_conformation) {
+        const Sym2<double> E = sym_exp(Sym2<double>{m[0], m[1], m[2]});
+        M = {E.xx, E.xy, E.yy, nc == 4 ? std::exp(m[3]) : 1.0};
+      }
+      // the Peterlin factor is FENE-P's; the others' 1 is a constant here, which keeps the
+      // cylinder's surface drag of Oldroyd-B to the last digit it had before this was shared
+      const Conformation<double> tp = fluid_.model == FluidModel::FeneP
+                                          ? polymer_stress(M, peterlin(fluid_.model, nc == 4, M, b), modulus)
+                                          : polymer_stress(M, 1.0, modulus);
+      t.sxx += tp.xx;
+      t.sxy += tp.xy;
+      t.syy += tp.yy;
+    }
+    for (int i = 0; i < 2; ++i) {
+      t.x[i] = g.x[i];
+      t.normal[i] = g.normal[i];
+    }
+    t.wds = g.wds;
+    t.traction[0] = t.sxx * g.normal[0] + t.sxy * g.normal[1];
+    t.traction[1] = t.sxy * g.normal[0] + t.syy * g.normal[1];
+  }
+  return true;
+}
+
+}  // namespace keller
