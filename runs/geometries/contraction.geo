@@ -19,15 +19,17 @@
 
 SetFactory("Built-in");
 
+// Every tunable number: -setnumber NAME VALUE (gmsh program, or the arguments of gmsh::initialize)
+// or gmsh::onelab::setNumber("NAME", {VALUE}) before opening the file overrides it.
 DefineConstant[
-  f = {1, Min 1, Step 1, Name "Parameters/f: refinement (M1, M2, M3 = f 1, 2, 4)"},
-  upstream_length = {80, Name "Parameters/upstream_length: from the inflow to the contraction plane, in H2"},
-  downstream_length = {50, Name "Parameters/downstream_length: from the contraction plane to the outflow, in H2"},
-  corner = {0.04, Name "Parameters/corner: the finest element's size on M1, at the corners, in H2"},
-  nx_upstream = {30, Min 1, Step 1, Name "Parameters/nx_upstream: elements along the upstream channel on M1"},
-  nx_downstream = {30, Min 1, Step 1, Name "Parameters/nx_downstream: elements along the downstream channel on M1"},
-  ny_lower = {8, Min 1, Step 1, Name "Parameters/ny_lower: elements across 0 < y < 1 on M1"},
-  ny_step = {8, Min 1, Step 1, Name "Parameters/ny_step: elements across each half of the step 1 < y < 4 on M1"}
+  f = {1, Name "f"},                                   // refinement (M1, M2, M3 = f 1, 2, 4)
+  upstream_length = {80, Name "upstream_length"},      // from the inflow to the contraction plane, in H2
+  downstream_length = {50, Name "downstream_length"},  // from the contraction plane to the outflow, in H2
+  corner = {0.04, Name "corner"},                      // the finest element's size on M1, at the corners, in H2
+  nx_upstream = {30, Name "nx_upstream"},              // elements along the upstream channel on M1
+  nx_downstream = {30, Name "nx_downstream"},          // elements along the downstream channel on M1
+  ny_lower = {8, Name "ny_lower"},                     // elements across 0 < y < 1 on M1
+  ny_step = {8, Name "ny_step"}                        // elements across each half of the step 1 < y < 4 on M1
 ];
 
 H1 = 4;

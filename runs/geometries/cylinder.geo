@@ -25,16 +25,18 @@
 
 SetFactory("Built-in");
 
+// Every tunable number: -setnumber NAME VALUE (gmsh program, or the arguments of gmsh::initialize)
+// or gmsh::onelab::setNumber("NAME", {VALUE}) before opening the file overrides it.
 DefineConstant[
-  f = {1, Min 1, Step 1, Name "Parameters/f: refinement of C1 (C<f>, W<f>)"},
-  rear_per_f = {8, Min 1, Step 1, Name "Parameters/rear_per_f: elements around the rear eighth per f (8: C, 16: W)"},
-  upstream_length = {20, Name "Parameters/upstream_length: inflow to the cylinder's centre"},
-  downstream_length = {30, Name "Parameters/downstream_length: cylinder's centre to the outflow"},
-  radial_ratio = {4, Name "Parameters/radial_ratio: largest / smallest radial element"},
-  upstream_ratio = {10, Name "Parameters/upstream_ratio: largest / smallest upstream element"},
-  downstream_ratio = {20, Name "Parameters/downstream_ratio: largest / smallest downstream element"},
-  wake_ratio = {1, Name "Parameters/wake_ratio: largest / smallest across the channel behind the cylinder"},
-  rear_ratio = {1, Name "Parameters/rear_ratio: largest / smallest around the rear eighth"}
+  f = {1, Name "f"},                                   // refinement of C1 (C<f>, W<f>)
+  rear_per_f = {8, Name "rear_per_f"},                 // elements around the rear eighth per f (8: C, 16: W)
+  upstream_length = {20, Name "upstream_length"},      // inflow to the cylinder's centre
+  downstream_length = {30, Name "downstream_length"},  // cylinder's centre to the outflow
+  radial_ratio = {4, Name "radial_ratio"},             // largest / smallest radial element
+  upstream_ratio = {10, Name "upstream_ratio"},        // largest / smallest upstream element
+  downstream_ratio = {20, Name "downstream_ratio"},    // largest / smallest downstream element
+  wake_ratio = {1, Name "wake_ratio"},                 // largest / smallest across the channel behind the cylinder
+  rear_ratio = {1, Name "rear_ratio"}                  // largest / smallest around the rear eighth
 ];
 
 If (f < 1 || f != Round(f) || rear_per_f < 1 || rear_per_f != Round(rear_per_f))

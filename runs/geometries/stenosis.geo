@@ -17,17 +17,19 @@
 
 SetFactory("Built-in");
 
+// Every tunable number: -setnumber NAME VALUE (gmsh program, or the arguments of gmsh::initialize)
+// or gmsh::onelab::setNumber("NAME", {VALUE}) before opening the file overrides it.
 DefineConstant[
-  f = {1, Min 1, Step 1, Name "Parameters/f: refinement (f 1, 2, 4 nest)"},
-  severity = {0.5, Name "Parameters/severity: the half-width at x = 0 is 1 - severity"},
-  length = {4, Name "Parameters/length: length of the stenosis"},
-  upstream_length = {10, Name "Parameters/upstream_length: from the inflow to the stenosis' centre"},
-  downstream_length = {20, Name "Parameters/downstream_length: from the stenosis' centre to the outflow"},
-  n_throat = {8, Min 1, Step 1, Name "Parameters/n_throat: elements along the stenosis for f = 1"},
-  nx_upstream = {10, Min 1, Step 1, Name "Parameters/nx_upstream: elements upstream of the stenosis for f = 1"},
-  nx_downstream = {16, Min 1, Step 1, Name "Parameters/nx_downstream: elements downstream of the stenosis for f = 1"},
-  ny = {6, Min 1, Step 1, Name "Parameters/ny: elements across the channel for f = 1"},
-  wall_ratio = {1, Name "Parameters/wall_ratio: largest / smallest element across the channel, fine at the wall"}
+  f = {1, Name "f"},                                   // refinement (f 1, 2, 4 nest)
+  severity = {0.5, Name "severity"},                   // the half-width at x = 0 is 1 - severity
+  length = {4, Name "length"},                         // length of the stenosis
+  upstream_length = {10, Name "upstream_length"},      // from the inflow to the stenosis' centre
+  downstream_length = {20, Name "downstream_length"},  // from the stenosis' centre to the outflow
+  n_throat = {8, Name "n_throat"},                     // elements along the stenosis for f = 1
+  nx_upstream = {10, Name "nx_upstream"},              // elements upstream of the stenosis for f = 1
+  nx_downstream = {16, Name "nx_downstream"},          // elements downstream of the stenosis for f = 1
+  ny = {6, Name "ny"},                                 // elements across the channel for f = 1
+  wall_ratio = {1, Name "wall_ratio"}                  // largest / smallest element across the channel, fine at the wall
 ];
 
 Lu = upstream_length;
