@@ -15,7 +15,8 @@ reader requires of them, without keller:
     `keller solve` writes for C1, C2, W1 and W2 to 4e-15), for the C and W presets.
 
 Usage: PATH=/usr/bin:$PATH python3 runs/geometries/check_geometries.py [--levels 3] [--keep DIR]
-Exit status 1 if a check fails.
+           [--figure docs/figures/geometries.png]
+Exit status 1 if a check fails. --figure draws the coarsest mesh of each geometry near its feature.
 """
 
 import argparse
@@ -287,6 +288,43 @@ NODE_TOL = 1e-6
 MIN_MIDSIDE_ORDER = 1.8
 
 
+FIGURE_VIEWS = {  # geometry label -> (title, x range, y range) of its panel
+    "cylinder.geo (C<f>)": ("cylinder.geo, C1 (f = 1)", (-4.5, 7.5), (0, 2)),
+    "contraction.geo": ("contraction.geo, M1 (f = 1)", (-6.5, 5.5), (0, 4)),
+    "stenosis.geo": ("stenosis.geo, f = 1", (-5, 8), (0, 1)),
+}
+
+
+def draw(meshes, path):
+    """The element edges (curved through their mid-side nodes) of each mesh in FIGURE_VIEWS."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.collections import LineCollection
+
+    t = np.linspace(0.0, 1.0, 9)
+    la, lm, lb = (1 - t) * (1 - 2 * t), 4 * t * (1 - t), t * (2 * t - 1)
+    spans = [(FIGURE_VIEWS[label][1], FIGURE_VIEWS[label][2]) for label, _ in meshes]
+    ratios = [(yr[1] - yr[0]) / (xr[1] - xr[0]) for xr, yr in spans]
+    fig, axes = plt.subplots(len(meshes), 1, figsize=(9, 1.2 + 9 * sum(ratios)), constrained_layout=True,
+                             gridspec_kw={"height_ratios": ratios})
+    for ax, (label, mesh) in zip(np.atleast_1d(axes), meshes):
+        title, xr, yr = FIGURE_VIEWS[label]
+        _, _, xy, blocks = read_msh41(mesh)
+        segs = []
+        for e in (e for dim, _, _, els in blocks if dim == 2 for e in els):
+            for k in range(4):
+                a, m, b = (np.array(xy[n]) for n in (e[k], e[4 + k], e[(k + 1) % 4]))
+                segs.append(np.outer(la, a) + np.outer(lm, m) + np.outer(lb, b))
+        ax.add_collection(LineCollection(segs, linewidths=0.4, colors="k"))
+        ax.set_xlim(*xr)
+        ax.set_ylim(*yr)
+        ax.set_aspect("equal")
+        ax.set_title(title, fontsize=9)
+    fig.savefig(path, dpi=150)
+
+
 def observed_order(previous, level, err):
     if previous is None or not (previous[1] > 0 and err > 0):
         return None
@@ -297,7 +335,9 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--levels", type=int, default=3, choices=(2, 3), help="refinement levels per geometry")
     ap.add_argument("--keep", help="write the meshes into this folder instead of a temporary one")
+    ap.add_argument("--figure", help="draw the coarsest meshes into this PNG (matplotlib)")
     args = ap.parse_args()
+    coarsest = []
     chk = Checked()
     with tempfile.TemporaryDirectory() as tmp:
         folder = args.keep or tmp
@@ -311,6 +351,8 @@ def main():
                 tag = label.split("(")[-1][0] if "(" in label else ""
                 out = os.path.join(folder, f"{os.path.splitext(geo)[0]}{tag}_f{level}.msh")
                 run_gmsh(geo, p, out)
+                if level == levels[0] and label in FIGURE_VIEWS:
+                    coarsest.append((label, out))
                 name = f"{label} f={level}"
                 area, nq, detmin, xy, lines = check_mesh(out, name, chk)
                 names = set(read_msh41(out)[0].values())
@@ -339,6 +381,8 @@ def main():
                 shown = f"{order:6.2f}" if order is not None else ("exact" if not curved else "")
                 print(f"{label:20} {level:2} {nq:6} {detmin:10.3e} {err:11.3e} {shown:>6}   {extra}")
                 previous = (level, err)
+        if args.figure:
+            draw(coarsest, args.figure)
     for f in chk.failures:
         print("FAILED:", f)
     if not chk.failures:
