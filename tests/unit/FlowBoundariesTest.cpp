@@ -7,6 +7,8 @@
 
 #include <cmath>
 #include <functional>
+#include <iostream>
+#include <map>
 #include <memory>
 #include <numbers>
 #include <stdexcept>
@@ -143,6 +145,8 @@ PoiseuilleError poiseuille_error(const FlowOnMesh& p, const Vector& u, double de
     e.pressure = std::max(e.pressure, std::abs(P[0] - G * (x0 - xl)));
     e.pressure_gradient = std::max({e.pressure_gradient, std::abs(P[1] + G * c), std::abs(P[2] + G * s)});
   }
+  std::cout << "Poiseuille at " << degrees << " degrees: max errors velocity " << e.velocity << ", pressure "
+            << e.pressure << ", pressure gradient " << e.pressure_gradient << "\n";
   return e;
 }
 
@@ -251,6 +255,7 @@ TEST(FlowBoundaries, OldroydBIsRotationInvariant) {
       compare(c * P0[1] - s * P0[2], P1[1]);
       compare(s * P0[1] + c * P0[2], P1[2]);
     }
+    std::cout << "Oldroyd-B rotated by " << deg << " degrees: max difference " << err << " (scale " << scale << ")\n";
     EXPECT_LT(err, 1e-10 * scale) << deg << " degrees";
   }
 }
@@ -274,6 +279,7 @@ TEST(FlowBoundaries, CouetteFlowWithDrivenWallAndTractions) {
     const auto P = p.pressure(u, e);
     ep = std::max({ep, std::abs(P[0] - P0), std::abs(P[1]), std::abs(P[2])});
   }
+  std::cout << "Couette: max errors velocity " << ev << ", pressure " << ep << "\n";
   EXPECT_LT(ev, 1e-11);
   EXPECT_LT(ep, 1e-11);
   // the traction term: Jacobian zero (finite differences), load - int phi_a t ds, summing to -t |edge|
@@ -292,6 +298,49 @@ TEST(FlowBoundaries, CouetteFlowWithDrivenWallAndTractions) {
   }
   EXPECT_NEAR(fx, -P0 * 1.0, 1e-14);
   EXPECT_NEAR(fy, U * 1.0, 1e-14);
+}
+
+// The lid-driven cavity: every boundary has a given velocity, so the pressure is pinned at the
+// centre of the first element; at the lid's ends the no-slip side walls win. Stokes flow on a
+// mesh symmetric about x = 1/2 is symmetric: v_x(1 - x, y) = v_x, v_y(1 - x, y) = -v_y, and
+// P(1 - x, y) = -P + const (the flow with the lid reversed is the mirror image).
+TEST(FlowBoundaries, LidDrivenCavity) {
+  FlowBoundaries bc;
+  bc.walls = {"bottom", "left", "right"};
+  bc.driven_walls = {{"top", {1.0, 0.0}}};
+  FlowOnMesh p(channel(1, 1, 4, 4, rotation(0), {"bottom", "right", "top", "left"}), FluidOptions{}, bc);
+  const Vector u = p.solve();
+  const Mesh& m = p.mesh();
+  std::map<std::pair<long, long>, int> at;
+  auto key = [](const Mesh::Point& x) { return std::make_pair(std::lround(x[0] * 1e6), std::lround(x[1] * 1e6)); };
+  for (int n = 0; n < m.num_nodes(); ++n) at[key(m.node(n))] = n;
+  double asym = 0;
+  for (int n = 0; n < m.num_nodes(); ++n) {
+    const auto& x = m.node(n);
+    const int mirror = at.at(key({1 - x[0], x[1]}));
+    asym = std::max({asym, std::abs(p.value(u, "velocity", n, 0) - p.value(u, "velocity", mirror, 0)),
+                     std::abs(p.value(u, "velocity", n, 1) + p.value(u, "velocity", mirror, 1))});
+    if (x[1] == 1.0) {
+      const bool corner = x[0] == 0.0 || x[0] == 1.0;
+      EXPECT_NEAR(p.value(u, "velocity", n, 0), corner ? 0.0 : 1.0, 1e-14) << x[0];
+      EXPECT_NEAR(p.value(u, "velocity", n, 1), 0.0, 1e-14);
+    }
+  }
+  std::cout << "cavity: mirror asymmetry " << asym << "\n";
+  EXPECT_LT(asym, 1e-12);
+  EXPECT_GT(std::abs(p.value(u, "velocity", at.at(key({0.5, 0.5})), 0)), 0.05);  // the flow turns
+  EXPECT_NEAR(p.pressure(u, 0)[0], 0.0, 1e-14);
+  std::vector<double> sums;
+  for (int e = 0; e < m.num_elements(); ++e) {
+    const auto& xc = m.node(m.element(e)[4]);
+    for (int f = 0; f < m.num_elements(); ++f) {
+      const auto& yc = m.node(m.element(f)[4]);
+      if (std::abs(yc[0] - (1 - xc[0])) < 1e-12 && std::abs(yc[1] - xc[1]) < 1e-12)
+        sums.push_back(p.pressure(u, e)[0] + p.pressure(u, f)[0]);
+    }
+  }
+  ASSERT_EQ(sums.size(), 16u);
+  for (double s : sums) EXPECT_NEAR(s, sums[0], 1e-10);
 }
 
 // A cross: two inflows (mean 1 from the left, 0.5 from below), a fully developed outflow on the
@@ -330,6 +379,8 @@ TEST(FlowBoundaries, SeveralInflowsAndOutflowsConserveMass) {
   EXPECT_NEAR(south, -0.5, 1e-13);
   EXPECT_GT(east, 0.1);
   EXPECT_GT(north, 0.1);
+  std::cout << "cross: flow rates west " << west << " south " << south << " east " << east << " north " << north
+            << ", sum " << west + south + east + north << "\n";
   EXPECT_NEAR(west + south + east + north, 0.0, 1e-12);
 }
 
