@@ -11,6 +11,7 @@
 
 #include "core/KernelTerm.hpp"
 #include "core/RateConstraintTerm.hpp"
+#include "problems/components/StokesStart.hpp"
 #include "problems/kernels/NewtonianFlowKernel.hpp"
 #include "problems/kernels/OutflowTractionKernel.hpp"
 #include "problems/kernels/TractionKernel.hpp"
@@ -72,7 +73,7 @@ FluidOptions FluidOptions::from_scene(const Scene& sc) {
 
 FlowEquations::FlowEquations(const Mesh& mesh, const std::string& group, FluidOptions options,
                              FlowBoundaries boundaries, ParameterSet& params, int iGamma)
-    : mesh_(&mesh), options_(std::move(options)), boundaries_(std::move(boundaries)), params_(&params) {
+    : mesh_(&mesh), group_(group), options_(std::move(options)), boundaries_(std::move(boundaries)), params_(&params) {
   index_.Gamma = iGamma;
   index_.Re = params.add("Re", options_.Re, "Reynolds number", 0.0);
   if (options_.Re > 0 && !options_.inertia) throw std::invalid_argument("Re > 0 needs the convective term");
@@ -349,6 +350,22 @@ void FlowEquations::rest_state(Vector& u) const {
       u[dofs.node_dof(fm, n, c)] = relaxed[static_cast<size_t>(c)];
     for (int c = 0; c < 4; ++c) u[dofs.node_dof(fl, n, c)] = 0.0;
   }
+}
+
+Status FlowEquations::stokes_state(Vector& u) const {
+  rest_state(u);
+  StokesStart stokes(*mesh_, group_, boundaries_, velocity_scale());
+  Vector s;
+  if (Status st = stokes.solve(s); !st.is_ok()) return st;
+  const DofMap &to = *dofs_, &from = stokes.dofs();
+  const int fv = to.field_index("velocity"), sv = from.field_index("velocity");
+  const int fp = to.field_index("pressure"), sp = from.field_index("pressure");
+  for (int n = 0; n < mesh_->num_nodes(); ++n)
+    for (int c = 0; c < 2; ++c)
+      if (to.node_dof(fv, n, c) >= 0) u[to.node_dof(fv, n, c)] = s[from.node_dof(sv, n, c)];
+  for (int e : elements_)
+    for (int k = 0; k < 3; ++k) u[to.element_dof(fp, e, k, 0)] = s[from.element_dof(sp, e, k, 0)];
+  return {};
 }
 
 void FlowEquations::conformation_eigenvalues(const Vector& u, std::vector<int>& nodes,

@@ -21,6 +21,7 @@
 #include "core/ParameterSet.hpp"
 #include "core/Scene.hpp"
 #include "core/SolutionFields.hpp"
+#include "core/Status.hpp"
 #include "core/Term.hpp"
 #include "problems/components/Component.hpp"
 #include "problems/components/FlowBoundaries.hpp"
@@ -91,6 +92,11 @@ class FlowEquations final : public Component {
   // zero-shear steady state, M = I for Oldroyd-B), zero velocity gradient; the problem puts in
   // the Dirichlet values afterwards.
   void rest_state(Vector& u) const;
+  // A starting state for any geometry that Newton converges from at higher Wi than from rest or
+  // from initial_guess: velocity and pressure of the Stokes flow of a Newtonian fluid of viscosity
+  // 1 under the same boundary conditions (StokesStart, one linear solve), the relaxed
+  // conformation and zero velocity gradient. Returns that solve's failure, if any.
+  Status stokes_state(Vector& u) const;
   // Inflow values at the current parameters, per inflow (FlowBoundaries::inflows order) and
   // node (in boundary_nodes order): velocity, and conformation unknowns (M or log M components;
   // empty for a Newtonian fluid or a fully developed profile that leaves the domain).
@@ -120,6 +126,7 @@ class FlowEquations final : public Component {
   std::function<double(double)> viscosity(const ParameterSet& p) const;
 
   const Mesh* mesh_;
+  std::string group_;
   FluidOptions options_;
   FlowBoundaries boundaries_;
   const ParameterSet* params_;

@@ -66,6 +66,11 @@ class FlowOnMesh final : public AssembledProblem {
     for (int k = 0; k < dirichlet_->num_items(); ++k) u[dirichlet_->dofs()[k]] = dirichlet_->value(k);
     return u;
   }
+  Vector stokes() {
+    Vector u = Vector::Zero(size());
+    EXPECT_TRUE(flow_->stokes_state(u).is_ok());
+    return u;
+  }
   Vector solve(bool profile = false) {
     Vector u = with_dirichlet(profile);
     NewtonSolver newton(*this);
@@ -170,6 +175,33 @@ TEST(FlowBoundaries, PoiseuilleInARotatedChannel) {
   EXPECT_LT(e.pressure, 1e-10);
   EXPECT_NEAR(p.flow_rate(u, "inflow"), -H, 1e-13);
   EXPECT_NEAR(p.flow_rate(u, "outflow"), H, 1e-13);
+}
+
+// The Stokes start of a viscoelastic fluid: the Newtonian (viscosity 1) Poiseuille flow, exact,
+// with the relaxed conformation (log M = 0) and zero velocity gradient.
+TEST(FlowBoundaries, StokesStartInARotatedChannel) {
+  FluidOptions fluid;
+  fluid.model = FluidModel::OldroydB;
+  fluid.log_conformation = true;
+  fluid.Wi = 0.5;
+  fluid.beta = 0.59;
+  FlowBoundaries bc;
+  bc.inflows = {{"inflow"}, {"outflow", true, {0, 0}, -1.0}};
+  bc.walls = {"bottom", "top"};
+  FlowOnMesh p(channel(3, 1, 6, 3, rotation(30)), fluid, bc);
+  const Vector u = p.stokes();
+  const double a = std::numbers::pi / 6;
+  const auto& xc = p.mesh().node(p.mesh().element(0)[4]);
+  const PoiseuilleError e = poiseuille_error(p, u, 30, 0, 1, std::cos(a) * xc[0] + std::sin(a) * xc[1]);
+  EXPECT_LT(e.velocity, 1e-11);
+  EXPECT_LT(e.pressure, 1e-10);
+  double rest = 0;
+  for (int n = 0; n < p.mesh().num_nodes(); ++n)
+    if (p.mesh().is_vertex(n))
+      for (int c = 0; c < 4; ++c)
+        rest = std::max(
+            {rest, std::abs(p.value(u, "gradient", n, c)), c < 3 ? std::abs(p.value(u, "conformation", n, c)) : 0.0});
+  EXPECT_EQ(rest, 0.0);
 }
 
 // Half a channel of half-width 1 with its centreline a symmetry line: the inflow's channel is the
