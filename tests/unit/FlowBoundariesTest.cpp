@@ -292,6 +292,30 @@ TEST(FlowBoundaries, OldroydBIsRotationInvariant) {
   }
 }
 
+// A given uniform inflow (plug flow) of an Oldroyd-B fluid: the velocity at the inflow nodes is
+// the given one (0 at the wall corners), the conformation at its vertices relaxed (M = I), and
+// what enters leaves through the outflow, to rounding.
+TEST(FlowBoundaries, GivenVelocityInflow) {
+  FluidOptions fluid;
+  fluid.model = FluidModel::OldroydB;
+  fluid.Wi = 0.2;
+  fluid.beta = 0.59;
+  FlowBoundaries bc = channel_bc(true);
+  bc.inflows = {{"inflow", false, {1.0, 0.0}}};
+  FlowOnMesh p(channel(4, 1, 8, 4, rotation(0)), fluid, bc);
+  const Vector u = p.solve();
+  for (int n : p.mesh().boundary_nodes("inflow")) {
+    const double y = p.mesh().node(n)[1];
+    EXPECT_NEAR(p.value(u, "velocity", n, 0), y == 0.0 || y == 1.0 ? 0.0 : 1.0, 1e-14) << y;
+    EXPECT_NEAR(p.value(u, "velocity", n, 1), 0.0, 1e-14);
+    if (!p.mesh().is_vertex(n)) continue;
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(p.value(u, "conformation", n, c), c == 1 ? 0.0 : 1.0, 1e-14);
+  }
+  const double in = p.flow_rate(u, "inflow"), out = p.flow_rate(u, "outflow");
+  EXPECT_LT(in, -0.8);  // the plug less its wall corners' share
+  EXPECT_NEAR(in + out, 0.0, 1e-13);
+}
+
 // Plane Couette flow u = U y, P = P0 (bottom wall, top wall driven at (U, 0)), its traction
 // sigma n given at both ends: sigma = [[-P0, U], [U, -P0]].
 TEST(FlowBoundaries, CouetteFlowWithDrivenWallAndTractions) {
