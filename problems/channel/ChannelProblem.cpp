@@ -39,9 +39,9 @@ void ChannelProblem::setup() {
   iGamma_ =
       params_.add("Gamma", options_.Gamma, "mean inflow velocity (solid elasticity parameter)", Range::positive());
   FlowBoundaries bc;
+  bc.inflows = {{"inflow"}};
+  bc.outflows = {{"outflow"}};
   bc.walls = {"bottom_wall", "top_wall", "interface"};
-  bc.channel_lo = 0.0;
-  bc.channel_hi = 1.0;
   flow_ = std::make_unique<FlowEquations>(mesh_, "fluid", options_.fluid, bc, params_, iGamma_);
   ComposedSystem system = Composition().add(*flow_).build(mesh_, params_);
   dofs_ = std::move(system.dofs);

@@ -71,6 +71,8 @@ CollapsibleChannelProblem::CollapsibleChannelProblem(const CollapsibleOptions& o
   iGamma_ =
       params_.add("Gamma", options_.Gamma, "wall elasticity parameter (the mean inflow velocity)", Range::positive());
   FlowBoundaries bc;
+  bc.inflows = {{"inflow"}};
+  bc.outflows = {{"outflow"}};
   bc.walls = {"bottom_wall", "top_wall"};
   if (options_.moving_wall_dynamics)
     bc.moving_walls = {"interface"};

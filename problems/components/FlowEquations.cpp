@@ -11,8 +11,10 @@
 
 #include "core/KernelTerm.hpp"
 #include "core/RateConstraintTerm.hpp"
+#include "problems/components/StokesStart.hpp"
 #include "problems/kernels/NewtonianFlowKernel.hpp"
 #include "problems/kernels/OutflowTractionKernel.hpp"
+#include "problems/kernels/TractionKernel.hpp"
 #include "problems/laws/LawKeys.hpp"
 #include "problems/laws/LogConformation.hpp"
 
@@ -71,7 +73,7 @@ FluidOptions FluidOptions::from_scene(const Scene& sc) {
 
 FlowEquations::FlowEquations(const Mesh& mesh, const std::string& group, FluidOptions options,
                              FlowBoundaries boundaries, ParameterSet& params, int iGamma)
-    : mesh_(&mesh), options_(std::move(options)), boundaries_(std::move(boundaries)), params_(&params) {
+    : mesh_(&mesh), group_(group), options_(std::move(options)), boundaries_(std::move(boundaries)), params_(&params) {
   index_.Gamma = iGamma;
   index_.Re = params.add("Re", options_.Re, "Reynolds number", 0.0);
   if (options_.Re > 0 && !options_.inertia) throw std::invalid_argument("Re > 0 needs the convective term");
@@ -104,12 +106,23 @@ FlowEquations::FlowEquations(const Mesh& mesh, const std::string& group, FluidOp
     if (options_.conformation_components() == 4) comps.push_back(options_.log_conformation ? "Psi_zz" : "Mzz");
     fields_.push_back({"conformation", Basis::Q1, comps, {group}});
   }
-  profile_.kind = options_.profile;
-  profile_.y_lo = boundaries_.channel_lo;
-  profile_.y_hi = boundaries_.channel_hi;
-  profile_.power_index = options_.power_index;
-  inflow_nodes_ = mesh.boundary_nodes(boundaries_.inflow);
-  for (int n : inflow_nodes_) inflow_y_.push_back(mesh.node(n)[1]);
+  boundaries_.validate(mesh);
+  for (const InflowCondition& c : boundaries_.inflows) {
+    Inflow in;
+    in.nodes = mesh.boundary_nodes(c.boundary);
+    if (c.fully_developed) {
+      in.frame = InflowFrame::of(mesh, c.boundary, boundaries_.symmetry);
+      in.profile.kind = options_.profile;
+      in.profile.y_lo = in.frame.lo;
+      in.profile.y_hi = in.frame.hi;
+      in.profile.power_index = options_.power_index;
+      for (int n : in.nodes) in.across.push_back(in.frame.across(mesh.node(n)));
+    }
+    inflows_.push_back(std::move(in));
+  }
+  for (const std::string& s : boundaries_.symmetry) axis_normal_components(mesh, s, "symmetry line");
+  for (const OutflowCondition& c : boundaries_.outflows)
+    if (c.fully_developed) axis_normal_components(mesh, c.boundary, "fully developed outflow");
 }
 
 double FlowEquations::velocity_scale() const { return index_.Gamma >= 0 ? params_->value(index_.Gamma) : 1.0; }
@@ -137,13 +150,29 @@ const FlowEquations::InflowValues& FlowEquations::inflow_values(const ParameterS
     if (k == key) return v;
   InflowValues iv;
   const double U = index_.Gamma >= 0 ? p.value(index_.Gamma) : 1.0;
-  profile_.evaluate(inflow_y_, U, viscosity(p), iv.u, iv.dudy);
-  if (options_.viscoelastic()) {
-    const double lambda = p.value(index_.Wi) / U, b = index_.b >= 0 ? p.value(index_.b) : 0.0;
-    for (double g : iv.dudy) {
+  const bool ve = options_.viscoelastic();
+  const double lambda = ve ? p.value(index_.Wi) / U : 0.0, b = index_.b >= 0 ? p.value(index_.b) : 0.0;
+  for (size_t k = 0; k < inflows_.size(); ++k) {
+    const InflowCondition& c = boundaries_.inflows[k];
+    const Inflow& in = inflows_[k];
+    auto& vel = iv.velocity.emplace_back();
+    auto& conf = iv.conformation.emplace_back();
+    if (!c.fully_developed) {
+      vel.assign(in.nodes.size(), {c.velocity[0] * U, c.velocity[1] * U});
+      if (ve) conf.assign(in.nodes.size(), steady_state(0.0, b));
+      continue;
+    }
+    // a profile leaving the domain is the entering one reversed
+    const double mean = U * c.mean_velocity, sign = mean < 0 ? -1.0 : 1.0;
+    std::vector<double> u, dudy;
+    in.profile.evaluate(in.across, sign * mean, viscosity(p), u, dudy);
+    for (size_t i = 0; i < u.size(); ++i)
+      vel.push_back({sign * u[i] * in.frame.normal[0], sign * u[i] * in.frame.normal[1]});
+    if (!ve || mean < 0) continue;
+    for (double g : dudy) {
       double lam = lambda;
       if (options_.model == FluidModel::Owens) lam *= owens_factor(g * g, U, options_.kernel.owens);
-      iv.conformation.push_back(steady_state(lam * g, b));
+      conf.push_back(in.frame.rotate(steady_state(lam * g, b)));
     }
   }
   if (inflow_cache_.size() >= 4) inflow_cache_.erase(inflow_cache_.begin());
@@ -154,6 +183,10 @@ const FlowEquations::InflowValues& FlowEquations::inflow_values(const ParameterS
 template <bool Moving>
 void FlowEquations::add_kernels(const DofMap& dofs) {
   const ParameterSet& params = *params_;
+  std::vector<BoundaryEdge> outflow;  // of the fully developed outflows
+  for (const OutflowCondition& c : boundaries_.outflows)
+    if (c.fully_developed)
+      outflow.insert(outflow.end(), mesh_->boundary(c.boundary).begin(), mesh_->boundary(c.boundary).end());
   if (!options_.viscoelastic()) {
     terms_.push_back(std::make_shared<KernelTerm<NewtonianFlowKernel<Moving>>>(
         NewtonianFlowKernel<Moving>(*mesh_, dofs, elements_, &geometry_, index_, options_.inertia,
@@ -162,14 +195,19 @@ void FlowEquations::add_kernels(const DofMap& dofs) {
   } else if (options_.conformation_components() == 3) {
     terms_.push_back(std::make_shared<KernelTerm<ViscoelasticFlowKernel<3, Moving>>>(
         ViscoelasticFlowKernel<3, Moving>(*mesh_, dofs, elements_, &geometry_, index_, options_.kernel), params));
-    terms_.push_back(std::make_shared<KernelTerm<OutflowTractionKernel<3>>>(
-        OutflowTractionKernel<3>(*mesh_, dofs, mesh_->boundary(boundaries_.outflow), index_, options_.kernel), params));
+    if (!outflow.empty())
+      terms_.push_back(std::make_shared<KernelTerm<OutflowTractionKernel<3>>>(
+          OutflowTractionKernel<3>(*mesh_, dofs, outflow, index_, options_.kernel), params));
   } else {
     terms_.push_back(std::make_shared<KernelTerm<ViscoelasticFlowKernel<4, Moving>>>(
         ViscoelasticFlowKernel<4, Moving>(*mesh_, dofs, elements_, &geometry_, index_, options_.kernel), params));
-    terms_.push_back(std::make_shared<KernelTerm<OutflowTractionKernel<4>>>(
-        OutflowTractionKernel<4>(*mesh_, dofs, mesh_->boundary(boundaries_.outflow), index_, options_.kernel), params));
+    if (!outflow.empty())
+      terms_.push_back(std::make_shared<KernelTerm<OutflowTractionKernel<4>>>(
+          OutflowTractionKernel<4>(*mesh_, dofs, outflow, index_, options_.kernel), params));
   }
+  for (const TractionCondition& c : boundaries_.tractions)
+    terms_.push_back(std::make_shared<KernelTerm<TractionKernel>>(
+        TractionKernel(*mesh_, dofs, mesh_->boundary(c.boundary), c.traction), params));
 }
 
 void FlowEquations::build(const ComponentBuild& b) {
@@ -181,34 +219,65 @@ void FlowEquations::build(const ComponentBuild& b) {
   else
     add_kernels<false>(dofs);
 
-  // Dirichlet conditions. Walls win at corners (no slip); the conformation keeps its inflow value
-  // at the inflow corners.
+  // Dirichlet conditions, each overriding those before it at shared nodes: fully developed
+  // outflows, inflows, symmetry lines, driven walls, walls (no slip wins at corners), moving
+  // walls. The conformation keeps its inflow value at the inflow corners.
   const int fv = dofs.field_index("velocity");
   std::map<int, DirichletTerm::ValueFunction> values;
   std::set<int> zeros;
-  for (size_t i = 0; i < inflow_nodes_.size(); ++i) {
-    const int n = inflow_nodes_[i];
-    values[dofs.node_dof(fv, n, 0)] = [this, i](const ParameterSet& p) { return inflow_values(p).u[i]; };
-    zeros.insert(dofs.node_dof(fv, n, 1));
-    if (options_.viscoelastic() && mesh_->is_vertex(n)) {
+  auto set_value = [&](int dof, DirichletTerm::ValueFunction g) {
+    zeros.erase(dof);
+    values[dof] = std::move(g);
+  };
+  auto set_zero = [&](int dof) {
+    values.erase(dof);
+    zeros.insert(dof);
+  };
+  for (const OutflowCondition& c : boundaries_.outflows)
+    if (c.fully_developed)
+      for (const auto& [n, normal] : axis_normal_components(*mesh_, c.boundary, "fully developed outflow"))
+        for (int k : normal) set_zero(dofs.node_dof(fv, n, 1 - k));  // the tangential component
+  for (size_t k = 0; k < inflows_.size(); ++k) {
+    const InflowCondition& c = boundaries_.inflows[k];
+    const Inflow& in = inflows_[k];
+    for (size_t i = 0; i < in.nodes.size(); ++i) {
+      const int n = in.nodes[i];
+      for (int d = 0; d < 2; ++d) {
+        const double direction =
+            c.fully_developed ? in.frame.normal[static_cast<size_t>(d)] : c.velocity[static_cast<size_t>(d)];
+        if (direction == 0.0)
+          set_zero(dofs.node_dof(fv, n, d));
+        else
+          set_value(dofs.node_dof(fv, n, d), [this, k, i, d](const ParameterSet& p) {
+            return inflow_values(p).velocity[k][i][static_cast<size_t>(d)];
+          });
+      }
+      if (!options_.viscoelastic() || !mesh_->is_vertex(n) || (c.fully_developed && c.mean_velocity < 0)) continue;
       const int fm = dofs.field_index("conformation");
-      for (int c = 0; c < options_.conformation_components(); ++c)
-        values[dofs.node_dof(fm, n, c)] = [this, i, c](const ParameterSet& p) {
-          return inflow_values(p).conformation[i][static_cast<size_t>(c)];
+      for (int m = 0; m < options_.conformation_components(); ++m)
+        values[dofs.node_dof(fm, n, m)] = [this, k, i, m](const ParameterSet& p) {
+          return inflow_values(p).conformation[k][i][static_cast<size_t>(m)];
         };
     }
   }
-  for (int n : mesh_->boundary_nodes(boundaries_.outflow)) zeros.insert(dofs.node_dof(fv, n, 1));
   for (const std::string& s : boundaries_.symmetry)
-    for (int n : mesh_->boundary_nodes(s)) zeros.insert(dofs.node_dof(fv, n, 1));
+    for (const auto& [n, normal] : axis_normal_components(*mesh_, s, "symmetry line"))
+      for (int k : normal) set_zero(dofs.node_dof(fv, n, k));
+  for (const DrivenWall& w : boundaries_.driven_walls)
+    for (int n : mesh_->boundary_nodes(w.boundary))
+      for (int d = 0; d < 2; ++d) {
+        const double v = w.velocity[static_cast<size_t>(d)];
+        if (v == 0.0)
+          set_zero(dofs.node_dof(fv, n, d));
+        else
+          set_value(dofs.node_dof(fv, n, d),
+                    [this, v](const ParameterSet& p) { return v * (index_.Gamma >= 0 ? p.value(index_.Gamma) : 1.0); });
+      }
   std::set<int> rigid;
   for (const std::string& w : boundaries_.walls)
     for (int n : mesh_->boundary_nodes(w)) {
       rigid.insert(n);
-      for (int c = 0; c < 2; ++c) {
-        values.erase(dofs.node_dof(fv, n, c));
-        zeros.insert(dofs.node_dof(fv, n, c));
-      }
+      for (int c = 0; c < 2; ++c) set_zero(dofs.node_dof(fv, n, c));
     }
   auto kinematic = std::make_shared<RateConstraintTerm>("kinematic");
   for (const std::string& w : boundaries_.moving_walls)
@@ -224,11 +293,17 @@ void FlowEquations::build(const ComponentBuild& b) {
         }
       }
   if (kinematic->num_items() > 0) terms_.push_back(kinematic);
+  // every boundary has a given normal velocity: the pressure level is fixed at one point
+  if (!boundaries_.pressure_level_fixed())
+    zeros.insert(dofs.element_dof(dofs.field_index("pressure"), elements_[0], 0, 0));
   for (auto& [dof, g] : values) dirichlet.add(dof, g);
   for (int dof : zeros) dirichlet.add(dof, 0.0);
 }
 
 void FlowEquations::initial_guess(Vector& u) const {
+  if (inflows_.empty() || !boundaries_.inflows[0].fully_developed)
+    throw std::logic_error("FlowEquations::initial_guess needs a fully developed first inflow; use rest_state");
+  const Inflow& in = inflows_[0];
   const DofMap& dofs = *dofs_;
   const int fv = dofs.field_index("velocity");
   const Mesh& m = *mesh_;
@@ -237,26 +312,60 @@ void FlowEquations::initial_guess(Vector& u) const {
   for (int n = 0; n < m.num_nodes(); ++n)
     if (dofs.node_dof(fv, n, 0) >= 0) {
       nodes.push_back(n);
-      ys.push_back(std::clamp(m.node(n)[1], boundaries_.channel_lo, boundaries_.channel_hi));
+      ys.push_back(std::clamp(in.frame.across(m.node(n)), in.frame.lo, in.frame.hi));
     }
   std::vector<double> vel, dudy;
-  profile_.evaluate(ys, velocity_scale(), viscosity(*params_), vel, dudy);
+  const double mean = velocity_scale() * boundaries_.inflows[0].mean_velocity, sign = mean < 0 ? -1.0 : 1.0;
+  in.profile.evaluate(ys, sign * mean, viscosity(*params_), vel, dudy);
   const bool ve = options_.viscoelastic();
   const int fl = ve ? dofs.field_index("gradient") : -1, fm = ve ? dofs.field_index("conformation") : -1;
   const double U = velocity_scale();
   const double lambda = ve ? params_->value(index_.Wi) / U : 0.0, b = index_.b >= 0 ? params_->value(index_.b) : 0.0;
   for (size_t k = 0; k < nodes.size(); ++k) {
     const int n = nodes[k];
-    u[dofs.node_dof(fv, n, 0)] = vel[k];
-    u[dofs.node_dof(fv, n, 1)] = 0.0;
+    u[dofs.node_dof(fv, n, 0)] = sign * vel[k] * in.frame.normal[0];
+    u[dofs.node_dof(fv, n, 1)] = in.frame.identity() ? 0.0 : sign * vel[k] * in.frame.normal[1];
     if (!ve || dofs.node_dof(fm, n, 0) < 0) continue;
     double lam = lambda;
     if (options_.model == FluidModel::Owens) lam *= owens_factor(dudy[k] * dudy[k], U, options_.kernel.owens);
-    const auto state = steady_state(lam * dudy[k], b);
+    const auto state = in.frame.rotate(steady_state(lam * dudy[k], b));
     for (int c = 0; c < options_.conformation_components(); ++c)
       u[dofs.node_dof(fm, n, c)] = state[static_cast<size_t>(c)];
-    for (int c = 0; c < 4; ++c) u[dofs.node_dof(fl, n, c)] = c == 1 ? dudy[k] : 0.0;
+    const auto L = in.frame.shear_gradient(sign * dudy[k]);
+    for (int c = 0; c < 4; ++c) u[dofs.node_dof(fl, n, c)] = L[static_cast<size_t>(c)];
   }
+}
+
+void FlowEquations::rest_state(Vector& u) const {
+  const DofMap& dofs = *dofs_;
+  const int fv = dofs.field_index("velocity");
+  const bool ve = options_.viscoelastic();
+  const int fl = ve ? dofs.field_index("gradient") : -1, fm = ve ? dofs.field_index("conformation") : -1;
+  const auto relaxed = ve ? steady_state(0.0, index_.b >= 0 ? params_->value(index_.b) : 0.0) : std::array<double, 4>{};
+  for (int n = 0; n < mesh_->num_nodes(); ++n) {
+    if (dofs.node_dof(fv, n, 0) < 0) continue;
+    for (int c = 0; c < 2; ++c) u[dofs.node_dof(fv, n, c)] = 0.0;
+    if (!ve || dofs.node_dof(fm, n, 0) < 0) continue;
+    for (int c = 0; c < options_.conformation_components(); ++c)
+      u[dofs.node_dof(fm, n, c)] = relaxed[static_cast<size_t>(c)];
+    for (int c = 0; c < 4; ++c) u[dofs.node_dof(fl, n, c)] = 0.0;
+  }
+}
+
+Status FlowEquations::stokes_state(Vector& u) const {
+  rest_state(u);
+  StokesStart stokes(*mesh_, group_, boundaries_, velocity_scale());
+  Vector s;
+  if (Status st = stokes.solve(s); !st.is_ok()) return st;
+  const DofMap &to = *dofs_, &from = stokes.dofs();
+  const int fv = to.field_index("velocity"), sv = from.field_index("velocity");
+  const int fp = to.field_index("pressure"), sp = from.field_index("pressure");
+  for (int n = 0; n < mesh_->num_nodes(); ++n)
+    for (int c = 0; c < 2; ++c)
+      if (to.node_dof(fv, n, c) >= 0) u[to.node_dof(fv, n, c)] = s[from.node_dof(sv, n, c)];
+  for (int e : elements_)
+    for (int k = 0; k < 3; ++k) u[to.element_dof(fp, e, k, 0)] = s[from.element_dof(sp, e, k, 0)];
+  return {};
 }
 
 void FlowEquations::conformation_eigenvalues(const Vector& u, std::vector<int>& nodes,

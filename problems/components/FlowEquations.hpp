@@ -1,10 +1,10 @@
 // The fluid part of a flow problem on a fixed mesh, for any of the four fluids: its scene keys,
 // its named parameters, the fields it needs (a Newtonian fluid has velocity and pressure only;
 // a viscoelastic one adds the interpolated velocity gradient and the conformation, or its
-// logarithm), its element and boundary terms, and its boundary conditions (no-slip walls,
-// symmetry lines, a fully developed inflow with the local steady-shear conformation, a fully
-// developed outflow). Problems (the rigid channel, the confined cylinder) compose it with their
-// geometry and observables.
+// logarithm), its element and boundary terms, and its boundary conditions on named boundaries
+// (FlowBoundaries.hpp: inflows, outflows, walls, driven and moving walls, symmetry lines, given
+// tractions). Problems (the rigid channel, the confined cylinder) compose it with their geometry
+// and observables.
 #pragma once
 
 #include <array>
@@ -21,8 +21,10 @@
 #include "core/ParameterSet.hpp"
 #include "core/Scene.hpp"
 #include "core/SolutionFields.hpp"
+#include "core/Status.hpp"
 #include "core/Term.hpp"
 #include "problems/components/Component.hpp"
+#include "problems/components/FlowBoundaries.hpp"
 #include "problems/kernels/FlowParameters.hpp"
 #include "problems/kernels/ViscoelasticFlowKernel.hpp"
 #include "problems/laws/ConstitutiveLaw.hpp"
@@ -54,22 +56,12 @@ struct FluidOptions {
   static FluidOptions from_scene(const Scene& scene);
 };
 
-struct FlowBoundaries {
-  std::string inflow = "inflow";
-  std::string outflow = "outflow";
-  std::vector<std::string> walls;  // no slip
-  // No slip on walls that move with the mesh (on a moving mesh): the time-dependent form's
-  // kinematic condition v = dx/dt (core/RateConstraintTerm), v = 0 at steady states; nodes also on a
-  // wall above keep v = 0.
-  std::vector<std::string> moving_walls;
-  std::vector<std::string> symmetry;          // v_y = 0, tangential traction free
-  double channel_lo = 0.0, channel_hi = 1.0;  // the walls of the channel the inflow profile is in
-};
-
 class FlowEquations final : public Component {
  public:
   // Adds the fluid's parameters (Re; Wi, beta; b for FENE-P) to `params`. iGamma: the index of the
-  // velocity scale (mean inflow velocity) in `params`, or -1 for a fixed scale of 1.
+  // velocity scale (mean inflow velocity) in `params`, or -1 for a fixed scale of 1. Throws
+  // std::invalid_argument naming the boundary for conditions the mesh cannot carry
+  // (FlowBoundaries::validate, InflowFrame::of, axis_normal_components).
   FlowEquations(const Mesh& mesh, const std::string& group, FluidOptions options, FlowBoundaries boundaries,
                 ParameterSet& params, int iGamma);
   FlowEquations(const FlowEquations&) = delete;
@@ -80,7 +72,8 @@ class FlowEquations final : public Component {
   // Creates the terms and adds the Dirichlet conditions. On a moving mesh (a "position" field)
   // the element kernels take their geometry from the node positions of the fluid elements; the
   // inflow and outflow nodes must stay where the mesh has them (the inflow values and the
-  // outflow traction use those positions).
+  // outflow traction use those positions). Where no natural condition fixes the pressure level
+  // (no outflow, no traction boundary) the pressure at the centre of the first fluid element is 0.
   void build(const ComponentBuild& build) override;
   const std::vector<std::shared_ptr<const Term>>& terms() const override { return terms_; }
 
@@ -90,13 +83,26 @@ class FlowEquations final : public Component {
   const std::vector<int>& elements() const { return elements_; }
   const std::vector<std::array<QpGeometry<double>, ref::kQp>>& geometry() const { return geometry_; }
   double velocity_scale() const;
-  // A starting state: the inflow profile continued along the channel, and for viscoelastic
-  // fluids the matching steady-shear conformation and velocity gradient.
+  // A starting state for a straight channel: the first inflow's fully developed profile continued
+  // along its flow direction (clamped to its channel across it), and for viscoelastic fluids the
+  // matching steady-shear conformation and velocity gradient. Throws std::logic_error if the
+  // first inflow is not fully developed.
   void initial_guess(Vector& u) const;
-  // Inflow values at the current parameters: velocity and conformation at each inflow node.
+  // A starting state for any geometry: the fluid at rest, the relaxed conformation (the
+  // zero-shear steady state, M = I for Oldroyd-B), zero velocity gradient; the problem puts in
+  // the Dirichlet values afterwards.
+  void rest_state(Vector& u) const;
+  // A starting state for any geometry that Newton converges from at higher Wi than from rest or
+  // from initial_guess: velocity and pressure of the Stokes flow of a Newtonian fluid of viscosity
+  // 1 under the same boundary conditions (StokesStart, one linear solve), the relaxed
+  // conformation and zero velocity gradient. Returns that solve's failure, if any.
+  Status stokes_state(Vector& u) const;
+  // Inflow values at the current parameters, per inflow (FlowBoundaries::inflows order) and
+  // node (in boundary_nodes order): velocity, and conformation unknowns (M or log M components;
+  // empty for a Newtonian fluid or a fully developed profile that leaves the domain).
   struct InflowValues {
-    std::vector<double> u, dudy;
-    std::vector<std::array<double, 4>> conformation;  // unknown values (M or log M components)
+    std::vector<std::vector<std::array<double, 2>>> velocity;
+    std::vector<std::vector<std::array<double, 4>>> conformation;
   };
   const InflowValues& inflow_values(const ParameterSet& params) const;
 
@@ -120,6 +126,7 @@ class FlowEquations final : public Component {
   std::function<double(double)> viscosity(const ParameterSet& p) const;
 
   const Mesh* mesh_;
+  std::string group_;
   FluidOptions options_;
   FlowBoundaries boundaries_;
   const ParameterSet* params_;
@@ -129,9 +136,13 @@ class FlowEquations final : public Component {
   std::vector<FieldSpec> fields_;
   std::vector<std::shared_ptr<const Term>> terms_;
   const DofMap* dofs_ = nullptr;
-  InflowProfile profile_;
-  std::vector<int> inflow_nodes_;
-  std::vector<double> inflow_y_;
+  struct Inflow {
+    InflowFrame frame;      // fully developed only
+    InflowProfile profile;  // fully developed only: the channel [frame.lo, frame.hi]
+    std::vector<int> nodes;
+    std::vector<double> across;  // y' of each node
+  };
+  std::vector<Inflow> inflows_;
   // a few parameter sets' inflow values (finite-difference probes alternate between two)
   mutable std::vector<std::pair<std::vector<double>, InflowValues>> inflow_cache_;
 };

@@ -187,10 +187,10 @@ Mesh build_cylinder_mesh(const CylinderOptions& o) {
 CylinderProblem::CylinderProblem(const CylinderOptions& options)
     : options_(options), mesh_(build_cylinder_mesh(options)) {
   FlowBoundaries bc;
+  bc.inflows = {{"inflow"}};  // across y in [0, 2], mirrored about the symmetry line: the channel [-2, 2]
+  bc.outflows = {{"outflow"}};
   bc.walls = {"wall", "cylinder"};
   bc.symmetry = {"symmetry"};
-  bc.channel_lo = -2.0;
-  bc.channel_hi = 2.0;
   flow_ = std::make_unique<FlowEquations>(mesh_, "fluid", options_.fluid, bc, params_, -1);
   ComposedSystem system = Composition().add(*flow_).build(mesh_, params_);
   dofs_ = std::move(system.dofs);

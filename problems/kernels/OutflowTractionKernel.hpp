@@ -3,9 +3,10 @@
 // developed flow with the pressure datum P = 0 there, T n reduces to the polymer stress tau_p n
 // (velocity derivatives along the flow vanish, and the DEVSS term with them). Adding
 //   - int phi_a (tau_p(M) n) ds
-// to the momentum rows makes the natural condition read -P + 2 beta dv_x/dx = 0, i.e. P = 0 for
-// fully developed flow, as for a Newtonian fluid. (v_y = 0 is imposed on the outflow, so only
-// the x rows matter there.)
+// with the edge's own outward normal n to the momentum rows makes the normal natural condition
+// read -P + 2 beta dv_n/dn = 0, i.e. P = 0 for fully developed flow, as for a Newtonian fluid,
+// whichever way the outflow faces. (The tangential velocity is imposed on the outflow, which
+// runs along x or y, so only the normal component's rows matter there.)
 //
 // Local unknowns: v_x (9), v_y (9) of the element owning the edge (rows), then its conformation
 // components (NC x 4 Q1 nodes, conformation or Psi).

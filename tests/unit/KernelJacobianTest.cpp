@@ -3,6 +3,7 @@
 // central-difference truncation and rounding error at h = 1e-6 is about 1e-9 here.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <iostream>
 #include <random>
 
@@ -14,13 +15,18 @@ using namespace keller;
 
 namespace {
 
-// Moves every node (curving the edges) by up to `amplitude` of the element size.
+// Moves every node (curving the edges) by up to `amplitude` of the element size; the inflow's and
+// outflow's nodes slide along them (fully developed flow there needs lines x = const).
 void distort_all_nodes(Mesh& m, double amplitude, unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> U(-1, 1);
+  std::vector<int> ends = m.boundary_nodes("inflow"), outflow = m.boundary_nodes("outflow");
+  ends.insert(ends.end(), outflow.begin(), outflow.end());
+  std::sort(ends.begin(), ends.end());
   for (int n = 0; n < m.num_nodes(); ++n) {
     auto p = m.node(n);
-    p[0] += amplitude * U(rng);
+    const double dx = amplitude * U(rng);
+    if (!std::binary_search(ends.begin(), ends.end(), n)) p[0] += dx;
     p[1] += amplitude * U(rng);
     m.set_node(n, p);
   }
