@@ -13,6 +13,7 @@
 #include "problems/channel/CollapsibleChannelProblem.hpp"
 #include "problems/channel/WallProblem.hpp"
 #include "problems/cylinder/CylinderProblem.hpp"
+#include "problems/flow/FlowProblem.hpp"
 #include "problems/rheometry/SteadyShearProblem.hpp"
 
 namespace keller {
@@ -110,6 +111,15 @@ const std::vector<ProblemType>& problem_types() {
        {{"linear_solver.ordering", "best",
          "the least fill of AMD/COLAMD, METIS and NESDIS: METIS alone cuts AMD's fill by 35% on C3 "
          "(docs/performance.md)"}}},
+      {"flow",
+       "steady flow of any fluid in a 2D geometry from Gmsh, with a condition on every named boundary (docs/flow.md)",
+       FlowOptions::declare,
+       [](const Scene& s) -> std::unique_ptr<Problem> {
+         return std::make_unique<FlowProblem>(FlowOptions::from_scene(s));
+       },
+       {{"linear_solver.ordering", "best",
+         "the least fill of AMD/COLAMD, METIS and NESDIS: the fill of a mesh the user made is not known in "
+         "advance (docs/performance.md)"}}},
       {"wall", "the neo-Hookean wall of the collapsible channel alone, under follower pressures", WallOptions::declare,
        [](const Scene& s) -> std::unique_ptr<Problem> {
          return std::make_unique<WallProblem>(WallOptions::from_scene(s));

@@ -50,8 +50,8 @@ struct Channel {
     FlowBoundaries bc;
     bc.walls = half ? std::vector<std::string>{"top"} : std::vector<std::string>{"top", "bottom"};
     if (half) bc.symmetry = {"axis"};
-    bc.channel_lo = half ? -kH : y0;
-    bc.channel_hi = kH;
+    bc.inflows = {{"inflow"}};
+    bc.outflows = {{"outflow"}};
     flow = std::make_unique<FlowEquations>(mesh, "fluid", fluid, bc, params, -1);
     system = Composition().add(*flow).build(mesh, params);
     assembler = std::make_unique<Assembler>(system.dofs->size(), system.terms());

@@ -7,6 +7,8 @@
 #include <limits>
 
 #include "continuation/engine/ContinuationOptions.hpp"
+#include "core/BlockMeshBuilder.hpp"
+#include "core/GmshMesh.hpp"
 #include "core/Scene.hpp"
 #include "problems/cylinder/CylinderProblem.hpp"
 #include "runs/SceneLoader.hpp"
@@ -206,7 +208,26 @@ TEST(Scene, EveryDeclaredKeyObeysTheRules) {
         EXPECT_EQ(k.allows_infinity(), std::isinf(d)) << k.path;
       }
     }
-    const Scene defaults = Scene::parse("[problem]\ntype = \"" + type.name + "\"\n", type.name, s);
+    std::string text = "[problem]\ntype = \"" + type.name + "\"\n";
+    if (type.name == "flow") {  // a flow needs a mesh and a condition on each of its boundaries
+      const std::string msh = ::testing::TempDir() + "keller_scene_rules.msh";
+      BlockMeshBuilder b;
+      b.add_block({"channel",
+                   "fluid",
+                   2,
+                   2,
+                   Grading::uniform(),
+                   Grading::uniform(),
+                   [](double u, double v) {
+                     return Mesh::Point{u, v};
+                   },
+                   {"bottom", "outflow", "top", "inflow"}});
+      write_gmsh_mesh(b.build(), msh);
+      text += "[mesh]\nfile = \"" + msh +
+              "\"\n[boundaries.inflow]\ntype = \"inflow\"\n[boundaries.outflow]\ntype = \"outflow\"\n"
+              "[boundaries.bottom]\ntype = \"wall\"\n[boundaries.top]\ntype = \"wall\"\n";
+    }
+    const Scene defaults = Scene::parse(text, type.name, s);
     const auto problem = type.build(defaults);
     for (const Parameter& p : problem->parameters().list()) {
       const KeySpec* key = s.find("parameters." + p.name);

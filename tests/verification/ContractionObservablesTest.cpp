@@ -64,8 +64,8 @@ std::vector<double> contraction(int f) {
   FlowBoundaries bc;
   bc.walls = {"upstream_wall", "step", "downstream_wall"};
   bc.symmetry = {"symmetry"};
-  bc.channel_lo = -4;
-  bc.channel_hi = 4;
+  bc.inflows = {{"inflow"}};
+  bc.outflows = {{"outflow"}};
   FlowEquations flow(mesh, "fluid", FluidOptions{}, bc, params, -1);
   const ComposedSystem system = Composition().add(flow).build(mesh, params);
   const Assembler assembler(system.dofs->size(), system.terms());
