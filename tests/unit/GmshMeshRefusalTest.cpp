@@ -2,6 +2,10 @@
 // message that names the file, the element or group and what to change.
 #include <gtest/gtest.h>
 
+#include <sys/resource.h>
+
+#include <filesystem>
+
 #include <tuple>
 
 #include "core/GmshMesh.hpp"
@@ -226,4 +230,43 @@ TEST_F(GmshMeshTest, DamagedFilesAreRefusedWithGmshsMessage) {
   EXPECT_EQ(missing, path("missing.msh") + ": cannot be read (no such file, or no permission)");
   EXPECT_NE(refusal(path("rectangle.txt")).find("give a mesh (.msh) or a geometry (.geo)"), std::string::npos);
   EXPECT_EQ(testing::internal::GetCapturedStdout(), "");
+}
+
+// Gmsh 4.8.4 crashes (a segmentation fault in its reader) on a format-2.2 element naming the node
+// one past the last. Gmsh runs in a child process: keller refuses the file and goes on.
+TEST_F(GmshMeshTest, FileThatCrashesGmshIsRefused) {
+  Msh22 m = single_quad({{{0, 0}, {1, 0}, {1, 1}, {0, 1}}});
+  m.elements.back().nodes[8] = 10;
+  const std::string file = write_file(path("crash.msh"), m.text());
+  const std::string message = refusal(file);
+  EXPECT_EQ(message.rfind(file + ": Gmsh crashed while reading it (signal 11", 0), 0u) << message;
+  EXPECT_NEAR(area(read_gmsh_mesh(write_file(path("rectangle.geo"), kRectangleGeo))), 3.0, 1e-13);
+}
+
+// A damaged node count: Gmsh would take 4.7 GB of memory for 5 s (measured, without a limit) before
+// it finds the file short. The child's data is capped from the file's size (2 GB + 1000 bytes per
+// byte), so it stops at once; no child of this test process ever needed 1 GB.
+TEST_F(GmshMeshTest, DamagedCountIsRefusedWithoutTheMachinesMemory) {
+  const std::string file = write_file(path("count.msh"),
+                                      "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 200000000 1 200000000\n"
+                                      "2 1 0 200000000\n1\n0 0 0\n$EndNodes\n");
+  const std::string message = refusal(file);
+  EXPECT_EQ(message.rfind(file + ": Gmsh reported an error while reading it", 0), 0u) << message;
+  rusage children{};
+  ASSERT_EQ(getrusage(RUSAGE_CHILDREN, &children), 0);
+  EXPECT_LT(children.ru_maxrss, 1024L * 1024L);  // kilobytes
+}
+
+// Writing where no file can be: refused with the file's name, nothing left behind.
+TEST_F(GmshMeshTest, UnwritableTargetIsRefused) {
+  BoxMesh box;
+  box.box(0, 1, 0, 1);
+  const std::string target = path("no_such_folder/mesh.msh");
+  try {
+    write_gmsh_mesh(box.mesh(outer_edges(box.elements)), target);
+    ADD_FAILURE() << "written";
+  } catch (const MeshFileError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind(target + ": cannot be written", 0), 0u) << e.what();
+  }
+  EXPECT_FALSE(std::filesystem::exists(path("no_such_folder")));
 }
