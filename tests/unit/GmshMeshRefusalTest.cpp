@@ -3,12 +3,19 @@
 #include <gtest/gtest.h>
 
 #include <sys/resource.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <thread>
 
 #include <filesystem>
 
 #include <tuple>
 
 #include "core/GmshMesh.hpp"
+#include "core/GmshProcess.hpp"
 #include "support/GmshTestMeshes.hpp"
 
 using namespace keller;
@@ -269,4 +276,36 @@ TEST_F(GmshMeshTest, UnwritableTargetIsRefused) {
     EXPECT_EQ(std::string(e.what()).rfind(target + ": cannot be written", 0), 0u) << e.what();
   }
   EXPECT_FALSE(std::filesystem::exists(path("no_such_folder")));
+}
+
+// A child that never answers (as Gmsh looping on a damaged file) is stopped by an interrupt: it
+// takes SIGINT's default action, whatever keller's handler, and the read is reported interrupted.
+TEST_F(GmshMeshTest, InterruptedChildIsReported) {
+  const std::string pid_file = path("child.pid");
+  std::atomic<bool> done{false};
+  std::thread interrupt([&] {
+    for (int k = 0; k < 500 && test::file_contents(pid_file).empty(); ++k)
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    const pid_t child = std::stoi(test::file_contents(pid_file));
+    ::kill(child, SIGINT);
+    for (int k = 0; k < 500 && !done; ++k) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    if (!done) ::kill(child, SIGKILL);  // the interrupt did not stop it: fail rather than hang
+  });
+  struct sigaction ignore {
+  }, old{};
+  ignore.sa_handler = [](int) {};  // keller's own handler only notes the request
+  sigaction(SIGINT, &ignore, &old);
+  std::string message;
+  try {
+    run_gmsh_child("loop.msh", "reading", 0, [&]() -> std::string {
+      write_file(pid_file, std::to_string(::getpid()));
+      for (;;) ::pause();
+    });
+  } catch (const MeshFileError& e) {
+    message = e.what();
+  }
+  done = true;
+  interrupt.join();
+  sigaction(SIGINT, &old, nullptr);
+  EXPECT_EQ(message, "loop.msh: Gmsh was interrupted while reading it");
 }
