@@ -3,9 +3,11 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <unordered_map>
 
 #include "core/GeoConstants.hpp"
@@ -181,17 +183,24 @@ ImportedMesh gather(const GmshSession& session) {
   api.nodes(all_tags, coords);
   mesh.nodes.assign(node_tags.size(), {0.0, 0.0});
   std::vector<char> found(node_tags.size(), 0);
+  std::size_t off_plane = 0;  // the used node farthest from z = 0 (its index in all_tags)
+  double extent = 0.0, off = 0.0;
   for (std::size_t k = 0; k < all_tags.size(); ++k) {
     auto it = index.find(all_tags[k]);
     if (it == index.end()) continue;
-    if (coords[3 * k + 2] != 0.0) {
-      throw MeshFileError(
-          fmt::format("{}: node {} is at z = {} off the plane z = 0; keller's meshes are plane: in the "
-                      ".geo, put every point at z = 0",
-                      session.file(), all_tags[k], coords[3 * k + 2]));
+    if (std::abs(coords[3 * k + 2]) > off) {
+      off = std::abs(coords[3 * k + 2]);
+      off_plane = k;
     }
+    extent = std::max({extent, std::abs(coords[3 * k]), std::abs(coords[3 * k + 1])});
     mesh.nodes[it->second] = {coords[3 * k], coords[3 * k + 1]};
     found[it->second] = 1;
+  }
+  if (off > 1e-12 * std::max(extent, 1.0)) {
+    throw MeshFileError(
+        fmt::format("{}: node {} is at z = {} off the plane z = 0; keller's meshes are plane: in the "
+                    ".geo, put every point at z = 0",
+                    session.file(), all_tags[off_plane], coords[3 * off_plane + 2]));
   }
   for (std::size_t n = 0; n < node_tags.size(); ++n)
     if (!found[n])

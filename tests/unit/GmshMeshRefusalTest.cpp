@@ -239,6 +239,18 @@ TEST_F(GmshMeshTest, DamagedFilesAreRefusedWithGmshsMessage) {
   EXPECT_EQ(testing::internal::GetCapturedStdout(), "");
 }
 
+// keller's meshes lie in z = 0 (to 1e-12 of their size).
+TEST_F(GmshMeshTest, NodeOffThePlaneIsRefused) {
+  std::string text = single_quad({{{0, 0}, {1, 0}, {1, 1}, {0, 1}}}).text();
+  const auto line = text.find("\n7 ");
+  text.replace(text.find('\n', line + 1) - 1, 1, "0.5");  // node 7's z
+  const std::string file = write_file(path("plane.msh"), text);
+  const std::string message = refusal(file);
+  EXPECT_EQ(message, file +
+                         ": node 7 is at z = 0.5 off the plane z = 0; keller's meshes are plane: in the .geo, put "
+                         "every point at z = 0");
+}
+
 // Gmsh 4.8.4 crashes (a segmentation fault in its reader) on a format-2.2 element naming the node
 // one past the last. Gmsh runs in a child process: keller refuses the file and goes on.
 TEST_F(GmshMeshTest, FileThatCrashesGmshIsRefused) {
