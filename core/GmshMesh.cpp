@@ -332,7 +332,6 @@ Mesh read_gmsh_mesh(const std::string& path, const GmshOptions& options, std::st
   if (!std::ifstream(path, std::ios::binary) || std::filesystem::is_directory(path))
     throw MeshFileError(path + ": cannot be read (no such file, or no permission)");
   if (geo) check_geo_parameters(path, options);
-  GmshApi::get(path);  // loaded once here, not again in each child
   const std::string answer = run_gmsh_child(path, "reading", geo ? 0 : msh_memory_limit(path), [&] {
     GmshSession session(path);
     session.open(options.geo_parameters);
@@ -348,7 +347,6 @@ Mesh read_gmsh_mesh(const std::string& path, const GmshOptions& options, std::st
 }
 
 void write_gmsh_mesh(const Mesh& mesh, const std::string& path) {
-  GmshApi::get(path);  // loaded once here, not again in each child
   const std::string bytes = run_gmsh_child(path, "writing", 0, [&] {
     GmshSession session(path);
     session.run("making the mesh of", [&] { make_model(session.api(), mesh); });
