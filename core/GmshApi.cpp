@@ -4,7 +4,6 @@
 #include <fmt/format.h>
 
 #include <memory>
-#include <mutex>
 #include <stdexcept>
 
 #include "core/MeshFileError.hpp"
@@ -93,7 +92,12 @@ Loaded load() {
 }
 
 void check(int ierr, const char* call) {
-  if (ierr != 0) throw std::runtime_error(fmt::format("Gmsh's {} failed", call));
+  if (ierr != 0) {
+    throw std::runtime_error(
+        fmt::format("Gmsh's {} failed (it stopped on an exception: a damaged file, or more "
+                    "memory than the file can need)",
+                    call));
+  }
 }
 
 // The C API takes non-const pointers to the arrays it only reads.

@@ -1,8 +1,10 @@
-// The Gmsh library, loaded when a Gmsh file is first read or written (dlopen) rather than linked:
-// libgmsh brings some 80 libraries (OpenCASCADE, FLTK, X11, OpenGL, image codecs) whose loading and
-// static initialisers would cost every keller process about 0.3 s and 45 MB, Gmsh file or not.
-// Calls go through Gmsh's C API (gmshc.h), wrapped here in C++ types; a call that sets Gmsh's error
-// flag throws std::runtime_error naming it. Not thread-safe: GmshSession holds the lock.
+// The Gmsh library, loaded (dlopen) in the child process that reads or writes a Gmsh file
+// (core/GmshProcess.hpp) rather than linked: libgmsh brings some 80 libraries (OpenCASCADE, FLTK,
+// X11, OpenGL, image codecs) whose loading and static initialisers would cost every keller process
+// about 0.3 s and 45 MB, Gmsh file or not; linked, the executable's copies of Eigen functions
+// (built with -march=native) also replaced libgmsh's own inside Gmsh, which crashed it. Calls go
+// through Gmsh's C API (gmshc.h), wrapped here in C++ types; a call that sets Gmsh's error flag
+// throws std::runtime_error naming it.
 #pragma once
 
 #include <cstddef>

@@ -3,12 +3,15 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <unordered_map>
 
 #include "core/GeoConstants.hpp"
+#include "core/GmshProcess.hpp"
 #include "core/GmshSession.hpp"
 #include "core/ImportedMesh.hpp"
 #include "core/IoError.hpp"
@@ -115,6 +118,14 @@ std::vector<std::pair<int, RawElements>> group_elements(const GmshSession& sessi
   return out;
 }
 
+// What Gmsh may allocate reading a .msh: it needs some hundred bytes per byte of the file at most;
+// 1000 per byte and 2 GB for the library itself are far above that, and far below what a damaged
+// node or element count asks for.
+std::size_t msh_memory_limit(const std::string& path) {
+  constexpr std::size_t kBase = std::size_t{2} << 30, kPerByte = 1000;
+  return kBase + kPerByte * static_cast<std::size_t>(std::filesystem::file_size(path));
+}
+
 // Gmsh's model (already read or meshed) as an ImportedMesh.
 ImportedMesh gather(const GmshSession& session) {
   ImportedMesh mesh;
@@ -172,17 +183,24 @@ ImportedMesh gather(const GmshSession& session) {
   api.nodes(all_tags, coords);
   mesh.nodes.assign(node_tags.size(), {0.0, 0.0});
   std::vector<char> found(node_tags.size(), 0);
+  std::size_t off_plane = 0;  // the used node farthest from z = 0 (its index in all_tags)
+  double extent = 0.0, off = 0.0;
   for (std::size_t k = 0; k < all_tags.size(); ++k) {
     auto it = index.find(all_tags[k]);
     if (it == index.end()) continue;
-    if (coords[3 * k + 2] != 0.0) {
-      throw MeshFileError(
-          fmt::format("{}: node {} is at z = {} off the plane z = 0; keller's meshes are plane: in the "
-                      ".geo, put every point at z = 0",
-                      session.file(), all_tags[k], coords[3 * k + 2]));
+    if (std::abs(coords[3 * k + 2]) > off) {
+      off = std::abs(coords[3 * k + 2]);
+      off_plane = k;
     }
+    extent = std::max({extent, std::abs(coords[3 * k]), std::abs(coords[3 * k + 1])});
     mesh.nodes[it->second] = {coords[3 * k], coords[3 * k + 1]};
     found[it->second] = 1;
+  }
+  if (off > 1e-12 * std::max(extent, 1.0)) {
+    throw MeshFileError(
+        fmt::format("{}: node {} is at z = {} off the plane z = 0; keller's meshes are plane: in the "
+                    ".geo, put every point at z = 0",
+                    session.file(), all_tags[off_plane], coords[3 * off_plane + 2]));
   }
   for (std::size_t n = 0; n < node_tags.size(); ++n)
     if (!found[n])
@@ -219,6 +237,83 @@ ImportedMesh gather(const GmshSession& session) {
   return mesh;
 }
 
+// A keller Mesh as Gmsh's model: one discrete surface per element group, one discrete curve per
+// boundary (its lines counter-clockwise around their element), the physical groups named.
+void make_model(GmshApi& api, const Mesh& mesh) {
+  api.add_model("keller");
+  const int num_groups = static_cast<int>(mesh.group_names().size());
+  for (int g = 0; g < num_groups; ++g) api.add_discrete_entity(2, g + 1);
+  std::vector<std::size_t> node_tags(mesh.num_nodes());
+  std::vector<double> coords;
+  for (int n = 0; n < mesh.num_nodes(); ++n) {
+    node_tags[n] = static_cast<std::size_t>(n) + 1;
+    coords.insert(coords.end(), {mesh.node(n)[0], mesh.node(n)[1], 0.0});
+  }
+  api.add_nodes(2, 1, node_tags, coords);
+  for (int g = 0; g < num_groups; ++g) {
+    std::vector<std::size_t> tags, nodes;
+    for (int e : mesh.elements_in_group(g)) {
+      tags.push_back(static_cast<std::size_t>(e) + 1);
+      std::array<std::size_t, 9> gmsh_nodes{};
+      for (int a = 0; a < 9; ++a) gmsh_nodes[kGmshOfKeller[a]] = static_cast<std::size_t>(mesh.element(e)[a]) + 1;
+      nodes.insert(nodes.end(), gmsh_nodes.begin(), gmsh_nodes.end());
+    }
+    api.add_elements_by_type(g + 1, kGmshQuad9, tags, nodes);
+    api.add_physical_group(2, {g + 1}, g + 1);
+    api.set_physical_name(2, g + 1, mesh.group_names()[g]);
+  }
+  std::size_t next_tag = static_cast<std::size_t>(mesh.num_elements()) + 1;
+  int curve = 0;
+  for (const std::string& name : mesh.boundary_names()) {
+    ++curve;
+    api.add_discrete_entity(1, curve);
+    std::vector<std::size_t> tags, nodes;
+    for (const BoundaryEdge& be : mesh.boundary(name)) {
+      tags.push_back(next_tag++);
+      for (int a : ccw_edge_line[be.edge]) nodes.push_back(static_cast<std::size_t>(mesh.element(be.element)[a]) + 1);
+    }
+    api.add_elements_by_type(curve, kGmshLine3, tags, nodes);
+    api.add_physical_group(1, {curve}, curve);
+    api.set_physical_name(1, curve, name);
+  }
+}
+
+// The child's answer: the mesh it read and the .msh bytes of a generated mesh.
+std::string encode(const ImportedMesh& raw, const std::string& generated) {
+  ByteWriter out;
+  out.text(raw.file);
+  out.values(raw.nodes);
+  out.values(raw.node_tags);
+  out.value(raw.group_names.size());
+  for (const std::string& name : raw.group_names) out.text(name);
+  out.values(raw.quads);
+  out.value(raw.boundaries.size());
+  for (const auto& [name, lines] : raw.boundaries) {
+    out.text(name);
+    out.values(lines);
+  }
+  out.text(generated);
+  return out.take();
+}
+
+ImportedMesh decode(const std::string& bytes, std::string& generated) {
+  ByteReader in(bytes);
+  ImportedMesh raw;
+  raw.file = in.text();
+  raw.nodes = in.values<Mesh::Point>();
+  raw.node_tags = in.values<std::size_t>();
+  raw.group_names.resize(in.value<std::size_t>());
+  for (std::string& name : raw.group_names) name = in.text();
+  raw.quads = in.values<ImportedQuad>();
+  const auto num_boundaries = in.value<std::size_t>();
+  for (std::size_t b = 0; b < num_boundaries; ++b) {
+    const std::string name = in.text();
+    raw.boundaries[name] = in.values<ImportedLine>();
+  }
+  generated = in.text();
+  return raw;
+}
+
 }  // namespace
 
 Mesh read_gmsh_mesh(const std::string& path, const GmshOptions& options) {
@@ -237,63 +332,26 @@ Mesh read_gmsh_mesh(const std::string& path, const GmshOptions& options, std::st
   if (!std::ifstream(path, std::ios::binary) || std::filesystem::is_directory(path))
     throw MeshFileError(path + ": cannot be read (no such file, or no permission)");
   if (geo) check_geo_parameters(path, options);
-  ImportedMesh raw;
-  {
+  const std::string answer = run_gmsh_child(path, "reading", geo ? 0 : msh_memory_limit(path), [&] {
     GmshSession session(path);
     session.open(options.geo_parameters);
     if (geo) session.run("meshing", [&] { session.api().generate(2); });
+    ImportedMesh raw;
     session.run("reading the mesh of", [&] { raw = gather(session); });
-    if (geo && generated_msh) *generated_msh = session.msh_bytes();
-  }
-  return build_imported_mesh(raw);
+    return encode(raw, geo && generated_msh ? session.msh_bytes() : std::string());
+  });
+  std::string generated;
+  Mesh mesh = build_imported_mesh(decode(answer, generated));
+  if (geo && generated_msh) *generated_msh = std::move(generated);
+  return mesh;
 }
 
 void write_gmsh_mesh(const Mesh& mesh, const std::string& path) {
-  std::string bytes;
-  {
+  const std::string bytes = run_gmsh_child(path, "writing", 0, [&] {
     GmshSession session(path);
-    GmshApi& api = session.api();
-    session.run("making the mesh of", [&] {
-      api.add_model("keller");
-      const int num_groups = static_cast<int>(mesh.group_names().size());
-      for (int g = 0; g < num_groups; ++g) api.add_discrete_entity(2, g + 1);
-      std::vector<std::size_t> node_tags(mesh.num_nodes());
-      std::vector<double> coords;
-      for (int n = 0; n < mesh.num_nodes(); ++n) {
-        node_tags[n] = static_cast<std::size_t>(n) + 1;
-        coords.insert(coords.end(), {mesh.node(n)[0], mesh.node(n)[1], 0.0});
-      }
-      api.add_nodes(2, 1, node_tags, coords);
-      for (int g = 0; g < num_groups; ++g) {
-        std::vector<std::size_t> tags, nodes;
-        for (int e : mesh.elements_in_group(g)) {
-          tags.push_back(static_cast<std::size_t>(e) + 1);
-          std::array<std::size_t, 9> gmsh_nodes{};
-          for (int a = 0; a < 9; ++a) gmsh_nodes[kGmshOfKeller[a]] = static_cast<std::size_t>(mesh.element(e)[a]) + 1;
-          nodes.insert(nodes.end(), gmsh_nodes.begin(), gmsh_nodes.end());
-        }
-        api.add_elements_by_type(g + 1, kGmshQuad9, tags, nodes);
-        api.add_physical_group(2, {g + 1}, g + 1);
-        api.set_physical_name(2, g + 1, mesh.group_names()[g]);
-      }
-      std::size_t next_tag = static_cast<std::size_t>(mesh.num_elements()) + 1;
-      int curve = 0;
-      for (const std::string& name : mesh.boundary_names()) {
-        ++curve;
-        api.add_discrete_entity(1, curve);
-        std::vector<std::size_t> tags, nodes;
-        for (const BoundaryEdge& be : mesh.boundary(name)) {
-          tags.push_back(next_tag++);
-          for (int a : ccw_edge_line[be.edge])
-            nodes.push_back(static_cast<std::size_t>(mesh.element(be.element)[a]) + 1);
-        }
-        api.add_elements_by_type(curve, kGmshLine3, tags, nodes);
-        api.add_physical_group(1, {curve}, curve);
-        api.set_physical_name(1, curve, name);
-      }
-    });
-    bytes = session.msh_bytes();
-  }
+    session.run("making the mesh of", [&] { make_model(session.api(), mesh); });
+    return session.msh_bytes();
+  });
   try {
     PendingFile file(path);
     file.write(bytes);

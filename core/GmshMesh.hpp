@@ -14,8 +14,9 @@
 // their Gmsh tags, elements in the order of theirs; an element of a clockwise surface (det J < 0
 // at every Gauss point of every element of that surface) is reordered counter-clockwise.
 //
-// Gmsh is one global object: every call here initialises it and finalises it again, holding a
-// process-wide lock in between, and none of its output reaches the terminal.
+// Gmsh runs in a child process for each call (core/GmshProcess.hpp): a file that crashes Gmsh, makes
+// it exit or ask for all the memory is refused like any other, and none of Gmsh's output reaches
+// the terminal.
 #pragma once
 
 #include <map>

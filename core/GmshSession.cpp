@@ -15,11 +15,6 @@ namespace keller {
 
 namespace {
 
-std::mutex& gmsh_mutex() {
-  static std::mutex m;
-  return m;
-}
-
 // A private folder under the system's temporary directory, removed with everything in it.
 class TemporaryFolder {
  public:
@@ -42,7 +37,7 @@ class TemporaryFolder {
 
 }  // namespace
 
-GmshSession::GmshSession(std::string file) : api_(GmshApi::get(file)), lock_(gmsh_mutex()), file_(std::move(file)) {
+GmshSession::GmshSession(std::string file) : api_(GmshApi::get(file)), file_(std::move(file)) {
   api_.initialize();
   api_.set_option("General.Terminal", 0);
   api_.set_option("General.AbortOnError", 0);

@@ -1,15 +1,15 @@
-// One use of the Gmsh library (a global object): initialised on construction, finalised on
-// destruction, under a process-wide lock. Gmsh's terminal output is off
-// (General.Terminal = 0) and its messages go to its logger; errors are reported as a MeshFileError
-// naming the file. Errors are logged, not thrown (General.AbortOnError = 0): Gmsh 4.8.4 throws out
-// of its .geo parser mid-parse, which leaves the parser's state broken for every later file.
-// Numbers for a .geo are not given as `-setnumber` (Gmsh 4.8.4 keeps those for every later file of
-// the process, even after finalize) but as assignments in a wrapper that includes the .geo.
+// One use of the Gmsh library (a global object) in the child process that runs it
+// (core/GmshProcess.hpp): initialised on construction, finalised on destruction. Gmsh's terminal
+// output is off (General.Terminal = 0) and its messages go to its logger; an error is reported as a
+// MeshFileError naming the file, with Gmsh's messages. Errors are logged and the call returns
+// (General.AbortOnError = 0), so that every message is collected: otherwise Gmsh 4.8.4 throws out
+// of its parser mid-parse, which breaks the parser for every later file of the process. Numbers
+// for a .geo are assignments in a wrapper that includes the .geo, not `-setnumber`, which Gmsh
+// 4.8.4 keeps for every later file of the process, even after finalize.
 #pragma once
 
 #include <functional>
 #include <map>
-#include <mutex>
 #include <string>
 
 #include "core/GmshApi.hpp"
@@ -38,7 +38,6 @@ class GmshSession {
 
  private:
   GmshApi& api_;
-  std::unique_lock<std::mutex> lock_;
   std::string file_;
   std::size_t log_seen_ = 0;
 };

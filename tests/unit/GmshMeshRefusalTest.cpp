@@ -2,9 +2,20 @@
 // message that names the file, the element or group and what to change.
 #include <gtest/gtest.h>
 
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <thread>
+
+#include <filesystem>
+
 #include <tuple>
 
 #include "core/GmshMesh.hpp"
+#include "core/GmshProcess.hpp"
 #include "support/GmshTestMeshes.hpp"
 
 using namespace keller;
@@ -197,8 +208,9 @@ TEST_F(GmshMeshTest, DamagedFilesAreRefusedWithGmshsMessage) {
   const std::string good = write_file(path("rectangle.geo"), kRectangleGeo);
   write_gmsh_mesh(read_gmsh_mesh(good), path("good.msh"));
   const std::string whole = test::file_contents(path("good.msh"));
-  // 3000 pseudo-random bytes (an LCG): with General.AbortOnError = 2, Gmsh 4.8.4 throws out of its
-  // parser on these, and the good .geo read next fails
+  // 3000 pseudo-random bytes (an LCG): in one process, with Gmsh's default General.AbortOnError = 2,
+  // Gmsh 4.8.4 throws out of its parser on these and fails on the good .geo read next (each read
+  // now runs in a child of its own, and keller sets AbortOnError = 0)
   std::string garbage(3000, '\0');
   unsigned long x = 1;
   for (char& byte : garbage) {
@@ -226,4 +238,90 @@ TEST_F(GmshMeshTest, DamagedFilesAreRefusedWithGmshsMessage) {
   EXPECT_EQ(missing, path("missing.msh") + ": cannot be read (no such file, or no permission)");
   EXPECT_NE(refusal(path("rectangle.txt")).find("give a mesh (.msh) or a geometry (.geo)"), std::string::npos);
   EXPECT_EQ(testing::internal::GetCapturedStdout(), "");
+}
+
+// keller's meshes lie in z = 0 (to 1e-12 of their size).
+TEST_F(GmshMeshTest, NodeOffThePlaneIsRefused) {
+  std::string text = single_quad({{{0, 0}, {1, 0}, {1, 1}, {0, 1}}}).text();
+  const auto line = text.find("\n7 ");
+  text.replace(text.find('\n', line + 1) - 1, 1, "0.5");  // node 7's z
+  const std::string file = write_file(path("plane.msh"), text);
+  const std::string message = refusal(file);
+  EXPECT_EQ(message, file +
+                         ": node 7 is at z = 0.5 off the plane z = 0; keller's meshes are plane: in the .geo, put "
+                         "every point at z = 0");
+}
+
+// Gmsh 4.8.4 crashes (a segmentation fault in its reader) on a format-2.2 element naming the node
+// one past the last. Gmsh runs in a child process: keller refuses the file and goes on.
+TEST_F(GmshMeshTest, FileThatCrashesGmshIsRefused) {
+  Msh22 m = single_quad({{{0, 0}, {1, 0}, {1, 1}, {0, 1}}});
+  m.elements.back().nodes[8] = 10;
+  const std::string file = write_file(path("crash.msh"), m.text());
+  const std::string message = refusal(file);
+  // signal 11 (under the sanitizers of .ci/sanitize, their report ends the child with signal 6)
+  EXPECT_EQ(message.rfind(file + ": Gmsh crashed while reading it (signal ", 0), 0u) << message;
+  EXPECT_NEAR(area(read_gmsh_mesh(write_file(path("rectangle.geo"), kRectangleGeo))), 3.0, 1e-13);
+}
+
+// A damaged node count: Gmsh would take 4.7 GB of memory for 5 s (measured, without a limit) before
+// it finds the file short. The child's data is capped from the file's size (2 GB + 1000 bytes per
+// byte), so it stops at once; no child of this test process ever needed 1 GB.
+TEST_F(GmshMeshTest, DamagedCountIsRefusedWithoutTheMachinesMemory) {
+  const std::string file = write_file(path("count.msh"),
+                                      "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 200000000 1 200000000\n"
+                                      "2 1 0 200000000\n1\n0 0 0\n$EndNodes\n");
+  const std::string message = refusal(file);
+  // Gmsh reports the failed allocation (under the sanitizers their allocator aborts the child)
+  EXPECT_EQ(message.rfind(file + ": Gmsh ", 0), 0u) << message;
+  EXPECT_NE(message.find(" while reading it"), std::string::npos) << message;
+  rusage children{};
+  ASSERT_EQ(getrusage(RUSAGE_CHILDREN, &children), 0);
+  EXPECT_LT(children.ru_maxrss, 1024L * 1024L);  // kilobytes
+}
+
+// Writing where no file can be: refused with the file's name, nothing left behind.
+TEST_F(GmshMeshTest, UnwritableTargetIsRefused) {
+  BoxMesh box;
+  box.box(0, 1, 0, 1);
+  const std::string target = path("no_such_folder/mesh.msh");
+  try {
+    write_gmsh_mesh(box.mesh(outer_edges(box.elements)), target);
+    ADD_FAILURE() << "written";
+  } catch (const MeshFileError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind(target + ": cannot be written", 0), 0u) << e.what();
+  }
+  EXPECT_FALSE(std::filesystem::exists(path("no_such_folder")));
+}
+
+// A child that never answers (as Gmsh looping on a damaged file) is stopped by an interrupt: it
+// takes SIGINT's default action, whatever keller's handler, and the read is reported interrupted.
+TEST_F(GmshMeshTest, InterruptedChildIsReported) {
+  const std::string pid_file = path("child.pid");
+  std::atomic<bool> done{false};
+  std::thread interrupt([&] {
+    for (int k = 0; k < 500 && test::file_contents(pid_file).empty(); ++k)
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    const pid_t child = std::stoi(test::file_contents(pid_file));
+    ::kill(child, SIGINT);
+    for (int k = 0; k < 500 && !done; ++k) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    if (!done) ::kill(child, SIGKILL);  // the interrupt did not stop it: fail rather than hang
+  });
+  struct sigaction ignore {
+  }, old{};
+  ignore.sa_handler = [](int) {};  // keller's own handler only notes the request
+  sigaction(SIGINT, &ignore, &old);
+  std::string message;
+  try {
+    run_gmsh_child("loop.msh", "reading", 0, [&]() -> std::string {
+      write_file(pid_file, std::to_string(::getpid()));
+      for (;;) ::pause();
+    });
+  } catch (const MeshFileError& e) {
+    message = e.what();
+  }
+  done = true;
+  interrupt.join();
+  sigaction(SIGINT, &old, nullptr);
+  EXPECT_EQ(message, "loop.msh: Gmsh was interrupted while reading it");
 }
