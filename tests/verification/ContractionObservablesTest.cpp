@@ -1,11 +1,13 @@
 // The flow observables on a computed flow with a real vortex: Newtonian creeping flow through the
 // 4:1 planar contraction (upper half, H1 = 4, H2 = 1, 20 H2 of channel either side, four mapped
-// blocks graded towards the corners), solved on two nested meshes. The corner vortex's length
-// X_R = x_R / H2 along the upstream wall from the salient corner is the published 1.500 (Alves,
-// Oliveira & Pinho, JNNFM 110 (2003) 45-75, Newtonian limit) within 0.2% on both; its intensity
-// Psi_R = psi_R / q (psi = 0 on the wall, q the half channel's flow rate) is their 1.17e-3 within
-// 2%; intensity and Couette correction change by less than 0.5% between the meshes; the flow
-// rates balance.
+// blocks graded towards the corners, built here independently of runs/geometries/contraction.geo),
+// solved on two nested meshes. The corner vortex's length X_R = x_R / H2 along the upstream wall
+// from the salient corner agrees between the meshes within 0.1%, and with the value keller's
+// study on the shipped geometry's four nested meshes extrapolates to (1.5003, docs/contraction.md)
+// within 0.2%: two mesh families with different lengths and gradings agree. Intensity and Couette
+// correction change by less than 0.5% between the meshes; the flow rates balance. (The Newtonian
+// value commonly quoted from Alves, Oliveira & Pinho, JNNFM 110 (2003), X_R = 1.500, could not be
+// read from the paper here: docs/contraction.md.)
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -106,14 +108,14 @@ std::vector<double> contraction(int f) {
 
 }  // namespace
 
-TEST(ContractionObservables, NewtonianVortexAgainstThePublishedValues) {
+TEST(ContractionObservables, NewtonianVortexOnAnIndependentMeshFamily) {
   const std::vector<double> m1 = contraction(1), m2 = contraction(2);
   for (const std::vector<double>& v : {m1, m2}) {
-    EXPECT_NEAR(v[0], 1.500, 0.002 * 1.5);
-    EXPECT_NEAR(v[1], 1.17e-3, 0.02 * 1.17e-3);
+    EXPECT_NEAR(v[0], 1.5003, 0.002 * 1.5003);
     EXPECT_NEAR(v[3], -4.0, 1e-10);  // the inflow's mean velocity is 1 over H1 = 4
     EXPECT_NEAR(v[4], 4.0, 1e-10);
   }
+  EXPECT_NEAR(m1[0], m2[0], 0.001 * m2[0]);
   EXPECT_NEAR(m1[1], m2[1], 0.005 * m2[1]);
   EXPECT_NEAR(m1[2], m2[2], 0.005 * m2[2]);
 }
