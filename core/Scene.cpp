@@ -118,6 +118,11 @@ void SceneSchema::string(const std::string& path, const std::string& def, const 
                          std::vector<std::string> choices) {
   add({path, KeySpec::Type::String, def, doc, {}, std::move(choices)});
 }
+void SceneSchema::file_path(const std::string& path, const std::string& doc) {
+  KeySpec k{path, KeySpec::Type::String, std::string(), doc, {}, {}};
+  k.is_path = true;
+  add(std::move(k));
+}
 void SceneSchema::real_list(const std::string& path, std::vector<double> def, const std::string& doc, Range range) {
   add({path, KeySpec::Type::RealList, std::move(def), doc, range, {}});
 }
@@ -252,6 +257,18 @@ std::string node_text(const toml::node& n) {
   std::string s = os.str();
   if (s.size() > 40) s = s.substr(0, 37) + "...";
   return s;
+}
+
+// A path from a scene file (line > 0) relative to the file's folder, from an override (line 0)
+// relative to the working directory; absolute and normalised either way. A source that is not a
+// file (a scene stored in an output) holds absolute paths already.
+std::string absolute_path(const std::string& value, const std::string& source, int line) {
+  namespace fs = std::filesystem;
+  if (value.empty() || fs::path(value).is_absolute()) return value;
+  std::error_code ec;
+  const fs::path base = line > 0 && fs::is_regular_file(source, ec) ? fs::absolute(fs::path(source), ec).parent_path()
+                                                                    : fs::current_path(ec);
+  return (base / value).lexically_normal().string();
 }
 
 std::string location(const std::string& source, int line) {
@@ -432,7 +449,7 @@ Scene Scene::parse(const std::string& text, const std::string& source, const Sce
           throw SceneError(fmt::format("{}: key '{}' = \"{}\" is not one of: {}", location(source, leaf.line),
                                        leaf.path, v, allowed));
         }
-        value = v;
+        value = spec->is_path ? absolute_path(v, source, leaf.line) : v;
         break;
       }
       case KeySpec::Type::RealList: {

@@ -31,9 +31,13 @@ struct KeySpec {
   std::string doc;
   Range range;                       // Real, Integer, RealList entries
   std::vector<std::string> choices;  // String: allowed values (empty = any)
-  std::string section() const;       // "mesh" for "mesh.nx"
-  std::string key() const;           // "nx"
-  std::string type_name() const;     // "a number", "an integer", ...
+  // String: a file's path. A relative path in a scene file is relative to the file's folder and is
+  // stored absolute (so that a scene stored in an output, read back anywhere, names the same
+  // file); one given by an override (--set) is relative to the working directory.
+  bool is_path = false;
+  std::string section() const;    // "mesh" for "mesh.nx"
+  std::string key() const;        // "nx"
+  std::string type_name() const;  // "a number", "an integer", ...
   // Numbers must be finite, except in a Real key whose default is infinite (meaning "none",
   // as for a bound): it also takes inf or -inf. NaN is never a value.
   bool allows_infinity() const;
@@ -55,6 +59,8 @@ class SceneSchema {
   void string(const std::string& path, const std::string& def, const std::string& doc,
               std::vector<std::string> choices = {});
   void real_list(const std::string& path, std::vector<double> def, const std::string& doc, Range range = Range::any());
+  // A String key holding a file's path (KeySpec::is_path), "" by default.
+  void file_path(const std::string& path, const std::string& doc);
 
   // A different default for a declared string key (a problem type's own choice of a common key,
   // such as its best fill-reducing ordering); the doc says so. Throws std::logic_error for a key

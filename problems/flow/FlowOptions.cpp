@@ -2,8 +2,6 @@
 
 #include <fmt/format.h>
 
-#include <filesystem>
-
 namespace keller {
 
 namespace {
@@ -17,18 +15,6 @@ const std::vector<std::string> kObservables = {"",
                                                "couette-correction",
                                                "reattachment",
                                                "stream-function"};
-
-// A file the scene names, relative to the scene file's folder (or as given where that folder does
-// not hold it: a scene read from an output file, or a path relative to where keller runs).
-std::string resolve(const Scene& sc, const std::string& key) {
-  namespace fs = std::filesystem;
-  const fs::path given(sc.string(key));
-  if (given.is_absolute()) return given.string();
-  const fs::path dir = fs::path(sc.source()).parent_path();
-  std::error_code ec;
-  if (!dir.empty() && fs::exists(dir / given, ec)) return (dir / given).lexically_normal().string();
-  return given.string();
-}
 
 std::string listed(const std::vector<std::string>& names) {
   std::string out;
@@ -47,8 +33,8 @@ std::array<double, 2> vector_of(const Scene& sc, const std::string& key, const s
 
 void FlowOptions::declare(SceneSchema& s) {
   s.section("mesh", "a Gmsh mesh of 9-node quadrilaterals (docs/meshes.md): a .msh file or a .geo meshed at run time");
-  s.string("mesh.file", "", "a Gmsh .msh file (relative to the scene's folder)");
-  s.string("mesh.geo", "", "a Gmsh .geo file, meshed when the run starts (relative to the scene's folder)");
+  s.file_path("mesh.file", "a Gmsh .msh file (relative to the scene's folder)");
+  s.file_path("mesh.geo", "a Gmsh .geo file, meshed when the run starts (relative to the scene's folder)");
   s.string("mesh.region", "", "the 2D physical group of the fluid (empty: the mesh's only one)");
   s.section("mesh.geo_parameters", "numbers passed to the .geo before it is parsed (declared there by DefineConstant)");
   s.real("mesh.geo_parameters.*", 0.0, "a number the .geo declares");
@@ -95,7 +81,7 @@ FlowOptions FlowOptions::from_scene(const Scene& sc) {
   if (file == geo)
     throw sc.error(file ? "mesh.geo" : "mesh.file", "a flow needs exactly one of mesh.file (a .msh) and mesh.geo");
   o.geo = geo;
-  o.mesh_path = resolve(sc, geo ? "mesh.geo" : "mesh.file");
+  o.mesh_path = sc.string(geo ? "mesh.geo" : "mesh.file");
   for (const std::string& name : sc.members("mesh.geo_parameters")) {
     if (!geo) throw sc.error("mesh.geo_parameters." + name, "geo parameters need mesh.geo");
     o.geo_parameters[name] = sc.real("mesh.geo_parameters." + name);
@@ -107,7 +93,7 @@ FlowOptions FlowOptions::from_scene(const Scene& sc) {
     const std::string at = "boundaries." + name + ".";
     const std::string type = sc.string(at + "type");
     auto only = [&](const char* key, bool applies) {
-      if (!applies && sc.given(at + key))
+      if (!applies && sc.differs_from_default(at + key))
         throw sc.error(at + key, fmt::format("does not apply to a boundary of type \"{}\"", type));
     };
     only("velocity", type == "moving-wall" || type == "inflow");
@@ -144,7 +130,7 @@ FlowOptions FlowOptions::from_scene(const Scene& sc) {
       return v;
     };
     auto only = [&](const char* key, bool applies) {
-      if (!applies && sc.given(at + key))
+      if (!applies && sc.differs_from_default(at + key))
         throw sc.error(at + key, fmt::format("does not apply to an observable of type \"{}\"", type));
     };
     only("to", type == "pressure-drop" || type == "couette-correction");

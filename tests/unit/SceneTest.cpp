@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 
@@ -16,6 +17,7 @@
 #include "support/TestSupport.hpp"
 
 using namespace keller;
+namespace fs = std::filesystem;
 
 namespace {
 
@@ -103,8 +105,8 @@ TEST(Scene, FullChannelSchemaValidatesTheShippedScene) {
 // A resolved scene (as stored in every output file) loads again and resolves to itself: that is
 // how keller export and --restart rebuild a problem from a file.
 TEST(Scene, ResolvedScenesOfShippedScenesReload) {
-  for (const char* s :
-       {"runs/scenes/channel_stokes.toml", "runs/scenes/cylinder_oldroyd_b.toml", "runs/scenes/bratu2d_fold.toml"}) {
+  for (const char* s : {"runs/scenes/channel_stokes.toml", "runs/scenes/cylinder_oldroyd_b.toml",
+                        "runs/scenes/bratu2d_fold.toml", "runs/scenes/flow_contraction_oldroyd_b.toml"}) {
     SCOPED_TRACE(s);
     const LoadedScene a = load_scene(test::source_path(s), declare_trace_keys);
     const std::string path = test::scratch_dir("resolved") + "/resolved.toml";
@@ -342,4 +344,25 @@ TEST(Scene, FamilyMembersAreValidatedLikeAnyKey) {
   EXPECT_NE(error_in("[boundaries.\"*\"]\ntype = \"wall\"\n").find("unknown"), std::string::npos);
   EXPECT_NE(error_in("[boundaries.\"a b\"]\ntype = \"wall\"\n").find("unknown"), std::string::npos);
   EXPECT_NE(error_in("[boundaries.inlet.deeper]\ntype = \"wall\"\n").find("unknown"), std::string::npos);
+}
+
+// A file's path in a scene is relative to the scene file's folder, one from an override to the
+// working directory; both are stored absolute, so that the scene an output holds, read back from
+// anywhere, names the same file.
+TEST(Scene, PathsAreRelativeToTheSceneFileAndStoredAbsolute) {
+  SceneSchema s;
+  s.section("mesh", "mesh");
+  s.file_path("mesh.file", "a mesh");
+  s.file_path("mesh.other", "another");
+  const std::string dir = test::scratch_dir("scene_paths");
+  std::ofstream(dir + "/s.toml") << "[mesh]\nfile = \"../meshes/x.msh\"\n";
+  const Scene a = Scene::load(dir + "/s.toml", s, {"mesh.other=y.msh"});
+  const fs::path scene_dir = fs::absolute(dir);
+  EXPECT_EQ(a.string("mesh.file"), (scene_dir.parent_path() / "meshes/x.msh").lexically_normal().string());
+  EXPECT_EQ(a.string("mesh.other"), (fs::current_path() / "y.msh").string());
+  const Scene b = Scene::parse(a.resolved_toml(), "out.h5:/scene", s);  // as an output's stored scene
+  EXPECT_EQ(b.string("mesh.file"), a.string("mesh.file"));
+  EXPECT_EQ(b.canonical_values(), a.canonical_values());
+  EXPECT_EQ(Scene::parse("[mesh]\nfile = \"/abs/x.msh\"\n", dir + "/s.toml", s).string("mesh.file"), "/abs/x.msh");
+  EXPECT_EQ(Scene::parse("", "e.toml", s).string("mesh.file"), "");  // no path: stays empty
 }
