@@ -601,7 +601,7 @@ def main():
     ap.add_argument("--dde-min", type=float, default=0.25 / 32)
     ap.add_argument("--de-max", type=float, default=3.0)
     ap.add_argument("--maxit", type=int, default=15)
-    ap.add_argument("--time-limit", type=float, default=1e9, help="stop continuing after this many seconds")
+    ap.add_argument("--time-limit", type=float, default=1e9, help="stop continuing after this many seconds (checked after each converged point)")
     ap.add_argument("--save", action="store_true", help="write the last solution and psi to XDMF in --work")
     ap.add_argument("--quiet", action="store_true")
     ap.add_argument("--tag", default="")
