@@ -271,7 +271,7 @@ GEOMETRIES = [  # label, file, parameters, levels of f, exact area, curved bound
     ("contraction.geo", "contraction.geo", CONTRACTION, [1, 2, 4], contraction_area, False,
      {"fluid", "inflow", "outflow", "symmetry", "upstream_wall", "step", "downstream_wall"}),
     ("stenosis.geo", "stenosis.geo", STENOSIS, [1, 2, 4], stenosis_area, True,
-     {"fluid", "inflow", "outflow", "wall", "symmetry"}),
+     {"fluid", "inflow", "outflow", "symmetry", "upstream_wall", "stenosis", "downstream_wall"}),
 ]
 
 # Tolerances. The area of a domain with straight sides is exact up to rounding (relative 1e-12).

@@ -138,7 +138,11 @@ Recombine Surface{1:3};
 Physical Surface("fluid") = {1:3};
 Physical Curve("inflow") = {4};
 Physical Curve("outflow") = {5};
-Physical Curve("wall") = {6, 7, 8};
+// the wall in three groups, so that a scene can ask for the force on the stenosis alone and for
+// the recirculation behind it along the straight wall downstream (docs/geometries.md)
+Physical Curve("upstream_wall") = {6};    // y = 1, x < -length / 2
+Physical Curve("stenosis") = {7};         // the stenosed wall, |x| < length / 2
+Physical Curve("downstream_wall") = {8};  // y = 1, x > length / 2
 Physical Curve("symmetry") = {1, 2, 3};
 
 Mesh.ElementOrder = 2;
