@@ -6,6 +6,7 @@
 // the mesh the .geo made.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 
@@ -109,4 +110,44 @@ TEST(FlowInput, AFlowBranchHasSpectraRestartsAndExports) {
   r = test::run_keller("export " + dir + "/a.h5 --xdmf");
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_TRUE(fs::exists(dir + "/a.xdmf"));
+}
+
+// runs/scripts/plot_flow.py draws the mesh and the flow of a solve and of a branch. Its stream
+// function is its own Python implementation of the least squares keller's `stream-function`
+// observable solves: on the Newtonian contraction, with psi = 0 on the same wall, its corner
+// vortex's extremum is keller's Psi_R times the flow rate to 1e-8 (both solve the same linear
+// system; rounding and the solvers' accuracy differ).
+TEST(FlowInput, FlowFiguresOfASolveAndOfABranch) {
+  const std::string dir = test::scratch_dir("flow_figures");
+  auto r = test::run_keller("solve " + test::source_path("runs/scenes/flow_contraction_newtonian.toml") + " -o " + dir +
+                            "/c.h5");
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  const auto at = r.out.find("Psi_R = ");
+  ASSERT_NE(at, std::string::npos) << r.out;
+  const double psi_r = std::stod(r.out.substr(at + 8));
+  const std::string py = std::string(KELLER_PYTHON) + " " + test::source_path("runs/scripts/plot_flow.py") + " ";
+  const std::string out = dir + "/psi.txt";
+  std::string cmd = py + dir + "/c.h5 --psi-zero upstream_wall --xlim -8 6 -o " + dir + "/c.png > " + out;
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  EXPECT_GT(fs::file_size(dir + "/c.png"), 20000u);
+  // "psi: q = Q, extremum of the other sign E q, ..."
+  const std::string text = test::file_contents(out);
+  const auto q_at = text.find("q = "), e_at = text.find("other sign ");
+  ASSERT_TRUE(q_at != std::string::npos && e_at != std::string::npos) << text;
+  const double q = std::stod(text.substr(q_at + 4)), e = std::stod(text.substr(e_at + 11));
+  EXPECT_NEAR(q, 1.0, 1e-5);  // the flow rate of the half channel, up to the discrete curl's error
+  EXPECT_NEAR(e * q, psi_r, 1e-8 * psi_r);
+
+  r = test::run_keller("trace " + test::source_path("runs/scenes/flow_stenosis.toml") +
+                       " --set continuation.upper=30 --set continuation.stops=[25.0] -o " + dir + "/s.h5");
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  cmd = py + dir + "/s.h5 --row last --xlim -3 7 -o " + dir + "/s.png > " + out;
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  EXPECT_GT(fs::file_size(dir + "/s.png"), 20000u);
+  EXPECT_NE(test::file_contents(out).find("other sign"), std::string::npos);
+  // a row without a stored solution is refused, naming the rows that have one
+  cmd = py + dir + "/s.h5 --row 1 -o " + dir + "/t.png 2> " + out;
+  EXPECT_NE(std::system(cmd.c_str()), 0);
+  EXPECT_NE(test::file_contents(out).find("stored rows"), std::string::npos) << test::file_contents(out);
+  EXPECT_FALSE(fs::exists(dir + "/t.png"));
 }
