@@ -8,13 +8,15 @@
 //   downstream of the throat, the wall shear stress is symmetric and nothing separates. The
 //   conditions are not symmetric (a given profile at the inflow, a fully developed outflow with the
 //   pressure datum), but 8 half-widths from the stenosis the disturbance has decayed as
-//   exp(-4.2 x) below rounding, so the discrete solution is symmetric to the placement of the mesh
-//   nodes (Gmsh places graded vertices to about 1e-7). With inertia (Re = 10) it is not: the
-//   symmetric part of the pressure moves by O(1).
+//   exp(-2.1 x) (the slowest Stokes mode of a channel: sin 2k + 2k = 0, Re k = 2.106) to about
+//   5e-8 of its size, and Gmsh places graded vertices to about 1e-7: the solution is symmetric to
+//   1e-6 relative with room (measured: velocity 1.7e-9, pressure 1.0e-8 of the extra drop's 29).
+//   With inertia (Re = 10) it is not: the velocity by 0.45, the pressure by 34.
 // - The extra pressure drop converges at the element's order: Q2 velocity and P1 pressure give the
 //   energy to O(h^4), and the extra pressure drop is the energy's (dissipation = Q dp); the wall's
 //   quadratic edges interpolate it to O(h^3) with an area error O(h^4) (docs/geometries.md). On
-//   the nested meshes f = 1, 2, 4 the observed order is at least 3.5.
+//   the nested meshes f = 1, 2, 4 the observed order is at least 3.5 (measured: 5.3, and 5.8 from
+//   f = 2, 4, 8: faster than h^4 on these meshes).
 // - With inertia the flow separates behind the throat above a Reynolds number that both meshes f = 1
 //   and f = 2 bracket in the same interval of width 1.
 #include <gtest/gtest.h>
@@ -147,7 +149,7 @@ TEST(FlowStenosis, StokesFlowIsForeAftSymmetricAndInertiaBreaksIt) {
   EXPECT_GT(inertial.pressure, 0.1 * extra);
 }
 
-TEST(FlowStenosis, TheExtraPressureDropConvergesAtFourthOrder) {
+TEST(FlowStenosis, TheExtraPressureDropConvergesAtLeastAtFourthOrder) {
   std::vector<double> C;
   for (int f : {1, 2, 4}) {
     auto p = stenosis("f = " + std::to_string(f) + "\n", 0.01);
