@@ -5,16 +5,22 @@ state (`keller solve`).
 
 Top panel: the mesh, element edges drawn through their mid-side nodes, every named boundary in its
 own colour with its name and its condition from the scene stored in the file. Bottom panel: the
-speed |v| in colour and the streamlines as contours of the stream function psi (v_x = dpsi/dy,
-v_y = -dpsi/dx; psi = 0 on a wall, --psi-zero), the main flow in black at equal steps of psi
-and any recirculation (psi of the other sign) in white at fractions of its extremum.
+speed |v| (or --colour) in colour and the streamlines as contours of the stream function psi
+(v_x = dpsi/dy, v_y = -dpsi/dx; psi = 0 on a wall, --psi-zero), the main flow in black at equal
+steps of psi and any recirculation (psi of the other sign) in white at fractions of its extremum, those beyond
+psi's spread along the walls (the discrete velocity is a curl only to the discretisation error).
 
 psi is computed here as keller's `stream-function` observable computes it: the Q2 least-squares
 solution of grad psi = (-v_y, v_x) over the fluid (3 x 3 Gauss points per element), with its
 mean over the nodes of that wall set to 0 (keller's `boundary`).
 
     python3 runs/scripts/plot_flow.py RUN.h5 [--row N|last] [--xlim X0 X1] [--ylim Y0 Y1]
-        [--psi-zero BOUNDARY] [--levels N] [--title TEXT] [--mesh-only | --flow-only] -o FIG.png"""
+        [--psi-zero BOUNDARY] [--levels N] [--colour FIELD:COMPONENT [--log]] [--title TEXT]
+        [--mesh-only | --flow-only] -o FIG.png
+
+The shipped geometries' figures (docs/geometries.md) are made by it; it prints the flow rate q
+between psi = 0 and the far side, the extremum of psi of the other sign (a recirculation's
+intensity, in units of q) and how far psi is from constant along the walls."""
 
 import argparse
 import sys
