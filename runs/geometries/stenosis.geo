@@ -29,7 +29,8 @@ DefineConstant[
   nx_upstream = {10, Name "nx_upstream"},              // elements upstream of the stenosis for f = 1
   nx_downstream = {16, Name "nx_downstream"},          // elements downstream of the stenosis for f = 1
   ny = {6, Name "ny"},                                 // elements across the channel for f = 1
-  wall_ratio = {1, Name "wall_ratio"}                  // largest / smallest element across the channel, fine at the wall
+  wall_ratio = {1, Name "wall_ratio"},                 // largest / smallest element across the channel, fine at the wall
+  full = {0, Name "full"}                              // 1: the whole channel, -1 < y < 1, stenosed on both walls
 ];
 
 Lu = upstream_length;
@@ -48,6 +49,10 @@ If (severity <= 0 || severity >= 1)
 EndIf
 If (length <= 0 || a >= Lu || a >= Ld)
   Error("stenosis.geo: length must be positive and length / 2 below upstream_length and downstream_length");
+  Abort;
+EndIf
+If (full != 0 && full != 1)
+  Error("stenosis.geo: full must be 0 (the upper half, a symmetry line at y = 0) or 1 (the whole channel); got %g", full);
   Abort;
 EndIf
 If (wall_ratio < 1)
@@ -135,15 +140,55 @@ Transfinite Surface{2} = {2, 3, 7, 6};
 Transfinite Surface{3} = {3, 4, 8, 7};
 Recombine Surface{1:3};
 
-Physical Surface("fluid") = {1:3};
-Physical Curve("inflow") = {4};
-Physical Curve("outflow") = {5};
+// full = 1: the mirror image below y = 0 (its wall stenosed the same way), and y = 0 interior
+If (full == 1)
+  Point(14) = {-Lu, -1, 0};
+  Point(15) = {-a, -1, 0};
+  Point(16) = {a, -1, 0};
+  Point(17) = {Ld, -1, 0};
+  For k In {1:5}
+    Point(17 + k) = {-a + k * length / 6, (k == 3) ? -1 + 3.2 * severity : -1, 0};
+  EndFor
+  Line(11) = {14, 15};                          // lower wall upstream
+  Bezier(12) = {15, 18, 19, 20, 21, 22, 16};    // lower wall along the stenosis
+  Line(13) = {16, 17};                          // lower wall downstream
+  Line(14) = {14, 1};                           // inflow, lower half
+  Line(15) = {17, 4};                           // outflow, lower half
+  Line(16) = {15, 2};                           // x = -length / 2 (interior)
+  Line(17) = {16, 3};                           // x = length / 2 (interior)
+  Transfinite Curve{11} = f * nx_upstream + 1 Using Progression 1 / q_upstream;
+  Transfinite Curve{12} = f * n_throat + 1;
+  Transfinite Curve{13} = f * nx_downstream + 1 Using Progression q_downstream;
+  Transfinite Curve{14, 16, 17, 15} = f * ny + 1 Using Progression q_wall;
+  Curve Loop(4) = {11, 16, -1, -14};
+  Plane Surface(4) = {4};  // upstream, lower half
+  Curve Loop(5) = {12, 17, -2, -16};
+  Plane Surface(5) = {5};  // throat, lower half
+  Curve Loop(6) = {13, 15, -3, -17};
+  Plane Surface(6) = {6};  // downstream, lower half
+  Transfinite Surface{4} = {14, 15, 2, 1};
+  Transfinite Surface{5} = {15, 16, 3, 2};
+  Transfinite Surface{6} = {16, 17, 4, 3};
+  Recombine Surface{4:6};
+EndIf
+
+Physical Surface("fluid") = {1:3 + 3 * full};
+If (full == 1)
+  Physical Curve("inflow") = {4, 14};
+  Physical Curve("outflow") = {5, 15};
+  Physical Curve("lower_upstream_wall") = {11};
+  Physical Curve("lower_stenosis") = {12};
+  Physical Curve("lower_downstream_wall") = {13};
+Else
+  Physical Curve("inflow") = {4};
+  Physical Curve("outflow") = {5};
+  Physical Curve("symmetry") = {1, 2, 3};
+EndIf
 // the wall in three groups, so that a scene can ask for the force on the stenosis alone and for
 // the recirculation behind it along the straight wall downstream (docs/geometries.md)
 Physical Curve("upstream_wall") = {6};    // y = 1, x < -length / 2
 Physical Curve("stenosis") = {7};         // the stenosed wall, |x| < length / 2
 Physical Curve("downstream_wall") = {8};  // y = 1, x > length / 2
-Physical Curve("symmetry") = {1, 2, 3};
 
 Mesh.ElementOrder = 2;
 Mesh.SecondOrderIncomplete = 0;
