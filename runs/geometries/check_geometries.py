@@ -252,8 +252,10 @@ def contraction_area(p):
 
 
 def stenosis_area(p):
-    # the bump 1 - h(x), h = severity (1 - (2x / length)^2)^3, removes severity * length * 16 / 35
-    return p["upstream_length"] + p["downstream_length"] - p["severity"] * p["length"] * 16.0 / 35.0
+    # the bump 1 - h(x), h = severity (1 - (2x / length)^2)^3, removes severity * length * 16 / 35;
+    # full = 1 is the whole channel, twice the upper half
+    half = p["upstream_length"] + p["downstream_length"] - p["severity"] * p["length"] * 16.0 / 35.0
+    return 2.0 * half if p.get("full", 0) == 1 else half
 
 
 CYLINDER = {"f": 1, "rear_per_f": 8, "upstream_length": 20, "downstream_length": 30, "radial_ratio": 4,
@@ -272,6 +274,9 @@ GEOMETRIES = [  # label, file, parameters, levels of f, exact area, curved bound
      {"fluid", "inflow", "outflow", "symmetry", "upstream_wall", "step", "downstream_wall"}),
     ("stenosis.geo", "stenosis.geo", STENOSIS, [1, 2, 4], stenosis_area, True,
      {"fluid", "inflow", "outflow", "symmetry", "upstream_wall", "stenosis", "downstream_wall"}),
+    ("stenosis.geo (full)", "stenosis.geo", dict(STENOSIS, full=1), [1, 2, 4], stenosis_area, True,
+     {"fluid", "inflow", "outflow", "upstream_wall", "stenosis", "downstream_wall", "lower_upstream_wall",
+      "lower_stenosis", "lower_downstream_wall"}),
 ]
 
 # Tolerances. The area of a domain with straight sides is exact up to rounding (relative 1e-12).
