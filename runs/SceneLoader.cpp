@@ -4,10 +4,12 @@
 #include <unistd.h>
 
 #include <fstream>
+#include <iterator>
 
 #include "continuation/start/StartSolver.hpp"
 #include "core/Newton.hpp"
 #include "core/SparseLU.hpp"
+#include "runs/OutputFile.hpp"
 
 namespace keller {
 
@@ -123,6 +125,18 @@ std::string scene_help(const std::function<void(SceneSchema&)>& extra) {
     out += fmt::format("Keys of problem type '{}' ({}):\n\n{}", t.name, t.doc, s.help());
     for (const ProblemType::Default& d : t.defaults)
       out += fmt::format("  {} defaults to \"{}\" for this problem: {}\n\n", d.key, d.value, d.why);
+  }
+  return out;
+}
+
+std::string LoadedScene::physics() const {
+  std::string out = scene.canonical_values(physics_keys);
+  for (const std::string& key : physics_keys) {
+    const KeySpec* spec = scene.schema().find(key);
+    if (spec == nullptr || !spec->is_path || scene.string(key).empty()) continue;
+    std::ifstream in(scene.string(key), std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    out += fmt::format("{}:content = {}\n", key, in.bad() || !in.is_open() ? "unreadable" : text_hash(bytes));
   }
   return out;
 }

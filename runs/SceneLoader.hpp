@@ -22,8 +22,12 @@ struct LoadedScene {
   // parameter values excepted): a stored solution is a solution of this scene's problem only
   // if they are equal.
   std::vector<std::string> physics_keys;
-  // physics_keys with their values (Scene::canonical_values), as stored in every output file.
-  std::string physics() const { return scene.canonical_values(physics_keys); }
+  // physics_keys with their values (Scene::canonical_values), as stored in every output file,
+  // and for each file a path key names (a mesh's .msh or .geo) a line "KEY:content = HASH" with a
+  // hash of the file's bytes: a file changed under the same name is other physics, so a rerun or a
+  // restart does not continue a branch made from its old content ("unreadable" where it cannot be
+  // read; a .geo's included files are not hashed).
+  std::string physics() const;
   // The defaults of every key, in the same form (records_agree: keys added since a file was written).
   std::string defaults() const { return scene.canonical_defaults(); }
 };

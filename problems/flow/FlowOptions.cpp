@@ -2,6 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cctype>
+
 namespace keller {
 
 namespace {
@@ -15,6 +18,30 @@ const std::vector<std::string> kObservables = {"",
                                                "couette-correction",
                                                "reattachment",
                                                "stream-function"};
+
+// Names an observable cannot take: the branch and time tables' own columns, the columns every
+// viscoelastic flow adds, and the flow's parameters (a parameter is a column of its branch). A
+// table with one name twice could not be read back by name.
+const std::vector<std::string> kReservedNames = {"row",        "kind",
+                                                 "s",          "iterations",
+                                                 "step",       "seconds",
+                                                 "det_sign",   "tangent_parameter",
+                                                 "saved_slot", "t",
+                                                 "h",          "order",
+                                                 "error",      "factorisations",
+                                                 "rejected",   "next_step",
+                                                 "min_m1",     "min_m1_x",
+                                                 "min_m1_y",   "max_m3",
+                                                 "Re",         "Wi",
+                                                 "beta",       "b",
+                                                 "Gamma"};
+
+bool identifier(const std::string& name) {
+  if (name.empty() || std::isdigit(static_cast<unsigned char>(name[0]))) return false;
+  for (char c : name)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_') return false;
+  return true;
+}
 
 std::string listed(const std::vector<std::string>& names) {
   std::string out;
@@ -122,6 +149,16 @@ FlowOptions FlowOptions::from_scene(const Scene& sc) {
     const std::string at = "observables." + name + ".";
     const std::string type = sc.string(at + "type");
     if (type.empty()) throw sc.error(at + "type", "every observable needs a type: " + listed(kObservables));
+    if (!identifier(name))
+      throw sc.error(at + "type",
+                     fmt::format("the observable's name \"{}\" is a column name: letters, digits and _ only, "
+                                 "not starting with a digit",
+                                 name));
+    if (std::find(kReservedNames.begin(), kReservedNames.end(), name) != kReservedNames.end())
+      throw sc.error(at + "type",
+                     fmt::format("the name \"{}\" is taken by a column of every branch or time table or by a "
+                                 "parameter ({}); rename [observables.{}]",
+                                 name, listed(kReservedNames), name));
     FlowObservableSpec spec;
     spec.name = name;
     auto need = [&](const char* key) -> const std::string& {

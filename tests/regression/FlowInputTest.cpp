@@ -78,6 +78,31 @@ TEST(FlowInput, UnusableMeshesAndMismatchedConditionsAreRefusedBeforeAnyWork) {
   EXPECT_TRUE(f.exists("/mesh/boundaries/inflow"));
 }
 
+// A mesh file changed under the same name is another problem: a branch traced on the old content
+// is not restarted on the new one (the stored physics record holds a hash of the file's bytes),
+// while the unchanged file restarts. Here the .geo's square becomes 1.5 long with the same
+// elements, so the unknowns agree and only the content tells the two apart.
+TEST(FlowInput, AMeshFileChangedUnderItsNameIsNotRestartedFrom) {
+  const std::string dir = test::scratch_dir("flow_mesh_content");
+  const std::string geo = std::string(kSquareGeo) + "Recombine Surface{1};\nMesh.ElementOrder = 2;\n";
+  write(dir + "/square.geo", geo);
+  write(dir + "/s.toml", "[problem]\ntype = \"flow\"\n[mesh]\ngeo = \"square.geo\"\n" + std::string(kConditions) +
+                             "[parameters]\nRe = 1.0\n[continuation]\nparameter = \"Re\"\nupper = 2.0\n");
+  const auto first = test::run_keller("trace " + dir + "/s.toml -o " + dir + "/a.h5");
+  ASSERT_EQ(first.exit_code, 0) << first.out << first.err;
+  const auto same = test::run_keller("trace " + dir + "/s.toml --restart " + dir +
+                                     "/a.h5:last --set continuation.upper=3 -o " + dir + "/b.h5");
+  EXPECT_EQ(same.exit_code, 0) << same.out << same.err;
+  std::string longer = geo;
+  longer.replace(longer.find("L = {1,"), 7, "L = {1.5,");
+  write(dir + "/square.geo", longer);
+  const auto changed = test::run_keller("trace " + dir + "/s.toml --restart " + dir +
+                                        "/a.h5:last --set continuation.upper=3 -o " + dir + "/c.h5");
+  EXPECT_EQ(changed.exit_code, 2) << changed.out << changed.err;
+  EXPECT_NE(changed.err.find("mesh.geo:content"), std::string::npos) << changed.err;
+  EXPECT_FALSE(fs::exists(dir + "/c.h5"));
+}
+
 // The shipped Newtonian contraction, a branch in Re from 1 to 3 with the spectrum of every point,
 // restarted from its stop at Re = 2 and exported: slow flow through a contraction is steady and
 // stable (every eigenvalue of J phi = sigma B phi decays, converged to 1e-8), the observables are

@@ -145,4 +145,12 @@ TEST(FlowProblem, IncompleteConditionsAndObservablesNameTheirKey) {
       mesh + kConditions + "[observables.P]\ntype = \"stream-function\"\nboundary = \"top\"\nregion = [1, 0, 0, 1]\n",
       "needs a box [xmin, xmax, ymin, ymax] with xmin < xmax");
   expect(std::string("[mesh]\nfile = \"absent.msh\"\n") + kConditions, "absent.msh");
+  // a name that is already a column of the table (a parameter, the fluid's min m1, the stepper's)
+  // would make the branch table hold one name twice: refused, naming the observable
+  for (const char* taken : {"Re", "Wi", "min_m1", "seconds", "s"})
+    expect(mesh + kConditions + "[observables." + taken + "]\ntype = \"flow-rate\"\nboundary = \"inflow\"\n",
+           std::string("key 'observables.") + taken + ".type': the name \"" + taken + "\" is taken");
+  expect(mesh + kConditions + "[observables.Q-in]\ntype = \"flow-rate\"\nboundary = \"inflow\"\n",
+         "is a column name: letters, digits and _ only");
+  EXPECT_EQ(error_of(s, mesh + kConditions + "[observables.Q_in2]\ntype = \"flow-rate\"\nboundary = \"inflow\"\n"), "");
 }
