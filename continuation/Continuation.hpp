@@ -156,6 +156,8 @@ class Continuation {
   // it is not located.
   std::optional<BranchPoint> locate_on_piece(const BranchPoint& cur, const BranchPoint& end, const Crossing& c,
                                              int piece, double& at_zero, std::string& note);
+  // a located branch point keeps the old branch's tangent, interpolated from the bracketing points
+  void keep_bracket_tangent(const BranchPoint& a, const BranchPoint& b, BranchPoint& p) const;
   // last: the branch ends on this step (its determinant sign is then probed if unknown)
   void locate_branch_points(const BranchPoint& cur, BranchPoint& nxt, bool last, std::vector<LocatedPoint>& located,
                             BranchObserver& observer);

@@ -161,6 +161,22 @@ int Continuation::probe_determinant(BranchPoint& p) {
   return p.bordered_det_sign;
 }
 
+void Continuation::keep_bracket_tangent(const BranchPoint& a, const BranchPoint& b, BranchPoint& p) const {
+  // At a simple branch point the null space of [J F_p] is two-dimensional, so the tangent system
+  // solved at the located point is singular there and its solution is dominated by J's null vector:
+  // the new branch's direction, not the old one's. The old branch is smooth through the point, so
+  // its tangent there is the bracketing points' tangents interpolated in arclength (what a restart
+  // from the point and a switch, which takes the direction orthogonal to it, need).
+  if (a.tu.size() != p.u.size() || b.tu.size() != p.u.size()) return;
+  const double w = b.s != a.s ? std::clamp((p.s - a.s) / (b.s - a.s), 0.0, 1.0) : 0.5;
+  Vector tu = (1.0 - w) * a.tu + w * b.tu;
+  double tl = (1.0 - w) * a.tlambda + w * b.tlambda;
+  const double n = norm_.norm(tu, tl);
+  if (!(n > 0) || !std::isfinite(n)) return;
+  p.tu = tu / n;
+  p.tlambda = tl / n;
+}
+
 void Continuation::locate_branch_points(const BranchPoint& cur, BranchPoint& nxt, bool last,
                                         std::vector<LocatedPoint>& located, BranchObserver& observer) {
   if (options_.method != ContinuationOptions::Method::Arclength || !options_.events.branch_points) return;
@@ -174,6 +190,7 @@ void Continuation::locate_branch_points(const BranchPoint& cur, BranchPoint& nxt
   const Target target{EventTarget::BranchPoint, -1, 0.0};
   std::optional<BranchPoint> p = locator_.locate_root(pair->first, pair->second, target, pair->first.bordered_det_sign,
                                                       pair->second.bordered_det_sign, note);
+  if (p) keep_bracket_tangent(pair->first, pair->second, *p);
   add_located(std::move(p), PointKind::BranchPoint, "det sign change", std::nullopt, cur, located, observer, note);
 }
 

@@ -14,11 +14,16 @@ Status branch_direction(Evaluator& ev, const SparseLUOptions& lu_options, const 
   if (!st.is_ok()) return {st.code(), "J at the branch point: " + st.message()};
   Vector phi(ev.size());
   for (int i = 0; i < phi.size(); ++i) phi[i] = std::sin(1.0 + 0.7 * i);  // deterministic, generic
-  for (int it = 0; it < kNullVectorIterations; ++it) {
+  phi /= phi.norm();
+  for (int it = 0; it < kNullVectorMaxIterations; ++it) {
     Vector y;
     st = lu.solve(phi, y);
     if (!st.is_ok()) return st;
-    phi = y / y.norm();
+    y /= y.norm();
+    if (y.dot(phi) < 0) y = -y;  // a negative eigenvalue flips the sign at every step
+    const double change = (y - phi).norm();
+    phi = y;
+    if (change < kNullVectorTolerance) break;
   }
   // a fixed sign: the entry of largest magnitude positive (direction +1 makes it grow)
   Eigen::Index imax = 0;

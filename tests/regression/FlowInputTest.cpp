@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 
 #include "continuation/output/BranchFile.hpp"
 #include "core/H5File.hpp"
@@ -212,4 +213,24 @@ TEST(FlowInput, TheStenosisInTheWholeChannelLosesItsSymmetryAtAPitchfork) {
       EXPECT_LT(full.rows(i, full.column("Re")), 140.0);
     }
   EXPECT_EQ(bps, 1);
+
+  // --switch onto the asymmetric branches, one to each side: they leave the symmetric flow (the
+  // forces on the two stenosed walls differ by a fifth at Re = 160) and are each other's mirror
+  // images (upper wall's force on one = lower wall's on the other, to the corrector's tolerance).
+  // Until the located point kept its bracket's tangent, the switch took the branch point's own,
+  // singular-system tangent, which is J's null vector: orthogonal to it the switch went back along
+  // the symmetric branch (to Re = 0).
+  std::map<int, BranchTable> side;
+  for (int direction : {1, -1}) {
+    const std::string out = dir + "/switched" + std::to_string(direction + 1) + ".h5";
+    r = test::run_keller("trace " + test::source_path("runs/scenes/flow_stenosis_full.toml") + " --switch " + dir +
+                         "/full.h5:bp1 --switch-direction " + std::to_string(direction) + " -o " + out);
+    ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+    side.emplace(direction, read_branch_table(out));
+  }
+  const double up = at(side.at(1), 160.0, "F_y"), low = at(side.at(1), 160.0, "F_y_lower");
+  EXPECT_GT(std::abs(up + low), 0.2 * std::abs(up)) << up << " " << low;
+  EXPECT_NEAR(at(side.at(-1), 160.0, "F_y"), -low, 1e-6 * std::abs(low));
+  EXPECT_NEAR(at(side.at(-1), 160.0, "F_y_lower"), -up, 1e-6 * std::abs(up));
+  EXPECT_NEAR(at(side.at(-1), 160.0, "L_r"), at(side.at(1), 160.0, "L_r_lower"), 1e-6);
 }
