@@ -101,6 +101,7 @@ def prepare(scratch, source, keller, python):
     shutil.rmtree(scratch, ignore_errors=True)
     os.makedirs(os.path.join(scratch, "build", "bin"), exist_ok=True)
     os.makedirs(os.path.join(scratch, ".bin"), exist_ok=True)
+    os.makedirs(os.path.join(scratch, "docs", "figures"), exist_ok=True)  # where documented figures go
     for link, target in ((os.path.join(scratch, "build", "bin", "keller"), keller),
                          (os.path.join(scratch, "runs"), os.path.join(source, "runs")),
                          (os.path.join(scratch, ".bin", "python3"), python)):
