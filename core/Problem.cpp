@@ -56,6 +56,13 @@ bool has_time_form(Problem& problem) {
   return true;
 }
 
+std::string time_form_refusal(Problem& problem) {
+  if (!has_time_form(problem))
+    return "problem '" + problem.name() +
+           "' has no time-dependent form as this scene sets it up (no row has a time derivative)";
+  return problem.why_no_time_derivative();
+}
+
 Status Problem::time_residual(const Vector& u, const Vector& udot, Vector& R) {
   SparseMatrix B;
   Status st = mass_matrix(u, B);

@@ -61,6 +61,11 @@ class Problem {
   // residual of a time step. Default: forms B and multiplies (a problem assembled from terms
   // evaluates them directly).
   virtual Status time_residual(const Vector& u, const Vector& udot, Vector& R);
+  // Why B is zero at the parameters' present values although the problem has a time-dependent
+  // form (a Newtonian flow at Re = 0: Stokes flow has no time derivative), naming the parameter
+  // that gives it one; empty where B has rows with a time derivative. A run that needs B there (a
+  // spectrum of a steady state, a time integration) refuses its scene with it. Default: empty.
+  virtual std::string why_no_time_derivative() const { return {}; }
 
   // --- Starting and scaling ---
 
@@ -107,5 +112,10 @@ class NoTimeForm : public std::logic_error {
 // Whether the problem has a time-dependent form: mass_matrix at its initial guess gives B instead
 // of throwing NoTimeForm (one assembly of B).
 bool has_time_form(Problem& problem);
+
+// What a run that needs B says to refuse a problem that has none as its scene sets it up: empty
+// where it has a time-dependent form with a time derivative at the parameters' present values;
+// else why (no time-dependent form at all, or why_no_time_derivative()).
+std::string time_form_refusal(Problem& problem);
 
 }  // namespace keller

@@ -363,10 +363,8 @@ int run_evolve(const EvolveArguments& args, RunSummary* out_summary) {
       declare_run_outputs(files, run.out(), kTimeSeries.file, run.with_fields());
     });
     Problem& problem = run.build([](Problem& p) {
-      if (!has_time_form(p))
-        throw std::invalid_argument("problem '" + p.name() +
-                                    "' has no time-dependent form as this scene sets it up (no row has a time "
-                                    "derivative): there is nothing to integrate in time");
+      if (const std::string why = time_form_refusal(p); !why.empty())
+        throw std::invalid_argument(why + ": there is nothing to integrate in time");
     });
 
     // 2. where the run starts: an unfinished run of this command, a stored point, or a steady state

@@ -58,11 +58,8 @@ StabilityOptions StabilityOptions::from_scene(const Scene& sc) {
 }
 
 void StabilityOptions::check_problem(const Scene& sc, Problem& problem) const {
-  if (!has_time_form(problem))
-    throw sc.error("stability.enabled",
-                   fmt::format("problem '{}' has no time-dependent form as this scene sets it up (no row has a time "
-                               "derivative), so it has no spectrum to analyse",
-                               problem.name()));
+  if (const std::string why = time_form_refusal(problem); !why.empty())
+    throw sc.error("stability.enabled", why + ", so it has no spectrum to analyse");
   const long n = problem.size();
   if (count > n - 2)
     throw sc.error("stability.count",

@@ -384,26 +384,7 @@ Status CollapsibleChannelProblem::monitor_places(int monitor, const Vector& u, s
 Status CollapsibleChannelProblem::monitor_place_gradient(int monitor, int place, const Vector& u, Vector& gradient) {
   if (!options_.fluid.viscoelastic() || monitor != 0)
     throw std::out_of_range("collapsible channel: no monitor " + std::to_string(monitor));
-  std::vector<int> nodes;
-  std::vector<std::array<double, 3>> eig;
-  flow_->conformation_eigenvalues(u, nodes, eig);
-  if (place < 0 || place >= static_cast<int>(nodes.size()))
-    throw std::out_of_range("collapsible channel: min_m1 has no place " + std::to_string(place));
-  const int fm = dofs_->field_index("conformation"), n = nodes[static_cast<size_t>(place)];
-  gradient = Vector::Zero(u.size());
-  Vector w = u;
-  for (int c = 0; c < dofs_->num_components(fm); ++c) {
-    const int d = dofs_->node_dof(fm, n, c);
-    if (d < 0) continue;
-    const double h = 1e-6 * std::max(1.0, std::abs(u[d]));
-    std::vector<double> hi, lo;
-    w[d] = u[d] + h;
-    monitor_places(0, w, hi);
-    w[d] = u[d] - h;
-    monitor_places(0, w, lo);
-    w[d] = u[d];
-    gradient[d] = (hi[static_cast<size_t>(place)] - lo[static_cast<size_t>(place)]) / (2.0 * h);
-  }
+  flow_->m1_place_gradient(u, place, gradient);
   return {};
 }
 

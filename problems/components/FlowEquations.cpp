@@ -368,35 +368,62 @@ Status FlowEquations::stokes_state(Vector& u) const {
   return {};
 }
 
+std::array<double, 3> FlowEquations::node_eigenvalues(const Vector& u, int n) const {
+  const DofMap& dofs = *dofs_;
+  const int fm = dofs.field_index("conformation");
+  const int nc = options_.conformation_components();
+  const double b = index_.b >= 0 ? params_->value(index_.b) : 0.0;
+  double c[4] = {0, 0, 0, 0};
+  for (int k = 0; k < nc; ++k) c[k] = u[dofs.node_dof(fm, n, k)];
+  double xx = c[0], xy = c[1], yy = c[2], zz = 1.0;
+  if (options_.log_conformation) {
+    const Sym2<double> M = sym_exp(Sym2<double>{c[0], c[1], c[2]});
+    xx = M.xx;
+    xy = M.xy;
+    yy = M.yy;
+    if (nc == 4) zz = std::exp(c[3]);
+  } else if (nc == 4) {
+    zz = c[3];
+  }
+  if (options_.model == FluidModel::FeneP && nc == 3) zz = 1.0 / peterlin_eliminated(xx, yy, b);
+  const double a = 0.5 * (xx + yy), r = std::hypot(0.5 * (xx - yy), xy);
+  std::array<double, 3> e = {a - r, a + r, zz};
+  std::sort(e.begin(), e.end());
+  return e;
+}
+
 void FlowEquations::conformation_eigenvalues(const Vector& u, std::vector<int>& nodes,
                                              std::vector<std::array<double, 3>>& eig) const {
   nodes.clear();
   eig.clear();
   if (!options_.viscoelastic()) return;
-  const DofMap& dofs = *dofs_;
-  const int fm = dofs.field_index("conformation");
-  const int nc = options_.conformation_components();
-  const double b = index_.b >= 0 ? params_->value(index_.b) : 0.0;
+  const int fm = dofs_->field_index("conformation");
   for (int n = 0; n < mesh_->num_nodes(); ++n) {
-    if (dofs.node_dof(fm, n, 0) < 0) continue;
-    double c[4] = {0, 0, 0, 0};
-    for (int k = 0; k < nc; ++k) c[k] = u[dofs.node_dof(fm, n, k)];
-    double xx = c[0], xy = c[1], yy = c[2], zz = 1.0;
-    if (options_.log_conformation) {
-      const Sym2<double> M = sym_exp(Sym2<double>{c[0], c[1], c[2]});
-      xx = M.xx;
-      xy = M.xy;
-      yy = M.yy;
-      if (nc == 4) zz = std::exp(c[3]);
-    } else if (nc == 4) {
-      zz = c[3];
-    }
-    if (options_.model == FluidModel::FeneP && nc == 3) zz = 1.0 / peterlin_eliminated(xx, yy, b);
-    const double a = 0.5 * (xx + yy), r = std::hypot(0.5 * (xx - yy), xy);
-    std::array<double, 3> e = {a - r, a + r, zz};
-    std::sort(e.begin(), e.end());
+    if (dofs_->node_dof(fm, n, 0) < 0) continue;
     nodes.push_back(n);
-    eig.push_back(e);
+    eig.push_back(node_eigenvalues(u, n));
+  }
+}
+
+void FlowEquations::m1_place_gradient(const Vector& u, int place, Vector& gradient) const {
+  if (!options_.viscoelastic()) throw std::logic_error("m1_place_gradient: a Newtonian fluid has no conformation");
+  const int fm = dofs_->field_index("conformation");
+  int n = -1;
+  for (int node = 0, k = 0; node < mesh_->num_nodes() && n < 0; ++node)
+    if (dofs_->node_dof(fm, node, 0) >= 0 && k++ == place) n = node;
+  if (place < 0 || n < 0) throw std::out_of_range("min_m1 has no place " + std::to_string(place));
+  gradient = Vector::Zero(u.size());
+  Vector w = u;
+  for (int c = 0; c < dofs_->num_components(fm); ++c) {
+    const int d = dofs_->node_dof(fm, n, c);
+    if (d < 0) continue;
+    const double h = 1e-6 * std::max(1.0, std::abs(u[d]));
+    w[d] = u[d] + h;
+    const double hi = node_eigenvalues(w, n)[0];
+    w[d] = u[d] - h;
+    const double lo = node_eigenvalues(w, n)[0];
+    w[d] = u[d];
+    gradient[d] = (hi - lo) / (2.0 * h);
   }
 }
 

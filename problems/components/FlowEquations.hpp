@@ -109,6 +109,10 @@ class FlowEquations final : public Component {
   // Eigenvalues m1 <= m2 <= m3 of the 3x3 conformation tensor at every conformation node
   // (vertices of fluid elements), in node order of `nodes`.
   void conformation_eigenvalues(const Vector& u, std::vector<int>& nodes, std::vector<std::array<double, 3>>& m) const;
+  // The gradient in u of m1 at one place of min_m1 (the index of a node in conformation_eigenvalues'
+  // order): central differences in that node's own conformation unknowns, the only ones m1 there
+  // depends on (step 1e-6 max(1, |u_d|)). Throws std::out_of_range for a place the mesh lacks.
+  void m1_place_gradient(const Vector& u, int place, Vector& gradient) const;
   // The extremes over those nodes: the smallest m1 (zero where M loses positive definiteness)
   // and the node where it is, the largest m3 and the largest tr M (FENE-P: < 3b).
   struct ConformationExtremes {
@@ -120,6 +124,8 @@ class FlowEquations final : public Component {
   void add_fields(const Vector& u, SolutionFields& out) const;
 
  private:
+  // m1 <= m2 <= m3 at conformation node n.
+  std::array<double, 3> node_eigenvalues(const Vector& u, int n) const;
   template <bool Moving>
   void add_kernels(const DofMap& dofs);
   std::array<double, 4> steady_state(double W, double b) const;

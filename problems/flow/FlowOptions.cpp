@@ -115,6 +115,12 @@ FlowOptions FlowOptions::from_scene(const Scene& sc) {
   }
   o.region = sc.string("mesh.region");
   o.fluid = FluidOptions::from_scene(sc);
+  // The convective term (and the velocity's time derivative) always: Re is a parameter a trace,
+  // a curve or a study varies from any start, Re = 0 included, and a term assembled only where the
+  // scene's Re > 0 left a branch in Re from 0 a Stokes flow at every Re (rho Re = 0 multiplies it at
+  // Re = 0, so a Stokes flow's values are unchanged).
+  o.fluid.inertia = true;
+  o.fluid.kernel.inertia = true;
 
   for (const std::string& name : sc.members("boundaries")) {
     const std::string at = "boundaries." + name + ".";

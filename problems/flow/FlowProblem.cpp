@@ -3,7 +3,9 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <stdexcept>
+#include <string>
 
 #include "core/GmshMesh.hpp"
 #include "problems/components/Composition.hpp"
@@ -133,6 +135,38 @@ Status FlowProblem::monitors(const Vector& u, std::vector<double>& values) {
   return {};
 }
 
+bool FlowProblem::has_observable_gradient(int observable) const {
+  // min_m1 follows the scene's observables
+  return has_monitor_gradient(0) && observable == static_cast<int>(observables_->names().size());
+}
+
+Status FlowProblem::observable_gradient(int observable, const Vector& u, Vector& gradient) {
+  if (!has_observable_gradient(observable)) return MonitorGradients::observable_gradient(observable, u, gradient);
+  return monitor_gradient(0, u, gradient);
+}
+
+Status FlowProblem::monitor_places(int monitor, const Vector& u, std::vector<double>& values) {
+  if (!has_places(monitor)) throw std::out_of_range("flow: monitor " + std::to_string(monitor) + " has no places");
+  std::vector<int> nodes;
+  std::vector<std::array<double, 3>> eig;
+  flow_->conformation_eigenvalues(u, nodes, eig);
+  values.resize(eig.size());
+  for (size_t k = 0; k < eig.size(); ++k) values[k] = eig[k][0];
+  return {};
+}
+
+Status FlowProblem::monitor_place_gradient(int monitor, int place, const Vector& u, Vector& gradient) {
+  if (!has_places(monitor)) throw std::out_of_range("flow: monitor " + std::to_string(monitor) + " has no places");
+  flow_->m1_place_gradient(u, place, gradient);
+  return {};
+}
+
+std::string FlowProblem::why_no_time_derivative() const {
+  if (options_.fluid.viscoelastic() || params_.get("Re") > 0.0) return {};
+  return "a Newtonian fluid at parameters.Re = 0 (Stokes flow) has no time derivative (B = 0: no eigenvalue is "
+         "finite, nothing evolves); set parameters.Re > 0";
+}
+
 SolutionFields FlowProblem::fields(const Vector& u) const {
   SolutionFields f = extract_fields(mesh_, *dofs_, u);
   flow_->add_fields(u, f);
@@ -142,8 +176,9 @@ SolutionFields FlowProblem::fields(const Vector& u) const {
 std::string FlowProblem::summary() const {
   const FluidOptions& f = options_.fluid;
   return fmt::format("flow, {} fluid{}{}; mesh {}: {} elements, {} nodes; {} unknowns", to_string(f.model),
-                     f.viscoelastic() && f.log_conformation ? " (log-conformation)" : "", f.inertia ? ", inertia" : "",
-                     options_.mesh_path, mesh_.num_elements(), mesh_.num_nodes(), size());
+                     f.viscoelastic() && f.log_conformation ? " (log-conformation)" : "",
+                     params_.get("Re") > 0.0 ? ", inertia" : "", options_.mesh_path, mesh_.num_elements(),
+                     mesh_.num_nodes(), size());
 }
 
 }  // namespace keller

@@ -15,13 +15,14 @@
 #include "core/DirichletTerm.hpp"
 #include "core/DofMap.hpp"
 #include "core/Mesh.hpp"
+#include "core/MonitorGradients.hpp"
 #include "problems/components/FlowEquations.hpp"
 #include "problems/flow/FlowObservables.hpp"
 #include "problems/flow/FlowOptions.hpp"
 
 namespace keller {
 
-class FlowProblem final : public AssembledProblem {
+class FlowProblem final : public AssembledProblem, public MonitorGradients {
  public:
   // Reads (or meshes) the options' mesh. Throws MeshFileError for an unusable mesh,
   // std::invalid_argument for conditions or observables that do not fit it.
@@ -36,6 +37,20 @@ class FlowProblem final : public AssembledProblem {
   // min_m1 for a viscoelastic fluid, then the observables the scene marks as monitors.
   std::vector<std::string> monitor_names() const override;
   Status monitors(const Vector& u, std::vector<double>& values) override;
+  // min_m1 (monitor 0 of a viscoelastic fluid) is a minimum over the conformation's nodes: m1 at
+  // each (FlowEquations::conformation_eigenvalues' order), its gradient at one of them by central
+  // differences in that node's own unknowns, so an event curve follows the node where the minimum
+  // sits and locates its switches, and Newton locates the zero of min_m1 (a Wi branch lands on it).
+  bool has_places(int monitor) const override { return has_monitor_gradient(monitor); }
+  Status monitor_places(int monitor, const Vector& u, std::vector<double>& values) override;
+  Status monitor_place_gradient(int monitor, int place, const Vector& u, Vector& gradient) override;
+  bool has_monitor_gradient(int monitor) const override { return options_.fluid.viscoelastic() && monitor == 0; }
+  // The observable min_m1 is that monitor, with its gradient (a branch that stops on it lands its
+  // last step on the zero).
+  bool has_observable_gradient(int observable) const override;
+  Status observable_gradient(int observable, const Vector& u, Vector& gradient) override;
+  // A Newtonian fluid at Re = 0 (Stokes flow) has no time derivative: B = 0.
+  std::string why_no_time_derivative() const override;
   SolutionFields fields(const Vector& u) const override;
   std::string summary() const override;
 

@@ -108,7 +108,7 @@ TEST(FlowInput, AMeshFileChangedUnderItsNameIsNotRestartedFrom) {
 // restarted from its stop at Re = 2 and exported: slow flow through a contraction is steady and
 // stable (every eigenvalue of J phi = sigma B phi decays, converged to 1e-8), the observables are
 // columns, and the restart continues where the stop is. (At Re = 0 the Newtonian B is zero and a
-// spectrum has no finite eigenvalue: the columns are NaN; not tested here.)
+// spectrum has no finite eigenvalue: refused, FlowEvolve.AStokesFlowHasNoDynamicsAndIsRefusedNamingRe.)
 TEST(FlowInput, AFlowBranchHasSpectraRestartsAndExports) {
   const std::string dir = test::scratch_dir("flow_branch");
   const std::string scene = test::source_path("runs/scenes/flow_contraction_newtonian.toml");

@@ -4,9 +4,11 @@
 // naming what to change.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <set>
 
 #include "core/BlockMeshBuilder.hpp"
 #include "core/GmshMesh.hpp"
@@ -153,4 +155,118 @@ TEST(FlowProblem, IncompleteConditionsAndObservablesNameTheirKey) {
   expect(mesh + kConditions + "[observables.Q-in]\ntype = \"flow-rate\"\nboundary = \"inflow\"\n",
          "is a column name: letters, digits and _ only");
   EXPECT_EQ(error_of(s, mesh + kConditions + "[observables.Q_in2]\ntype = \"flow-rate\"\nboundary = \"inflow\"\n"), "");
+}
+
+// min_m1 of a viscoelastic flow is a minimum over places, the conformation's nodes (what an event
+// curve follows): their minimum is the monitor, the gradient of m1 at a place (central differences
+// in that node's own unknowns) agrees with central differences of that place's value in every
+// unknown, and the observable min_m1 has the monitor's gradient; an observable of the scene has
+// none. Oldroyd-B Poiseuille flow at Wi = 0.7 (m1 falls towards the walls), in both forms.
+TEST(FlowProblem, MinM1HasPlacesAndGradients) {
+  Scratch s;
+  write_gmsh_mesh(channel_mesh(2.0, 1.0, 2, 3), (s.dir / "channel.msh").string());
+  for (const char* form : {"conformation", "log-conformation"}) {
+    SCOPED_TRACE(form);
+    const LoadedScene l =
+        scene_in(s, std::string("[mesh]\nfile = \"channel.msh\"\n[fluid]\nmodel = \"oldroyd-b\"\n") +
+                        "formulation = \"" + form + "\"\n[parameters]\nWi = 0.7\nbeta = 0.3\n" + kConditions +
+                        "[observables.Q]\ntype = \"flow-rate\"\nboundary = \"outflow\"\n");
+    auto problem = build_problem(l, "flow.toml");
+    Vector u = problem->initial_guess();
+    ASSERT_TRUE(NewtonSolver(*problem).solve(u).converged());
+    auto& flow = dynamic_cast<FlowProblem&>(*problem);
+    ASSERT_TRUE(flow.has_places(0));
+    EXPECT_FALSE(flow.has_places(1));
+    std::vector<double> places, monitors;
+    ASSERT_TRUE(flow.monitor_places(0, u, places).is_ok());
+    ASSERT_TRUE(flow.monitors(u, monitors).is_ok());
+    ASSERT_EQ(places.size(), 3u * 4u);  // the vertices of 2 x 3 elements
+    const auto lowest = std::min_element(places.begin(), places.end());
+    EXPECT_EQ(*lowest, monitors[0]);
+    EXPECT_LT(*lowest, 0.9);  // sheared: well below the relaxed 1
+    for (int place : {static_cast<int>(lowest - places.begin()), 0, 10}) {
+      Vector g;
+      ASSERT_TRUE(flow.monitor_place_gradient(0, place, u, g).is_ok());
+      ASSERT_EQ(g.size(), u.size());
+      Vector w = u;
+      double largest = 0, err = 0;
+      for (int d = 0; d < u.size(); ++d) {
+        const double h = 1e-6 * std::max(1.0, std::abs(u[d]));
+        std::vector<double> hi, lo;
+        w[d] = u[d] + h;
+        flow.monitor_places(0, w, hi);
+        w[d] = u[d] - h;
+        flow.monitor_places(0, w, lo);
+        w[d] = u[d];
+        const double fd = (hi[static_cast<size_t>(place)] - lo[static_cast<size_t>(place)]) / (2 * h);
+        largest = std::max(largest, std::abs(fd));
+        err = std::max(err, std::abs(fd - g[d]));
+      }
+      EXPECT_GT(largest, 0.1) << "place " << place;
+      // the same differences, in the same unknowns (zero elsewhere): equal to rounding
+      EXPECT_LT(err, 1e-12 * std::max(largest, 1.0) + 1e-9) << "place " << place;
+    }
+    const int min_m1 = static_cast<int>(problem->observable_names().size()) - 4;  // min_m1, _x, _y, max_m3
+    ASSERT_EQ(problem->observable_names()[static_cast<size_t>(min_m1)], "min_m1");
+    EXPECT_TRUE(flow.has_observable_gradient(min_m1));
+    EXPECT_FALSE(flow.has_observable_gradient(0));  // Q
+    Vector go, gm;
+    ASSERT_TRUE(flow.observable_gradient(min_m1, u, go).is_ok());
+    ASSERT_TRUE(flow.monitor_gradient(0, u, gm).is_ok());
+    EXPECT_EQ((go - gm).lpNorm<Eigen::Infinity>(), 0.0);
+  }
+}
+
+// What B of B du/dt = -F a flow has: Newtonian, Re times the velocity's (consistent) mass matrix,
+// nothing in the pressure; at Re = 0 nothing at all, and the problem says why, naming
+// parameters.Re (evolve and a spectrum refuse it: FlowDynamicsTest). Oldroyd-B at Re = 0: the
+// conformation's rows and columns only (the velocity has no time derivative in creeping flow).
+TEST(FlowProblem, TheMassMatrixIsReTimesTheVelocitysAndEmptyInStokesFlow) {
+  Scratch s;
+  write_gmsh_mesh(channel_mesh(2.0, 1.0, 2, 2), (s.dir / "channel.msh").string());
+  auto built = [&](const std::string& fluid) {
+    return build_problem(scene_in(s, "[mesh]\nfile = \"channel.msh\"\n" + fluid + kConditions), "flow.toml");
+  };
+  // the fields whose columns of B are nonzero
+  auto columns_of = [](FlowProblem& p, const SparseMatrix& B) {
+    std::set<std::string> fields;
+    std::vector<int> field_of(static_cast<size_t>(p.size()), -1);
+    for (int f = 0; f < p.dofs().num_fields(); ++f)
+      for (int n = 0; n < p.mesh().num_nodes(); ++n)
+        for (int c = 0; c < p.dofs().num_components(f); ++c)
+          if (const int d = p.dofs().node_dof(f, n, c); d >= 0) field_of[static_cast<size_t>(d)] = f;
+    for (int k = 0; k < B.outerSize(); ++k)
+      for (SparseMatrix::InnerIterator it(B, k); it; ++it)
+        if (it.value() != 0.0) {
+          const int f = field_of[static_cast<size_t>(it.col())];
+          fields.insert(f < 0 ? "pressure" : p.dofs().field(f).name);  // P1disc: element unknowns
+        }
+    return fields;
+  };
+  {
+    auto problem = built("[parameters]\nRe = 1.0\n");
+    auto& flow = dynamic_cast<FlowProblem&>(*problem);
+    Vector u = problem->initial_guess();
+    SparseMatrix B1, B;
+    ASSERT_TRUE(problem->mass_matrix(u, B1).is_ok());
+    EXPECT_EQ(columns_of(flow, B1), std::set<std::string>{"velocity"});
+    EXPECT_TRUE(problem->why_no_time_derivative().empty());
+    problem->parameters().set("Re", 2.5);
+    ASSERT_TRUE(problem->mass_matrix(u, B).is_ok());
+    EXPECT_LT(SparseMatrix(B - 2.5 * B1).coeffs().cwiseAbs().maxCoeff(), 1e-15 * B.coeffs().cwiseAbs().maxCoeff());
+    problem->parameters().set("Re", 0.0);
+    ASSERT_TRUE(problem->mass_matrix(u, B).is_ok());
+    EXPECT_EQ(B.coeffs().cwiseAbs().maxCoeff(), 0.0);
+    EXPECT_NE(problem->why_no_time_derivative().find("parameters.Re = 0"), std::string::npos);
+    EXPECT_EQ(time_form_refusal(*problem), problem->why_no_time_derivative());
+  }
+  {
+    auto problem = built("[fluid]\nmodel = \"oldroyd-b\"\n[parameters]\nWi = 0.5\n");
+    auto& flow = dynamic_cast<FlowProblem&>(*problem);
+    Vector u = problem->initial_guess();
+    SparseMatrix B;
+    ASSERT_TRUE(problem->mass_matrix(u, B).is_ok());
+    EXPECT_EQ(columns_of(flow, B), std::set<std::string>{"conformation"});
+    EXPECT_TRUE(time_form_refusal(*problem).empty());
+  }
 }
