@@ -112,8 +112,8 @@ struct Steady {
 };
 
 Steady solve_stenosis(const std::string& dir) {
-  const auto r =
-      test::run_keller("solve " + test::source_path("runs/scenes/flow_stenosis_stability.toml") + " -o " + dir + "/steady.h5");
+  const auto r = test::run_keller("solve " + test::source_path("runs/scenes/flow_stenosis_stability.toml") + " -o " +
+                                  dir + "/steady.h5");
   EXPECT_EQ(r.exit_code, 0) << r.err;
   Steady s;
   H5File f(dir + "/steady.h5", H5File::Mode::Read);
