@@ -373,11 +373,7 @@ Status CollapsibleChannelProblem::observable_gradient(int observable, const Vect
 Status CollapsibleChannelProblem::monitor_places(int monitor, const Vector& u, std::vector<double>& values) {
   if (!options_.fluid.viscoelastic() || monitor != 0)
     throw std::out_of_range("collapsible channel: no monitor " + std::to_string(monitor));
-  std::vector<int> nodes;
-  std::vector<std::array<double, 3>> eig;
-  flow_->conformation_eigenvalues(u, nodes, eig);
-  values.resize(eig.size());
-  for (size_t k = 0; k < eig.size(); ++k) values[k] = eig[k][0];
+  flow_->m1_places(u, values);
   return {};
 }
 

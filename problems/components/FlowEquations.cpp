@@ -405,6 +405,14 @@ void FlowEquations::conformation_eigenvalues(const Vector& u, std::vector<int>& 
   }
 }
 
+void FlowEquations::m1_places(const Vector& u, std::vector<double>& values) const {
+  std::vector<int> nodes;
+  std::vector<std::array<double, 3>> eig;
+  conformation_eigenvalues(u, nodes, eig);
+  values.resize(eig.size());
+  for (size_t k = 0; k < eig.size(); ++k) values[k] = eig[k][0];
+}
+
 void FlowEquations::m1_place_gradient(const Vector& u, int place, Vector& gradient) const {
   if (!options_.viscoelastic()) throw std::logic_error("m1_place_gradient: a Newtonian fluid has no conformation");
   const int fm = dofs_->field_index("conformation");

@@ -109,6 +109,9 @@ class FlowEquations final : public Component {
   // Eigenvalues m1 <= m2 <= m3 of the 3x3 conformation tensor at every conformation node
   // (vertices of fluid elements), in node order of `nodes`.
   void conformation_eigenvalues(const Vector& u, std::vector<int>& nodes, std::vector<std::array<double, 3>>& m) const;
+  // m1 at every place of min_m1 (the smallest eigenvalue of conformation_eigenvalues, node by node):
+  // the values of a problem's min_m1 monitor's places.
+  void m1_places(const Vector& u, std::vector<double>& values) const;
   // The gradient in u of m1 at one place of min_m1 (the index of a node in conformation_eigenvalues'
   // order): central differences in that node's own conformation unknowns, the only ones m1 there
   // depends on (step 1e-6 max(1, |u_d|)). Throws std::out_of_range for a place the mesh lacks.

@@ -147,11 +147,7 @@ Status FlowProblem::observable_gradient(int observable, const Vector& u, Vector&
 
 Status FlowProblem::monitor_places(int monitor, const Vector& u, std::vector<double>& values) {
   if (!has_places(monitor)) throw std::out_of_range("flow: monitor " + std::to_string(monitor) + " has no places");
-  std::vector<int> nodes;
-  std::vector<std::array<double, 3>> eig;
-  flow_->conformation_eigenvalues(u, nodes, eig);
-  values.resize(eig.size());
-  for (size_t k = 0; k < eig.size(); ++k) values[k] = eig[k][0];
+  flow_->m1_places(u, values);
   return {};
 }
 
