@@ -27,9 +27,11 @@ ConvergenceTest::Verdict ConvergenceTest::judge(const Iterate& it) const {
   // iterate cannot move further
   const bool still = std::isfinite(it.update) && it.contraction < 1.0 &&
                      it.update / (1.0 - it.contraction) <= update_tolerance * it.scale;
-  // a residual that stopped falling
-  const bool stalled =
-      it.residual > kStallRatio * it.previous && (!slow || it.residual > kSlowStallRatio * it.before_previous);
+  // a residual that stopped falling, near the smallest one the iteration reached (one far above
+  // that is growing)
+  const bool stalled = it.residual > kStallRatio * it.previous &&
+                       (!slow || it.residual > kSlowStallRatio * it.before_previous) &&
+                       !(it.residual > kFloorWander * it.best);
   return still || stalled ? Verdict::RoundingFloor : Verdict::Continue;
 }
 

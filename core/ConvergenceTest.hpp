@@ -18,6 +18,10 @@ inline constexpr double kStallRatio = 0.5;
 // An iteration allowed to fall slowly (a chord kept past its rate) has stopped only when, in
 // addition, two iterations together cut the residual by less than 10%.
 inline constexpr double kSlowStallRatio = 0.9;
+// Rounding at the floor wanders within a few times the smallest residual the iteration reached; a
+// residual this many times that one is growing (an iteration on a matrix that is nearly singular
+// along a direction the residual has a part in: next to a branch point), not at the floor.
+inline constexpr double kFloorWander = 10.0;
 
 // The rounding floor of F near u: the rounding error of evaluating its rows, estimated from the
 // Jacobian as machine epsilon times max_i sum_j |J_ij| |u_j| (the size of the terms a row sums).
@@ -37,6 +41,7 @@ struct ConvergenceTest {
     double residual = 0.0;                                             // |F|_inf at this iterate
     double previous = std::numeric_limits<double>::infinity();         // at the iterate before
     double before_previous = std::numeric_limits<double>::infinity();  // two before
+    double best = std::numeric_limits<double>::infinity();             // the smallest so far, the start's included
     // |du|_inf of the full update that led here, unaccelerated and undamped (infinite: none, or damped)
     double update = std::numeric_limits<double>::infinity();
     // the iteration's contraction per step (0: Newton on its own Jacobian); the steps still to

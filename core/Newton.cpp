@@ -41,6 +41,7 @@ NewtonResult NewtonSolver::solve(Vector& u, const Observer& observer, bool on_ke
   double normF = F0;           // convergence is judged in the max norm
   double norm2 = F.norm();     // the line search in the 2-norm, for which du is a descent direction
   double previous = INFINITY;  // |F| one iteration before normF
+  double best = F0;            // the smallest |F| so far
   double contraction = 0.0;    // the fall of the last iteration, the chord's rate on a kept factorisation
   int on_this_matrix = 0;      // iterations made with the present factorisation
   // the next iteration solves with the last factorisation (RenewalPolicy)
@@ -152,6 +153,8 @@ NewtonResult NewtonSolver::solve(Vector& u, const Observer& observer, bool on_ke
     now.residual = normF;
     now.previous = previous;
     now.before_previous = before_previous;
+    best = std::min(best, normF);
+    now.best = best;
     now.update = alpha == 1.0 ? it.update_norm : INFINITY;
     now.contraction = it.chord ? contraction : 0.0;
     now.scale = std::max(inf_norm(u), 1.0);

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
+#include <tuple>
 
 #include "core/Anderson.hpp"
 #include "core/ConvergenceTest.hpp"
@@ -85,7 +87,16 @@ CorrectorResult Corrector::iterate(Vector& u, double& lambda, const Constraint& 
   // go on slowly; the convergence test then stops it)
   if (chord && !slow) renewal.floor_level = test.floor_level();
 
-  double previous = INFINITY, before_previous = INFINITY, update = INFINITY;
+  double previous = INFINITY, before_previous = INFINITY, update = INFINITY, best = INFINITY;
+  std::optional<std::tuple<Vector, double, double>> on_branch;  // a prediction already there: u, lambda, |F|
+  const auto back_on_branch = [&]() {
+    auto& [u0, l0, r0] = *on_branch;
+    u = std::move(u0);
+    lambda = l0;
+    r.residual = r0;
+    r.status = ev_.set_parameter(lambda);  // (the evaluator's parameter back at the point's)
+    return r;
+  };
   int on_this_matrix = 0;  // iterations made with the present factorisation
   double dl = 0;
   AndersonMixer mixer(chord ? co.anderson_depth : 0);
@@ -100,11 +111,23 @@ CorrectorResult Corrector::iterate(Vector& u, double& lambda, const Constraint& 
     }
     const double normF = F_.lpNorm<Eigen::Infinity>();
     r.residual = normF;
+    best = std::min(best, normF);
+    // A located point's prediction (the cubic through two converged neighbours) may already be on
+    // the branch. It is iterated all the same (the tangent and the determinant's sign there use the
+    // factorisation made on the way), but where the iteration moves away from it instead (next to a
+    // branch point, where J is nearly singular, rounding grows along its null vector), or fails,
+    // the prediction is the point.
+    if (k == 0 && kind == Kind::Located && normF <= test.aim()) {
+      on_branch.emplace(u, lambda, normF);
+    } else if (on_branch && (normF > kFloorWander * std::get<2>(*on_branch) || !std::isfinite(normF))) {
+      return back_on_branch();
+    }
     if (k > 0) {
       ConvergenceTest::Iterate now;
       now.residual = normF;
       now.previous = previous;
       now.before_previous = before_previous;
+      now.best = best;
       now.update = update;
       now.contraction = newton_iteration ? 0.0 : std::min(normF / previous, 1.0);
       now.scale = std::max(u.lpNorm<Eigen::Infinity>(), 1.0);
@@ -116,13 +139,13 @@ CorrectorResult Corrector::iterate(Vector& u, double& lambda, const Constraint& 
       }
       if (normF > kDivergenceFactor * previous) {
         r.status = {StatusCode::Diverged, fmt::format("corrector diverged (|F| = {:.3e})", normF)};
-        return r;
+        return on_branch ? back_on_branch() : r;
       }
     }
     if (k >= max_iterations) {
       r.status = {StatusCode::NotConverged,
                   fmt::format("corrector did not converge in {} iterations (|F| = {:.3e})", k, normF)};
-      return r;
+      return on_branch ? back_on_branch() : r;
     }
     bool refactor = !chord || k == 0;
     if (chord && k > 0) {
@@ -192,7 +215,7 @@ CorrectorResult Corrector::iterate(Vector& u, double& lambda, const Constraint& 
     ++r.iterations;
     if (!u.allFinite() || !std::isfinite(lambda)) {
       r.status = {StatusCode::NotFinite, "corrector produced a non-finite state"};
-      return r;
+      return on_branch ? back_on_branch() : r;
     }
   }
 }

@@ -11,8 +11,9 @@ using namespace keller;
 namespace {
 
 ConvergenceTest::Iterate iterate(double residual, double previous, double before = INFINITY, double update = INFINITY,
-                                 double contraction = 0.0) {
+                                 double contraction = 0.0, double best = INFINITY) {
   ConvergenceTest::Iterate it;
+  it.best = best;
   it.residual = residual;
   it.previous = previous;
   it.before_previous = before;
@@ -88,4 +89,22 @@ TEST(ConvergenceTest, AnUpdateAtRoundingLevelBelowTheFloorLevel) {
   EXPECT_EQ(t.judge(iterate(5e-9, 1e-8, INFINITY, 5e-13, 0.9)), ConvergenceTest::Verdict::Continue);  // 5e-12 to come
   EXPECT_EQ(t.judge(iterate(5e-9, 1e-8, INFINITY, 5e-14, 0.9)), ConvergenceTest::Verdict::RoundingFloor);
   EXPECT_EQ(t.judge(iterate(5e-6, 1e-5, INFINITY, 5e-14, 0.0)), ConvergenceTest::Verdict::Continue);  // above it
+}
+
+// A residual that grows is no floor: the corrector of a point located 6e-8 from a Turing branch
+// point of the Brusselator went 4.3e-11 -> 3.8e-10 -> 2.7e-8 along J's null vector (its update
+// 2.3e-4), which stopped the slow chord as "stalled" and gave a point 2.3e-4 off the branch. A
+// stall counts only within kFloorWander (10) of the smallest residual the iteration reached.
+TEST(ConvergenceTest, AResidualFarAboveTheBestOneIsGrowingNotAtTheFloor) {
+  ConvergenceTest t;
+  t.tolerance = 1e-10;
+  t.update_tolerance = 1e-12;
+  t.slow = true;
+  EXPECT_EQ(t.judge(iterate(2.7e-8, 3.8e-10, 4.3e-11, 2.3e-4, 1.0, 4.3e-11)), ConvergenceTest::Verdict::Continue);
+  // the same history at a floor: the best residual near this one
+  EXPECT_EQ(t.judge(iterate(2.7e-8, 2.8e-8, 2.9e-8, 1e-6, 1.0, 2.7e-8)), ConvergenceTest::Verdict::RoundingFloor);
+  // wandering within the band (9x the best) still stalls there
+  EXPECT_EQ(t.judge(iterate(9e-9, 8e-9, 9.5e-9, 1e-6, 1.0, 1e-9)), ConvergenceTest::Verdict::RoundingFloor);
+  // an update at rounding level ends the iteration wherever the residual is
+  EXPECT_EQ(t.judge(iterate(2.7e-8, 3.8e-10, 4.3e-11, 5e-14, 0.0, 4.3e-11)), ConvergenceTest::Verdict::RoundingFloor);
 }
