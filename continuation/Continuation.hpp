@@ -205,6 +205,10 @@ class Continuation {
   };
   std::vector<Unlocated> unlocated_;  // this step's points detected but not located
   RepeatedNotes unlocated_notes_;     // what is said of them, a run of the same at successive steps once
+  // folds and branch points the engine located (by the tangent or the determinant, not by the
+  // analysis's count) since the last analysed point of a step, and those before it: where that
+  // point's count is found wrong later, they are changes it missed that were located after all
+  std::vector<double> engine_located_pending_, engine_located_before_analysed_;
   // a resumed branch starts on a point located as this kind (its first step does not locate it again)
   std::optional<PointKind> start_on_;
   bool resumed_ = false;               // the branch continues from a stored point (resume)

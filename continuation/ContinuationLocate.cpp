@@ -3,6 +3,7 @@
 // the step's own in order along the branch: the locate-and-report part of a step (the trace loop,
 // the step and the start are in Continuation.cpp).
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <cmath>
@@ -206,12 +207,23 @@ void Continuation::locate_stability_change(BranchPoint& cur, BranchPoint& nxt, s
   // it within the step before. It is analysed again, and a count it had wrong is said, loudly: that
   // change is not located.
   const auto analyse_point = [this](BranchPoint& q) { analyse(q); };
-  if (const auto r = spectra_->recount(cur, nxt, analyse_point))
+  if (const auto r = spectra_->recount(cur, nxt, analyse_point)) {
+    // (a fold or branch point the engine located before that row is one of the changes missed)
+    const int change = std::abs(r->after - r->before);
+    const int found = std::min(change, static_cast<int>(engine_located_before_analysed_.size()));
+    std::string which = fmt::format("the change before row {} is not located", r->row);
+    if (found > 0) {
+      std::vector<std::string> at;
+      for (int k = 0; k < found; ++k)
+        at.push_back(fmt::format("{:.10g}", engine_located_before_analysed_[static_cast<size_t>(k)]));
+      which = fmt::format("{} of its {} changes before row {} not located (the engine located {} at {} = {})",
+                          change - found, change, r->row, found, options_.parameter, fmt::join(at, ", "));
+    }
     observer.on_note(fmt::format(
         "row {} has {} {}, not {}: the analysis there computed too few eigenvalues to see them (it now computes "
-        "{}); the change before row {} is not located (a smaller continuation.max_step or a larger "
-        "stability.count locates it)",
-        r->row, r->after, analysis_->count_name(), r->before, nxt.analysis_width, r->row));
+        "{}); {} (a smaller continuation.max_step or a larger stability.count locates it)",
+        r->row, r->after, analysis_->count_name(), r->before, nxt.analysis_width, which));
+  }
   const auto change = spectra_->change_at(cur, nxt, analyse_point);
   if (!change) return;
   if (!change->bracketed) {
@@ -367,6 +379,10 @@ std::optional<Continuation::Finish> Continuation::report_segment(const BranchPoi
     }
     spectra_->reported(nxt);
     branch_points_.reported(nxt);
+    if (nxt.analysed) {
+      engine_located_before_analysed_ = std::move(engine_located_pending_);
+      engine_located_pending_.clear();
+    }
     report(observer, nxt);
   };
   for (LocatedPoint& l : located) {
@@ -374,6 +390,9 @@ std::optional<Continuation::Finish> Continuation::report_segment(const BranchPoi
     if (l.end && step.land && !step.land->end && std::abs(l.point.s - nxt.s) <= near) report_next();
     l.point.index = next_index_++;
     l.point.save = true;
+    if (analysis_ && (l.point.kind == PointKind::BranchPoint || l.point.kind == PointKind::Fold) &&
+        l.point.label.find(analysis_->count_name()) == std::string::npos)
+      engine_located_pending_.push_back(l.point.lambda);
     report(observer, l.point);
     if (l.end) {
       const std::string why =
