@@ -35,9 +35,12 @@ int ParameterSet::index(const std::string& name) const {
 
 void ParameterSet::set(int i, double v) {
   const Parameter& p = params_.at(static_cast<size_t>(i));
-  if (!p.range().contains(v))
-    throw std::out_of_range(
-        fmt::format("parameter '{}' = {} outside its range: must be {}", p.name, v, p.range().describe()));
+  if (!p.range().contains(v)) {
+    // (a parameter fixed at one value says why)
+    const bool fixed = p.range().lo == p.range().hi;
+    throw std::out_of_range(fmt::format("parameter '{}' = {} outside its range: must be {}{}", p.name, v,
+                                        p.range().describe(), fixed ? " (" + p.doc + ")" : ""));
+  }
   values_[i] = v;
   params_[i].value = v;
   ++version_;

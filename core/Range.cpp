@@ -16,6 +16,7 @@ bool Range::contains(double v) const {
 std::string Range::describe() const {
   const bool has_lo = std::isfinite(lo), has_hi = std::isfinite(hi);
   if (!has_lo && !has_hi) return "any number";
+  if (lo == hi && !lo_open && !hi_open) return fmt::format("{}", lo);
   if (has_lo && !has_hi) return fmt::format("{} {}", lo_open ? ">" : ">=", lo);
   if (!has_lo && has_hi) return fmt::format("{} {}", hi_open ? "<" : "<=", hi);
   return fmt::format("in {}{}, {}{}", lo_open ? "(" : "[", lo, hi, hi_open ? ")" : "]");

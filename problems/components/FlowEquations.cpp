@@ -34,7 +34,9 @@ void FluidOptions::declare(SceneSchema& s, double default_beta, double default_W
   s.real("inflow.power_law_index", 0.5, "power-law profile: index n (u_max / u_mean = (2n + 1)/(n + 1))",
          Range::positive());
   s.section("parameters", "initial values of the named continuation parameters");
-  s.real("parameters.Re", 0.0, "Reynolds number (0: Stokes, the convective term is not assembled)",
+  s.real("parameters.Re", 0.0,
+         "Reynolds number (0: Stokes flow, the convective term not assembled, unless the run continues in Re; "
+         "the flow problem always assembles it)",
          Range::non_negative());
   s.real("parameters.Wi", default_Wi, "Weissenberg number", Range::positive());
   s.real("parameters.beta", default_beta, "viscosity ratio eta_s / eta0", Range{0.0, 1.0, true, false});
@@ -49,7 +51,8 @@ FluidOptions FluidOptions::from_scene(const Scene& sc) {
   o.dynamic_zz = law.dynamic_zz;
   o.b = law.b;
   o.Re = sc.real("parameters.Re");
-  o.inertia = o.Re > 0.0;
+  // a branch in Re from Re = 0 starts in Stokes flow and leaves it
+  o.inertia = o.Re > 0.0 || (sc.given("continuation.parameter") && sc.string("continuation.parameter") == "Re");
   o.Wi = sc.real("parameters.Wi");
   o.beta = sc.real("parameters.beta");
   o.kernel.model = o.model;
@@ -75,7 +78,14 @@ FlowEquations::FlowEquations(const Mesh& mesh, const std::string& group, FluidOp
                              FlowBoundaries boundaries, ParameterSet& params, int iGamma)
     : mesh_(&mesh), group_(group), options_(std::move(options)), boundaries_(std::move(boundaries)), params_(&params) {
   index_.Gamma = iGamma;
-  index_.Re = params.add("Re", options_.Re, "Reynolds number", 0.0);
+  // without the convective term Re stays 0: a run that sets it (a curve's second parameter) is refused
+  // instead of computing Stokes flow at every Re
+  index_.Re = options_.inertia
+                  ? params.add("Re", options_.Re, "Reynolds number", Range::non_negative())
+                  : params.add("Re", options_.Re,
+                               "Reynolds number; 0 in this run: Stokes flow, the convective term not assembled "
+                               "(parameters.Re > 0 or continuation.parameter = \"Re\" assembles it)",
+                               Range::between(0.0, 0.0));
   if (options_.Re > 0 && !options_.inertia) throw std::invalid_argument("Re > 0 needs the convective term");
   if (options_.viscoelastic()) {
     index_.Wi = params.add("Wi", options_.Wi, "Weissenberg number", Range::positive());

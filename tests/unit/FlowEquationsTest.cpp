@@ -3,8 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 
+#include "continuation/engine/ContinuationOptions.hpp"
 #include "core/Newton.hpp"
 #include "problems/channel/ChannelProblem.hpp"
 #include "problems/cylinder/CylinderProblem.hpp"
@@ -130,4 +132,47 @@ TEST(FlowEquations, NewtonConvergesFromTheStokesStart) {
   EXPECT_NEAR(p.drag(u), 118.83, 0.01 * 118.83);
   Vector v = profile;
   EXPECT_FALSE(NewtonSolver(p).solve(v).converged());
+}
+
+// parameters.Re = 0 builds Stokes flow without the convective term, unless the run continues in Re
+// (a branch in Re from Re = 0 computed Stokes flow at every Re before). Without the term, Re is
+// fixed at 0: a run that sets it anyway is refused, saying why, instead of computing Stokes flow.
+TEST(FlowEquations, ABranchInReFromStokesFlowAssemblesTheConvectiveTerm) {
+  auto options = [](const std::string& text) {
+    const std::string path = "/tmp/keller_flow_scene_re_test.toml";
+    {
+      std::ofstream f(path);
+      f << "[problem]\ntype = \"channel\"\n[parameters]\nRe = 0.0\n" << text;
+    }
+    // (the keys of a trace: the problem's and [continuation])
+    ChannelOptions o =
+        ChannelOptions::from_scene(load_scene(path, [](SceneSchema& s) { ContinuationOptions::declare(s); }).scene);
+    o.mesh = ChannelMeshSpec::preset("M1");
+    return o;
+  };
+  ChannelOptions stokes = options(""), branch = options("[continuation]\nparameter = \"Re\"\n");
+  EXPECT_FALSE(stokes.fluid.inertia);
+  EXPECT_TRUE(branch.fluid.inertia);
+
+  ChannelProblem fixed(stokes), varied(branch);
+  const int re = fixed.parameters().index("Re");
+  try {
+    fixed.parameters().set(re, 10.0);
+    ADD_FAILURE() << "Re = 10 accepted without the convective term";
+  } catch (const std::out_of_range& e) {
+    EXPECT_NE(std::string(e.what()).find("parameter 'Re' = 10 outside its range: must be 0 (Reynolds number; 0 in "
+                                         "this run: Stokes flow, the convective term not assembled"),
+              std::string::npos)
+        << e.what();
+  }
+  // the same Stokes residual at Re = 0; at Re = 10 the convective term, (u . grad) u, not zero on a
+  // state that is not parallel flow (the fully developed start perturbed)
+  std::srand(7);
+  Vector u = varied.initial_guess() + 0.1 * Vector::Random(varied.size()), F0, F1, Fs;
+  ASSERT_TRUE(fixed.residual(u, Fs).is_ok());
+  ASSERT_TRUE(varied.residual(u, F0).is_ok());
+  EXPECT_LE((F0 - Fs).lpNorm<Eigen::Infinity>(), 1e-14 * (1.0 + Fs.lpNorm<Eigen::Infinity>()));
+  varied.parameters().set(varied.parameters().index("Re"), 10.0);
+  ASSERT_TRUE(varied.residual(u, F1).is_ok());
+  EXPECT_GT((F1 - F0).lpNorm<Eigen::Infinity>(), 1e-3 * (1.0 + F0.lpNorm<Eigen::Infinity>()));
 }
