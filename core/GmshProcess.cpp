@@ -11,6 +11,8 @@
 #include <cstdio>
 #include <iostream>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 #include "core/MeshFileError.hpp"
 
@@ -54,8 +56,32 @@ std::size_t data_in_use() {
   return read == 6 ? pages[5] * static_cast<std::size_t>(::sysconf(_SC_PAGESIZE)) : 0;
 }
 
-// In the child: no output to keller's terminal, none of keller's files, then the work.
-[[noreturn]] void child(int answer_fd, std::size_t memory_limit, const std::function<std::string()>& work) {
+// What Gmsh printed before the child ended without an answer: its last few error lines, or "".
+std::string gmsh_errors(int log_fd) {
+  if (log_fd < 0 || ::lseek(log_fd, 0, SEEK_SET) != 0) return "";
+  const std::string log = read_all(log_fd);
+  std::vector<std::string> errors;
+  std::size_t start = 0;
+  while (start < log.size()) {
+    std::size_t end = log.find('\n', start);
+    if (end == std::string::npos) end = log.size();
+    const std::string line = log.substr(start, end - start);
+    if (line.rfind("Error", 0) == 0) {
+      const std::size_t colon = line.find(':');
+      errors.push_back(colon == std::string::npos ? line : line.substr(line.find_first_not_of(' ', colon + 1)));
+    }
+    start = end + 1;
+  }
+  constexpr std::size_t kShown = 5;
+  std::string text;
+  for (std::size_t i = errors.size() > kShown ? errors.size() - kShown : 0; i < errors.size(); ++i)
+    text += "\n  " + errors[i];
+  return text;
+}
+
+// In the child: no output to keller's terminal (Gmsh's goes to the log file), none of keller's
+// files, then the work.
+[[noreturn]] void child(int answer_fd, int log_fd, std::size_t memory_limit, const std::function<std::string()>& work) {
   std::signal(SIGINT, SIG_DFL);
   std::signal(SIGTERM, SIG_DFL);
   if (memory_limit > 0) {  // on top of what the child has from keller already
@@ -63,10 +89,10 @@ std::size_t data_in_use() {
     ::setrlimit(RLIMIT_DATA, &limit);
   }
   if (answer_fd != 3) ::dup2(answer_fd, 3);
-  const int null = ::open("/dev/null", O_RDWR);
-  if (null >= 0) {
-    ::dup2(null, STDOUT_FILENO);
-    ::dup2(null, STDERR_FILENO);
+  const int out = log_fd >= 0 ? log_fd : ::open("/dev/null", O_RDWR);
+  if (out >= 0) {
+    ::dup2(out, STDOUT_FILENO);
+    ::dup2(out, STDERR_FILENO);
   }
   ::close_range(4, ~0U, 0);
   std::string message;
@@ -91,6 +117,11 @@ std::string run_gmsh_child(const std::string& file, const std::string& what, std
   int fds[2];
   if (::pipe(fds) != 0)
     throw MeshFileError(fmt::format("{}: cannot start Gmsh (pipe: {})", file, std::strerror(errno)));
+  // what Gmsh prints, for the message where it stops without an answer (an unlinked file: nothing
+  // is left behind, and no pipe fills up while the answer is read)
+  char log_name[] = "/tmp/keller-gmsh-XXXXXX";
+  const int log_fd = ::mkstemp(log_name);
+  if (log_fd >= 0) ::unlink(log_name);
   std::cout.flush();  // what the child inherits unwritten would be written twice if Gmsh calls exit
   std::cerr.flush();
   std::fflush(nullptr);
@@ -98,11 +129,12 @@ std::string run_gmsh_child(const std::string& file, const std::string& what, std
   if (pid < 0) {
     ::close(fds[0]);
     ::close(fds[1]);
+    if (log_fd >= 0) ::close(log_fd);
     throw MeshFileError(fmt::format("{}: cannot start Gmsh (fork: {})", file, std::strerror(errno)));
   }
   if (pid == 0) {
     ::close(fds[0]);
-    child(fds[1], memory_limit, work);
+    child(fds[1], log_fd, memory_limit, work);
   }
   ::close(fds[1]);
   const std::string answer = read_all(fds[0]);
@@ -110,10 +142,14 @@ std::string run_gmsh_child(const std::string& file, const std::string& what, std
   int status = 0;
   while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
   }
+  const std::string said = answer.empty() || (answer[0] != kAnswer && answer[0] != kError) ? gmsh_errors(log_fd) : "";
+  if (log_fd >= 0) ::close(log_fd);
   if (!answer.empty() && answer[0] == kAnswer) return answer.substr(1);
   if (!answer.empty() && answer[0] == kError) throw MeshFileError(answer.substr(1));
   if (WIFSIGNALED(status) && (WTERMSIG(status) == SIGINT || WTERMSIG(status) == SIGTERM))
     throw MeshFileError(fmt::format("{}: Gmsh was interrupted while {} it", file, what));
+  // (a .geo that stops itself, Error(...) then Abort, says why in Gmsh's own error lines)
+  if (!said.empty()) throw MeshFileError(fmt::format("{}: Gmsh stopped while {} it, with errors:{}", file, what, said));
   if (WIFSIGNALED(status)) {
     throw MeshFileError(
         fmt::format("{}: Gmsh crashed while {} it (signal {}, {}): the file is damaged or not one Gmsh "

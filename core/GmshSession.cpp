@@ -39,7 +39,8 @@ class TemporaryFolder {
 
 GmshSession::GmshSession(std::string file) : api_(GmshApi::get(file)), file_(std::move(file)) {
   api_.initialize();
-  api_.set_option("General.Terminal", 0);
+  // (printed to the Gmsh child's log, which says why where a file stops Gmsh itself: Abort)
+  api_.set_option("General.Terminal", 1);
   api_.set_option("General.AbortOnError", 0);
   api_.logger_start();
 }

@@ -264,6 +264,20 @@ TEST_F(GmshMeshTest, FileThatCrashesGmshIsRefused) {
   EXPECT_NEAR(area(read_gmsh_mesh(write_file(path("rectangle.geo"), kRectangleGeo))), 3.0, 1e-13);
 }
 
+// A .geo that stops itself (a parameter out of its range: Error, then Abort) ends Gmsh with
+// SIGABRT; the refusal says Gmsh's own error line, not that Gmsh crashed on a damaged file.
+TEST_F(GmshMeshTest, AGeoThatStopsItselfIsRefusedWithItsOwnMessage) {
+  const std::string file =
+      write_file(path("ratio.geo"),
+                 "DefineConstant[ ratio = 4 ];\n"
+                 "If (ratio <= 1)\n  Error(\"the contraction ratio must be above 1, not %g\", ratio);\n"
+                 "  Abort;\nEndIf\n");
+  const std::string message = refusal(file, GmshOptions{.geo_parameters = {{"ratio", 0.5}}});
+  EXPECT_EQ(message.rfind(file + ": Gmsh stopped while reading it, with errors:\n  ", 0), 0u) << message;
+  EXPECT_NE(message.find("the contraction ratio must be above 1, not 0.5"), std::string::npos) << message;
+  EXPECT_EQ(message.find("crashed"), std::string::npos) << message;
+}
+
 // A damaged node count: Gmsh would take 4.7 GB of memory for 5 s (measured, without a limit) before
 // it finds the file short. The child's data is capped from the file's size (2 GB + 1000 bytes per
 // byte), so it stops at once; no child of this test process ever needed 1 GB.
