@@ -163,3 +163,34 @@ TEST(Corrector, ALocatedPointIsRetriedOnceOnAFreshFactorisation) {
     }
   }
 }
+
+// A located point's prediction may already be on the branch (the cubic through two converged
+// neighbours; next to a branch point, where J is nearly singular, iterating only adds rounding
+// along its null vector). Here the prediction is the solution at lambda = 0 to 1e-13, and the
+// chord on the factorisation kept from lambda = -0.9999 multiplies its residual by 9999: the
+// located point is the prediction, unchanged, after that one iteration and with no second
+// factorisation. A step iterates from its prediction as before (and diverges).
+TEST(Corrector, ALocatedPredictionAlreadyOnTheBranchIsThePoint) {
+  for (const Corrector::Kind kind : {Corrector::Kind::Step, Corrector::Kind::Located}) {
+    const bool located = kind == Corrector::Kind::Located;
+    SCOPED_TRACE(located ? "located" : "step");
+    ScaledLinear problem(3);
+    EngineParts parts(problem, chord_options());
+    ASSERT_TRUE(
+        parts.kept.factorise_at(parts.ev, exact_scaled(3, -0.9999), -0.9999, Constraint::parameter(-0.9999)).is_ok());
+    const Vector prediction = exact_scaled(3, 0.0) * (1.0 + 1e-13);
+    Vector u = prediction;
+    double lambda = 0.0;
+    const CorrectorResult r = parts.corrector.correct(u, lambda, Constraint::parameter(0.0), kind);
+    if (located) {
+      ASSERT_TRUE(r.status.is_ok()) << r.status.describe();
+      EXPECT_EQ(r.iterations, 1);
+      EXPECT_EQ(parts.kept.count(), 1);
+      EXPECT_EQ(lambda, 0.0);
+      for (int i = 0; i < 3; ++i) EXPECT_EQ(u[i], prediction[i]);
+      EXPECT_LE(r.residual, 1e-12);
+    } else {
+      EXPECT_EQ(r.status.code(), StatusCode::Diverged);
+    }
+  }
+}
