@@ -17,20 +17,13 @@
 #include "support/TestSupport.hpp"
 
 using namespace keller;
+using keller::test::rows_of_kind;
 namespace fs = std::filesystem;
 
 namespace {
 
 const std::string kScene = "runs/scenes/bratu1d_shifted_fold_curve.toml";
 const std::string kSmall = " --set bratu.intervals=64";
-
-std::vector<long> rows_of_kind(const BranchTable& t, PointKind k) {
-  std::vector<long> out;
-  const int kind = t.column("kind");
-  for (long i = 0; i < t.rows.rows(); ++i)
-    if (static_cast<int>(t.rows(i, kind)) == static_cast<int>(k)) out.push_back(i);
-  return out;
-}
 
 // The fold's lambda on the ordinary lambda branch of the scene at mu.
 double fold_of_branch(const std::string& dir, double mu) {

@@ -21,17 +21,10 @@
 #include "support/TestSupport.hpp"
 
 using namespace keller;
+using keller::test::rows_of_kind;
 namespace fs = std::filesystem;
 
 namespace {
-
-std::vector<long> rows_of_kind(const BranchTable& t, PointKind k) {
-  std::vector<long> out;
-  const int kind = t.column("kind");
-  for (long i = 0; i < t.rows.rows(); ++i)
-    if (static_cast<int>(t.rows(i, kind)) == static_cast<int>(k)) out.push_back(i);
-  return out;
-}
 
 // A 1D dataset as a vector.
 Vector read_state(const H5File& f, const std::string& dataset) {

@@ -205,4 +205,12 @@ std::vector<std::map<std::string, std::string>> read_table(const std::string& cs
   return rows;
 }
 
+std::vector<long> rows_of_kind(const BranchTable& t, PointKind k) {
+  std::vector<long> out;
+  const int kind = t.column("kind");
+  for (long i = 0; i < t.rows.rows(); ++i)
+    if (static_cast<int>(t.rows(i, kind)) == static_cast<int>(k)) out.push_back(i);
+  return out;
+}
+
 }  // namespace keller::test

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "continuation/output/BranchFile.hpp"
 #include "core/Mesh.hpp"
 #include "core/Problem.hpp"
 #include "core/Term.hpp"
@@ -50,5 +51,7 @@ std::string file_contents(const std::string& path);
 std::string scratch_dir(const std::string& name);
 // A CSV file with a header line (a study's collected table) as rows of named cells.
 std::vector<std::map<std::string, std::string>> read_table(const std::string& csv);
+// The rows of a stored branch table whose kind is k.
+std::vector<long> rows_of_kind(const BranchTable& t, PointKind k);
 
 }  // namespace keller::test
