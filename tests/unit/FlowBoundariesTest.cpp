@@ -2,7 +2,7 @@
 // the Poiseuille parabola and the Couette line exactly and P1disc the linear pressure, so these
 // come out to rounding (1e-11 on unit-sized values) in any orientation; Oldroyd-B channel flow is
 // not exact on the mesh, but the discrete problem is rotation covariant, so the rotated solution
-// is the rotation of the unrotated one to rounding. Every refusal names the boundary.
+// is the rotation of the unrotated one to rounding. (The refusals: FlowBoundaryRefusalTest.cpp.)
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -20,30 +20,13 @@
 #include "core/ReferenceElement.hpp"
 #include "problems/components/Composition.hpp"
 #include "problems/components/FlowEquations.hpp"
+#include "support/FlowChannelMeshes.hpp"
 #include "support/TestSupport.hpp"
 
 using namespace keller;
+using namespace keller::test;
 
 namespace {
-
-using Map = std::function<Mesh::Point(double, double)>;  // local channel coordinates (x', y') -> (x, y)
-
-Map rotation(double degrees) {
-  if (degrees == 0) return [](double x, double y) { return Mesh::Point{x, y}; };
-  if (degrees == 90) return [](double x, double y) { return Mesh::Point{-y, x}; };
-  if (degrees == 180) return [](double x, double y) { return Mesh::Point{-x, -y}; };
-  const double a = degrees * std::numbers::pi / 180, c = std::cos(a), s = std::sin(a);
-  return [c, s](double x, double y) { return Mesh::Point{c * x - s * y, s * x + c * y}; };
-}
-
-// The channel 0 <= x' <= L, 0 <= y' <= H, placed by `map`; sides bottom, outflow, top, inflow.
-Mesh channel(double L, double H, int nx, int ny, const Map& map,
-             std::array<std::string, 4> names = {"bottom", "outflow", "top", "inflow"}) {
-  BlockMeshBuilder b;
-  b.add_block(
-      {"channel", "fluid", nx, ny, Grading{}, Grading{}, [=](double s, double t) { return map(L * s, H * t); }, names});
-  return b.build();
-}
 
 // Steady flow of FlowEquations alone on a mesh, velocity scale 1.
 class FlowOnMesh final : public AssembledProblem {
@@ -116,14 +99,6 @@ class FlowOnMesh final : public AssembledProblem {
   std::unique_ptr<DofMap> dofs_;
   std::shared_ptr<DirichletTerm> dirichlet_;
 };
-
-FlowBoundaries channel_bc(bool fully_developed_outflow) {
-  FlowBoundaries bc;
-  bc.inflows = {{"inflow"}};
-  bc.outflows = {{"outflow", fully_developed_outflow}};
-  bc.walls = {"bottom", "top"};
-  return bc;
-}
 
 // Newtonian Poiseuille flow of mean velocity 1 in the channel [lo, hi] across y' = x . e2, flowing
 // along e1 = map's x' direction, with P = G (x'_0 - x'), G = 12 / (hi - lo)^2: max errors.
@@ -438,90 +413,4 @@ TEST(FlowBoundaries, SeveralInflowsAndOutflowsConserveMass) {
   std::cout << "cross: flow rates west " << west << " south " << south << " east " << east << " north " << north
             << ", sum " << west + south + east + north << "\n";
   EXPECT_NEAR(west + south + east + north, 0.0, 1e-12);
-}
-
-namespace {
-
-std::string refusal(const Mesh& mesh, const FlowBoundaries& bc) {
-  ParameterSet params;
-  try {
-    FlowEquations flow(mesh, "fluid", FluidOptions{}, bc, params, -1);
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  return "";
-}
-
-}  // namespace
-
-TEST(FlowBoundaries, RefusesConditionsTheMeshCannotCarry) {
-  const Mesh straight = channel(3, 1, 3, 2, rotation(0)), tilted = channel(3, 1, 3, 2, rotation(30));
-  auto has = [](const std::string& message, const std::string& part) {
-    EXPECT_NE(message.find(part), std::string::npos) << "message: '" << message << "'\nexpected: '" << part << "'";
-  };
-  {  // a boundary the mesh lacks
-    FlowBoundaries bc = channel_bc(true);
-    bc.walls.push_back("nozzle");
-    has(refusal(straight, bc),
-        "the mesh has no boundary 'nozzle' (given a wall condition); its boundaries: bottom, "
-        "inflow, outflow, top");
-  }
-  {  // named twice
-    FlowBoundaries bc = channel_bc(true);
-    bc.symmetry = {"top"};
-    has(refusal(straight, bc), "boundary 'top' has two conditions (wall and symmetry)");
-  }
-  {  // a curved inlet
-    BlockMeshBuilder b;
-    b.add_block({"c",
-                 "fluid",
-                 3,
-                 2,
-                 Grading{},
-                 Grading{},
-                 [](double s, double t) {
-                   return Mesh::Point{3 * s + 0.1 * std::sin(std::numbers::pi * t) * (1 - s), t};
-                 },
-                 {"bottom", "outflow", "top", "inflow"}});
-    has(refusal(b.build(), channel_bc(true)), "fully developed inflow 'inflow': the boundary is not straight");
-  }
-  {  // two inlets under one name
-    BlockMeshBuilder b;
-    for (double y0 : {0.0, 2.0})
-      b.add_block({y0 == 0 ? "lower" : "upper",
-                   "fluid",
-                   2,
-                   1,
-                   Grading{},
-                   Grading{},
-                   [=](double s, double t) {
-                     return Mesh::Point{2 * s, y0 + t};
-                   },
-                   {"bottom", "outflow", "top", "inflow"}});
-    has(refusal(b.build(), channel_bc(true)), "fully developed inflow 'inflow': the boundary is not a single segment");
-  }
-  {  // both ends of the inlet on symmetry lines
-    FlowBoundaries bc = channel_bc(true);
-    bc.walls = {};
-    bc.symmetry = {"bottom", "top"};
-    has(refusal(straight, bc), "fully developed inflow 'inflow': both its ends lie on symmetry lines");
-  }
-  {  // a sloped symmetry line
-    FlowBoundaries bc = channel_bc(false);
-    bc.walls = {"top"};
-    bc.symmetry = {"bottom"};
-    has(refusal(tilted, bc), "symmetry line 'bottom': its edge from");
-    has(refusal(tilted, bc), "runs along neither x nor y; keller's velocity unknowns are v_x and v_y");
-  }
-  {  // a sloped fully developed outflow
-    has(refusal(tilted, channel_bc(true)), "fully developed outflow 'outflow': its edge from");
-  }
-  {  // a fully developed inflow of zero mean velocity
-    FlowBoundaries bc = channel_bc(true);
-    bc.inflows[0].mean_velocity = 0;
-    has(refusal(straight, bc),
-        "inflow 'inflow': the mean velocity of a fully developed inflow must be finite and "
-        "non-zero (got 0)");
-  }
-  EXPECT_EQ(refusal(tilted, channel_bc(false)), "");  // a traction-free outflow may face any way
 }
