@@ -9,6 +9,7 @@
 #include <cerrno>
 #include <csignal>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <stdexcept>
 #include <string>
@@ -119,9 +120,11 @@ std::string run_gmsh_child(const std::string& file, const std::string& what, std
     throw MeshFileError(fmt::format("{}: cannot start Gmsh (pipe: {})", file, std::strerror(errno)));
   // what Gmsh prints, for the message where it stops without an answer (an unlinked file: nothing
   // is left behind, and no pipe fills up while the answer is read)
-  char log_name[] = "/tmp/keller-gmsh-XXXXXX";
-  const int log_fd = ::mkstemp(log_name);
-  if (log_fd >= 0) ::unlink(log_name);
+  // (in the system's temporary folder: TMPDIR where set)
+  std::error_code ec;
+  std::string log_name = (std::filesystem::temp_directory_path(ec) / "keller-gmsh-XXXXXX").string();
+  const int log_fd = ec ? -1 : ::mkstemp(log_name.data());
+  if (log_fd >= 0) ::unlink(log_name.c_str());
   std::cout.flush();  // what the child inherits unwritten would be written twice if Gmsh calls exit
   std::cerr.flush();
   std::fflush(nullptr);
