@@ -1,0 +1,37 @@
+// The fluid of a flow problem as its scene gives it: the constitutive law and formulation, Re,
+// Wi, beta (and FENE-P's b), the stabilisation and the inflow profile; their scene keys, declared
+// and read in one place for every problem with a fluid.
+#pragma once
+
+#include "core/Scene.hpp"
+#include "problems/kernels/ViscoelasticFlowKernel.hpp"
+#include "problems/laws/ConstitutiveLaw.hpp"
+#include "problems/laws/InflowProfile.hpp"
+
+namespace keller {
+
+struct FluidOptions {
+  FluidModel model = FluidModel::Newtonian;
+  bool log_conformation = false;
+  bool dynamic_zz = false;  // FENE-P: M_zz as an unknown (needed for time-dependent forms)
+  double Re = 0.0;
+  double Wi = 0.1;
+  double beta = 0.001 / 0.198;
+  double b = 100.0;
+  bool inertia = false;
+  ViscoelasticKernelOptions kernel;
+  ProfileKind profile = ProfileKind::Parabolic;
+  double power_index = 0.5;
+
+  bool viscoelastic() const { return model != FluidModel::Newtonian; }
+  int conformation_components() const { return model == FluidModel::FeneP && dynamic_zz ? 4 : 3; }
+
+  // Keys of [fluid], [inflow] and the fluid's entries of [parameters], with problem-specific
+  // defaults for beta and Wi.
+  static void declare(SceneSchema& schema, double default_beta, double default_Wi);
+  // Throws SceneError for keys that the chosen fluid does not use (b for a model other than
+  // FENE-P, Wi or a formulation for a Newtonian fluid).
+  static FluidOptions from_scene(const Scene& scene);
+};
+
+}  // namespace keller
