@@ -46,6 +46,12 @@ Vector exact_scaled(int n, double lambda) {
   return u;
 }
 
+// A factorisation kept from lambda = -0.9999, where the chord at lambda = 0 multiplies the residual
+// by 9999.
+Status kept_far_away(EngineParts& parts) {
+  return parts.kept.factorise_at(parts.ev, exact_scaled(3, -0.9999), -0.9999, Constraint::parameter(-0.9999));
+}
+
 }  // namespace
 
 // Newton from (3, 3) at lambda = 4 (solution (2, 2 sqrt 2)): the corrector stopped after k
@@ -142,8 +148,7 @@ TEST(Corrector, ALocatedPointIsRetriedOnceOnAFreshFactorisation) {
     SCOPED_TRACE(located ? "located" : "step");
     ScaledLinear problem(3);
     EngineParts parts(problem, chord_options());
-    ASSERT_TRUE(
-        parts.kept.factorise_at(parts.ev, exact_scaled(3, -0.9999), -0.9999, Constraint::parameter(-0.9999)).is_ok());
+    ASSERT_TRUE(kept_far_away(parts).is_ok());
     Vector u = exact_scaled(3, 0.0) * 1.1;
     double lambda = 0.0;
     const CorrectorResult r = parts.corrector.correct(u, lambda, Constraint::parameter(0.0), kind);
@@ -176,8 +181,7 @@ TEST(Corrector, ALocatedPredictionAlreadyOnTheBranchIsThePoint) {
     SCOPED_TRACE(located ? "located" : "step");
     ScaledLinear problem(3);
     EngineParts parts(problem, chord_options());
-    ASSERT_TRUE(
-        parts.kept.factorise_at(parts.ev, exact_scaled(3, -0.9999), -0.9999, Constraint::parameter(-0.9999)).is_ok());
+    ASSERT_TRUE(kept_far_away(parts).is_ok());
     const Vector prediction = exact_scaled(3, 0.0) * (1.0 + 1e-13);
     Vector u = prediction;
     double lambda = 0.0;
