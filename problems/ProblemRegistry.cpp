@@ -14,7 +14,7 @@
 #include "problems/channel/WallProblem.hpp"
 #include "problems/cylinder/CylinderProblem.hpp"
 #include "problems/flow/FlowProblem.hpp"
-#include "problems/rheometry/SteadyShearProblem.hpp"
+#include "problems/rheometry/RheometryProblem.hpp"
 
 namespace keller {
 
@@ -31,6 +31,11 @@ constexpr double kBratu2DElementBytes = 4e3;       // bratu2d on 300 x 300: 430 
 constexpr double kIntervalBytes = 100.0;           // bratu1d on 10^6 intervals: 147 MB
 
 // The key that sets a channel mesh's size: its preset, or the largest of the explicit counts.
+template <HomogeneousFlow F>
+std::unique_ptr<Problem> rheometry(const Scene& s) {
+  return std::make_unique<RheometryProblem>(RheometryOptions::from_scene(s, F));
+}
+
 std::string channel_size_key(const Scene& s) {
   if (s.string("mesh.name") != "custom") return "mesh.name";
   std::string key = "mesh.nx_upstream";
@@ -125,8 +130,13 @@ const std::vector<ProblemType>& problem_types() {
          return std::make_unique<WallProblem>(WallOptions::from_scene(s));
        }},
       {"steady-shear",
-       "steady homogeneous simple shear of a viscoelastic law: its steady-shear viscosity against the shear rate",
-       SteadyShearOptions::declare, SteadyShearProblem::from_scene},
+       "steady homogeneous simple shear of a viscoelastic law: its viscosity and normal stresses against the rate",
+       RheometryOptions::declare, rheometry<HomogeneousFlow::Shear>},
+      {"planar-extension", "steady planar extension of a viscoelastic law: its extensional viscosity against the rate",
+       RheometryOptions::declare, rheometry<HomogeneousFlow::PlanarExtension>},
+      {"uniaxial-extension",
+       "steady uniaxial extension of a viscoelastic law: its extensional viscosity against the rate",
+       RheometryOptions::declare, rheometry<HomogeneousFlow::UniaxialExtension>},
       {"bratu1d", "1D Bratu problem by central differences (test problem)", Bratu1DProblem::declare,
        Bratu1DProblem::from_scene},
       {"bratu1d-shifted", "1D Bratu problem with a linear term mu u (test problem: fold curves)",

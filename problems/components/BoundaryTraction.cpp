@@ -23,7 +23,7 @@ bool BoundaryTraction::evaluate(const Vector& u, const ParameterSet& params, con
   const double* p = params.values();
   const double beta = ve ? solvent_viscosity(index_, p) : 1.0;
   const double modulus = ve ? polymer_modulus(index_, p) : 0.0;
-  const double b = index_.b >= 0 ? p[index_.b] : 0.0;
+  const LawConstants<double> law = law_constants(index_.law, p);
   const ref::Tables& tb = ref::tables();
   auto gather = [&](int f, int n, double* v) {
     int d[36];
@@ -67,11 +67,7 @@ bool BoundaryTraction::evaluate(const Vector& u, const ParameterSet& params, con
         const Sym2<double> E = sym_exp(Sym2<double>{m[0], m[1], m[2]});
         M = {E.xx, E.xy, E.yy, nc == 4 ? std::exp(m[3]) : 1.0};
       }
-      // the Peterlin factor is FENE-P's; the others' 1 is a constant here, which keeps the
-      // cylinder's surface drag of Oldroyd-B to the last digit it had before this was shared
-      const Conformation<double> tp = fluid_.model == FluidModel::FeneP
-                                          ? polymer_stress(M, peterlin(fluid_.model, nc == 4, M, b), modulus)
-                                          : polymer_stress(M, 1.0, modulus);
+      const Conformation<double> tp = polymer_stress(M, relaxation(fluid_.model, nc == 4, M, law), modulus);
       t.sxx += tp.xx;
       t.sxy += tp.xy;
       t.syy += tp.yy;

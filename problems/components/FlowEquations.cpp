@@ -15,7 +15,9 @@
 #include "problems/kernels/NewtonianFlowKernel.hpp"
 #include "problems/kernels/OutflowTractionKernel.hpp"
 #include "problems/kernels/TractionKernel.hpp"
+#include "problems/laws/LawKeys.hpp"
 #include "problems/laws/LogConformation.hpp"
+#include "problems/laws/SteadyFlows.hpp"
 
 namespace keller {
 
@@ -35,8 +37,7 @@ FlowEquations::FlowEquations(const Mesh& mesh, const std::string& group, FluidOp
   if (options_.viscoelastic()) {
     index_.Wi = params.add("Wi", options_.Wi, "Weissenberg number", Range::positive());
     index_.beta = params.add("beta", options_.beta, "viscosity ratio eta_s / eta0", Range{0.0, 1.0, true, false});
-    if (options_.model == FluidModel::FeneP)
-      index_.b = params.add("b", options_.b, "FENE-P extensibility", Range::above(1.0));
+    index_.law = add_law_parameters(params, options_.model, options_.log_conformation, options_.constants);
   }
   elements_ = mesh.elements_in_group(mesh.group_index(group));
   geometry_.resize(elements_.size());
@@ -86,14 +87,13 @@ std::function<double(double)> FlowEquations::viscosity(const ParameterSet& p) co
   const FluidModel model = options_.model;
   const double Gamma = index_.Gamma >= 0 ? p.value(index_.Gamma) : 1.0;
   const double Wi = index_.Wi >= 0 ? p.value(index_.Wi) : 0.0, beta = index_.beta >= 0 ? p.value(index_.beta) : 1.0;
-  const double b = index_.b >= 0 ? p.value(index_.b) : 0.0;
+  const LawConstants<double> law = law_constants(index_.law, p.values());
   const OwensParameters owens = options_.kernel.owens;
-  return [=](double gdot) { return shear_viscosity(model, gdot, Wi, Gamma, beta, b, owens); };
+  return [=](double gdot) { return shear_viscosity(model, gdot, Wi, Gamma, beta, law, owens); };
 }
 
-std::array<double, 4> FlowEquations::steady_state(double W, double b) const {
-  const FluidModel m = options_.model == FluidModel::FeneP ? FluidModel::FeneP : FluidModel::OldroydB;
-  const SteadyConformation s = steady_shear(m, W, b);
+std::array<double, 4> FlowEquations::steady_state(double W, const LawConstants<double>& law) const {
+  const SteadyConformation s = steady_shear(options_.model, W, law);
   if (!options_.log_conformation) return {s.xx, s.xy, s.yy, s.zz};
   const Sym2<double> l = sym_log({s.xx, s.xy, s.yy});
   return {l.xx, l.xy, l.yy, std::log(s.zz)};
@@ -106,7 +106,8 @@ const FlowEquations::InflowValues& FlowEquations::inflow_values(const ParameterS
   InflowValues iv;
   const double U = index_.Gamma >= 0 ? p.value(index_.Gamma) : 1.0;
   const bool ve = options_.viscoelastic();
-  const double lambda = ve ? p.value(index_.Wi) / U : 0.0, b = index_.b >= 0 ? p.value(index_.b) : 0.0;
+  const double lambda = ve ? p.value(index_.Wi) / U : 0.0;
+  const LawConstants<double> b = law_constants(index_.law, p.values());
   for (size_t k = 0; k < inflows_.size(); ++k) {
     const InflowCondition& c = boundaries_.inflows[k];
     const Inflow& in = inflows_[k];
@@ -275,7 +276,8 @@ void FlowEquations::initial_guess(Vector& u) const {
   const bool ve = options_.viscoelastic();
   const int fl = ve ? dofs.field_index("gradient") : -1, fm = ve ? dofs.field_index("conformation") : -1;
   const double U = velocity_scale();
-  const double lambda = ve ? params_->value(index_.Wi) / U : 0.0, b = index_.b >= 0 ? params_->value(index_.b) : 0.0;
+  const double lambda = ve ? params_->value(index_.Wi) / U : 0.0;
+  const LawConstants<double> b = law_constants(index_.law, params_->values());
   for (size_t k = 0; k < nodes.size(); ++k) {
     const int n = nodes[k];
     u[dofs.node_dof(fv, n, 0)] = sign * vel[k] * in.frame.normal[0];
@@ -296,7 +298,7 @@ void FlowEquations::rest_state(Vector& u) const {
   const int fv = dofs.field_index("velocity");
   const bool ve = options_.viscoelastic();
   const int fl = ve ? dofs.field_index("gradient") : -1, fm = ve ? dofs.field_index("conformation") : -1;
-  const auto relaxed = ve ? steady_state(0.0, index_.b >= 0 ? params_->value(index_.b) : 0.0) : std::array<double, 4>{};
+  const auto relaxed = ve ? steady_state(0.0, law_constants(index_.law, params_->values())) : std::array<double, 4>{};
   for (int n = 0; n < mesh_->num_nodes(); ++n) {
     if (dofs.node_dof(fv, n, 0) < 0) continue;
     for (int c = 0; c < 2; ++c) u[dofs.node_dof(fv, n, c)] = 0.0;
@@ -327,7 +329,7 @@ std::array<double, 3> FlowEquations::node_eigenvalues(const Vector& u, int n) co
   const DofMap& dofs = *dofs_;
   const int fm = dofs.field_index("conformation");
   const int nc = options_.conformation_components();
-  const double b = index_.b >= 0 ? params_->value(index_.b) : 0.0;
+  const double b = law_constants(index_.law, params_->values()).b;
   double c[4] = {0, 0, 0, 0};
   for (int k = 0; k < nc; ++k) c[k] = u[dofs.node_dof(fm, n, k)];
   double xx = c[0], xy = c[1], yy = c[2], zz = 1.0;

@@ -103,13 +103,15 @@ class FlowEquations final : public Component {
   // Extra output fields: the eigenvalues, and M itself in the log formulation.
   void add_fields(const Vector& u, SolutionFields& out) const;
 
+  // The fluid's steady shear viscosity eta(gdot) / eta0 at the parameters p (SteadyFlows.hpp).
+  std::function<double(double)> viscosity(const ParameterSet& p) const;
+
  private:
   // m1 <= m2 <= m3 at conformation node n.
   std::array<double, 3> node_eigenvalues(const Vector& u, int n) const;
   template <bool Moving>
   void add_kernels(const DofMap& dofs);
-  std::array<double, 4> steady_state(double W, double b) const;
-  std::function<double(double)> viscosity(const ParameterSet& p) const;
+  std::array<double, 4> steady_state(double W, const LawConstants<double>& law) const;
 
   const Mesh* mesh_;
   std::string group_;

@@ -6,7 +6,9 @@ namespace keller {
 
 void FluidOptions::declare(SceneSchema& s, double default_beta, double default_Wi) {
   s.section("fluid", "the fluid and which physics is on");
-  LawKeys::declare(s, {"newtonian", "oldroyd-b", "fene-p", "owens"}, "newtonian");
+  LawKeys::declare(
+      s, {"newtonian", "oldroyd-b", "fene-p", "owens", "giesekus", "ptt-linear", "ptt-exponential", "fene-cr"},
+      "newtonian");
   s.real("fluid.devss", -1.0, "DEVSS viscosity beta_a (negative: 1 - beta)");
   s.string("fluid.supg", "local", "SUPG time scale: local h/|v| or global h_c/v_c", {"local", "global"});
   s.real("fluid.supg_scale", 1.0, "factor on the SUPG time scale", Range::non_negative());
@@ -24,7 +26,7 @@ void FluidOptions::declare(SceneSchema& s, double default_beta, double default_W
          Range::non_negative());
   s.real("parameters.Wi", default_Wi, "Weissenberg number", Range::positive());
   s.real("parameters.beta", default_beta, "viscosity ratio eta_s / eta0", Range{0.0, 1.0, true, false});
-  s.real("parameters.b", 100.0, "FENE-P extensibility (tr M < 3b)", Range::above(1.0));
+  LawKeys::declare_constants(s);
 }
 
 FluidOptions FluidOptions::from_scene(const Scene& sc) {
@@ -33,7 +35,8 @@ FluidOptions FluidOptions::from_scene(const Scene& sc) {
   o.model = law.model;
   o.log_conformation = law.log_conformation;
   o.dynamic_zz = law.dynamic_zz;
-  o.b = law.b;
+  o.constants = law.constants;
+  o.kernel.owens = law.owens;
   o.Re = sc.real("parameters.Re");
   // a branch in Re from Re = 0 starts in Stokes flow and leaves it
   o.inertia = o.Re > 0.0 || (sc.given("continuation.parameter") && sc.string("continuation.parameter") == "Re");

@@ -1,6 +1,6 @@
-// The fluid of a flow problem as its scene gives it: the constitutive law and formulation, Re,
-// Wi, beta (and FENE-P's b), the stabilisation and the inflow profile; their scene keys, declared
-// and read in one place for every problem with a fluid.
+// The fluid of a flow problem as its scene gives it: the constitutive law, its formulation and
+// constants (LawKeys), Re, Wi, beta, the stabilisation and the inflow profile; their scene keys,
+// declared and read in one place for every problem with a fluid.
 #pragma once
 
 #include "core/Scene.hpp"
@@ -17,7 +17,7 @@ struct FluidOptions {
   double Re = 0.0;
   double Wi = 0.1;
   double beta = 0.001 / 0.198;
-  double b = 100.0;
+  LawConstants<double> constants;  // b, alpha, epsilon, xi (the Owens constants: kernel.owens)
   bool inertia = false;
   ViscoelasticKernelOptions kernel;
   ProfileKind profile = ProfileKind::Parabolic;
@@ -29,8 +29,8 @@ struct FluidOptions {
   // Keys of [fluid], [inflow] and the fluid's entries of [parameters], with problem-specific
   // defaults for beta and Wi.
   static void declare(SceneSchema& schema, double default_beta, double default_Wi);
-  // Throws SceneError for keys that the chosen fluid does not use (b for a model other than
-  // FENE-P, Wi or a formulation for a Newtonian fluid).
+  // Throws SceneError for keys that the chosen fluid does not use (a law's constant for another
+  // law, Wi or a formulation for a Newtonian fluid).
   static FluidOptions from_scene(const Scene& scene);
 };
 

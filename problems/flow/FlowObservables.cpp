@@ -263,13 +263,7 @@ Status FlowObservables::couette(const FlowObservableSpec& s, const Vector& u, do
   EdgeIntegrals in, out;
   if (Status st = integrals(s.boundary, u, in); !st.is_ok()) return st;
   if (Status st = integrals(s.other, u, out); !st.is_ok()) return st;
-  const FlowParameterIndices& ix = flow_->parameter_indices();
-  const double* p = params_->values();
-  const double Gamma = ix.Gamma >= 0 ? p[ix.Gamma] : 1.0, Wi = ix.Wi >= 0 ? p[ix.Wi] : 0.0;
-  const double beta = ix.beta >= 0 ? p[ix.beta] : 1.0, b = ix.b >= 0 ? p[ix.b] : 0.0;
-  const FluidModel model = flow_->options().model;
-  const OwensParameters owens = flow_->options().kernel.owens;
-  auto eta = [=](double gdot) { return shear_viscosity(model, gdot, Wi, Gamma, beta, b, owens); };
+  const std::function<double(double)> eta = flow_->viscosity(*params_);
   // a channel's fully developed pressure gradient, from its end boundary; and its half-width
   auto channel = [&](const std::string& name, const EdgeIntegrals& e, double& H) {
     H = touches_symmetry(name) ? e.length : 0.5 * e.length;

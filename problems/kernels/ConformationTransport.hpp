@@ -1,9 +1,10 @@
 // The constitutive equation of the viscoelastic fluids as a transport term at one Gauss point:
 // the Q1 conformation M (xx, xy, yy, and zz where it is an unknown, NC = 4) or its logarithm
-// Psi, convected by v and stretched by the interpolated velocity gradient L (Devss.hpp),
-//   conformation  R = v . grad M - L M - M L^T + (f M - I) / lambda_eff
-//   log form      R = v . grad Psi - T(L, Psi) - (exp(-Psi) - f I) / lambda_eff
-//   zz (FENE-P)   R = v . grad M_zz + (f M_zz - 1) / lambda_eff,  log: - (exp(-psi_zz) - f)
+// Psi, convected by v and stretched by the interpolated velocity gradient L (Devss.hpp), for a
+// law with relaxation P(M) = k0 I + k1 M + k2 M^2 (ConstitutiveLaw.hpp):
+//   conformation  R = v . grad M - (L M + M L^T) + P(M) / lambda_eff   (PTT with xi: slip_stretch)
+//   log form      R = v . grad Psi - T(L, Psi) + P(M) M^-1 / lambda_eff
+//   zz (FENE-P)   R = v . grad M_zz + P_zz / lambda_eff,  log: + (k0 exp(-psi_zz) + k1) / lambda_eff
 // with lambda_eff = lambda eta_p(gdot(L)) / eta_p0 for Owens, lambda otherwise. The rows are
 // SUPG-weighted (Supg.hpp): int (chi + tau v . grad chi) [R - s] with an optional constitutive
 // source s (manufactured solutions). Local rows: component c at Q1 node k is row 4 c + k. The
@@ -65,48 +66,47 @@ struct ConformationAt {
 };
 
 // 1 / lambda_eff: Gamma / Wi, divided by the Owens factor of gdot^2 = 2 D:D with D the
-// symmetric part of L.
-template <class T, class P>
+// symmetric part of L (and D_zz = Lzz, 0 in planar flow).
+template <class T, class P, class Z = double>
 T inverse_relaxation_time(FluidModel model, const P& lambda, const T (&L)[2][2], const P& Gamma,
-                          const OwensParameters& owens) {
+                          const OwensParameters& owens, const Z& Lzz = 0.0) {
   T inv_lambda = 1.0 / lambda;
   if (model == FluidModel::Owens) {
     const T dxx = L[0][0], dyy = L[1][1], dxy = 0.5 * (L[0][1] + L[1][0]);
-    const T gdot2 = 2.0 * (dxx * dxx + dyy * dyy + 2.0 * dxy * dxy);
+    const T gdot2 = 2.0 * (dxx * dxx + dyy * dyy + 2.0 * dxy * dxy) + 2.0 * Lzz * Lzz;
     inv_lambda = inv_lambda / owens_factor(gdot2, Gamma, owens);
   }
   return inv_lambda;
 }
 
-// The transport residual R of each component at a point (M: the conformation there, f its
-// Peterlin factor); the constitutive source at position x is subtracted.
-template <int NC, class T, class G, class X>
+// The transport residual R of each component at a point (M: the conformation there, k the law's
+// terms at M, xi PTT's slip or null); the constitutive source at position x is subtracted.
+template <int NC, class T, class G, class X, class S>
 void conformation_transport(const ConformationAt<NC, T, G>& c, const Conformation<T>& M, const T (&v)[2],
-                            const T (&L)[2][2], const T& f, const T& inv_lambda, bool log_form,
+                            const T (&L)[2][2], const Relaxation<T>& k, const T& inv_lambda, bool log_form, const S* xi,
                             const FlowSource* source, const X (&x)[2], T (&R)[NC]) {
   const T(&m)[NC] = c.m;
   const T(&dm)[NC][2] = c.dm;
+  T rate[4];
   if (log_form) {
-    const Sym2<T> rate = log_conformation_rate(Sym2<T>{m[0], m[1], m[2]}, L, f, inv_lambda);
-    R[0] = v[0] * dm[0][0] + v[1] * dm[0][1] + rate.xx;
-    R[1] = v[0] * dm[1][0] + v[1] * dm[1][1] + rate.xy;
-    R[2] = v[0] * dm[2][0] + v[1] * dm[2][1] + rate.yy;
-    if constexpr (NC == 4) {
-      using std::exp;
-      R[3] = v[0] * dm[3][0] + v[1] * dm[3][1] - inv_lambda * (exp(-m[3]) - f);
-    }
+    const Sym2<T> r = log_conformation_rate(Sym2<T>{m[0], m[1], m[2]}, L, k, Sym2<T>{M.xx, M.xy, M.yy}, inv_lambda);
+    rate[0] = r.xx;
+    rate[1] = r.xy;
+    rate[2] = r.yy;
+    if constexpr (NC == 4) rate[3] = log_conformation_rate_zz(m[3], k, M.zz, inv_lambda);
   } else {
-    const Conformation<T> rate = conformation_rate(M, L, f, inv_lambda);
-    R[0] = v[0] * dm[0][0] + v[1] * dm[0][1] + rate.xx;
-    R[1] = v[0] * dm[1][0] + v[1] * dm[1][1] + rate.xy;
-    R[2] = v[0] * dm[2][0] + v[1] * dm[2][1] + rate.yy;
-    if constexpr (NC == 4) R[3] = v[0] * dm[3][0] + v[1] * dm[3][1] + rate.zz;
+    const Conformation<T> r = conformation_rate(M, L, k, inv_lambda, xi);
+    rate[0] = r.xx;
+    rate[1] = r.xy;
+    rate[2] = r.yy;
+    if constexpr (NC == 4) rate[3] = r.zz;
   }
+  for (int i = 0; i < NC; ++i) R[i] = v[0] * dm[i][0] + v[1] * dm[i][1] + rate[i];
   if (source && source->constitutive) {
     const double at[2] = {value_of(x[0]), value_of(x[1])};
     double s[4] = {0.0, 0.0, 0.0, 0.0};
     source->constitutive(at, s);
-    for (int k = 0; k < NC; ++k) R[k] -= s[k];
+    for (int i = 0; i < NC; ++i) R[i] -= s[i];
   }
 }
 

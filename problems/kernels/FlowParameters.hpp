@@ -4,14 +4,16 @@
 // viscoelastic indices at -1.
 #pragma once
 
+#include "problems/laws/ConstitutiveLaw.hpp"
+
 namespace keller {
 
 struct FlowParameterIndices {
-  int Re = -1;     // -1: no inertia
-  int Gamma = -1;  // velocity scale (mean inflow velocity); -1: 1
-  int Wi = -1;     // viscoelastic fluids only
-  int beta = -1;   // solvent viscosity ratio; -1: beta = 1 (Newtonian)
-  int b = -1;      // FENE-P only
+  int Re = -1;              // -1: no inertia
+  int Gamma = -1;           // velocity scale (mean inflow velocity); -1: 1
+  int Wi = -1;              // viscoelastic fluids only
+  int beta = -1;            // solvent viscosity ratio; -1: beta = 1 (Newtonian)
+  LawParameterIndices law;  // the constitutive law's constants (b, alpha, epsilon, xi)
 };
 
 template <class P>
@@ -30,7 +32,7 @@ P solvent_viscosity(const FlowParameterIndices& p, const P* params) {
   return p.beta >= 0 ? params[p.beta] : P(1.0);
 }
 
-// The polymer modulus (1 - beta) Gamma / Wi of tau_p = modulus (f M - I).
+// The polymer modulus (1 - beta) Gamma / Wi of tau_p = modulus (s0 I + s1 M).
 template <class P>
 P polymer_modulus(const FlowParameterIndices& p, const P* params) {
   return (1.0 - params[p.beta]) * velocity_scale(p, params) / params[p.Wi];

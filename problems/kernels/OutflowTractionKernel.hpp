@@ -57,6 +57,7 @@ class OutflowTractionKernel {
     const ref::Tables& tb = ref::tables();
     const int e = edges_[item].edge;
     const P modulus = polymer_modulus(p_, params);
+    const LawConstants<P> law = law_constants(p_.law, params);
     const T* mc = u + 18;
     for (int i = 0; i < kRows; ++i) r[i] = 0.0;
     for (int q = 0; q < ref::kEdgeQp; ++q) {
@@ -67,8 +68,7 @@ class OutflowTractionKernel {
         for (int k = 0; k < 4; ++k) m[c] += tb.edge_N1[e][q][k] * mc[4 * c + k];
       }
       const Conformation<T> M = conformation_of<NC>(m, o_.log_conformation);
-      const T f = o_.model == FluidModel::FeneP ? peterlin(o_.model, NC == 4, M, params[p_.b]) : T(1.0);
-      const Conformation<T> tp = polymer_stress(M, f, modulus);
+      const Conformation<T> tp = polymer_stress(M, relaxation(o_.model, NC == 4, M, law), modulus);
       const T txx = tp.xx, txy = tp.xy, tyy = tp.yy;
       const T tx = txx * g.normal[0] + txy * g.normal[1], ty = txy * g.normal[0] + tyy * g.normal[1];
       for (int a = 0; a < 9; ++a) {

@@ -8,8 +8,8 @@
 //   momentum, continuity  Momentum.hpp, with T = -P I + beta (K + K^T) + DEVSS + tau_p
 //   DEVSS                 Devss.hpp: beta_a ((K + K^T) - (L + L^T)) and the projection rows of L
 //   conformation          ConformationTransport.hpp, SUPG-weighted (Supg.hpp)
-// with tau_p = (1 - beta) (Gamma / Wi) (f M - I), lambda = Wi / Gamma. Optional volume sources
-// (FlowSource.hpp, manufactured solutions) are subtracted from the momentum rows and inside the
+// with tau_p = (1 - beta) (Gamma / Wi) (s0 I + s1 M) (the law's, ConstitutiveLaw.hpp), lambda = Wi / Gamma. Optional
+// volume sources (FlowSource.hpp, manufactured solutions) are subtracted from the momentum rows and inside the
 // SUPG-weighted bracket.
 //
 // Local unknowns: v_x (9), v_y (9), P (3), L_xx L_xy L_yx L_yy (4 each), then the conformation
@@ -53,7 +53,8 @@ struct ViscoelasticKernelOptions {
   bool ale = false;
 };
 
-// Number of conformation unknowns per node: 3, or 4 for FENE-P with a dynamic M_zz.
+// Number of conformation unknowns per node: 3, or 4 for FENE-P with a dynamic M_zz. PTT's slip
+// xi (the conformation form only) is read where its parameter index is set.
 template <int NC, bool Moving = false>
 class ViscoelasticFlowKernel {
  public:
@@ -160,13 +161,18 @@ class ViscoelasticFlowKernel {
     const T* mc = u + kConf;  // component c at Q1 node k: mc[4 c + k]
     for (int i = 0; i < kRows; ++i) r[i] = 0.0;
     if (!(value_of(Wi) > 0.0)) return {StatusCode::InvalidState, "Wi must be positive in the viscoelastic equations"};
-    if (o_.model == FluidModel::FeneP) {
-      // tr M < 3b at the conformation nodes themselves, not only at the Gauss points between them
+    const LawConstants<P> law = law_constants(p_.law, params);
+    const P* xi = p_.law.xi >= 0 ? &params[p_.law.xi] : nullptr;
+    const char* inadmissible = inadmissible_state(o_.model);
+    if (inadmissible) {
+      // the law's factor positive (tr M < 3b, a linear PTT's Y > 0) at the conformation nodes
+      // themselves, not only at the Gauss points between them
       for (int k = 0; k < 4; ++k) {
         T m[NC];
         for (int c = 0; c < NC; ++c) m[c] = mc[4 * c + k];
-        const T f = peterlin(o_.model, NC == 4, conformation_of<NC>(m, o_.log_conformation), params[p_.b]);
-        if (!(value_of(f) > 0.0)) return {StatusCode::InvalidState, "FENE-P: tr M reached 3b at a conformation node"};
+        const Relaxation<T> rk = relaxation(o_.model, NC == 4, conformation_of<NC>(m, o_.log_conformation), law);
+        if (!(value_of(rk.factor) > 0.0))
+          return {StatusCode::InvalidState, std::string(inadmissible) + " at a conformation node"};
       }
     }
 
@@ -178,14 +184,11 @@ class ViscoelasticFlowKernel {
       T L[2][2];
       interpolated_gradient(Lc, q, L);
       const ConformationAt<NC, T, G> mq(mc, q, g);
-      // conformation tensor M (in-plane and zz) and the Peterlin factor
+      // conformation tensor M (in-plane and zz) and the law's terms there
       const Conformation<T> M = conformation_of<NC>(mq.m, o_.log_conformation);
-      T f = 1.0;
-      if (o_.model == FluidModel::FeneP) {
-        f = peterlin(o_.model, NC == 4, M, params[p_.b]);
-        if (!(value_of(f) > 0.0)) return {StatusCode::InvalidState, "FENE-P: tr M reached 3b"};
-      }
-      const Conformation<T> tp = polymer_stress(M, f, modulus);
+      const Relaxation<T> k = relaxation(o_.model, NC == 4, M, law);
+      if (inadmissible && !(value_of(k.factor) > 0.0)) return {StatusCode::InvalidState, inadmissible};
+      const Conformation<T> tp = polymer_stress(M, k, modulus);
 
       // momentum and continuity with the solvent, DEVSS and polymer stresses
       const PlaneStress<T> visc = viscous_stress(beta, s.K), dv = devss_stress(beta_a, s.K, L);
@@ -201,7 +204,7 @@ class ViscoelasticFlowKernel {
       const T inv_lambda = inverse_relaxation_time(o_.model, lambda, L, Gamma, o_.owens);
       const T tau = supg_time_scale(o_.supg, h, s.v, Gamma);
       T R[NC];
-      conformation_transport(mq, M, s.v, L, f, inv_lambda, o_.log_conformation, o_.source.get(), g.x, R);
+      conformation_transport(mq, M, s.v, L, k, inv_lambda, o_.log_conformation, xi, o_.source.get(), g.x, R);
       add_conformation_rows<NC>(q, g, tau, s.v, R, r + kConf);
     }
     return {};

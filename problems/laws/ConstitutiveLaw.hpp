@@ -1,7 +1,24 @@
-// Constitutive laws of model.md, pointwise and templated on the scalar type: the Peterlin
-// factor f(M) (FENE-P), the Owens relaxation factor eta_p(gdot) / eta_p0 (Cross model of blood),
-// the polymer stress, and the closed forms of steady simple shear and planar elongation used for
-// inflow conditions, fully developed profiles and tests. Laws never see meshes.
+// Constitutive laws of model.md and the ones rheologists reach for next, pointwise and templated
+// on the scalar type; laws never see meshes. Every law here is a conformation-tensor law
+//   M^box = -(1/lambda_eff) P(M),   tau_p = modulus (s0 I + s1 M),   modulus = (1 - beta) Gamma / Wi,
+// with M^box the upper-convected derivative (PTT with xi > 0: the Gordon-Schowalter derivative,
+// below), P(M) = k0 I + k1 M + k2 M^2 a function of M alone (so it commutes with M, which the
+// log-conformation form needs) and lambda_eff = lambda = Wi / Gamma except for Owens:
+//
+//   law              k0               k1          k2      s0, s1     factor (must stay > 0)
+//   Oldroyd-B        -1               1           0       -1, 1      1
+//   FENE-P           -1               f           0       -1, f      f = (b - 1) / (b - tr M / 3)
+//   Owens            -1               1           0       -1, 1      1 (lambda_eff = lambda eta_p(gdot)/eta_p0)
+//   Giesekus         alpha - 1        1 - 2 alpha alpha   -1, 1      1: P = (M - I) + alpha (M - I)^2
+//   PTT (linear)     -Y               Y           0       -1, 1      Y = 1 + epsilon (tr M - 3)
+//   PTT (exp.)       -Y               Y           0       -1, 1      Y = exp(epsilon (tr M - 3))
+//   FENE-CR          -f               f           0       -f, f      f = (b - 1) / (b - tr M / 3)
+//
+// tr M is over the 3x3 tensor. In planar flow M_xz = M_yz = 0, and for every law but FENE-P
+// M_zz = 1 is a steady state of its own equation (P_zz(M_zz = 1) = 0), so M_zz = 1 needs no
+// unknown; FENE-P's f M_zz = 1 eliminates it (model.md). The Gordon-Schowalter derivative of the
+// PTT model, tau^box = tau^nabla + xi (D tau + tau D), is in conformation terms the upper-convected
+// derivative with L replaced by L - xi D plus a source: M^box = M^nabla + xi (D M + M D) - 2 xi D.
 //
 // Units (model.md): stresses in G, velocities in G W / eta0, so eta0 = 1, the solvent
 // viscosity is beta, lambda = Wi / Gamma and the polymer modulus is (1 - beta) Gamma / Wi.
@@ -13,9 +30,40 @@
 
 namespace keller {
 
-enum class FluidModel { Newtonian, OldroydB, FeneP, Owens };
+enum class FluidModel { Newtonian, OldroydB, FeneP, Owens, Giesekus, PttLinear, PttExponential, FeneCr };
 const char* to_string(FluidModel m);
 FluidModel fluid_model_from_string(const std::string& s);  // throws std::invalid_argument
+
+// Which constants a law takes (each may be a continuation parameter).
+inline bool uses_b(FluidModel m) { return m == FluidModel::FeneP || m == FluidModel::FeneCr; }
+inline bool uses_alpha(FluidModel m) { return m == FluidModel::Giesekus; }
+inline bool is_ptt(FluidModel m) { return m == FluidModel::PttLinear || m == FluidModel::PttExponential; }
+
+// The constants of a law, of scalar type P (double, or a dual number for parameter derivatives).
+// Only those the law uses are read.
+template <class P>
+struct LawConstants {
+  P b = P(100.0);      // FENE-P, FENE-CR: extensibility, tr M < 3b (b > 1)
+  P alpha = P(0.0);    // Giesekus mobility, 0 <= alpha <= 1/2
+  P epsilon = P(0.0);  // PTT, epsilon >= 0
+  P xi = P(0.0);       // PTT slip of the Gordon-Schowalter derivative, 0 <= xi < 1
+};
+
+// Where a law's constants sit in a problem's parameter set (-1: not a parameter of this law).
+struct LawParameterIndices {
+  int b = -1, alpha = -1, epsilon = -1, xi = -1;
+};
+
+// The law's constants at the current parameters (those the law does not use keep their defaults).
+template <class P>
+LawConstants<P> law_constants(const LawParameterIndices& p, const P* params) {
+  LawConstants<P> c;
+  if (p.b >= 0) c.b = params[p.b];
+  if (p.alpha >= 0) c.alpha = params[p.alpha];
+  if (p.epsilon >= 0) c.epsilon = params[p.epsilon];
+  if (p.xi >= 0) c.xi = params[p.xi];
+  return c;
+}
 
 // Cross model of blood (Fang and Owens): eta_p(gdot) = eta_p0 (1 + theta1 gdot^m) / (1 + theta2 gdot^m)
 // with the dimensional shear rate gdot_dim = gdot * rate_scale / Gamma (rate_scale = U0 / W).
@@ -63,47 +111,105 @@ struct Conformation {
   T xx, xy, yy, zz;
 };
 
-// Peterlin factor of the model (1 except FENE-P); dynamic_zz: M_zz is an unknown.
+// A law at one state M: P(M) = k0 I + k1 M + k2 M^2 and tau_p = modulus (s0 I + s1 M) (table
+// above); `factor` is f (FENE-P, FENE-CR) or Y (PTT), 1 otherwise, and the state is admissible
+// only where it is positive (tr M < 3b; a linear PTT's Y > 0). quadratic: k2 is part of the law
+// (Giesekus), decided by the law and not by k2's value, so that dP/dalpha at alpha = 0 is kept.
+template <class T>
+struct Relaxation {
+  T k0, k1, k2, s0, s1, factor;
+  bool quadratic = false;
+};
+
+// The law's terms at M; dynamic_zz: M.zz is FENE-P's unknown M_zz (else f M_zz = 1 eliminates it;
+// the other laws always read M.zz, which is 1 where it is not an unknown).
 template <class T, class P>
-T peterlin(FluidModel model, bool dynamic_zz, const Conformation<T>& M, const P& b) {
-  if (model != FluidModel::FeneP) return T(1.0);
-  return dynamic_zz ? peterlin_full(M.xx, M.yy, M.zz, b) : peterlin_eliminated(M.xx, M.yy, b);
+Relaxation<T> relaxation(FluidModel model, bool dynamic_zz, const Conformation<T>& M, const LawConstants<P>& c) {
+  using std::exp;
+  switch (model) {
+    case FluidModel::FeneP: {
+      const T f = dynamic_zz ? peterlin_full(M.xx, M.yy, M.zz, c.b) : peterlin_eliminated(M.xx, M.yy, c.b);
+      return {T(-1.0), f, T(0.0), T(-1.0), f, f};
+    }
+    case FluidModel::FeneCr: {
+      const T f = peterlin_full(M.xx, M.yy, M.zz, c.b);
+      const T mf = -f;
+      return {mf, f, T(0.0), mf, f, f};
+    }
+    case FluidModel::Giesekus: {
+      const T k0 = c.alpha - 1.0, k1 = 1.0 - 2.0 * c.alpha, k2 = c.alpha;
+      return {k0, k1, k2, T(-1.0), T(1.0), T(1.0), true};
+    }
+    case FluidModel::PttLinear:
+    case FluidModel::PttExponential: {
+      const T x = c.epsilon * (M.xx + M.yy + M.zz - 3.0);
+      const T Y = model == FluidModel::PttLinear ? T(1.0 + x) : T(exp(x));
+      const T mY = -Y;
+      return {mY, Y, T(0.0), T(-1.0), T(1.0), Y};
+    }
+    default: return {T(-1.0), T(1.0), T(0.0), T(-1.0), T(1.0), T(1.0)};
+  }
 }
 
-// Upper-convected rate without convection: R = -(L M + M L^T) + (f M - I) / lambda_eff
-// (components xx, xy, yy, zz; zz has no stretching in planar flow). A steady homogeneous
-// state has R = 0. L[i][j] = d v_i / d x_j.
-template <class T, class G, class I>
-Conformation<T> conformation_rate(const Conformation<T>& M, const G (&L)[2][2], const T& f, const I& inv_lambda) {
+// Why a state is not admissible for the law (its factor is not positive): a sentence, or null
+// for laws whose factor is always 1.
+const char* inadmissible_state(FluidModel model);
+
+// P(M) = k0 I + k1 M + k2 M^2 (components xx, xy, yy, zz).
+template <class T>
+Conformation<T> relaxation_tensor(const Conformation<T>& M, const Relaxation<T>& k) {
+  Conformation<T> p{k.k0 + k.k1 * M.xx, k.k1 * M.xy, k.k0 + k.k1 * M.yy, k.k0 + k.k1 * M.zz};
+  if (k.quadratic) {
+    const T xy2 = M.xy * M.xy;
+    p.xx = p.xx + k.k2 * (M.xx * M.xx + xy2);
+    p.xy = p.xy + k.k2 * (M.xy * (M.xx + M.yy));
+    p.yy = p.yy + k.k2 * (xy2 + M.yy * M.yy);
+    p.zz = p.zz + k.k2 * (M.zz * M.zz);
+  }
+  return p;
+}
+
+// The upper-convected stretch L M + M L^T of the in-plane components, and 2 Lzz M_zz.
+template <class T, class G, class Z>
+Conformation<T> convected_stretch(const Conformation<T>& M, const G (&L)[2][2], const Z& Lzz) {
   const T sxx = 2.0 * (L[0][0] * M.xx + L[0][1] * M.xy);
   const T sxy = L[0][0] * M.xy + L[0][1] * M.yy + M.xx * L[1][0] + M.xy * L[1][1];
   const T syy = 2.0 * (L[1][0] * M.xy + L[1][1] * M.yy);
-  return {inv_lambda * (f * M.xx - 1.0) - sxx, inv_lambda * (f * M.xy) - sxy, inv_lambda * (f * M.yy - 1.0) - syy,
-          inv_lambda * (f * M.zz - 1.0)};
+  const T szz = 2.0 * Lzz * M.zz;
+  return {sxx, sxy, syy, szz};
 }
 
-// Polymer stress tau_p = modulus (f M - I), modulus = (1 - beta) Gamma / Wi.
+// The stretch with the Gordon-Schowalter slip xi: L_e M + M L_e^T + 2 xi D, L_e = L - xi D.
+template <class T, class G, class X, class Z>
+Conformation<T> slip_stretch(const Conformation<T>& M, const G (&L)[2][2], const X& xi, const Z& Lzz) {
+  const T dxy = 0.5 * (L[0][1] + L[1][0]);
+  const T Le[2][2] = {{L[0][0] - xi * L[0][0], L[0][1] - xi * dxy}, {L[1][0] - xi * dxy, L[1][1] - xi * L[1][1]}};
+  const T Lzz_e = Lzz - xi * Lzz;
+  Conformation<T> s = convected_stretch(M, Le, Lzz_e);
+  s.xx = s.xx + 2.0 * xi * L[0][0];
+  s.xy = s.xy + 2.0 * xi * dxy;
+  s.yy = s.yy + 2.0 * xi * L[1][1];
+  s.zz = s.zz + 2.0 * xi * Lzz;
+  return s;
+}
+
+// The constitutive rate without convection, R = -(L M + M L^T) + P(M) / lambda_eff (components
+// xx, xy, yy, zz); a steady homogeneous state has R = 0. L[i][j] = d v_i / d x_j in the plane,
+// Lzz = d v_z / d z (0 in planar flow, -eps/2 in uniaxial extension). xi: PTT's slip (null for
+// the upper-convected derivative), the stretch then slip_stretch's.
+template <class T, class G, class I, class X = double, class Z = double>
+Conformation<T> conformation_rate(const Conformation<T>& M, const G (&L)[2][2], const Relaxation<T>& k,
+                                  const I& inv_lambda, const X* xi = nullptr, const Z& Lzz = 0.0) {
+  const Conformation<T> s = xi ? slip_stretch(M, L, *xi, Lzz) : convected_stretch(M, L, Lzz);
+  const Conformation<T> p = relaxation_tensor(M, k);
+  return {inv_lambda * p.xx - s.xx, inv_lambda * p.xy - s.xy, inv_lambda * p.yy - s.yy, inv_lambda * p.zz - s.zz};
+}
+
+// Polymer stress tau_p = modulus (s0 I + s1 M), modulus = (1 - beta) Gamma / Wi.
 template <class T, class P>
-Conformation<T> polymer_stress(const Conformation<T>& M, const T& f, const P& modulus) {
-  return {modulus * (f * M.xx - 1.0), modulus * (f * M.xy), modulus * (f * M.yy - 1.0), modulus * (f * M.zz - 1.0)};
+Conformation<T> polymer_stress(const Conformation<T>& M, const Relaxation<T>& k, const P& modulus) {
+  return {modulus * (k.s0 + k.s1 * M.xx), modulus * (k.s1 * M.xy), modulus * (k.s0 + k.s1 * M.yy),
+          modulus * (k.s0 + k.s1 * M.zz)};
 }
-
-// Closed forms of steady homogeneous flows (double precision).
-struct SteadyConformation {
-  double xx = 1, xy = 0, yy = 1, zz = 1;
-  double f = 1;  // Peterlin factor (1 except FENE-P)
-};
-// Simple shear v = (gdot y, 0) at Weissenberg number W = lambda_eff gdot (signed).
-// Oldroyd-B/Owens: M_xx = 1 + 2 W^2, M_xy = W, M_yy = M_zz = 1. FENE-P: f solves
-// f^2 (f - 1) = 2 W^2 / (3 b), M_yy = M_zz = 1/f, M_xy = W/f^2, M_xx = (1 + 2 W^2/f^2)/f.
-SteadyConformation steady_shear(FluidModel model, double W, double b);
-// Planar elongation v = (eps x, -eps y) at W = lambda eps: M_xx = 1/(f - 2W), M_yy = 1/(f + 2W),
-// M_zz = 1/f; f from its definition (Oldroyd-B: f = 1, needs W < 1/2).
-SteadyConformation planar_elongation(FluidModel model, double W, double b);
-
-// The steady shear viscosity eta(gdot) / eta0 in model units: beta + (1 - beta) * g, g = 1
-// (Oldroyd-B), 1/f(lambda gdot) (FENE-P), eta_p(gdot)/eta_p0 (Owens); 1 for Newtonian.
-double shear_viscosity(FluidModel model, double gdot, double Wi, double Gamma, double beta, double b,
-                       const OwensParameters& owens);
 
 }  // namespace keller

@@ -1,12 +1,18 @@
-// The scene keys that choose a constitutive law and its formulation, shared by every problem
-// with a fluid: fluid.model, fluid.formulation and fluid.fene_p_dynamic_zz, declared in one place,
-// read with the FENE-P extensibility parameters.b (which each problem declares in its
-// [parameters]).
+// The scene keys that choose a constitutive law, its formulation and its constants, shared by
+// every problem with a fluid, declared and read in one place:
+//   [fluid]        model, formulation, fene_p_dynamic_zz
+//   [fluid.owens]  the Cross model's constants of the Owens law (eta_p0, eta_pinf, theta2, m,
+//                  rate_scale)
+//   [parameters]   the constants that are continuation parameters: b (FENE-P, FENE-CR), alpha
+//                  (Giesekus), epsilon and xi (PTT)
+// A key the chosen law does not use is refused when set, and so is a physically meaningless
+// value (alpha outside [0, 1/2], epsilon < 0, xi outside [0, 1), b <= 1, ...), with the key.
 #pragma once
 
 #include <string>
 #include <vector>
 
+#include "core/ParameterSet.hpp"
 #include "core/Scene.hpp"
 #include "problems/laws/ConstitutiveLaw.hpp"
 
@@ -16,12 +22,21 @@ struct LawKeys {
   FluidModel model = FluidModel::Newtonian;
   bool log_conformation = false;
   bool dynamic_zz = false;  // FENE-P: M_zz as an unknown (needed for time-dependent forms)
-  double b = 100.0;
+  LawConstants<double> constants;
+  OwensParameters owens;
 
-  // Declares the [fluid] keys (after the section's own doc); `models`: the laws the problem takes.
+  // Declares the [fluid] and [fluid.owens] keys (after the section's own doc); `models`: the laws
+  // the problem takes.
   static void declare(SceneSchema& schema, const std::vector<std::string>& models, const std::string& default_model);
-  // Reads them; throws SceneError for parameters.b or fluid.fene_p_dynamic_zz with another law.
+  // Declares the law constants among [parameters] (after that section's doc).
+  static void declare_constants(SceneSchema& schema);
+  // Reads them; throws SceneError for a key the law does not use, or xi > 0 in the log form.
   static LawKeys from_scene(const Scene& scene);
 };
+
+// Adds a law's constants to a problem's parameters (so that a branch can follow any of them),
+// with the ranges of their scene keys; the log form has no xi.
+LawParameterIndices add_law_parameters(ParameterSet& params, FluidModel model, bool log_form,
+                                       const LawConstants<double>& constants);
 
 }  // namespace keller

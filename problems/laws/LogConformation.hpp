@@ -8,10 +8,12 @@
 //   S = L + L^T, W = L - L^T, G = (1 - rho coth rho) / rho^2,
 // derived from the eigenbasis form with the projectors P = (I -+ N/rho)/2; every rho-dependent
 // factor is a function of rho^2 evaluated by its Taylor series near 0. The log-conformation
-// equation is v . grad Psi - T = (1/lambda) (exp(-Psi) - f I).
+// equation is v . grad Psi - T = -(1/lambda) P(M) M^-1 (FENE-P: (1/lambda) (exp(-Psi) - f I)).
 #pragma once
 
 #include <cmath>
+
+#include "problems/laws/ConstitutiveLaw.hpp"
 
 namespace keller {
 
@@ -79,13 +81,34 @@ Sym2<T> log_conformation_stretch(const Sym2<T>& p, const G (&L)[2][2]) {
   return {h * s00 + g * nsn00 + w * c, h * s01 + g * nsn01 - w * d, h * s11 + g * nsn11 - w * c};
 }
 
-// The log-conformation equation without convection, in-plane part:
-// R = -T(L, Psi) - (exp(-Psi) - f I) / lambda_eff; a steady homogeneous state has R = 0.
+// The log-conformation equation without convection, in-plane part, for a law with
+// P(M) = k0 I + k1 M + k2 M^2 (ConstitutiveLaw.hpp): P commutes with M, so its part of the Psi
+// equation is P(M) M^-1 = k0 M^-1 + k1 I + k2 M, and
+// R = -T(L, Psi) + (k0 exp(-Psi) + k1 I + k2 M) / lambda_eff; a steady homogeneous state has
+// R = 0. M = exp(Psi) is read only for a quadratic law (Giesekus).
 template <class T, class G, class I>
-Sym2<T> log_conformation_rate(const Sym2<T>& psi, const G (&L)[2][2], const T& f, const I& inv_lambda) {
+Sym2<T> log_conformation_rate(const Sym2<T>& psi, const G (&L)[2][2], const Relaxation<T>& k, const Sym2<T>& M,
+                              const I& inv_lambda) {
   const Sym2<T> st = log_conformation_stretch(psi, L);
   const Sym2<T> minv = sym_exp(Sym2<T>{-psi.xx, -psi.xy, -psi.yy});
-  return {-st.xx - inv_lambda * (minv.xx - f), -st.xy - inv_lambda * minv.xy, -st.yy - inv_lambda * (minv.yy - f)};
+  T pxx = k.k0 * minv.xx + k.k1, pxy = k.k0 * minv.xy, pyy = k.k0 * minv.yy + k.k1;
+  if (k.quadratic) {
+    pxx = pxx + k.k2 * M.xx;
+    pxy = pxy + k.k2 * M.xy;
+    pyy = pyy + k.k2 * M.yy;
+  }
+  return {inv_lambda * pxx - st.xx, inv_lambda * pxy - st.xy, inv_lambda * pyy - st.yy};
+}
+
+// The zz component of the log form, psi_zz = log M_zz (an eigendirection in planar flow, and in
+// uniaxial extension along x): R = -2 Lzz + (k0 exp(-psi_zz) + k1 + k2 M_zz) / lambda_eff.
+template <class T, class I, class Z = double>
+T log_conformation_rate_zz(const T& psi_zz, const Relaxation<T>& k, const T& Mzz, const I& inv_lambda,
+                           const Z& Lzz = 0.0) {
+  using std::exp;
+  T p = k.k0 * exp(-psi_zz) + k.k1;
+  if (k.quadratic) p = p + k.k2 * Mzz;
+  return inv_lambda * p - 2.0 * Lzz;
 }
 
 // log of a symmetric positive definite 2x2 matrix (double; for boundary values and output).

@@ -28,7 +28,7 @@ CollapsibleOptions coarse_options(FluidModel model, bool log_form) {
   o.fluid.log_conformation = log_form;
   o.fluid.Wi = 0.7;
   o.fluid.beta = 0.3;
-  o.fluid.b = 20.0;
+  o.fluid.constants.b = 20.0;
   o.fluid.Re = 0.01;  // inertia on, so dF/dRe is checked too (and Re = 0 sits on its bound)
   o.fluid.inertia = true;
   o.fluid.profile = model == FluidModel::Newtonian ? ProfileKind::Parabolic : ProfileKind::FullyDeveloped;

@@ -76,8 +76,36 @@ TEST(FlowEquations, KeysTheFluidDoesNotUseAreErrors) {
     return "";
   };
   EXPECT_NE(error_of("[fluid]\nmodel = \"oldroyd-b\"\n[parameters]\nb = 50.0\n")
-                .find("key 'parameters.b': applies to fluid.model = \"fene-p\" only (got \"oldroyd-b\")"),
+                .find(":6: key 'parameters.b': applies to fluid.model = \"fene-p\" or \"fene-cr\" only "
+                      "(fluid.model = \"oldroyd-b\")"),
             std::string::npos);
+  // each law's constants belong to it, and a meaningless value is refused with its line and key
+  EXPECT_NE(error_of("[fluid]\nmodel = \"giesekus\"\n[parameters]\nepsilon = 0.1\n")
+                .find(":6: key 'parameters.epsilon': applies to fluid.model = \"ptt-linear\" or \"ptt-exponential\""),
+            std::string::npos);
+  EXPECT_NE(error_of("[fluid]\nmodel = \"giesekus\"\n[parameters]\nalpha = 0.6\n")
+                .find(":6: key 'parameters.alpha' = 0.6 is out of range: must be in [0, 0.5]"),
+            std::string::npos);
+  EXPECT_NE(error_of("[fluid]\nmodel = \"ptt-linear\"\n[parameters]\nepsilon = -0.1\n")
+                .find(":6: key 'parameters.epsilon' = -0.1 is out of range: must be >= 0"),
+            std::string::npos);
+  EXPECT_NE(error_of("[fluid]\nmodel = \"ptt-exponential\"\n[parameters]\nxi = 1.0\n")
+                .find(":6: key 'parameters.xi' = 1 is out of range"),
+            std::string::npos);
+  EXPECT_NE(error_of("[fluid]\nmodel = \"ptt-linear\"\nformulation = \"log-conformation\"\n[parameters]\nxi = 0.1\n")
+                .find(":7: key 'parameters.xi': must be 0 with fluid.formulation = \"log-conformation\""),
+            std::string::npos);
+  EXPECT_NE(error_of("[fluid]\nmodel = \"fene-cr\"\n[parameters]\nb = 0.5\n")
+                .find(":6: key 'parameters.b' = 0.5 is out of range: must be > 1"),
+            std::string::npos);
+  EXPECT_NE(error_of("[fluid]\nmodel = \"oldroyd-b\"\n[fluid.owens]\nm = 0.5\n")
+                .find(":6: key 'fluid.owens.m': applies to fluid.model = \"owens\" only"),
+            std::string::npos);
+  EXPECT_NE(error_of("[fluid]\nmodel = \"owens\"\n[fluid.owens]\neta_pinf = 0.5\n")
+                .find(":6: key 'fluid.owens.eta_pinf': is larger than fluid.owens.eta_p0"),
+            std::string::npos);
+  EXPECT_EQ(error_of("[fluid]\nmodel = \"ptt-linear\"\n[parameters]\nepsilon = 0.25\nxi = 0.1\n"), "");
+  EXPECT_EQ(error_of("[fluid]\nmodel = \"owens\"\n[fluid.owens]\neta_p0 = 0.1\nm = 0.6\n"), "");
   EXPECT_NE(
       error_of("[parameters]\nWi = 1.0\n").find("key 'parameters.Wi': has no meaning for fluid.model = \"newtonian\""),
       std::string::npos);

@@ -6,6 +6,7 @@
 
 #include "problems/laws/ConstitutiveLaw.hpp"
 #include "problems/laws/InflowProfile.hpp"
+#include "problems/laws/SteadyFlows.hpp"
 
 using namespace keller;
 
@@ -55,7 +56,7 @@ TEST(InflowProfile, FullyDevelopedShearThinningFluids) {
   const double Gamma = 4.95e-4, Wi = 0.5;
   for (FluidModel m : {FluidModel::FeneP, FluidModel::Owens}) {
     const double beta = m == FluidModel::Owens ? o.beta() : 0.1;
-    const auto eta = [&](double g) { return shear_viscosity(m, g, Wi, Gamma, beta, 20.0, o); };
+    const auto eta = [&](double g) { return shear_viscosity(m, g, Wi, Gamma, beta, LawConstants<double>{20.0}, o); };
     InflowProfile p{ProfileKind::FullyDeveloped, 0.0, 1.0, 0.5};
     EXPECT_NEAR(mean_of(p, Gamma, eta), Gamma, 2e-5 * Gamma) << to_string(m);
     std::vector<double> u, d;

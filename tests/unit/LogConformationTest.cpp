@@ -81,39 +81,52 @@ TEST(LogConformation, InvariantFormMatchesTheEigenbasisForm) {
 }
 
 // The two forms are one equation: along any path Psi(t), d/dt exp(Psi) = D exp(Psi)[dPsi/dt], so
-// the log residual R_log = v . grad Psi - T(L, Psi) - (exp(-Psi) - f I) / lambda and the
-// conformation residual R = v . grad M - L M - M L^T + (f M - I) / lambda of M = exp(Psi) must
-// satisfy R = D exp(Psi)[R_log] pointwise, for any L (not only traceless ones), any f and any
-// convective derivative. D exp(Psi)[X] is taken exactly, by a dual number along X; FENE-P's
-// f = (b - 2/3) / (b - tr M / 3) and a relaxation rate 1/lambda = 2.5 are used. A transposed L, a
-// sign, or a wrong factor in T or in the relaxation term breaks this at O(1), far above rounding.
+// the log residual R_log = v . grad Psi - T(L, Psi) + P(M) M^-1 / lambda and the conformation
+// residual R = v . grad M - L M - M L^T + P(M) / lambda of M = exp(Psi) must satisfy
+// R = D exp(Psi)[R_log] pointwise, for any L (not only traceless ones), any law's P(M) and any
+// convective derivative. D exp(Psi)[X] is taken exactly, by a dual number along X; every law
+// with a relaxation of its own (FENE-P's f = (b - 2/3) / (b - tr M / 3), Giesekus' quadratic
+// term, PTT's Y, FENE-CR's f on both terms) and a relaxation rate 1/lambda = 2.5 are used. A
+// transposed L, a sign, or a wrong factor in T or in the relaxation term breaks this at O(1), far
+// above rounding.
 TEST(LogConformation, LogResidualMapsToTheConformationResidual) {
-  std::mt19937 rng(3);
-  std::uniform_real_distribution<double> U(-1.5, 1.5);
-  const double inv_lambda = 2.5, b = 50.0;
-  double worst = 0;
-  for (int k = 0; k < 200; ++k) {
-    const Sym2<double> psi{U(rng), U(rng), U(rng)};
-    const double L[2][2] = {{U(rng), U(rng)}, {U(rng), U(rng)}};
-    const Sym2<double> conv{U(rng), U(rng), U(rng)};  // v . grad Psi at the point
-    const Sym2<double> M = sym_exp(psi);
-    const double f = peterlin_eliminated(M.xx, M.yy, b);
-    const Sym2<double> rate = log_conformation_rate(psi, L, f, inv_lambda);
-    const Sym2<double> R_log{conv.xx + rate.xx, conv.xy + rate.xy, conv.yy + rate.yy};
-    // D exp(Psi)[X]: exp(Psi + eps X) with eps a dual variable
-    auto dexp = [&](const Sym2<double>& X) {
-      const Dual<1> eps = make_variable<1>(0.0, 0);
-      const Sym2<Dual<1>> E = sym_exp(Sym2<Dual<1>>{psi.xx + eps * X.xx, psi.xy + eps * X.xy, psi.yy + eps * X.yy});
-      return Sym2<double>{E.xx.derivatives()[0], E.xy.derivatives()[0], E.yy.derivatives()[0]};
-    };
-    const Sym2<double> lhs = dexp(R_log), v_grad_M = dexp(conv);
-    const Conformation<double> c = conformation_rate(Conformation<double>{M.xx, M.xy, M.yy, 1.0}, L, f, inv_lambda);
-    const double rhs[3] = {v_grad_M.xx + c.xx, v_grad_M.xy + c.xy, v_grad_M.yy + c.yy};
-    const double l[3] = {lhs.xx, lhs.xy, lhs.yy};
-    const double scale = std::max({1.0, std::abs(rhs[0]), std::abs(rhs[1]), std::abs(rhs[2]), M.xx, M.yy});
-    for (int i = 0; i < 3; ++i) worst = std::max(worst, std::abs(l[i] - rhs[i]) / scale);
+  const struct {
+    FluidModel model;
+    LawConstants<double> c;
+  } laws[] = {{FluidModel::OldroydB, {}},
+              {FluidModel::FeneP, {50.0}},
+              {FluidModel::Giesekus, {50.0, 0.3}},
+              {FluidModel::PttLinear, {50.0, 0.0, 0.25}},
+              {FluidModel::PttExponential, {50.0, 0.0, 0.25}},
+              {FluidModel::FeneCr, {50.0}}};
+  for (const auto& law : laws) {
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> U(-1.5, 1.5);
+    const double inv_lambda = 2.5;
+    double worst = 0;
+    for (int n = 0; n < 200; ++n) {
+      const Sym2<double> psi{U(rng), U(rng), U(rng)};
+      const double L[2][2] = {{U(rng), U(rng)}, {U(rng), U(rng)}};
+      const Sym2<double> conv{U(rng), U(rng), U(rng)};  // v . grad Psi at the point
+      const Sym2<double> M = sym_exp(psi);
+      const Relaxation<double> k = relaxation(law.model, false, Conformation<double>{M.xx, M.xy, M.yy, 1.0}, law.c);
+      const Sym2<double> rate = log_conformation_rate(psi, L, k, M, inv_lambda);
+      const Sym2<double> R_log{conv.xx + rate.xx, conv.xy + rate.xy, conv.yy + rate.yy};
+      // D exp(Psi)[X]: exp(Psi + eps X) with eps a dual variable
+      auto dexp = [&](const Sym2<double>& X) {
+        const Dual<1> eps = make_variable<1>(0.0, 0);
+        const Sym2<Dual<1>> E = sym_exp(Sym2<Dual<1>>{psi.xx + eps * X.xx, psi.xy + eps * X.xy, psi.yy + eps * X.yy});
+        return Sym2<double>{E.xx.derivatives()[0], E.xy.derivatives()[0], E.yy.derivatives()[0]};
+      };
+      const Sym2<double> lhs = dexp(R_log), v_grad_M = dexp(conv);
+      const Conformation<double> c = conformation_rate(Conformation<double>{M.xx, M.xy, M.yy, 1.0}, L, k, inv_lambda);
+      const double rhs[3] = {v_grad_M.xx + c.xx, v_grad_M.xy + c.xy, v_grad_M.yy + c.yy};
+      const double l[3] = {lhs.xx, lhs.xy, lhs.yy};
+      const double scale = std::max({1.0, std::abs(rhs[0]), std::abs(rhs[1]), std::abs(rhs[2]), M.xx, M.yy});
+      for (int i = 0; i < 3; ++i) worst = std::max(worst, std::abs(l[i] - rhs[i]) / scale);
+    }
+    EXPECT_LT(worst, 1e-12) << to_string(law.model);
   }
-  EXPECT_LT(worst, 1e-12);
 }
 
 // Dual-number derivatives at and near M = I against central differences: finite and exact,

@@ -41,7 +41,7 @@ CollapsibleOptions coarse(const Fluid& f, bool moving_wall) {
   o.fluid.dynamic_zz = f.dynamic_zz;
   o.fluid.Wi = 0.7;
   o.fluid.beta = 0.3;
-  o.fluid.b = 20.0;
+  o.fluid.constants.b = 20.0;
   o.fluid.Re = 0.5;  // fluid inertia on: the velocity rows carry time terms
   o.fluid.inertia = true;
   o.moving_wall_dynamics = moving_wall;

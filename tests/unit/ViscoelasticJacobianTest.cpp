@@ -1,7 +1,8 @@
-// Exact Jacobians of the viscoelastic equations: every fluid, both formulations, both SUPG time
+// Exact Jacobians of the viscoelastic equations: every fluid (Giesekus alpha = 0.3, PTT epsilon =
+// 0.25 with xi = 0.1 in the conformation form, FENE-CR b = 20), both formulations, both SUPG time
 // scales, FENE-P with M_zz eliminated and as an unknown, on curved distorted elements, at random
 // states and at M = I exactly (where the log-conformation algebra takes its series branches);
-// and every dF/dp. Fails above a relative error of 1e-6.
+// and every dF/dp (the law's constants among them). Fails above a relative error of 1e-6.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -43,7 +44,10 @@ void check(const Case& c) {
   o.fluid.kernel.supg.local = c.supg_local;
   o.fluid.Wi = 0.7;
   o.fluid.beta = 0.3;
-  o.fluid.b = 20.0;
+  o.fluid.constants.b = 20.0;
+  o.fluid.constants.alpha = 0.3;
+  o.fluid.constants.epsilon = 0.25;
+  o.fluid.constants.xi = c.log_form ? 0.0 : 0.1;  // the log form has no slip
   o.fluid.Re = 2.0;
   o.fluid.inertia = true;
   o.fluid.profile = c.model == FluidModel::Newtonian ? ProfileKind::Parabolic : ProfileKind::FullyDeveloped;
@@ -91,8 +95,11 @@ void check(const Case& c) {
 
 }  // namespace
 
+const FluidModel kLaws[] = {FluidModel::OldroydB,  FluidModel::FeneP,          FluidModel::Owens, FluidModel::Giesekus,
+                            FluidModel::PttLinear, FluidModel::PttExponential, FluidModel::FeneCr};
+
 TEST(ViscoelasticJacobian, EveryFluidAndFormulation) {
-  for (FluidModel m : {FluidModel::OldroydB, FluidModel::FeneP, FluidModel::Owens})
+  for (FluidModel m : kLaws)
     for (bool log_form : {false, true}) check({m, log_form, false, true, false});
 }
 
@@ -103,6 +110,6 @@ TEST(ViscoelasticJacobian, FenePWithDynamicZz) {
 TEST(ViscoelasticJacobian, GlobalSupg) { check({FluidModel::OldroydB, false, false, false, false}); }
 
 TEST(ViscoelasticJacobian, LogConformationAtIdentity) {
-  for (FluidModel m : {FluidModel::OldroydB, FluidModel::FeneP, FluidModel::Owens}) check({m, true, false, true, true});
+  for (FluidModel m : kLaws) check({m, true, false, true, true});
   check({FluidModel::FeneP, true, true, true, true});
 }

@@ -16,6 +16,7 @@
 #include "core/Newton.hpp"
 #include "problems/channel/ChannelProblem.hpp"
 #include "problems/laws/LogConformation.hpp"
+#include "problems/laws/SteadyFlows.hpp"
 
 using namespace keller;
 
@@ -40,7 +41,7 @@ Errors errors_at_section(FluidModel model, bool log_form, int ny) {
   o.fluid.log_conformation = log_form;
   o.fluid.Wi = 0.2;
   o.fluid.beta = model == FluidModel::Owens ? OwensParameters().beta() : 0.3;
-  o.fluid.b = 20.0;
+  o.fluid.constants.b = 20.0;
   o.fluid.profile = ProfileKind::FullyDeveloped;
   ChannelProblem p(o);
   Vector u = p.initial_guess();
@@ -60,7 +61,9 @@ Errors errors_at_section(FluidModel model, bool log_form, int ny) {
     }
   InflowProfile profile{ProfileKind::FullyDeveloped, 0.0, 1.0, 0.5};
   OwensParameters owens;
-  const auto eta = [&](double g) { return shear_viscosity(model, g, o.fluid.Wi, 1.0, o.fluid.beta, o.fluid.b, owens); };
+  const auto eta = [&](double g) {
+    return shear_viscosity(model, g, o.fluid.Wi, 1.0, o.fluid.beta, o.fluid.constants, owens);
+  };
   std::vector<double> uex, dudy;
   profile.evaluate(ys, 1.0, eta, uex, dudy);
   Errors e;
@@ -71,7 +74,7 @@ Errors errors_at_section(FluidModel model, bool log_form, int ny) {
     double lam = o.fluid.Wi;
     if (model == FluidModel::Owens) lam *= owens_factor(dudy[k] * dudy[k], 1.0, owens);
     const SteadyConformation s =
-        steady_shear(model == FluidModel::FeneP ? model : FluidModel::OldroydB, lam * dudy[k], o.fluid.b);
+        steady_shear(model == FluidModel::FeneP ? model : FluidModel::OldroydB, lam * dudy[k], o.fluid.constants);
     double c[3] = {u[d.node_dof(fm, nodes[k], 0)], u[d.node_dof(fm, nodes[k], 1)], u[d.node_dof(fm, nodes[k], 2)]};
     if (log_form) {
       const Sym2<double> M = sym_exp(Sym2<double>{c[0], c[1], c[2]});

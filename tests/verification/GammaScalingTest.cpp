@@ -44,7 +44,7 @@ std::vector<Vector> scaled_solution(const Case& c, double Gamma) {
   o.fluid.inertia = c.Re > 0;
   o.fluid.Wi = c.model == FluidModel::Owens ? 2.0 : 0.5;
   o.fluid.beta = c.model == FluidModel::Owens ? OwensParameters().beta() : 0.3;
-  o.fluid.b = 20.0;
+  o.fluid.constants.b = 20.0;
   o.fluid.profile = c.model == FluidModel::Newtonian ? ProfileKind::Parabolic : ProfileKind::FullyDeveloped;
   ChannelProblem p(o);
   Vector u = p.initial_guess();

@@ -87,7 +87,7 @@ ManufacturedProblem::ManufacturedProblem(const ManufacturedOptions& options)
   if (fl.viscoelastic()) {
     idx.Wi = params_.add("Wi", fl.Wi, "Weissenberg number");
     idx.beta = params_.add("beta", fl.beta, "viscosity ratio");
-    if (fl.model == FluidModel::FeneP) idx.b = params_.add("b", fl.b, "FENE-P extensibility");
+    if (fl.model == FluidModel::FeneP) idx.law.b = params_.add("b", fl.b, "FENE-P extensibility");
   }
 
   auto source = std::make_shared<FlowSource>();
