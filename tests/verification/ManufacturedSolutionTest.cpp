@@ -146,7 +146,10 @@ ManufacturedOptions fluid(FluidModel model, bool log_form, bool moving = false) 
   o.fluid.Gamma = 1.0;
   o.fluid.Wi = 0.8;  // lambda |K| up to about 1
   o.fluid.beta = 0.4;
-  o.fluid.b = 3.0;  // the Peterlin factor f from 1.05 to 1.19 on these fields
+  o.fluid.b = 3.0;  // the Peterlin factor f from 1.05 to 1.19 on these fields (FENE-P and FENE-CR)
+  o.fluid.alpha = 0.3;
+  o.fluid.epsilon = 0.25;
+  o.fluid.xi = log_form || !is_ptt(model) ? 0.0 : 0.1;  // PTT's slip; the log form has none
   if (model == FluidModel::Owens) {
     // Gamma = 2000 puts the dimensional shear rate (gdot U0 / (Gamma W) = gdot / 20, 0.035 to
     // 0.065 1/s) in the Cross law's transition, eta_p / eta_p0 from 0.62 to 0.50;
@@ -202,6 +205,20 @@ TEST(ManufacturedSolution, OwensBlood) {
   }
 }
 
+// The laws added to the reference study's: Giesekus (alpha = 0.3), linear PTT (epsilon = 0.25,
+// xi = 0.1 in the conformation form), exponential PTT, FENE-CR (b = 3), both forms, at the orders
+// of the shipped laws.
+TEST(ManufacturedSolution, Giesekus) {
+  for (bool log_form : {false, true}) expect_viscoelastic_orders(converge(fluid(FluidModel::Giesekus, log_form)));
+}
+TEST(ManufacturedSolution, PhanThienTanner) {
+  for (FluidModel m : {FluidModel::PttLinear, FluidModel::PttExponential})
+    for (bool log_form : {false, true}) expect_viscoelastic_orders(converge(fluid(m, log_form)));
+}
+TEST(ManufacturedSolution, FeneCr) {
+  for (bool log_form : {false, true}) expect_viscoelastic_orders(converge(fluid(FluidModel::FeneCr, log_form)));
+}
+
 // The moving-mesh forms on the prescribed motion of the unit square onto the collapsed square.
 TEST(ManufacturedSolution, MovingNewtonian) {
   ManufacturedOptions o = fluid(FluidModel::Newtonian, false, true);
@@ -210,6 +227,11 @@ TEST(ManufacturedSolution, MovingNewtonian) {
 }
 TEST(ManufacturedSolution, MovingOldroydB) {
   for (bool log_form : {false, true}) expect_viscoelastic_orders(converge(fluid(FluidModel::OldroydB, log_form, true)));
+}
+TEST(ManufacturedSolution, MovingNewLaws) {
+  expect_viscoelastic_orders(converge(fluid(FluidModel::Giesekus, true, true)));
+  expect_viscoelastic_orders(converge(fluid(FluidModel::PttLinear, false, true)));
+  expect_viscoelastic_orders(converge(fluid(FluidModel::FeneCr, false, true)));
 }
 TEST(ManufacturedSolution, MovingFenePAndOwens) {
   expect_viscoelastic_orders(converge(fluid(FluidModel::FeneP, true, true)));

@@ -6,6 +6,7 @@
 #include "core/BlockMeshBuilder.hpp"
 #include "core/KernelTerm.hpp"
 #include "problems/kernels/NewtonianFlowKernel.hpp"
+#include "problems/laws/LawKeys.hpp"
 
 namespace keller::mms {
 
@@ -87,7 +88,7 @@ ManufacturedProblem::ManufacturedProblem(const ManufacturedOptions& options)
   if (fl.viscoelastic()) {
     idx.Wi = params_.add("Wi", fl.Wi, "Weissenberg number");
     idx.beta = params_.add("beta", fl.beta, "viscosity ratio");
-    if (fl.model == FluidModel::FeneP) idx.law.b = params_.add("b", fl.b, "FENE-P extensibility");
+    idx.law = add_law_parameters(params_, fl.model, fl.log_form, {fl.b, fl.alpha, fl.epsilon, fl.xi});
   }
 
   auto source = std::make_shared<FlowSource>();

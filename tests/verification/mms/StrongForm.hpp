@@ -7,11 +7,13 @@
 // Written from model.md on purpose without the kernels' law code (ConstitutiveLaw.hpp,
 // LogConformation.hpp): a source built from the same functions as the discrete equations would
 // cancel an error in them. The conformation equation is written with matrix products, the
-// Peterlin and Cross factors from their definitions, exp(Psi) by its Taylor series, and the
+// Peterlin and Cross factors and each law's relaxation P(M) from their published definitions
+// (Giesekus' (M - I) + alpha (M - I)^2, PTT's Y (M - I) with the Gordon-Schowalter slip,
+// FENE-CR's f (M - I)), exp(Psi) by its Taylor series, and the
 // log-conformation equation as the definition of the reformulation: with M = exp(Psi),
 // v . grad M = Dexp_Psi[v . grad Psi], and Dexp_Psi[X] = M X for X commuting with Psi, so
 //   log-form residual = Dexp_Psi^{-1}[conformation-form residual]
-//   = v . grad Psi - Dexp_Psi^{-1}[K M + M K^T] - (exp(-Psi) - f I) / lambda_eff,
+//   = v . grad Psi - Dexp_Psi^{-1}[K M + M K^T] + P(M) M^-1 / lambda_eff,
 // which involves neither the eigenvectors of M nor the Fattal-Kupferman formulas, and is
 // smooth where the eigenvalues coincide.
 #pragma once
@@ -36,6 +38,7 @@ struct FluidSpec {
   bool dynamic_zz = false;  // FENE-P: M_zz an unknown (else f M_zz = 1 eliminates it)
   double Re = 0.0;          // > 0: the convective term
   double Gamma = 1.0, Wi = 1.0, beta = 0.5, b = 10.0;
+  double alpha = 0.0, epsilon = 0.0, xi = 0.0;  // Giesekus; PTT (xi: conformation form only)
   OwensParameters owens;
 
   bool viscoelastic() const { return model != FluidModel::Newtonian; }
@@ -113,14 +116,64 @@ class StrongForm {
     }
   }
 
-  // Peterlin factor f(M) of model.md (1 except FENE-P).
+  // M_zz as the equations see it: the field's where it is an unknown, else 1, the steady state of
+  // its own equation for every law but FENE-P (whose f M_zz = 1 peterlin() uses instead).
+  template <class S>
+  S zz(const S (&m)[4]) const {
+    return fluid_.dynamic_zz ? m[3] : S(1.0);
+  }
+
+  // Peterlin factor f(M) of model.md (FENE-P), or the FENE-CR one f = (b - 1) / (b - tr M / 3)
+  // with M_zz = 1 (its own steady state); 1 for the other laws.
   template <class S>
   S peterlin(const S (&m)[4]) const {
-    if (fluid_.model != FluidModel::FeneP) return S(1.0);
     const double b = fluid_.b;
+    if (fluid_.model == FluidModel::FeneCr) return S(b - 1.0) / (b - (m[0] + m[2] + zz(m)) / 3.0);
+    if (fluid_.model != FluidModel::FeneP) return S(1.0);
     if (fluid_.dynamic_zz) return S(b - 1.0) / (b - (m[0] + m[2] + m[3]) / 3.0);
     // f M_zz = 1: f = (b - 1) / (b - (M_xx + M_yy + 1/f) / 3), solved for f
     return S(b - 2.0 / 3.0) / (b - (m[0] + m[2]) / 3.0);
+  }
+
+  // The polymer stress over the modulus, tau_p / modulus, from the laws' definitions: f M - I
+  // (FENE-P), f (M - I) (FENE-CR), M - I (the others); in-plane [[xx, xy], [xy, yy]].
+  template <class S>
+  void polymer_stress(const S (&m)[4], S (&t)[3]) const {
+    const S f = peterlin(m);
+    if (fluid_.model == FluidModel::FeneCr) {
+      t[0] = f * (m[0] - 1.0);
+      t[1] = f * m[1];
+      t[2] = f * (m[2] - 1.0);
+    } else {
+      t[0] = f * m[0] - 1.0;
+      t[1] = f * m[1];
+      t[2] = f * m[2] - 1.0;
+    }
+  }
+
+  // The relaxation term of the conformation equation, M^box = -P / lambda_eff, as each law is
+  // published: f M - I (FENE-P), f (M - I) (FENE-CR), (M - I) + alpha (M - I)^2 (Giesekus),
+  // Y (M - I) with Y = 1 + epsilon (tr M - 3) or exp(epsilon (tr M - 3)) (PTT), M - I otherwise.
+  // Returns the in-plane 2x2 part; zz in pzz.
+  Eigen::Matrix2d relaxation(const double (&m)[4], double& pzz) const {
+    Eigen::Matrix2d M, I = Eigen::Matrix2d::Identity();
+    M << m[0], m[1], m[1], m[2];
+    const double f = peterlin(m), tr = m[0] + m[2] + zz(m);
+    switch (fluid_.model) {
+      case FluidModel::FeneP: pzz = f * m[3] - 1.0; return f * M - I;
+      case FluidModel::FeneCr: pzz = f * (m[3] - 1.0); return f * (M - I);
+      case FluidModel::Giesekus:
+        pzz = (m[3] - 1.0) + fluid_.alpha * (m[3] - 1.0) * (m[3] - 1.0);
+        return (M - I) + fluid_.alpha * (M - I) * (M - I);
+      case FluidModel::PttLinear:
+      case FluidModel::PttExponential: {
+        const double x = fluid_.epsilon * (tr - 3.0);
+        const double Y = fluid_.model == FluidModel::PttLinear ? 1.0 + x : std::exp(x);
+        pzz = Y * (m[3] - 1.0);
+        return Y * (M - I);
+      }
+      default: pzz = m[3] - 1.0; return M - I;
+    }
   }
 
   // 1 / lambda_eff at a point with velocity gradient K: Gamma / Wi, divided by the Cross
@@ -151,14 +204,14 @@ class StrongForm {
     for (int i = 0; i < 2; ++i)
       for (int j = 0; j < 2; ++j) T[i][j] = eta_s * (K[i][j] + K[j][i]) - (i == j ? P : S(0.0));
     if (!fluid_.viscoelastic()) return;
-    S m[4];
+    S m[4], t[3];
     fields_.conformation(x, m);
-    const S f = peterlin(m);
+    polymer_stress(m, t);
     const double modulus = (1.0 - fluid_.beta) * fluid_.Gamma / fluid_.Wi;
-    T[0][0] += modulus * (f * m[0] - 1.0);
-    T[0][1] += modulus * (f * m[1]);
-    T[1][0] += modulus * (f * m[1]);
-    T[1][1] += modulus * (f * m[2] - 1.0);
+    T[0][0] += modulus * t[0];
+    T[0][1] += modulus * t[1];
+    T[1][0] += modulus * t[1];
+    T[1][1] += modulus * t[2];
   }
 
   // Body force f = (Re/Gamma) v . grad v - div T.
@@ -193,16 +246,21 @@ class StrongForm {
     Eigen::Matrix2d Km, Mm;
     Km << K[0][0], K[0][1], K[1][0], K[1][1];
     Mm << m[0], m[1], m[1], m[2];
-    const Eigen::Matrix2d stretch = Km * Mm + Mm * Km.transpose();
+    // the Gordon-Schowalter derivative of PTT: M^nabla + xi (D M + M D) - 2 xi D
+    const bool ptt = fluid_.model == FluidModel::PttLinear || fluid_.model == FluidModel::PttExponential;
+    const double xi = ptt ? fluid_.xi : 0.0;
+    const Eigen::Matrix2d Dm = 0.5 * (Km + Km.transpose());
+    const Eigen::Matrix2d stretch = Km * Mm + Mm * Km.transpose() - xi * (Dm * Mm + Mm * Dm) + 2.0 * xi * Dm;
     const double inv = inverse_relaxation_time(K);
-    const double f = peterlin(m);
+    double pzz = 0;
+    const Eigen::Matrix2d P = relaxation(m, pzz);
     Eigen::Matrix2d res;
     res << conv[0], conv[1], conv[1], conv[2];
-    res += -stretch + inv * (f * Mm - Eigen::Matrix2d::Identity());
+    res += -stretch + inv * P;
     s[0] = res(0, 0);
     s[1] = res(0, 1);
     s[2] = res(1, 1);
-    s[3] = conv[3] + inv * (f * m[3] - 1.0);
+    s[3] = conv[3] + inv * pzz;
     if (!fluid_.log_form) return;
     // Dexp at Psi, as the 3x3 matrix of directional derivatives on symmetric matrices
     double psi[4];
