@@ -8,6 +8,12 @@
 // whichever way the outflow faces. (The tangential velocity is imposed on the outflow, which
 // runs along x or y, so only the normal component's rows matter there.)
 //
+// A law with a second normal stress difference in shear (Giesekus; PTT, whose slip xi gives it
+// one) has a fully developed pressure that varies across the channel, P = tau_tt + p0(x) (t the
+// tangent: the cross-stream momentum balance), so P = 0 cannot hold on the whole outflow: for
+// these laws tau_p - tau_tt I is added instead, and the condition reads -P + tau_tt = 0, which
+// fully developed flow satisfies. (The other laws have tau_tt = 0 in shear and keep the kernel
+// as it was, to the last digit.)//
 // Local unknowns: v_x (9), v_y (9) of the element owning the edge (rows), then its conformation
 // components (NC x 4 Q1 nodes, conformation or Psi).
 #pragma once
@@ -35,7 +41,7 @@ class OutflowTractionKernel {
 
   OutflowTractionKernel(const Mesh& mesh, const DofMap& dofs, const std::vector<BoundaryEdge>& edges,
                         FlowParameterIndices p, ViscoelasticKernelOptions o)
-      : edges_(edges), p_(p), o_(o) {
+      : edges_(edges), p_(p), o_(o), second_difference_(o.model == FluidModel::Giesekus || is_ptt(o.model)) {
     const int fv = dofs.field_index("velocity"), fm = dofs.field_index("conformation");
     dofs_.resize(edges_.size() * kSize);
     geometry_.resize(edges_.size());
@@ -69,7 +75,15 @@ class OutflowTractionKernel {
       }
       const Conformation<T> M = conformation_of<NC>(m, o_.log_conformation);
       const Conformation<T> tp = polymer_stress(M, relaxation(o_.model, NC == 4, M, law), modulus);
-      const T txx = tp.xx, txy = tp.xy, tyy = tp.yy;
+      T txx = tp.xx, txy = tp.xy, tyy = tp.yy;
+      if (second_difference_) {
+        // tau_tt (t the edge's tangent) is taken off the normal stress: with it the pressure of
+        // fully developed flow, P = tau_tt + p0, is P = p0 along the boundary
+        const double n0 = g.normal[0], n1 = g.normal[1];
+        const T ttt = tp.xx * (n1 * n1) - 2.0 * tp.xy * (n0 * n1) + tp.yy * (n0 * n0);
+        txx = txx - ttt;
+        tyy = tyy - ttt;
+      }
       const T tx = txx * g.normal[0] + txy * g.normal[1], ty = txy * g.normal[0] + tyy * g.normal[1];
       for (int a = 0; a < 9; ++a) {
         const double N = tb.edge_N2[e][q][a] * g.wds;
@@ -86,6 +100,7 @@ class OutflowTractionKernel {
   std::vector<std::array<EdgeQpGeometry<double>, ref::kEdgeQp>> geometry_;
   FlowParameterIndices p_;
   ViscoelasticKernelOptions o_;
+  bool second_difference_;  // the law has a second normal stress difference in shear
 };
 
 }  // namespace keller
