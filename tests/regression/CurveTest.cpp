@@ -229,3 +229,40 @@ TEST(CurveCommand, AHopfCurveFromAStoredHopfPointIsBEqualsOnePlusASquared) {
     EXPECT_NEAR(finished.rows(i, b), 1.0 + finished.rows(i, a) * finished.rows(i, a), 1e-8)
         << "a = " << finished.rows(i, a);
 }
+
+// Continuation in a law's constant: the limiting Wi of a Giesekus fluid against its mobility
+// alpha, an event curve from the end of the Wi branch at alpha = 0.1 down to alpha = 0, where the
+// law is Oldroyd-B's: there the curve's Wi is the Oldroyd-B branch's limiting Wi on the same
+// (coarse) mesh, to 1e-6 (both are located zeros of min m1 to the corrector's tolerance; they
+// agree to 1e-9), and min m1 = 0 at every point of the curve.
+TEST(CurveCommand, LimitingWiAgainstGiesekusMobilityMeetsOldroydBAtZero) {
+  const std::string dir = test::scratch_dir("curve_giesekus_alpha");
+  const std::string mesh =
+      " --set mesh.name=custom --set mesh.nx_upstream=5 --set mesh.nx_deformable=10 --set mesh.nx_downstream=5 "
+      "--set mesh.ny_fluid=4 --set mesh.ny_solid=2";
+  auto end_of = [&](const std::string& scene, const std::string& out) {
+    const auto r = test::run_keller("trace " + test::source_path("runs/scenes/" + scene) + mesh + " -o " + out);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    const BranchTable t = read_branch_table(out);
+    const auto ends = rows_of_kind(t, PointKind::End);
+    EXPECT_EQ(ends.size(), 1u);
+    EXPECT_NEAR(t.rows(ends.back(), t.column("min_m1")), 0.0, 1e-9);
+    return t.rows(ends.back(), t.column("Wi"));
+  };
+  const double wi_giesekus = end_of("collapsible_giesekus_wi_high_gamma.toml", dir + "/wi.h5");
+  const double wi_oldroyd_b = end_of("collapsible_oldroyd_b_wi_high_gamma.toml", dir + "/ob.h5");
+  EXPECT_GT(wi_giesekus, wi_oldroyd_b * 1.2);  // shear thinning delays the loss of positive definiteness
+  const auto r = test::run_keller("trace " + test::source_path("runs/scenes/collapsible_giesekus_wi_limit_alpha.toml") +
+                                  mesh + " --from " + dir + "/wi.h5:end --curve event -o " + dir +
+                                  "/curve.h5 --set continuation.direction=\"decrease\"");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const BranchTable curve = read_branch_table(dir + "/curve.h5");
+  const int alpha = curve.column("alpha"), wi = curve.column("Wi"), m1 = curve.column("min_m1");
+  const long last = curve.rows.rows() - 1;
+  EXPECT_NEAR(curve.rows(0, wi), wi_giesekus, 1e-9);
+  EXPECT_NEAR(curve.rows(last, alpha), 0.0, 1e-12);
+  EXPECT_NEAR(curve.rows(last, wi), wi_oldroyd_b, 1e-6);
+  for (long i = 0; i <= last; ++i) EXPECT_NEAR(curve.rows(i, m1), 0.0, 1e-9) << "row " << i;
+  std::cout << std::setprecision(12) << "limiting Wi: Giesekus alpha = 0.1 " << wi_giesekus << ", curve at alpha = 0 "
+            << curve.rows(last, wi) << ", Oldroyd-B branch " << wi_oldroyd_b << "\n";
+}
