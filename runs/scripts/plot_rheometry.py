@@ -72,10 +72,11 @@ def main(argv=None):
                 raise OutputError(f"{path}: not a rheometry branch (problem.type {kind or 'unknown'})")
             used.add(ax)
             x = cols[x_name]
+            colour = None  # one colour per file, a line style per quantity
             for name, tex, style in curves:
                 ok = cols[name] > 0
-                line = ax.loglog(x[ok], cols[name][ok], style, label=f"{tex}: {label}")[0]
-                style = dict(color=line.get_color())
+                line = ax.loglog(x[ok], cols[name][ok], style, color=colour, label=f"{tex}: {label}")[0]
+                colour = line.get_color()
         if a.data:
             d = read_data(a.data)
             if not a.rate:

@@ -109,6 +109,37 @@ class KellerH5Test(unittest.TestCase):
         self.assertIsNone(keller_h5.read_array(path, g, "no such field"))
         self.assertEqual(keller_h5.scene_values(path)["problem.type"], "collapsible-channel")
 
+    def test_labels_name_only_the_constants_a_law_has(self):
+        # every scene lists every law constant with its default; a label names those of its own law
+        d = scratch("labels")
+        files = []
+        for name, sets in (("g", ["fluid.model=\"giesekus\"", "parameters.alpha=0.3"]), ("p", []),
+                           ("o", ["fluid.model=\"oldroyd-b\""])):
+            words = ["trace", scene("steady_shear_ptt.toml"), "-o", name + ".h5", "--set", "output.xdmf=false"]
+            for s in sets:
+                words += ["--set", s]
+            keller(*words, cwd=d)
+            files.append(os.path.join(d, name + ".h5"))
+        self.assertEqual(keller_h5.distinguishing_labels(files),
+                         ["model = giesekus, alpha = 0.3", "model = ptt-linear, epsilon = 0.25, xi = 0.0",
+                          "model = oldroyd-b"])
+        # plot_rheometry.py draws them, and measured points from a CSV (bad CSV: exit 2, no figure)
+        script = os.path.join(ARGS.source, "runs", "scripts", "plot_rheometry.py")
+        with open(os.path.join(d, "m.csv"), "w") as f:
+            f.write("rate,eta_p\n1,0.99\n100,0.5\n")
+        with open(os.path.join(d, "bad.csv"), "w") as f:
+            f.write("rate,eta_p\n1,x\n")
+        env = dict(os.environ, PYTHONPATH=os.path.join(ARGS.source, "runs", "scripts"))
+        ok = subprocess.run([sys.executable, script, *files, "--rate", "--data", "m.csv", "-o", "r.png"], cwd=d,
+                            env=env, capture_output=True, text=True)
+        self.assertEqual(ok.returncode, 0, ok.stderr)
+        self.assertGreater(os.path.getsize(os.path.join(d, "r.png")), 10000)
+        bad = subprocess.run([sys.executable, script, *files, "--rate", "--data", "bad.csv", "-o", "b.png"], cwd=d,
+                             env=env, capture_output=True, text=True)
+        self.assertEqual(bad.returncode, 2)
+        self.assertIn("bad.csv", bad.stderr)
+        self.assertFalse(os.path.exists(os.path.join(d, "b.png")))
+
     def test_a_time_series_and_its_mode(self):
         d = scratch("time_series")
         keller("evolve", scene("brusselator1d_evolve.toml"), "--set", "evolve.t_end=3", "-o", "e.h5", cwd=d)

@@ -40,13 +40,31 @@ def quantity(name):
     return QUANTITIES.get(name, name)
 
 
+# The constants of the constitutive laws (docs/fluids.md): a scene lists each with its default
+# whatever the law, so it tells files apart only where the file's fluid.model uses it.
+LAW_CONSTANTS = {
+    "parameters.b": ("fene-p", "fene-cr"),
+    "parameters.alpha": ("giesekus",),
+    "parameters.epsilon": ("ptt-linear", "ptt-exponential"),
+    "parameters.xi": ("ptt-linear", "ptt-exponential"),
+}
+
+
+def _without_unused_constants(scene):
+    model = scene.get("fluid.model", "").strip('"')
+    return {k: v for k, v in scene.items() if k not in LAW_CONSTANTS or model in LAW_CONSTANTS[k]}
+
+
 def distinguishing_labels(paths, ignore=()):
     """A label per file from the scene keys whose values differ between the files (for example
-    'fluid.model = owens, mesh.name = M3'); the file names when the scenes agree."""
-    scenes = [scene_values(p) for p in paths]
+    'fluid.model = owens, mesh.name = M3'); the file names when the scenes agree. A law's
+    constant counts only for the files whose law has it."""
+    scenes = [_without_unused_constants(scene_values(p)) for p in paths]
     keys = sorted({k for s in scenes for k in s})
     differing = [k for k in keys if len({s.get(k) for s in scenes}) > 1 and not k.startswith("continuation.")
                  and k not in ignore and not k.startswith("output.")]
     if not differing or len(paths) == 1:
         return [os.path.basename(p) for p in paths]
-    return [", ".join(f"{k.split('.', 1)[1]} = {s.get(k, '-')}" for k in differing) for s in scenes]
+    # a law's constant the file's law does not have is left out of its label, not shown as '-'
+    return [", ".join(f"{k.split('.', 1)[1]} = {s.get(k, '-')}" for k in differing
+                      if k in s or k not in LAW_CONSTANTS) for s in scenes]
