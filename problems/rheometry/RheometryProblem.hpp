@@ -36,7 +36,11 @@ const char* problem_type(HomogeneousFlow flow);  // "steady-shear", "planar-exte
 
 struct RheometryOptions {
   HomogeneousFlow flow = HomogeneousFlow::Shear;
-  LawKeys law{.model = FluidModel::Owens};  // the law, its formulation, its constants
+  LawKeys law = [] {  // the law, its formulation, its constants: Owens by default
+    LawKeys k;
+    k.model = FluidModel::Owens;
+    return k;
+  }();
   double log10_rate = -3.0;
   double Wi = 26.3;  // lambda_0 = Wi / (U0 / W) = 0.263 s
   double Gamma = 4.95e-4;

@@ -18,6 +18,7 @@
 
 #include "continuation/output/BranchFile.hpp"
 #include "problems/laws/SteadyFlows.hpp"
+#include "support/LawStates.hpp"
 #include "support/TestSupport.hpp"
 
 using namespace keller;
@@ -55,14 +56,6 @@ BranchTable trace(const std::string& scene, const std::string& name, const std::
   return read_branch_table(dir + "/b.h5");
 }
 
-// The polymer stress over the modulus of a closed-form state, with the state's own factor.
-Conformation<double> closed_stress(const Law& l, const SteadyConformation& s) {
-  const Conformation<double> M{s.xx, s.xy, s.yy, s.zz};
-  Relaxation<double> k = relaxation(l.model, true, M, l.c);
-  if (uses_b(l.model)) k.s0 = -s.f, k.s1 = s.f;
-  return polymer_stress(M, k, 1.0);
-}
-
 }  // namespace
 
 TEST(RheometryTrace, EveryLawFollowsItsClosedFormsOverEightDecades) {
@@ -87,12 +80,12 @@ TEST(RheometryTrace, EveryLawFollowsItsClosedFormsOverEightDecades) {
           check("eta_p", polymer_shear_ratio(l.model, w, l.c));
           // psi1_p at W < 1e-2 carries eps / (2 W^2) of rounding (RheometryTest): checked above it
           if (w > 1e-2) {
-            const Conformation<double> s = closed_stress(l, steady_shear(l.model, w, l.c));
+            const Conformation<double> s = test::closed_stress(l.model, l.c, steady_shear(l.model, w, l.c));
             check("psi1_p", (s.xx - s.yy) / (2 * w * w));
           }
         } else {
           const Extension kind = scene == "planar_extension" ? Extension::Planar : Extension::Uniaxial;
-          const Conformation<double> s = closed_stress(l, steady_extension(l.model, kind, w, l.c));
+          const Conformation<double> s = test::closed_stress(l.model, l.c, steady_extension(l.model, kind, w, l.c));
           check("eta_e_p", (s.xx - s.yy) / w);
         }
       }

@@ -13,6 +13,7 @@
 #include "problems/laws/LogConformation.hpp"
 #include "problems/laws/SteadyFlows.hpp"
 #include "support/HomogeneousReference.hpp"
+#include "support/LawStates.hpp"
 
 using namespace keller;
 
@@ -149,12 +150,6 @@ std::string describe(const LawCase& l) {
 
 test::ReferenceLaw reference(const LawCase& l) { return {l.model, l.c.b, l.c.alpha, l.c.epsilon, l.c.xi}; }
 
-// The polymer stress over the modulus, s0 I + s1 M, of a state by the law's own terms.
-Conformation<double> stress_of(const LawCase& l, const SteadyConformation& s) {
-  const Conformation<double> M{s.xx, s.xy, s.yy, s.zz};
-  return polymer_stress(M, relaxation(l.model, true, M, l.c), 1.0);
-}
-
 // The largest deviation of t from the reference r, relative to the larger of 1 and |r|.
 double deviation(const Conformation<double>& t, const test::Tensor& r) {
   double scale = 1, worst = 0;
@@ -164,24 +159,11 @@ double deviation(const Conformation<double>& t, const test::Tensor& r) {
   return worst / scale;
 }
 
-// The law's terms at a steady state. The FENE laws' f is the state's own: f recomputed from M
-// would amplify M's rounding by tr M / (3b - tr M), which nears 1e13 in fast extension (f itself
-// is checked against its definition above, and the FENE-P table).
-Relaxation<double> terms_at(const LawCase& l, const SteadyConformation& s) {
-  Relaxation<double> k = relaxation(l.model, true, Conformation<double>{s.xx, s.xy, s.yy, s.zz}, l.c);
-  if (uses_b(l.model)) {
-    const double f = s.f;
-    k = l.model == FluidModel::FeneP ? Relaxation<double>{-1.0, f, 0.0, -1.0, f, f}
-                                     : Relaxation<double>{-f, f, 0.0, -f, f, f};
-  }
-  return k;
-}
-
 // The law's pointwise rate (the kernels' conformation_rate) at a state, relative to its terms.
 double rate_residual(const LawCase& l, const SteadyConformation& s, const double (&L)[2][2], double Lzz) {
   const Conformation<double> M{s.xx, s.xy, s.yy, s.zz};
   const double* xi = is_ptt(l.model) ? &l.c.xi : nullptr;
-  const Conformation<double> r = conformation_rate(M, L, terms_at(l, s), 1.0, xi, Lzz);
+  const Conformation<double> r = conformation_rate(M, L, test::terms_at(l.model, l.c, s), 1.0, xi, Lzz);
   const double scale =
       std::max({1.0, std::abs(s.xx), std::abs(s.yy), std::abs(s.zz)}) * (1 + std::abs(L[0][0]) + std::abs(L[0][1]));
   return std::max({std::abs(r.xx), std::abs(r.xy), std::abs(r.yy), std::abs(r.zz)}) / scale;
@@ -199,7 +181,7 @@ TEST(ConstitutiveLaw, EveryLawsShearStateIsTheIndependentSolution) {
     for (double W : {1e-3, 0.1, 1.0, 3.0, 10.0, 100.0, 1000.0}) {
       const SteadyConformation s = steady_shear(l.model, W, l.c);
       const test::Tensor ref = test::reference_state(reference(l), test::shear_gradient(), W);
-      const double d = deviation(stress_of(l, s), ref);
+      const double d = deviation(test::closed_stress(l.model, l.c, s), ref);
       EXPECT_LT(d, 1e-12) << describe(l) << " W = " << W;
       worst = std::max(worst, d);
       const double L[2][2] = {{0.0, W}, {0.0, 0.0}};
@@ -234,7 +216,8 @@ TEST(ConstitutiveLaw, EveryLawsExtensionStateIsTheIndependentSolution) {
           ADD_FAILURE() << e.what() << ": " << describe(l) << " " << to_string(kind) << " W = " << W;
           continue;
         }
-        EXPECT_LT(deviation(stress_of(l, s), ref), 1e-11) << describe(l) << " " << to_string(kind) << " W = " << W;
+        EXPECT_LT(deviation(test::closed_stress(l.model, l.c, s), ref), 1e-11)
+            << describe(l) << " " << to_string(kind) << " W = " << W;
         const double L[2][2] = {{W, 0.0}, {0.0, kind == Extension::Planar ? -W : -0.5 * W}};
         EXPECT_LT(rate_residual(l, s, L, kind == Extension::Planar ? 0.0 : -0.5 * W), 1e-12)
             << describe(l) << " " << to_string(kind) << " W = " << W;
@@ -274,7 +257,7 @@ TEST(ConstitutiveLaw, LogFormHasTheSameSteadyStates) {
         const double Lzz = flow == 2 ? -0.5 * W : 0.0;
         const Sym2<double> psi = sym_log({s.xx, s.xy, s.yy});
         const Sym2<double> M{s.xx, s.xy, s.yy};
-        const Relaxation<double> k = terms_at(l, s);
+        const Relaxation<double> k = test::terms_at(l.model, l.c, s);
         const Sym2<double> r = log_conformation_rate(psi, L, k, M, 1.0);
         const double rz = log_conformation_rate_zz(std::log(s.zz), k, s.zz, 1.0, Lzz);
         // the log form's terms are O(1 + W |log M|); its rounding is that times a few eps

@@ -27,6 +27,7 @@
 
 #include "problems/laws/SteadyFlows.hpp"
 #include "problems/rheometry/RheometryProblem.hpp"
+#include "support/LawStates.hpp"
 #include "support/ShearClosedForms.hpp"
 #include "support/TestSupport.hpp"
 
@@ -226,14 +227,6 @@ std::string describe(const LawCase& l, HomogeneousFlow flow, bool log_form) {
          std::to_string(l.c.alpha) + " epsilon " + std::to_string(l.c.epsilon) + " xi " + std::to_string(l.c.xi);
 }
 
-// The polymer stress over the modulus of a closed-form state, with the state's own factor.
-Conformation<double> closed_stress(const LawCase& l, const SteadyConformation& s) {
-  const Conformation<double> M{s.xx, s.xy, s.yy, s.zz};
-  Relaxation<double> k = relaxation(l.model, true, M, l.c);
-  if (uses_b(l.model)) k.s0 = -s.f, k.s1 = s.f;
-  return polymer_stress(M, k, 1.0);
-}
-
 }  // namespace
 
 // Every new law in shear, planar and uniaxial extension and both forms (xi > 0 has only the
@@ -283,7 +276,7 @@ TEST(Rheometry, EveryLawFollowsItsClosedFormsInShearAndExtension) {
             worst = std::max(worst, std::abs(got / expected - 1));
           };
           if (flow == HomogeneousFlow::Shear) {
-            const Conformation<double> t = closed_stress(l, steady_shear(l.model, W, l.c));
+            const Conformation<double> t = test::closed_stress(l.model, l.c, steady_shear(l.model, W, l.c));
             check(obs[at("eta_p")], polymer_shear_ratio(l.model, W, l.c), "eta_p");
             // N1 = M_xx - M_yy of entries of size 1 + O(W^2): their rounding (measured: half an eps in
             // the log form) is eps / (2 W^2) of N1 at small W, 5e-11 at W = 1e-3; 8 eps are allowed
@@ -291,7 +284,7 @@ TEST(Rheometry, EveryLawFollowsItsClosedFormsInShearAndExtension) {
             check(obs[at("psi1_p")], (t.xx - t.yy) / (2 * W * W), "psi1_p", 8 * eps / (2 * W * W));
           } else {
             const Extension kind = flow == HomogeneousFlow::PlanarExtension ? Extension::Planar : Extension::Uniaxial;
-            const Conformation<double> t = closed_stress(l, steady_extension(l.model, kind, W, l.c));
+            const Conformation<double> t = test::closed_stress(l.model, l.c, steady_extension(l.model, kind, W, l.c));
             check(obs[at("eta_e_p")], (t.xx - t.yy) / W, "eta_e_p");
             // the solvent adds 4 beta (planar) or 3 beta (uniaxial): the Trouton ratio at low rate
             const double trouton = kind == Extension::Planar ? 4.0 : 3.0;
