@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 namespace keller {
 
@@ -22,15 +23,30 @@ double DirichletTerm::value(int item) const { return values_[item](*params_); }
 
 bool DirichletTerm::constrains(int dof) const { return std::find(dofs_.begin(), dofs_.end(), dof) != dofs_.end(); }
 
-Status DirichletTerm::residual(int item, const double* u, double* r) const {
-  r[0] = u[0] - value(item);
+namespace {
+
+// A boundary value that does not exist at these parameters (std::domain_error from its value
+// function: a fully developed inflow of a fluid with no unique profile) is the step's failure,
+// with the function's reason, not a crash.
+template <class F>
+Status guarded(const std::string& name, F&& f) {
+  try {
+    f();
+  } catch (const std::domain_error& e) {
+    return {StatusCode::InvalidState, name + ": " + e.what()};
+  }
   return {};
 }
 
+}  // namespace
+
+Status DirichletTerm::residual(int item, const double* u, double* r) const {
+  return guarded(name_, [&] { r[0] = u[0] - value(item); });
+}
+
 Status DirichletTerm::jacobian(int item, const double* u, double* r, double* J) const {
-  r[0] = u[0] - value(item);
   J[0] = 1.0;
-  return {};
+  return guarded(name_, [&] { r[0] = u[0] - value(item); });
 }
 
 Status DirichletTerm::parameter_derivative(int item, int p, const double*, double* dr) const {
@@ -44,12 +60,13 @@ Status DirichletTerm::parameter_derivative(int item, int p, const double*, doubl
   const Parameter& info = probe.info(p);
   // one-sided at a bound of the admissible range, central otherwise
   const double hi = std::min(v + h, info.upper), lo = std::max(v - h, info.lower);
-  probe.set(p, hi);
-  const double ghi = values_[item](probe);
-  probe.set(p, lo);
-  const double glo = values_[item](probe);
-  dr[0] = hi > lo ? -(ghi - glo) / (hi - lo) : 0.0;
-  return {};
+  return guarded(name_, [&] {
+    probe.set(p, hi);
+    const double ghi = values_[item](probe);
+    probe.set(p, lo);
+    const double glo = values_[item](probe);
+    dr[0] = hi > lo ? -(ghi - glo) / (hi - lo) : 0.0;
+  });
 }
 
 }  // namespace keller

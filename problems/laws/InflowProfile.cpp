@@ -4,6 +4,7 @@
 #include <cmath>
 #include <optional>
 #include <stdexcept>
+#include <string>
 
 namespace keller {
 
@@ -55,6 +56,25 @@ FullyDevelopedProfile::FullyDevelopedProfile(std::function<double(double)> visco
     Um = mean_velocity(G);
   }
   G_ = G;
+  // a flow curve with a gap (a shear stress whose maximum the profile would have to pass) has no
+  // pressure gradient of this mean velocity: U(G) jumps over it
+  if (!(std::abs(Um - U_) <= 1e-6 * U_))  // a jump, not the iteration's last digits
+    throw std::domain_error("no fully developed profile of mean velocity " + std::to_string(U_) +
+                            ": the fluid's flow rate jumps from " + std::to_string(Um) +
+                            " as the pressure gradient grows (a shear stress with a maximum; docs/fluids.md)");
+  // the construction needs tau = eta(g) g increasing up to the wall's shear rate: a law whose
+  // shear stress has a maximum below it (PTT with a slip xi, small epsilon and small beta) has no
+  // unique fully developed profile, and the bracketed roots above would silently pick one
+  const double wall = shear_rate_of_stress(G_ * H_);
+  double previous = 0.0;
+  for (double g = 1e-6 * U_ / H_; g < wall; g *= 1.02) {
+    const double tau = eta_(g) * g;
+    if (tau < previous * (1.0 - 1e-12))  // rounding aside: a plateau is still monotone
+      throw std::domain_error("the fluid's steady shear stress falls as the shear rate passes " + std::to_string(g) +
+                              " (model units): no unique fully developed profile (a shear stress with a "
+                              "maximum, as PTT's with a slip xi and small epsilon and beta has; docs/fluids.md)");
+    previous = tau;
+  }
 }
 
 double FullyDevelopedProfile::shear_rate_of_stress(double tau, double guess) const {

@@ -17,7 +17,9 @@ const char* to_string(ProfileKind k);
 ProfileKind profile_kind_from_string(const std::string& s);  // throws std::invalid_argument
 
 // The fully developed profile of a fluid with steady shear viscosity eta(gdot) (monotone flow
-// curve, eta >= eta_min > 0) in a channel of half-width H at mean velocity U.
+// curve, eta >= eta_min > 0) in a channel of half-width H at mean velocity U. Throws
+// std::domain_error where the shear stress eta(g) g falls before the wall's shear rate (no
+// unique profile).
 class FullyDevelopedProfile {
  public:
   FullyDevelopedProfile(std::function<double(double)> viscosity, double half_width, double mean_velocity);

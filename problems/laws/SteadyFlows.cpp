@@ -67,13 +67,22 @@ SteadyConformation giesekus_shear(double W, double alpha) {
 
 SteadyConformation ptt_shear(FluidModel model, double W, const LawConstants<double>& c) {
   // q = tau_xx + tau_yy = 2 W^2 (1 - xi) / (Y(q)^2 + W^2 xi (2 - xi)): g(q) = q - that is
-  // increasing, g(0) <= 0, and g(q_max) >= 0 at the value for Y = 1
+  // increasing, g(0) <= 0 and g(q_max) >= 0 at q_max, the value for Y = 1. Newton inside the
+  // bracket (bisection where a step leaves it): a few steps, as the inflow profiles call this
+  // at every quadrature point
   const double xi = c.xi, k = W * W * xi * (2.0 - xi), top = 2.0 * W * W * (1.0 - xi);
-  const std::function<double(double)> g = [&](double q) {
-    const double Y = ptt_function(model, c.epsilon, q);
-    return q - top / (Y * Y + k);
-  };
-  const double q = top > 0 ? increasing_root<double>(g, 0.0, top / (1.0 + k)) : 0.0;
+  double lo = 0.0, hi = top / (1.0 + k), q = hi;
+  for (int it = 0; it < 200 && top > 0; ++it) {
+    const double Y = ptt_function(model, c.epsilon, q), dY = model == FluidModel::PttLinear ? c.epsilon : c.epsilon * Y;
+    const double d = Y * Y + k, g = q - top / d, dg = 1.0 + top * 2.0 * Y * dY / (d * d);
+    (g < 0 ? lo : hi) = q;
+    double next = q - g / dg;
+    if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+    const bool done = std::abs(next - q) <= 1e-16 * q || hi - lo <= 1e-16 * hi;
+    q = next;
+    if (done) break;
+  }
+  if (!(top > 0)) q = 0.0;
   const double Y = ptt_function(model, c.epsilon, q);
   const double t = W * Y / (Y * Y + k);
   SteadyConformation s;

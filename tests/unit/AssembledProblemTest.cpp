@@ -223,3 +223,27 @@ TEST(AssembledProblemTest, MisuseThrowsNamingTheProblem) {
     EXPECT_NE(std::string(e.what()).find("'twice'"), std::string::npos) << e.what();
   }
 }
+
+// A boundary value that does not exist at the parameters (its function throws std::domain_error)
+// fails the evaluation with the function's reason, in the residual, the Jacobian and dF/dp; any
+// other exception is a bug and is not swallowed.
+TEST(DirichletTerm, AValueThatDoesNotExistFailsTheEvaluationWithItsReason) {
+  ParameterSet params;
+  const int a = params.add("a", 1.0, "a parameter");
+  DirichletTerm d("inflow", params);
+  d.add(0, [a](const ParameterSet& p) {
+    if (p.value(a) > 2.0) throw std::domain_error("no profile beyond a = 2");
+    return p.value(a);
+  });
+  double u = 0.5, r = 0, J = 0, dr = 0;
+  ASSERT_TRUE(d.residual(0, &u, &r).is_ok());
+  EXPECT_EQ(r, -0.5);
+  params.set(a, 3.0);
+  for (const Status& st : {d.residual(0, &u, &r), d.jacobian(0, &u, &r, &J), d.parameter_derivative(0, a, &u, &dr)}) {
+    EXPECT_EQ(st.code(), StatusCode::InvalidState);
+    EXPECT_NE(st.message().find("inflow: no profile beyond a = 2"), std::string::npos) << st.message();
+  }
+  DirichletTerm bug("bug", params);
+  bug.add(0, [](const ParameterSet&) -> double { throw std::logic_error("a bug"); });
+  EXPECT_THROW(bug.residual(0, &u, &r), std::logic_error);
+}

@@ -67,3 +67,31 @@ TEST(InflowProfile, FullyDevelopedShearThinningFluids) {
     EXPECT_NEAR(eta(std::abs(d[1])) * std::abs(d[1]), fd.pressure_gradient() * 0.5, 1e-10 * fd.pressure_gradient());
   }
 }
+
+// A shear stress with a maximum has no unique fully developed profile once the flow needs more
+// than the maximum: refused (std::domain_error), not a profile picked silently. tau(g) = g / (1 +
+// g^2) + 0.02 g rises to 0.52 at g ~ 1, falls to 0.28, and rises again from g ~ 7: at mean velocity 0.05
+// (half-width 1) the wall stress stays below 0.28 and the profile exists; at 5 the flow
+// rate jumps over the requested one as the pressure gradient passes the maximum; and a profile
+// whose shear rates run past the maximum (the eta of a Johnson-Segalman-like fluid) is refused by
+// the scan of tau up to the wall.
+TEST(InflowProfile, AShearStressWithAMaximumIsRefused) {
+  const auto eta = [](double g) { return 1.0 / (1.0 + g * g) + 0.02; };
+  EXPECT_NO_THROW(FullyDevelopedProfile(eta, 1.0, 0.05));
+  for (double U : {5.0, 50.0}) {
+    try {
+      FullyDevelopedProfile(eta, 1.0, U);
+      ADD_FAILURE() << "a non-monotone shear stress was accepted at U = " << U;
+    } catch (const std::domain_error& e) {
+      const std::string what = e.what();
+      EXPECT_TRUE(what.find("shear stress falls") != std::string::npos ||
+                  what.find("flow rate jumps") != std::string::npos)
+          << what;
+    }
+  }
+  // a monotone one is not refused however fast the flow (Giesekus at alpha = 1/2, whose polymer
+  // stress levels off at G_p, with a little solvent: wall shear rates of order 1e4)
+  const LawConstants<double> c{100.0, 0.5};
+  const auto giesekus = [&](double g) { return shear_viscosity(FluidModel::Giesekus, g, 1.0, 1.0, 0.05, c, {}); };
+  for (double U : {1.0, 1e3}) EXPECT_NO_THROW(FullyDevelopedProfile(giesekus, 1.0, U)) << U;
+}
