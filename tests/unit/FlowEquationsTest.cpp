@@ -11,6 +11,7 @@
 #include "problems/channel/ChannelProblem.hpp"
 #include "problems/cylinder/CylinderProblem.hpp"
 #include "runs/SceneLoader.hpp"
+#include "support/TestSupport.hpp"
 
 using namespace keller;
 
@@ -62,7 +63,7 @@ TEST(FlowEquations, OnlyTheChosenFluidsFieldsAndParametersExist) {
 
 TEST(FlowEquations, KeysTheFluidDoesNotUseAreErrors) {
   auto error_of = [](const std::string& text) -> std::string {
-    const std::string path = "/tmp/keller_flow_scene_test.toml";
+    const std::string path = test::scratch_dir("flow_scene_keys") + "/scene.toml";
     {
       std::ofstream f(path);
       f << "[problem]\ntype = \"channel\"\n" << text;
@@ -167,7 +168,7 @@ TEST(FlowEquations, NewtonConvergesFromTheStokesStart) {
 // fixed at 0: a run that sets it anyway is refused, saying why, instead of computing Stokes flow.
 TEST(FlowEquations, ABranchInReFromStokesFlowAssemblesTheConvectiveTerm) {
   auto options = [](const std::string& text) {
-    const std::string path = "/tmp/keller_flow_scene_re_test.toml";
+    const std::string path = test::scratch_dir("flow_scene_re") + "/scene.toml";
     {
       std::ofstream f(path);
       f << "[problem]\ntype = \"channel\"\n[parameters]\nRe = 0.0\n" << text;
