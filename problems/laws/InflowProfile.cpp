@@ -62,18 +62,20 @@ FullyDevelopedProfile::FullyDevelopedProfile(std::function<double(double)> visco
     throw std::domain_error("no fully developed profile of mean velocity " + std::to_string(U_) +
                             ": the fluid's flow rate jumps from " + std::to_string(Um) +
                             " as the pressure gradient grows (a shear stress with a maximum; docs/fluids.md)");
-  // the construction needs tau = eta(g) g increasing up to the wall's shear rate: a law whose
-  // shear stress has a maximum below it (PTT with a slip xi, small epsilon and small beta) has no
-  // unique fully developed profile, and the bracketed roots above would silently pick one
-  const double wall = shear_rate_of_stress(G_ * H_);
-  double previous = 0.0;
-  for (double g = 1e-6 * U_ / H_; g < wall; g *= 1.02) {
+  // the construction needs every shear stress up to the wall's to have one shear rate: tau =
+  // eta(g) g must not come back down to a value <= tau_wall after rising above it (a maximum,
+  // as PTT's with a slip xi and small epsilon and beta has), or the bracketed roots above pick
+  // one silently. Beyond tau_wall / eta_min every tau exceeds tau_wall: the scan ends there.
+  const double tau_wall = G_ * H_, top = tau_wall / eta_min_;
+  double highest = 0.0;
+  for (double g = 1e-6 * U_ / H_; g < top; g *= 1.02) {
     const double tau = eta_(g) * g;
-    if (tau < previous * (1.0 - 1e-12))  // rounding aside: a plateau is still monotone
-      throw std::domain_error("the fluid's steady shear stress falls as the shear rate passes " + std::to_string(g) +
-                              " (model units): no unique fully developed profile (a shear stress with a "
-                              "maximum, as PTT's with a slip xi and small epsilon and beta has; docs/fluids.md)");
-    previous = tau;
+    if (tau <= tau_wall && tau < highest * (1.0 - 1e-12))  // rounding aside: a plateau is monotone
+      throw std::domain_error(
+          "the fluid's steady shear stress falls as the shear rate passes " + std::to_string(g) +
+          " (model units), below the wall's: no unique fully developed profile (a shear stress "
+          "with a maximum, as PTT's with a slip xi and small epsilon and beta has; docs/fluids.md)");
+    highest = std::max(highest, tau);
   }
 }
 
