@@ -247,8 +247,6 @@ std::vector<CollapsibleChannelProblem::InterfaceSample> CollapsibleChannelProble
   const ParameterSet& ps = params_;
   const FlowParameterIndices& index = flow_->parameter_indices();
   const double beta = solvent_viscosity(index, ps.values());
-  const double modulus = ve ? polymer_modulus(index, ps.values()) : 0.0;
-  const LawConstants<double> law = law_constants(index.law, ps.values());
   const int fv = dofs_->field_index("velocity");
   const int fm = ve ? dofs_->field_index("conformation") : -1;
   const int nc = ve ? dofs_->num_components(fm) : 0;
@@ -289,7 +287,7 @@ std::vector<CollapsibleChannelProblem::InterfaceSample> CollapsibleChannelProble
           for (int q = 0; q < 4; ++q) m[c] += tb.edge_N1[edge][k][q] * u[md[4 * c + q]];
         const Conformation<double> M =
             nc == 4 ? conformation_of<4>(m, fo.log_conformation) : conformation_of<3>(m, fo.log_conformation);
-        const Conformation<double> tp = polymer_stress(M, relaxation(fo.model, nc == 4, M, law), modulus);
+        const Conformation<double> tp = flow_->polymer_stress_at(u, ps.values(), e, tb.edge_N1[edge][k]);
         smp.extra[0][0] += tp.xx;
         smp.extra[0][1] += tp.xy;
         smp.extra[1][0] += tp.xy;

@@ -8,22 +8,17 @@
 
 namespace keller {
 
-BoundaryTraction::BoundaryTraction(const Mesh& mesh, const DofMap& dofs, const FluidOptions& fluid,
-                                   const FlowParameterIndices& index)
-    : mesh_(&mesh), dofs_(&dofs), fluid_(fluid), index_(index) {
+BoundaryTraction::BoundaryTraction(const Mesh& mesh, const DofMap& dofs, const FlowEquations& flow)
+    : mesh_(&mesh), dofs_(&dofs), flow_(&flow) {
   fv_ = dofs.field_index("velocity");
   fp_ = dofs.field_index("pressure");
-  if (fluid.viscoelastic()) fm_ = dofs.field_index("conformation");
 }
 
 bool BoundaryTraction::evaluate(const Vector& u, const ParameterSet& params, const BoundaryEdge& be,
                                 std::array<TractionPoint, ref::kEdgeQp>& out) const {
-  const bool ve = fluid_.viscoelastic();
-  const int nc = fluid_.conformation_components();
+  const bool ve = flow_->options().viscoelastic();
   const double* p = params.values();
-  const double beta = ve ? solvent_viscosity(index_, p) : 1.0;
-  const double modulus = ve ? polymer_modulus(index_, p) : 0.0;
-  const LawConstants<double> law = law_constants(index_.law, p);
+  const double beta = ve ? solvent_viscosity(flow_->parameter_indices(), p) : 1.0;
   const ref::Tables& tb = ref::tables();
   auto gather = [&](int f, int n, double* v) {
     int d[36];
@@ -34,10 +29,9 @@ bool BoundaryTraction::evaluate(const Vector& u, const ParameterSet& params, con
   mesh_->element_nodes(be.element, xy);
   std::array<EdgeQpGeometry<double>, ref::kEdgeQp> geo;
   if (!map_edge(xy, be.edge, geo)) return false;
-  double v[18], pc[3], mc[16] = {};
+  double v[18], pc[3];
   gather(fv_, 18, v);
   gather(fp_, 3, pc);
-  if (ve) gather(fm_, 4 * nc, mc);
   for (int q = 0; q < ref::kEdgeQp; ++q) {
     const EdgeQpGeometry<double>& g = geo[static_cast<size_t>(q)];
     TractionPoint& t = out[static_cast<size_t>(q)];
@@ -58,16 +52,7 @@ bool BoundaryTraction::evaluate(const Vector& u, const ParameterSet& params, con
     t.sxy = beta * (K[0][1] + K[1][0]);
     t.syy = -t.pressure + 2.0 * beta * K[1][1];
     if (ve) {
-      const double* N = tb.edge_N1[be.edge][q];
-      double m[4] = {0, 0, 0, 0};
-      for (int c = 0; c < nc; ++c)
-        for (int k = 0; k < 4; ++k) m[c] += N[k] * mc[4 * c + k];
-      Conformation<double> M{m[0], m[1], m[2], nc == 4 ? m[3] : 1.0};
-      if (fluid_.log_conformation) {
-        const Sym2<double> E = sym_exp(Sym2<double>{m[0], m[1], m[2]});
-        M = {E.xx, E.xy, E.yy, nc == 4 ? std::exp(m[3]) : 1.0};
-      }
-      const Conformation<double> tp = polymer_stress(M, relaxation(fluid_.model, nc == 4, M, law), modulus);
+      const Conformation<double> tp = flow_->polymer_stress_at(u, p, be.element, tb.edge_N1[be.edge][q]);
       t.sxx += tp.xx;
       t.sxy += tp.xy;
       t.syy += tp.yy;

@@ -1,7 +1,8 @@
 // The stress of a fluid on the boundary of its domain, from the discrete state: at the 3 Gauss
 // points of a boundary edge, the Cauchy stress sigma = -P I + beta (K + K^T) + tau_p (K the
 // velocity gradient of the Q2 velocity, P the P1disc pressure of the edge's element, tau_p the
-// polymer stress of the Q1 conformation, or of its logarithm, interpolated to the point) and the
+// polymer stress of the Q1 conformation, or of its logarithm, interpolated to the point, summed
+// over a multi-mode fluid's modes: FlowEquations::polymer_stress_at) and the
 // traction sigma n on the fluid's outward normal n. Shared by the observables that integrate it
 // (the cylinder's surface drag, a flow problem's forces, wall shear stress and mean pressures).
 #pragma once
@@ -30,9 +31,10 @@ struct TractionPoint {
 
 class BoundaryTraction {
  public:
-  // The fields of `dofs` (velocity, pressure; gradient and conformation for a viscoelastic
-  // fluid) and the fluid's parameters at their indices in the ParameterSet given to evaluate.
-  BoundaryTraction(const Mesh& mesh, const DofMap& dofs, const FluidOptions& fluid, const FlowParameterIndices& index);
+  // The fields of `dofs` (velocity, pressure; the modes' conformations for a viscoelastic
+  // fluid) and the fluid's parameters at their indices in the ParameterSet given to evaluate;
+  // `flow` (built on `dofs`) outlives this.
+  BoundaryTraction(const Mesh& mesh, const DofMap& dofs, const FlowEquations& flow);
 
   // The 3 Gauss points of boundary edge `be` at state u and the parameters' present values.
   // False when the edge's element is inverted or degenerate (out is then incomplete).
@@ -42,9 +44,8 @@ class BoundaryTraction {
  private:
   const Mesh* mesh_;
   const DofMap* dofs_;
-  FluidOptions fluid_;
-  FlowParameterIndices index_;
-  int fv_ = -1, fp_ = -1, fm_ = -1;
+  const FlowEquations* flow_;
+  int fv_ = -1, fp_ = -1;
 };
 
 }  // namespace keller

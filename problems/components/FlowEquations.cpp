@@ -14,6 +14,7 @@
 #include "problems/components/StokesStart.hpp"
 #include "problems/kernels/NewtonianFlowKernel.hpp"
 #include "problems/kernels/OutflowTractionKernel.hpp"
+#include "problems/kernels/PolymerModeKernel.hpp"
 #include "problems/kernels/TractionKernel.hpp"
 #include "problems/laws/LawKeys.hpp"
 #include "problems/laws/LogConformation.hpp"
@@ -38,6 +39,11 @@ FlowEquations::FlowEquations(const Mesh& mesh, const std::string& group, FluidOp
     index_.Wi = params.add("Wi", options_.Wi, "Weissenberg number", Range::positive());
     index_.beta = params.add("beta", options_.beta, "viscosity ratio eta_s / eta0", Range{0.0, 1.0, true, false});
     index_.law = add_law_parameters(params, options_.model, options_.log_conformation, options_.constants);
+    const std::vector<int> times = add_mode_parameters(params, options_.modes);
+    modes_.resize(std::max<size_t>(1, times.size()));
+    for (size_t k = 0; k < times.size(); ++k)
+      modes_[k] = {k == 0 ? "conformation" : "conformation_" + options_.modes[k].name, times[k],
+                   options_.modes[k].viscosity};
   }
   elements_ = mesh.elements_in_group(mesh.group_index(group));
   geometry_.resize(elements_.size());
@@ -60,7 +66,7 @@ FlowEquations::FlowEquations(const Mesh& mesh, const std::string& group, FluidOp
     std::vector<std::string> comps = options_.log_conformation ? std::vector<std::string>{"Psi_xx", "Psi_xy", "Psi_yy"}
                                                                : std::vector<std::string>{"Mxx", "Mxy", "Myy"};
     if (options_.conformation_components() == 4) comps.push_back(options_.log_conformation ? "Psi_zz" : "Mzz");
-    fields_.push_back({"conformation", Basis::Q1, comps, {group}});
+    for (const PolymerMode& m : modes_) fields_.push_back({m.field, Basis::Q1, comps, {group}});
   }
   boundaries_.validate(mesh);
   for (const InflowCondition& c : boundaries_.inflows) {
@@ -89,7 +95,20 @@ std::function<double(double)> FlowEquations::viscosity(const ParameterSet& p) co
   const double Wi = index_.Wi >= 0 ? p.value(index_.Wi) : 0.0, beta = index_.beta >= 0 ? p.value(index_.beta) : 1.0;
   const LawConstants<double> law = law_constants(index_.law, p.values());
   const OwensParameters owens = options_.kernel.owens;
-  return [=](double gdot) { return shear_viscosity(model, gdot, Wi, Gamma, beta, law, owens); };
+  if (modes_.size() <= 1) return [=](double gdot) { return shear_viscosity(model, gdot, Wi, Gamma, beta, law, owens); };
+  // the modes' polymer viscosities, each at its own Wi_k = t_k Wi
+  std::vector<std::pair<double, double>> modes;  // (t_k Wi, w_k)
+  for (const PolymerMode& m : modes_) modes.emplace_back(Wi * p.value(m.time), m.share);
+  return [=](double gdot) {
+    double eta_p = 0.0;
+    for (const auto& [W, share] : modes) eta_p += share * shear_viscosity(model, gdot, W, Gamma, 0.0, law, owens);
+    return beta + (1.0 - beta) * eta_p;
+  };
+}
+
+double FlowEquations::mode_lambda(const ParameterSet& p, size_t mode) const {
+  const double lambda = p.value(index_.Wi) / (index_.Gamma >= 0 ? p.value(index_.Gamma) : 1.0);
+  return mode_relaxation_time(lambda, modes_[mode], p.values());
 }
 
 std::array<double, 4> FlowEquations::steady_state(double W, const LawConstants<double>& law) const {
@@ -106,16 +125,17 @@ const FlowEquations::InflowValues& FlowEquations::inflow_values(const ParameterS
   InflowValues iv;
   const double U = index_.Gamma >= 0 ? p.value(index_.Gamma) : 1.0;
   const bool ve = options_.viscoelastic();
-  const double lambda = ve ? p.value(index_.Wi) / U : 0.0;
   const LawConstants<double> b = law_constants(index_.law, p.values());
+  iv.conformation.resize(modes_.size());
   for (size_t k = 0; k < inflows_.size(); ++k) {
     const InflowCondition& c = boundaries_.inflows[k];
     const Inflow& in = inflows_[k];
     auto& vel = iv.velocity.emplace_back();
-    auto& conf = iv.conformation.emplace_back();
+    for (auto& mode : iv.conformation) mode.emplace_back();
     if (!c.fully_developed) {
       vel.assign(in.nodes.size(), {c.velocity[0] * U, c.velocity[1] * U});
-      if (ve) conf.assign(in.nodes.size(), steady_state(0.0, b));
+      if (ve)
+        for (auto& mode : iv.conformation) mode[k].assign(in.nodes.size(), steady_state(0.0, b));
       continue;
     }
     // a profile leaving the domain is the entering one reversed
@@ -125,15 +145,36 @@ const FlowEquations::InflowValues& FlowEquations::inflow_values(const ParameterS
     for (size_t i = 0; i < u.size(); ++i)
       vel.push_back({sign * u[i] * in.frame.normal[0], sign * u[i] * in.frame.normal[1]});
     if (!ve || mean < 0) continue;
-    for (double g : dudy) {
-      double lam = lambda;
-      if (options_.model == FluidModel::Owens) lam *= owens_factor(g * g, U, options_.kernel.owens);
-      conf.push_back(in.frame.rotate(steady_state(lam * g, b)));
+    for (size_t mode = 0; mode < modes_.size(); ++mode) {
+      const double lambda = mode_lambda(p, mode);
+      for (double g : dudy) {
+        double lam = lambda;
+        if (options_.model == FluidModel::Owens) lam *= owens_factor(g * g, U, options_.kernel.owens);
+        iv.conformation[mode][k].push_back(in.frame.rotate(steady_state(lam * g, b)));
+      }
     }
   }
   if (inflow_cache_.size() >= 4) inflow_cache_.erase(inflow_cache_.begin());
   inflow_cache_.emplace_back(key, std::move(iv));
   return inflow_cache_.back().second;
+}
+
+template <int NC, bool Moving>
+void FlowEquations::add_viscoelastic_kernels(const DofMap& dofs, const std::vector<BoundaryEdge>& outflow) {
+  const ParameterSet& params = *params_;
+  for (size_t k = 0; k < modes_.size(); ++k) {
+    ViscoelasticKernelOptions o = options_.kernel;
+    o.mode = modes_[k];
+    if (k == 0)
+      terms_.push_back(std::make_shared<KernelTerm<ViscoelasticFlowKernel<NC, Moving>>>(
+          ViscoelasticFlowKernel<NC, Moving>(*mesh_, dofs, elements_, &geometry_, index_, o), params));
+    else
+      terms_.push_back(std::make_shared<KernelTerm<PolymerModeKernel<NC, Moving>>>(
+          PolymerModeKernel<NC, Moving>(*mesh_, dofs, elements_, &geometry_, index_, o), params));
+    if (!outflow.empty())
+      terms_.push_back(std::make_shared<KernelTerm<OutflowTractionKernel<NC>>>(
+          OutflowTractionKernel<NC>(*mesh_, dofs, outflow, index_, o), params));
+  }
 }
 
 template <bool Moving>
@@ -149,17 +190,9 @@ void FlowEquations::add_kernels(const DofMap& dofs) {
                                     options_.kernel.source, options_.kernel.ale),
         params));
   } else if (options_.conformation_components() == 3) {
-    terms_.push_back(std::make_shared<KernelTerm<ViscoelasticFlowKernel<3, Moving>>>(
-        ViscoelasticFlowKernel<3, Moving>(*mesh_, dofs, elements_, &geometry_, index_, options_.kernel), params));
-    if (!outflow.empty())
-      terms_.push_back(std::make_shared<KernelTerm<OutflowTractionKernel<3>>>(
-          OutflowTractionKernel<3>(*mesh_, dofs, outflow, index_, options_.kernel), params));
+    add_viscoelastic_kernels<3, Moving>(dofs, outflow);
   } else {
-    terms_.push_back(std::make_shared<KernelTerm<ViscoelasticFlowKernel<4, Moving>>>(
-        ViscoelasticFlowKernel<4, Moving>(*mesh_, dofs, elements_, &geometry_, index_, options_.kernel), params));
-    if (!outflow.empty())
-      terms_.push_back(std::make_shared<KernelTerm<OutflowTractionKernel<4>>>(
-          OutflowTractionKernel<4>(*mesh_, dofs, outflow, index_, options_.kernel), params));
+    add_viscoelastic_kernels<4, Moving>(dofs, outflow);
   }
   for (const TractionCondition& c : boundaries_.tractions)
     terms_.push_back(std::make_shared<KernelTerm<TractionKernel>>(
@@ -209,11 +242,13 @@ void FlowEquations::build(const ComponentBuild& b) {
           });
       }
       if (!options_.viscoelastic() || !mesh_->is_vertex(n) || (c.fully_developed && c.mean_velocity < 0)) continue;
-      const int fm = dofs.field_index("conformation");
-      for (int m = 0; m < options_.conformation_components(); ++m)
-        values[dofs.node_dof(fm, n, m)] = [this, k, i, m](const ParameterSet& p) {
-          return inflow_values(p).conformation[k][i][static_cast<size_t>(m)];
-        };
+      for (size_t mode = 0; mode < modes_.size(); ++mode) {
+        const int fm = dofs.field_index(modes_[mode].field);
+        for (int m = 0; m < options_.conformation_components(); ++m)
+          values[dofs.node_dof(fm, n, m)] = [this, mode, k, i, m](const ParameterSet& p) {
+            return inflow_values(p).conformation[mode][k][i][static_cast<size_t>(m)];
+          };
+      }
     }
   }
   for (const std::string& s : boundaries_.symmetry)
@@ -274,20 +309,22 @@ void FlowEquations::initial_guess(Vector& u) const {
   const double mean = velocity_scale() * boundaries_.inflows[0].mean_velocity, sign = mean < 0 ? -1.0 : 1.0;
   in.profile.evaluate(ys, sign * mean, viscosity(*params_), vel, dudy);
   const bool ve = options_.viscoelastic();
-  const int fl = ve ? dofs.field_index("gradient") : -1, fm = ve ? dofs.field_index("conformation") : -1;
+  const int fl = ve ? dofs.field_index("gradient") : -1;
   const double U = velocity_scale();
-  const double lambda = ve ? params_->value(index_.Wi) / U : 0.0;
   const LawConstants<double> b = law_constants(index_.law, params_->values());
   for (size_t k = 0; k < nodes.size(); ++k) {
     const int n = nodes[k];
     u[dofs.node_dof(fv, n, 0)] = sign * vel[k] * in.frame.normal[0];
     u[dofs.node_dof(fv, n, 1)] = in.frame.identity() ? 0.0 : sign * vel[k] * in.frame.normal[1];
-    if (!ve || dofs.node_dof(fm, n, 0) < 0) continue;
-    double lam = lambda;
-    if (options_.model == FluidModel::Owens) lam *= owens_factor(dudy[k] * dudy[k], U, options_.kernel.owens);
-    const auto state = in.frame.rotate(steady_state(lam * dudy[k], b));
-    for (int c = 0; c < options_.conformation_components(); ++c)
-      u[dofs.node_dof(fm, n, c)] = state[static_cast<size_t>(c)];
+    if (!ve || dofs.node_dof(fl, n, 0) < 0) continue;
+    for (size_t mode = 0; mode < modes_.size(); ++mode) {
+      double lam = mode_lambda(*params_, mode);
+      if (options_.model == FluidModel::Owens) lam *= owens_factor(dudy[k] * dudy[k], U, options_.kernel.owens);
+      const auto state = in.frame.rotate(steady_state(lam * dudy[k], b));
+      const int fm = dofs.field_index(modes_[mode].field);
+      for (int c = 0; c < options_.conformation_components(); ++c)
+        u[dofs.node_dof(fm, n, c)] = state[static_cast<size_t>(c)];
+    }
     const auto L = in.frame.shear_gradient(sign * dudy[k]);
     for (int c = 0; c < 4; ++c) u[dofs.node_dof(fl, n, c)] = L[static_cast<size_t>(c)];
   }
@@ -297,14 +334,15 @@ void FlowEquations::rest_state(Vector& u) const {
   const DofMap& dofs = *dofs_;
   const int fv = dofs.field_index("velocity");
   const bool ve = options_.viscoelastic();
-  const int fl = ve ? dofs.field_index("gradient") : -1, fm = ve ? dofs.field_index("conformation") : -1;
+  const int fl = ve ? dofs.field_index("gradient") : -1;
   const auto relaxed = ve ? steady_state(0.0, law_constants(index_.law, params_->values())) : std::array<double, 4>{};
   for (int n = 0; n < mesh_->num_nodes(); ++n) {
     if (dofs.node_dof(fv, n, 0) < 0) continue;
     for (int c = 0; c < 2; ++c) u[dofs.node_dof(fv, n, c)] = 0.0;
-    if (!ve || dofs.node_dof(fm, n, 0) < 0) continue;
-    for (int c = 0; c < options_.conformation_components(); ++c)
-      u[dofs.node_dof(fm, n, c)] = relaxed[static_cast<size_t>(c)];
+    if (!ve || dofs.node_dof(fl, n, 0) < 0) continue;
+    for (const PolymerMode& mode : modes_)
+      for (int c = 0; c < options_.conformation_components(); ++c)
+        u[dofs.node_dof(dofs.field_index(mode.field), n, c)] = relaxed[static_cast<size_t>(c)];
     for (int c = 0; c < 4; ++c) u[dofs.node_dof(fl, n, c)] = 0.0;
   }
 }
@@ -325,9 +363,9 @@ Status FlowEquations::stokes_state(Vector& u) const {
   return {};
 }
 
-std::array<double, 3> FlowEquations::node_eigenvalues(const Vector& u, int n) const {
+std::array<double, 3> FlowEquations::node_eigenvalues(const Vector& u, int n, size_t mode) const {
   const DofMap& dofs = *dofs_;
-  const int fm = dofs.field_index("conformation");
+  const int fm = dofs.field_index(modes_[mode].field);
   const int nc = options_.conformation_components();
   const double b = law_constants(index_.law, params_->values()).b;
   double c[4] = {0, 0, 0, 0};
@@ -355,11 +393,12 @@ void FlowEquations::conformation_eigenvalues(const Vector& u, std::vector<int>& 
   eig.clear();
   if (!options_.viscoelastic()) return;
   const int fm = dofs_->field_index("conformation");
-  for (int n = 0; n < mesh_->num_nodes(); ++n) {
-    if (dofs_->node_dof(fm, n, 0) < 0) continue;
-    nodes.push_back(n);
-    eig.push_back(node_eigenvalues(u, n));
-  }
+  for (size_t mode = 0; mode < modes_.size(); ++mode)
+    for (int n = 0; n < mesh_->num_nodes(); ++n) {
+      if (dofs_->node_dof(fm, n, 0) < 0) continue;
+      nodes.push_back(n);
+      eig.push_back(node_eigenvalues(u, n, mode));
+    }
 }
 
 void FlowEquations::m1_places(const Vector& u, std::vector<double>& values) const {
@@ -372,11 +411,16 @@ void FlowEquations::m1_places(const Vector& u, std::vector<double>& values) cons
 
 void FlowEquations::m1_place_gradient(const Vector& u, int place, Vector& gradient) const {
   if (!options_.viscoelastic()) throw std::logic_error("m1_place_gradient: a Newtonian fluid has no conformation");
-  const int fm = dofs_->field_index("conformation");
+  int vertices = 0;
+  for (int node = 0; node < mesh_->num_nodes(); ++node)
+    if (dofs_->node_dof(dofs_->field_index("conformation"), node, 0) >= 0) ++vertices;
+  if (place < 0 || vertices == 0 || place >= vertices * static_cast<int>(modes_.size()))
+    throw std::out_of_range("min_m1 has no place " + std::to_string(place));
+  const size_t mode = static_cast<size_t>(place / vertices);
+  const int fm = dofs_->field_index(modes_[mode].field);
   int n = -1;
   for (int node = 0, k = 0; node < mesh_->num_nodes() && n < 0; ++node)
-    if (dofs_->node_dof(fm, node, 0) >= 0 && k++ == place) n = node;
-  if (place < 0 || n < 0) throw std::out_of_range("min_m1 has no place " + std::to_string(place));
+    if (dofs_->node_dof(fm, node, 0) >= 0 && k++ == place % vertices) n = node;
   gradient = Vector::Zero(u.size());
   Vector w = u;
   for (int c = 0; c < dofs_->num_components(fm); ++c) {
@@ -384,9 +428,9 @@ void FlowEquations::m1_place_gradient(const Vector& u, int place, Vector& gradie
     if (d < 0) continue;
     const double h = 1e-6 * std::max(1.0, std::abs(u[d]));
     w[d] = u[d] + h;
-    const double hi = node_eigenvalues(w, n)[0];
+    const double hi = node_eigenvalues(w, n, mode)[0];
     w[d] = u[d] - h;
-    const double lo = node_eigenvalues(w, n)[0];
+    const double lo = node_eigenvalues(w, n, mode)[0];
     w[d] = u[d];
     gradient[d] = (hi - lo) / (2.0 * h);
   }
@@ -414,41 +458,67 @@ void FlowEquations::add_fields(const Vector& u, SolutionFields& out) const {
   std::vector<std::array<double, 3>> eig;
   conformation_eigenvalues(u, nodes, eig);
   const int N = mesh_->num_nodes();
+  const size_t vertices = nodes.size() / modes_.size();
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  std::vector<std::array<double, 6>> at(N, {nan, nan, nan, nan, nan, nan});  // m1 m2 m3 Mxx Mxy Myy
   const DofMap& dofs = *dofs_;
-  const int fm = dofs.field_index("conformation");
-  for (size_t k = 0; k < nodes.size(); ++k) {
-    const int n = nodes[k];
-    double c[3] = {u[dofs.node_dof(fm, n, 0)], u[dofs.node_dof(fm, n, 1)], u[dofs.node_dof(fm, n, 2)]};
-    if (options_.log_conformation) {
-      const Sym2<double> M = sym_exp(Sym2<double>{c[0], c[1], c[2]});
-      c[0] = M.xx;
-      c[1] = M.xy;
-      c[2] = M.yy;
+  for (size_t mode = 0; mode < modes_.size(); ++mode) {
+    std::vector<std::array<double, 6>> at(N, {nan, nan, nan, nan, nan, nan});  // m1 m2 m3 Mxx Mxy Myy
+    const int fm = dofs.field_index(modes_[mode].field);
+    for (size_t k = mode * vertices; k < (mode + 1) * vertices; ++k) {
+      const int n = nodes[k];
+      double c[3] = {u[dofs.node_dof(fm, n, 0)], u[dofs.node_dof(fm, n, 1)], u[dofs.node_dof(fm, n, 2)]};
+      if (options_.log_conformation) {
+        const Sym2<double> M = sym_exp(Sym2<double>{c[0], c[1], c[2]});
+        c[0] = M.xx;
+        c[1] = M.xy;
+        c[2] = M.yy;
+      }
+      at[n] = {eig[k][0], eig[k][1], eig[k][2], c[0], c[1], c[2]};
     }
-    at[n] = {eig[k][0], eig[k][1], eig[k][2], c[0], c[1], c[2]};
-  }
-  // Q1 interpolation from the vertices to every node of each fluid element
-  auto q1_field = [&](const std::string& name, std::vector<std::string> comps, int first) {
-    NodalField f{name, "Q1", comps, fields_[0].groups,
-                 Eigen::MatrixXd::Constant(N, static_cast<long>(comps.size()), nan)};
-    for (int e : elements_) {
-      const auto& el = mesh_->element(e);
-      for (int a = 0; a < 9; ++a) {
-        double Nq[4], dN[4][2];
-        ref::q1_shape(ref::node_s(a), ref::node_t(a), Nq, dN);
-        for (size_t c = 0; c < comps.size(); ++c) {
-          double v = 0;
-          for (int k = 0; k < 4; ++k) v += Nq[k] * at[el[ref::q1_node[k]]][static_cast<size_t>(first) + c];
-          f.values(el[a], static_cast<long>(c)) = v;
+    // Q1 interpolation from the vertices to every node of each fluid element
+    auto q1_field = [&](const std::string& name, std::vector<std::string> comps, int first) {
+      NodalField f{name, "Q1", comps, fields_[0].groups,
+                   Eigen::MatrixXd::Constant(N, static_cast<long>(comps.size()), nan)};
+      for (int e : elements_) {
+        const auto& el = mesh_->element(e);
+        for (int a = 0; a < 9; ++a) {
+          double Nq[4], dN[4][2];
+          ref::q1_shape(ref::node_s(a), ref::node_t(a), Nq, dN);
+          for (size_t c = 0; c < comps.size(); ++c) {
+            double v = 0;
+            for (int k = 0; k < 4; ++k) v += Nq[k] * at[el[ref::q1_node[k]]][static_cast<size_t>(first) + c];
+            f.values(el[a], static_cast<long>(c)) = v;
+          }
         }
       }
-    }
-    out.nodal.push_back(std::move(f));
-  };
-  q1_field("conformation_eigenvalues", {"m1", "m2", "m3"}, 0);
-  if (options_.log_conformation) q1_field("conformation_M", {"Mxx", "Mxy", "Myy"}, 3);
+      out.nodal.push_back(std::move(f));
+    };
+    const std::string suffix = mode == 0 ? "" : "_" + options_.modes[mode].name;
+    q1_field("conformation_eigenvalues" + suffix, {"m1", "m2", "m3"}, 0);
+    if (options_.log_conformation) q1_field("conformation_M" + suffix, {"Mxx", "Mxy", "Myy"}, 3);
+  }
+}
+
+Conformation<double> FlowEquations::polymer_stress_at(const Vector& u, const double* p, int e,
+                                                      const double (&N1)[4]) const {
+  Conformation<double> sum{0.0, 0.0, 0.0, 0.0};
+  if (!options_.viscoelastic()) return sum;
+  const int nc = options_.conformation_components();
+  const double modulus = polymer_modulus(index_, p);
+  const LawConstants<double> law = law_constants(index_.law, p);
+  for (const PolymerMode& mode : modes_) {
+    int d[16];
+    dofs_->element_dofs(dofs_->field_index(mode.field), e, d);
+    double m[4] = {0, 0, 0, 0};
+    for (int c = 0; c < nc; ++c)
+      for (int k = 0; k < 4; ++k) m[c] += N1[k] * u[d[4 * c + k]];
+    const Conformation<double> M =
+        nc == 4 ? conformation_of<4>(m, options_.log_conformation) : conformation_of<3>(m, options_.log_conformation);
+    const Conformation<double> tp =
+        polymer_stress(M, relaxation(options_.model, nc == 4, M, law), mode_modulus(modulus, mode, p));
+    sum = {sum.xx + tp.xx, sum.xy + tp.xy, sum.yy + tp.yy, sum.zz + tp.zz};
+  }
+  return sum;
 }
 
 }  // namespace keller

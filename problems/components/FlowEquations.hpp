@@ -75,16 +75,25 @@ class FlowEquations final : public Component {
   // conformation and zero velocity gradient. Returns that solve's failure, if any.
   Status stokes_state(Vector& u) const;
   // Inflow values at the current parameters, per inflow (FlowBoundaries::inflows order) and
-  // node (in boundary_nodes order): velocity, and conformation unknowns (M or log M components;
-  // empty for a Newtonian fluid or a fully developed profile that leaves the domain).
+  // node (in boundary_nodes order): velocity, and per mode the conformation unknowns (M or log M
+  // components; empty for a Newtonian fluid or a fully developed profile that leaves the domain).
   struct InflowValues {
-    std::vector<std::vector<std::array<double, 2>>> velocity;
-    std::vector<std::vector<std::array<double, 4>>> conformation;
+    std::vector<std::vector<std::array<double, 2>>> velocity;                   // [inflow][node]
+    std::vector<std::vector<std::vector<std::array<double, 4>>>> conformation;  // [mode][inflow][node]
   };
   const InflowValues& inflow_values(const ParameterSet& params) const;
 
-  // Eigenvalues m1 <= m2 <= m3 of the 3x3 conformation tensor at every conformation node
-  // (vertices of fluid elements), in node order of `nodes`.
+  // The polymer modes: one (the field "conformation") unless the scene gives [fluid.modes];
+  // a multi-mode fluid's first mode has the field "conformation", mode <name> after it
+  // "conformation_<name>". Empty for a Newtonian fluid.
+  const std::vector<PolymerMode>& modes() const { return modes_; }
+  // The polymer stress sum_k tau_k at a point of element e where the Q1 shape functions are N1,
+  // at the parameters p.
+  Conformation<double> polymer_stress_at(const Vector& u, const double* p, int e, const double (&N1)[4]) const;
+
+  // Eigenvalues m1 <= m2 <= m3 of each mode's 3x3 conformation tensor at every conformation
+  // node (vertices of fluid elements): mode by mode, in node order of `nodes` (which repeats the
+  // node list once per mode).
   void conformation_eigenvalues(const Vector& u, std::vector<int>& nodes, std::vector<std::array<double, 3>>& m) const;
   // m1 at every place of min_m1 (the smallest eigenvalue of conformation_eigenvalues, node by node):
   // the values of a problem's min_m1 monitor's places.
@@ -107,10 +116,14 @@ class FlowEquations final : public Component {
   std::function<double(double)> viscosity(const ParameterSet& p) const;
 
  private:
-  // m1 <= m2 <= m3 at conformation node n.
-  std::array<double, 3> node_eigenvalues(const Vector& u, int n) const;
+  // m1 <= m2 <= m3 of mode `mode` at conformation node n.
+  std::array<double, 3> node_eigenvalues(const Vector& u, int n, size_t mode) const;
+  // The mode's relaxation time t_k lambda at the parameters p (lambda = Wi / Gamma).
+  double mode_lambda(const ParameterSet& p, size_t mode) const;
   template <bool Moving>
   void add_kernels(const DofMap& dofs);
+  template <int NC, bool Moving>
+  void add_viscoelastic_kernels(const DofMap& dofs, const std::vector<BoundaryEdge>& outflow);
   std::array<double, 4> steady_state(double W, const LawConstants<double>& law) const;
 
   const Mesh* mesh_;
@@ -122,6 +135,7 @@ class FlowEquations final : public Component {
   std::vector<int> elements_;
   std::vector<std::array<QpGeometry<double>, ref::kQp>> geometry_;
   std::vector<FieldSpec> fields_;
+  std::vector<PolymerMode> modes_;
   std::vector<std::shared_ptr<const Term>> terms_;
   const DofMap* dofs_ = nullptr;
   struct Inflow {

@@ -36,6 +36,7 @@ FluidOptions FluidOptions::from_scene(const Scene& sc) {
   o.log_conformation = law.log_conformation;
   o.dynamic_zz = law.dynamic_zz;
   o.constants = law.constants;
+  o.modes = law.modes;
   o.kernel.owens = law.owens;
   o.Re = sc.real("parameters.Re");
   // a branch in Re from Re = 0 starts in Stokes flow and leaves it

@@ -3,10 +3,13 @@
 // declared and read in one place for every problem with a fluid.
 #pragma once
 
+#include <vector>
+
 #include "core/Scene.hpp"
 #include "problems/kernels/ViscoelasticFlowKernel.hpp"
 #include "problems/laws/ConstitutiveLaw.hpp"
 #include "problems/laws/InflowProfile.hpp"
+#include "problems/laws/LawKeys.hpp"
 
 namespace keller {
 
@@ -18,6 +21,7 @@ struct FluidOptions {
   double Wi = 0.1;
   double beta = 0.001 / 0.198;
   LawConstants<double> constants;  // b, alpha, epsilon, xi (the Owens constants: kernel.owens)
+  std::vector<ModeKeys> modes;     // a multi-mode fluid's spectrum; empty: one mode
   bool inertia = false;
   ViscoelasticKernelOptions kernel;
   ProfileKind profile = ProfileKind::Parabolic;

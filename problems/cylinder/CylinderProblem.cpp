@@ -244,7 +244,7 @@ CylinderProblem::DragTerms CylinderProblem::drag_terms(const Vector& u) const {
     for (int i = 0; i < n; ++i) v[static_cast<size_t>(i)] = u[d[static_cast<size_t>(i)]];
     return v;
   };
-  const BoundaryTraction traction(mesh_, *dofs_, fo, flow_->parameter_indices());
+  const BoundaryTraction traction(mesh_, *dofs_, *flow_);
   std::array<TractionPoint, ref::kEdgeQp> tp;
   for (const BoundaryEdge& be : mesh_.boundary("cylinder")) {
     if (!traction.evaluate(u, params_, be, tp)) return {NAN, NAN, NAN};

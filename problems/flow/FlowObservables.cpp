@@ -92,7 +92,7 @@ FlowObservables::FlowObservables(const Mesh& mesh, const DofMap& dofs, const Flo
       params_(&params),
       specs_(std::move(specs)),
       symmetry_(constraints.symmetry),
-      traction_(mesh, dofs, flow.options(), flow.parameter_indices()) {
+      traction_(mesh, dofs, flow) {
   given_.assign(static_cast<size_t>(dofs.size()), 0);
   for (int d : constraints.given)
     if (d >= 0 && d < dofs.size()) given_[static_cast<size_t>(d)] = 1;

@@ -4,6 +4,8 @@
 // viscoelastic indices at -1.
 #pragma once
 
+#include <string>
+
 #include "problems/laws/ConstitutiveLaw.hpp"
 
 namespace keller {
@@ -36,6 +38,30 @@ P solvent_viscosity(const FlowParameterIndices& p, const P* params) {
 template <class P>
 P polymer_modulus(const FlowParameterIndices& p, const P* params) {
   return (1.0 - params[p.beta]) * velocity_scale(p, params) / params[p.Wi];
+}
+
+// One mode of a multi-mode fluid: its conformation field, where its time ratio t_k is among the
+// parameters (-1: t_k = 1) and its share w_k of the polymer viscosity. The mode relaxes in
+// lambda_k = t_k lambda with modulus w_k (1 - beta) Gamma / (t_k Wi), so that its polymer
+// viscosity is w_k (1 - beta). A one-mode fluid is the default mode, whose scales are bitwise
+// those of a fluid without modes.
+struct PolymerMode {
+  std::string field = "conformation";
+  int time = -1;
+  double share = 1.0;
+};
+
+template <class P>
+P mode_relaxation_time(const P& lambda, const PolymerMode& m, const P* params) {
+  return m.time >= 0 ? P(lambda * params[m.time]) : lambda;
+}
+
+template <class P>
+P mode_modulus(const P& modulus, const PolymerMode& m, const P* params) {
+  P g = modulus;
+  if (m.share != 1.0) g = g * m.share;
+  if (m.time >= 0) g = g / params[m.time];
+  return g;
 }
 
 }  // namespace keller

@@ -14,8 +14,10 @@
 // these laws tau_p - tau_tt I is added instead, and the condition reads -P + tau_tt = 0, which
 // fully developed flow satisfies. (The other laws have tau_tt = 0 in shear and keep the kernel
 // as it was, to the last digit.)//
+// A multi-mode fluid has one such kernel per mode (options.mode), each with its mode's stress.
+//
 // Local unknowns: v_x (9), v_y (9) of the element owning the edge (rows), then its conformation
-// components (NC x 4 Q1 nodes, conformation or Psi).
+// components (NC x 4 Q1 nodes, conformation or Psi) of the mode.
 #pragma once
 
 #include <array>
@@ -42,7 +44,7 @@ class OutflowTractionKernel {
   OutflowTractionKernel(const Mesh& mesh, const DofMap& dofs, const std::vector<BoundaryEdge>& edges,
                         FlowParameterIndices p, ViscoelasticKernelOptions o)
       : edges_(edges), p_(p), o_(o), second_difference_(o.model == FluidModel::Giesekus || is_ptt(o.model)) {
-    const int fv = dofs.field_index("velocity"), fm = dofs.field_index("conformation");
+    const int fv = dofs.field_index("velocity"), fm = dofs.field_index(o_.mode.field);
     dofs_.resize(edges_.size() * kSize);
     geometry_.resize(edges_.size());
     for (size_t k = 0; k < edges_.size(); ++k) {
@@ -62,7 +64,7 @@ class OutflowTractionKernel {
   Status evaluate(int item, const T* u, const P* params, T* r) const {
     const ref::Tables& tb = ref::tables();
     const int e = edges_[item].edge;
-    const P modulus = polymer_modulus(p_, params);
+    const P modulus = mode_modulus(polymer_modulus(p_, params), o_.mode, params);
     const LawConstants<P> law = law_constants(p_.law, params);
     const T* mc = u + 18;
     for (int i = 0; i < kRows; ++i) r[i] = 0.0;

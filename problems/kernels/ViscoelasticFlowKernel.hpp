@@ -51,7 +51,26 @@ struct ViscoelasticKernelOptions {
   std::shared_ptr<const FlowSource> source;  // volume sources; null in every physical problem
   // On a moving mesh: the time derivatives at fixed points of space (ALE), not at the moving nodes.
   bool ale = false;
+  // The polymer mode whose conformation the kernel transports (a multi-mode fluid's first; the
+  // others: PolymerModeKernel.hpp); the default is a one-mode fluid.
+  PolymerMode mode;
 };
+
+// The law's factor positive (tr M < 3b, a linear PTT's Y > 0) at the 4 conformation nodes
+// themselves (mc: component c at node k is mc[4 c + k]), not only at the Gauss points between
+// them; `inadmissible` names the state the law refuses.
+template <int NC, class T, class P>
+Status check_conformation_nodes(FluidModel model, bool log_form, const T* mc, const LawConstants<P>& law,
+                                const char* inadmissible) {
+  for (int k = 0; k < 4; ++k) {
+    T m[NC];
+    for (int c = 0; c < NC; ++c) m[c] = mc[4 * c + k];
+    const Relaxation<T> rk = relaxation(model, NC == 4, conformation_of<NC>(m, log_form), law);
+    if (!(value_of(rk.factor) > 0.0))
+      return {StatusCode::InvalidState, std::string(inadmissible) + " at a conformation node"};
+  }
+  return {};
+}
 
 // Number of conformation unknowns per node: 3, or 4 for FENE-P with a dynamic M_zz. PTT's slip
 // xi (the conformation form only) is read where its parameter index is set.
@@ -68,7 +87,7 @@ class ViscoelasticFlowKernel {
                          ViscoelasticKernelOptions o)
       : mesh_(&mesh), geometry_(geometry), elements_(std::move(elements)), p_(p), o_(o) {
     const int fv = dofs.field_index("velocity"), fp = dofs.field_index("pressure"), fl = dofs.field_index("gradient"),
-              fm = dofs.field_index("conformation");
+              fm = dofs.field_index(o_.mode.field);
     if (dofs.num_components(fm) != NC) throw std::logic_error("conformation field has the wrong number of components");
     dofs_.resize(elements_.size() * kSize);
     size_.resize(elements_.size());
@@ -150,8 +169,8 @@ class ViscoelasticFlowKernel {
                      const G (&centre)[2], const G& h) const {
     const P Gamma = velocity_scale(p_, params);
     const P Wi = params[p_.Wi], beta = params[p_.beta];
-    const P lambda = Wi / Gamma;
-    const P modulus = polymer_modulus(p_, params);
+    const P lambda = mode_relaxation_time(P(Wi / Gamma), o_.mode, params);
+    const P modulus = mode_modulus(polymer_modulus(p_, params), o_.mode, params);
     const P beta_a = devss_viscosity(o_.devss, beta);
     const P rho = flow_density(p_, params, o_.inertia);
     const T* vx = u;
@@ -164,17 +183,9 @@ class ViscoelasticFlowKernel {
     const LawConstants<P> law = law_constants(p_.law, params);
     const P* xi = p_.law.xi >= 0 ? &params[p_.law.xi] : nullptr;
     const char* inadmissible = inadmissible_state(o_.model);
-    if (inadmissible) {
-      // the law's factor positive (tr M < 3b, a linear PTT's Y > 0) at the conformation nodes
-      // themselves, not only at the Gauss points between them
-      for (int k = 0; k < 4; ++k) {
-        T m[NC];
-        for (int c = 0; c < NC; ++c) m[c] = mc[4 * c + k];
-        const Relaxation<T> rk = relaxation(o_.model, NC == 4, conformation_of<NC>(m, o_.log_conformation), law);
-        if (!(value_of(rk.factor) > 0.0))
-          return {StatusCode::InvalidState, std::string(inadmissible) + " at a conformation node"};
-      }
-    }
+    if (inadmissible)
+      if (Status st = check_conformation_nodes<NC>(o_.model, o_.log_conformation, mc, law, inadmissible); !st.is_ok())
+        return st;
 
     for (int q = 0; q < ref::kQp; ++q) {
       const QpGeometry<G>& g = geo[q];

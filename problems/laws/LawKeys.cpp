@@ -1,5 +1,10 @@
 #include "problems/laws/LawKeys.hpp"
 
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
 namespace keller {
 
 namespace {
@@ -34,6 +39,14 @@ void LawKeys::declare(SceneSchema& s, const std::vector<std::string>& models, co
          Range{0.0, 1.0, true, false});
   s.real("fluid.owens.rate_scale", o.rate_scale, "U0 / W in 1/s: the dimensional shear rate of a model rate of Gamma",
          Range::positive());
+  s.section("fluid.modes.*",
+            "one mode of a discrete relaxation spectrum (a multi-mode fluid, each mode its own conformation field; "
+            "none: one mode)");
+  s.real("fluid.modes.*.time", 1.0,
+         "the mode's relaxation time / lambda (lambda = Wi / Gamma); the continuation parameter time_<name>",
+         Range::positive());
+  s.real("fluid.modes.*.viscosity", 0.0,
+         "the mode's share of the polymer viscosity 1 - beta (the shares sum to 1); required", Range::non_negative());
 }
 
 void LawKeys::declare_constants(SceneSchema& s) {
@@ -77,6 +90,25 @@ LawKeys LawKeys::from_scene(const Scene& sc) {
   if (k.owens.eta_pinf > k.owens.eta_p0)
     throw sc.error("fluid.owens.eta_pinf", "is larger than fluid.owens.eta_p0 (" + std::to_string(k.owens.eta_p0) +
                                                "): the Cross model of blood thins, eta_pinf <= eta_p0");
+  double total = 0.0;
+  std::string last;
+  // in the order of their names, however the scene lists them (the first has the field "conformation")
+  std::vector<std::string> names = sc.members("fluid.modes");
+  std::sort(names.begin(), names.end());
+  for (const std::string& name : names) {
+    const std::string at = "fluid.modes." + name + ".";
+    if (k.model == FluidModel::Newtonian) throw sc.error(at + "time", "a Newtonian fluid has no relaxation modes");
+    ModeKeys mode{name, sc.real(at + "time"), sc.real(at + "viscosity")};
+    if (!sc.given(at + "viscosity") || !(mode.viscosity > 0.0))
+      throw sc.error(at + "viscosity", "every mode needs its share of the polymer viscosity, > 0");
+    total += mode.viscosity;
+    last = at + "viscosity";
+    k.modes.push_back(std::move(mode));
+  }
+  if (!k.modes.empty() && std::abs(total - 1.0) > 1e-9)
+    throw sc.error(last, fmt::format("the modes' viscosities sum to {:.12g}, not 1: each is a share of the polymer "
+                                     "viscosity (eta_p,k / eta_p)",
+                                     total));
   return k;
 }
 
@@ -90,6 +122,16 @@ LawParameterIndices add_law_parameters(ParameterSet& params, FluidModel model, b
     // the log form has no slip: xi stays 0 there
     ix.xi = log_conformation ? -1 : params.add("xi", constants.xi, kXiDoc, kXi);
   }
+  return ix;
+}
+
+std::vector<int> add_mode_parameters(ParameterSet& params, const std::vector<ModeKeys>& modes) {
+  std::vector<int> ix;
+  for (const ModeKeys& m : modes)
+    ix.push_back(params.add(
+        "time_" + m.name, m.time,
+        fmt::format("relaxation time / lambda of mode {} (share {:g} of the polymer viscosity)", m.name, m.viscosity),
+        Range::positive()));
   return ix;
 }
 

@@ -55,15 +55,21 @@ RheometryProblem::RheometryProblem(RheometryOptions options) : o_(std::move(opti
     throw std::invalid_argument(std::string(problem_type(o_.flow)) +
                                 ": a Newtonian fluid has no conformation (its viscosity is eta0)");
   const bool shear = o_.flow == HomogeneousFlow::Shear;
-  components_ = !shear || (o_.law.model == FluidModel::FeneP && o_.law.dynamic_zz) ? 4 : 3;
+  nc_ = !shear || (o_.law.model == FluidModel::FeneP && o_.law.dynamic_zz) ? 4 : 3;
   i_rate_ = params_.add("log10_rate", o_.log10_rate, "log10 of the dimensional rate in 1/s", -30.0, 30.0);
   i_Wi_ = params_.add("Wi", o_.Wi, "Weissenberg number of the channel (lambda_0 = Wi W / U0)", Range::positive());
   i_Gamma_ = params_.add("Gamma", o_.Gamma, "velocity scale of the channel", Range::positive());
   i_beta_ = params_.add("beta", o_.beta, "viscosity ratio eta_s / eta0", Range{0.0, 1.0, false, true});
   i_law_ = add_law_parameters(params_, o_.law.model, o_.law.log_conformation, o_.law.constants);
+  const std::vector<int> times = add_mode_parameters(params_, o_.law.modes);
+  modes_.resize(std::max<size_t>(1, times.size()));
+  for (size_t k = 0; k < times.size(); ++k) modes_[k] = {o_.law.modes[k].name, times[k], o_.law.modes[k].viscosity};
+  components_ = nc_ * static_cast<int>(modes_.size());
+  // the modes are coupled only through the given velocity gradient: one block each
   std::vector<Eigen::Triplet<double, int>> t;
-  for (int i = 0; i < components_; ++i)
-    for (int j = 0; j < components_; ++j) t.emplace_back(i, j, 0.0);
+  for (int b = 0; b < components_; b += nc_)
+    for (int i = 0; i < nc_; ++i)
+      for (int j = 0; j < nc_; ++j) t.emplace_back(b + i, b + j, 0.0);
   pattern_.resize(components_, components_);
   pattern_.setFromTriplets(t.begin(), t.end());
   pattern_.makeCompressed();
@@ -95,48 +101,56 @@ Status RheometryProblem::evaluate(const Vector& u, Vector& F, SparseMatrix* J) c
   const Kinematics k = kinematics();
   const LawConstants<double> law = law_constants(i_law_, params_.values());
   const double* xi = i_law_.xi >= 0 ? &law.xi : nullptr;
-  D m[NC], r[NC];
-  for (int i = 0; i < NC; ++i) m[i] = make_variable<NC>(u[i], i);
-  const Conformation<D> M = conformation_of<NC>(m, o_.law.log_conformation);
-  // the steady state of a law is positive definite; the conformation equations have other roots
-  // too (Newton reaches them from a long step in fast extension): refused, so a shorter step is taken
-  if (!o_.law.log_conformation &&
-      !(value_of(M.xx) > 0 && value_of(M.zz) > 0 && value_of(M.xx) * value_of(M.yy) > value_of(M.xy) * value_of(M.xy)))
-    return {StatusCode::InvalidState, "the conformation is not positive definite: not a state of the law"};
-  const Relaxation<D> rel = relaxation(o_.law.model, NC == 4, M, law);
-  if (const char* why = inadmissible_state(o_.law.model); why && !(value_of(rel.factor) > 0.0))
-    return {StatusCode::InvalidState, why};
-  if (o_.law.log_conformation) {
-    const Sym2<D> rate =
-        log_conformation_rate(Sym2<D>{m[0], m[1], m[2]}, k.L, rel, Sym2<D>{M.xx, M.xy, M.yy}, k.inv_lambda_eff);
-    r[0] = rate.xx;
-    r[1] = rate.xy;
-    r[2] = rate.yy;
-    if constexpr (NC == 4) r[3] = log_conformation_rate_zz(m[3], rel, M.zz, k.inv_lambda_eff, k.Lzz);
-  } else {
-    const Conformation<D> rate = conformation_rate(M, k.L, rel, k.inv_lambda_eff, xi, k.Lzz);
-    r[0] = rate.xx;
-    r[1] = rate.xy;
-    r[2] = rate.yy;
-    if constexpr (NC == 4) r[3] = rate.zz;
-  }
-  F.resize(NC);
+  F.resize(components_);
   if (J) *J = pattern_;
-  for (int i = 0; i < NC; ++i) {
-    F[i] = k.lambda * value_of(r[i]);
-    if (J)
-      for (int j = 0; j < NC; ++j) J->coeffRef(i, j) = k.lambda * r[i].derivatives()[j];
+  for (size_t mode = 0; mode < modes_.size(); ++mode) {
+    const int at = static_cast<int>(mode) * NC;
+    const double lambda = mode_relaxation_time(k.lambda, modes_[mode], params_.values());
+    const double inv_lambda =
+        modes_[mode].time < 0
+            ? k.inv_lambda_eff
+            : inverse_relaxation_time(o_.law.model, lambda, k.L, params_.value(i_Gamma_), o_.law.owens, k.Lzz);
+    D m[NC], r[NC];
+    for (int i = 0; i < NC; ++i) m[i] = make_variable<NC>(u[at + i], i);
+    const Conformation<D> M = conformation_of<NC>(m, o_.law.log_conformation);
+    // the steady state of a law is positive definite; the conformation equations have other roots
+    // too (Newton reaches them from a long step in fast extension): refused, so a shorter step is taken
+    if (!o_.law.log_conformation && !(value_of(M.xx) > 0 && value_of(M.zz) > 0 &&
+                                      value_of(M.xx) * value_of(M.yy) > value_of(M.xy) * value_of(M.xy)))
+      return {StatusCode::InvalidState, "the conformation is not positive definite: not a state of the law"};
+    const Relaxation<D> rel = relaxation(o_.law.model, NC == 4, M, law);
+    if (const char* why = inadmissible_state(o_.law.model); why && !(value_of(rel.factor) > 0.0))
+      return {StatusCode::InvalidState, why};
+    if (o_.law.log_conformation) {
+      const Sym2<D> rate =
+          log_conformation_rate(Sym2<D>{m[0], m[1], m[2]}, k.L, rel, Sym2<D>{M.xx, M.xy, M.yy}, inv_lambda);
+      r[0] = rate.xx;
+      r[1] = rate.xy;
+      r[2] = rate.yy;
+      if constexpr (NC == 4) r[3] = log_conformation_rate_zz(m[3], rel, M.zz, inv_lambda, k.Lzz);
+    } else {
+      const Conformation<D> rate = conformation_rate(M, k.L, rel, inv_lambda, xi, k.Lzz);
+      r[0] = rate.xx;
+      r[1] = rate.xy;
+      r[2] = rate.yy;
+      if constexpr (NC == 4) r[3] = rate.zz;
+    }
+    for (int i = 0; i < NC; ++i) {
+      F[at + i] = k.lambda * value_of(r[i]);
+      if (J)
+        for (int j = 0; j < NC; ++j) J->coeffRef(at + i, at + j) = k.lambda * r[i].derivatives()[j];
+    }
   }
   if (!F.allFinite()) return {StatusCode::NotFinite, std::string(problem_type(o_.flow)) + " residual is not finite"};
   return {};
 }
 
 Status RheometryProblem::residual(const Vector& u, Vector& F) {
-  return components_ == 4 ? evaluate<4>(u, F, nullptr) : evaluate<3>(u, F, nullptr);
+  return nc_ == 4 ? evaluate<4>(u, F, nullptr) : evaluate<3>(u, F, nullptr);
 }
 
 Status RheometryProblem::jacobian(const Vector& u, Vector& F, SparseMatrix& J) {
-  return components_ == 4 ? evaluate<4>(u, F, &J) : evaluate<3>(u, F, &J);
+  return nc_ == 4 ? evaluate<4>(u, F, &J) : evaluate<3>(u, F, &J);
 }
 
 Status RheometryProblem::mass_matrix(const Vector&, SparseMatrix& B) {
@@ -147,10 +161,11 @@ Status RheometryProblem::mass_matrix(const Vector&, SparseMatrix& B) {
 
 Vector RheometryProblem::initial_guess() {
   Vector u = Vector::Zero(components_);
-  if (!o_.law.log_conformation) {
-    u[0] = u[2] = 1.0;
-    if (components_ == 4) u[3] = 1.0;
-  }
+  if (!o_.law.log_conformation)
+    for (int b = 0; b < components_; b += nc_) {
+      u[b] = u[b + 2] = 1.0;
+      if (nc_ == 4) u[b + 3] = 1.0;
+    }
   return u;
 }
 
@@ -165,12 +180,22 @@ std::vector<std::string> RheometryProblem::observable_names() const {
 }
 
 bool RheometryProblem::stress(const Vector& u, Conformation<double>& M, Conformation<double>& tau) const {
-  M = components_ == 4 ? conformation_of<4>(u.data(), o_.law.log_conformation)
-                       : conformation_of<3>(u.data(), o_.law.log_conformation);
-  const Relaxation<double> rel = relaxation(o_.law.model, components_ == 4, M, law_constants(i_law_, params_.values()));
+  const LawConstants<double> law = law_constants(i_law_, params_.values());
   const double Gamma = params_.value(i_Gamma_), beta = params_.value(i_beta_);
-  tau = polymer_stress(M, rel, (1.0 - beta) * Gamma / params_.value(i_Wi_));
-  return rel.factor > 0.0;
+  const double modulus = (1.0 - beta) * Gamma / params_.value(i_Wi_);
+  bool admissible = true;
+  tau = {0.0, 0.0, 0.0, 0.0};
+  for (size_t mode = 0; mode < modes_.size(); ++mode) {
+    const double* m = u.data() + mode * static_cast<size_t>(nc_);
+    const Conformation<double> Mk =
+        nc_ == 4 ? conformation_of<4>(m, o_.law.log_conformation) : conformation_of<3>(m, o_.law.log_conformation);
+    const Relaxation<double> rel = relaxation(o_.law.model, nc_ == 4, Mk, law);
+    const Conformation<double> t = polymer_stress(Mk, rel, mode_modulus(modulus, modes_[mode], params_.values()));
+    tau = {tau.xx + t.xx, tau.xy + t.xy, tau.yy + t.yy, tau.zz + t.zz};
+    if (mode == 0) M = Mk;
+    admissible = admissible && rel.factor > 0.0;
+  }
+  return admissible;
 }
 
 Status RheometryProblem::observables(const Vector& u, std::vector<double>& values) {
@@ -205,8 +230,9 @@ SolutionFields RheometryProblem::fields(const Vector& u) const {
 }
 
 std::string RheometryProblem::summary() const {
-  return fmt::format("{} of the {} law ({}), {} unknowns", problem_type(o_.flow), to_string(o_.law.model),
-                     o_.law.log_conformation ? "log-conformation" : "conformation", components_);
+  return fmt::format("{} of the {} law ({}), {} mode{}, {} unknowns", problem_type(o_.flow), to_string(o_.law.model),
+                     o_.law.log_conformation ? "log-conformation" : "conformation", modes_.size(),
+                     modes_.size() == 1 ? "" : "s", components_);
 }
 
 }  // namespace keller

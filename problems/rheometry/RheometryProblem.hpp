@@ -20,12 +20,18 @@
 // fluid.owens.rate_scale), lambda = Wi / Gamma, and the local Weissenberg number is lambda_0 r
 // with lambda_0 = Wi / rate_scale (s). F = lambda (rate of the conformation equation) makes F
 // dimensionless, and B = lambda I.
+//
+// A multi-mode law ([fluid.modes], LawKeys) has each mode's unknowns in turn (mode by mode, the
+// first mode's first), each mode relaxing in its own time t_k lambda; the stress observables are
+// the sum of the modes' (mode k's modulus w_k (1 - beta) Gamma / (t_k Wi)), the M_* observables
+// the first mode's.
 #pragma once
 
 #include <memory>
 
 #include "core/Problem.hpp"
 #include "core/Scene.hpp"
+#include "problems/kernels/FlowParameters.hpp"
 #include "problems/laws/ConstitutiveLaw.hpp"
 #include "problems/laws/LawKeys.hpp"
 
@@ -87,11 +93,14 @@ class RheometryProblem final : public Problem {
   Kinematics kinematics() const;  // at the current parameter values
   template <int NC>
   Status evaluate(const Vector& u, Vector& F, SparseMatrix* J) const;
-  // M and the polymer stress of a state; false where the law's factor is not positive.
+  // The first mode's M and the polymer stress of a state (summed over the modes); false where
+  // the law's factor is not positive.
   bool stress(const Vector& u, Conformation<double>& M, Conformation<double>& tau) const;
 
   RheometryOptions o_;
-  int components_;
+  int components_;  // nc_ per mode
+  int nc_;
+  std::vector<PolymerMode> modes_;
   ParameterSet params_;
   int i_rate_, i_Wi_, i_Gamma_, i_beta_;
   LawParameterIndices i_law_;

@@ -114,6 +114,23 @@ TEST(FlowEquations, KeysTheFluidDoesNotUseAreErrors) {
                 .find("key 'parameters.b' = 1 is out of range: must be > 1"),
             std::string::npos);
   EXPECT_EQ(error_of("[fluid]\nmodel = \"fene-p\"\n[parameters]\nb = 50.0\n"), "");
+  // a discrete spectrum: positive times, every mode's share given and > 0, shares summing to 1
+  const std::string two =
+      "[fluid]\nmodel = \"giesekus\"\n[fluid.modes.slow]\ntime = 1.0\nviscosity = 0.7\n"
+      "[fluid.modes.fast]\ntime = 0.1\n";
+  EXPECT_EQ(error_of(two + "viscosity = 0.3\n"), "");
+  EXPECT_NE(
+      error_of(two + "viscosity = 0.2\n").find("key 'fluid.modes.slow.viscosity': the modes' viscosities sum to 0.9"),
+      std::string::npos);
+  EXPECT_NE(error_of(two).find("key 'fluid.modes.fast.viscosity' (default): every mode needs its share"),
+            std::string::npos);
+  EXPECT_NE(error_of("[fluid]\nmodel = \"oldroyd-b\"\n[fluid.modes.a]\ntime = -1.0\nviscosity = 1.0\n")
+                .find(":6: key 'fluid.modes.a.time' = -1 is out of range: must be > 0"),
+            std::string::npos);
+  EXPECT_NE(error_of("[fluid.modes.a]\nviscosity = 1.0\n").find("a Newtonian fluid has no relaxation modes"),
+            std::string::npos);
+  EXPECT_NE(error_of("[fluid]\nmodel = \"oldroyd-b\"\n[fluid.modes.a]\nshare = 1.0\n").find("share"),
+            std::string::npos);
 }
 
 // In fully developed Oldroyd-B flow the smallest eigenvalue is 1 + W^2 - sqrt(W^4 + W^2), least

@@ -227,6 +227,24 @@ std::string describe(const LawCase& l, HomogeneousFlow flow, bool log_form) {
          std::to_string(l.c.alpha) + " epsilon " + std::to_string(l.c.epsilon) + " xi " + std::to_string(l.c.xi);
 }
 
+// Continues p's state u in log10_rate from `done` to `target` (lambda_0 r = W): a step that
+// Newton cannot take, or that lands on a root that is no state of the law (refused by the
+// problem), is halved.
+void advance(RheometryProblem& p, Vector& u, double& done, double target, const std::string& what) {
+  for (double step = target - done; done < target;) {
+    const double next = std::min(target, done + step);
+    p.parameters().set("log10_rate", next);
+    Vector v = u;
+    if (solve(p, v)) {
+      u = v;
+      done = next;
+    } else {
+      step *= 0.5;
+      ASSERT_GT(step, 1e-6) << what << " stalled at log10 rate " << done;
+    }
+  }
+}
+
 }  // namespace
 
 // Every new law in shear, planar and uniaxial extension and both forms (xi > 0 has only the
@@ -252,21 +270,8 @@ TEST(Rheometry, EveryLawFollowsItsClosedFormsInShearAndExtension) {
         double worst = 0;
         double done = std::log10(1e-3 / 0.005) - 0.25;
         for (double W : logspace(1e-3, 1e3, 25)) {
-          // traced: a step that Newton cannot take, or that lands on a root that is no state of
-          // the law (refused by the problem), is halved
-          const double target = std::log10(W / 0.005);
-          for (double step = target - done; done < target;) {
-            const double next = std::min(target, done + step);
-            p.parameters().set("log10_rate", next);
-            Vector v = u;
-            if (solve(p, v)) {
-              u = v;
-              done = next;
-            } else {
-              step *= 0.5;
-              ASSERT_GT(step, 1e-6) << describe(l, flow, log_form) << " stalled at W = " << W;
-            }
-          }
+          advance(p, u, done, std::log10(W / 0.005), describe(l, flow, log_form));
+          if (testing::Test::HasFatalFailure()) return;
           std::vector<double> obs;
           ASSERT_TRUE(p.observables(u, obs).is_ok());
           EXPECT_NEAR(obs[at("Wi_local")], W, 1e-13 * W);
@@ -315,5 +320,59 @@ TEST(Rheometry, EveryLawsJacobianIsExact) {
         u += Vector::Constant(u.size(), 0.01);
         const test::JacobianCheck c = test::check_problem_jacobian(p, u);
         EXPECT_LT(c.max_relative_error, 1e-7) << describe(l, flow, log_form) << " row " << c.worst_row;
+      }
+}
+
+// A three-mode fluid (times 1, 0.1 and 0.01 lambda; shares 0.5, 0.3, 0.2) of each new law, in
+// every flow and form: each observable is the sum of its modes' closed forms, mode k at its own
+// W_k = t_k W with weight w_k (eta_p and eta_e_p) or w_k t_k (psi1_p: its N1 over the reference
+// lambda), to the same 1e-10 as one mode, over W = 1e-2 to 1e3.
+TEST(Rheometry, AMultiModeLawIsTheSumOfItsModes) {
+  const double times[] = {1.0, 0.1, 0.01}, shares[] = {0.5, 0.3, 0.2};
+  for (const LawCase& l : kNewLaws)
+    for (HomogeneousFlow flow :
+         {HomogeneousFlow::Shear, HomogeneousFlow::PlanarExtension, HomogeneousFlow::UniaxialExtension})
+      for (bool log_form : {false, true}) {
+        if (log_form && l.c.xi != 0.0) continue;
+        RheometryOptions o = options(l, flow, log_form);
+        for (int k = 0; k < 3; ++k) o.law.modes.push_back({"m" + std::to_string(k), times[k], shares[k]});
+        RheometryProblem p(o);
+        ASSERT_EQ(p.size(), 3 * (flow == HomogeneousFlow::Shear ? 3 : 4));
+        Vector u = p.initial_guess();
+        const std::vector<std::string> names = p.observable_names();
+        auto at = [&](const char* n) {
+          return static_cast<size_t>(std::find(names.begin(), names.end(), n) - names.begin());
+        };
+        double done = std::log10(1e-2 / 0.005) - 0.25;
+        for (double W : logspace(1e-2, 1e3, 11)) {
+          advance(p, u, done, std::log10(W / 0.005), describe(l, flow, log_form) + " three modes");
+          if (testing::Test::HasFatalFailure()) return;
+          std::vector<double> obs;
+          ASSERT_TRUE(p.observables(u, obs).is_ok());
+          // N1 = M_xx - M_yy of mode k has eps / (2 W_k^2) of its psi1 in rounding (8 eps allowed, as above)
+          const double eps = std::numeric_limits<double>::epsilon();
+          double eta_p = 0, psi1_p = 0, eta_e_p = 0, rounding = 0;
+          for (int k = 0; k < 3; ++k) {
+            const double Wk = times[k] * W;
+            if (flow == HomogeneousFlow::Shear) {
+              const Conformation<double> t = test::closed_stress(l.model, l.c, steady_shear(l.model, Wk, l.c));
+              eta_p += shares[k] * polymer_shear_ratio(l.model, Wk, l.c);
+              psi1_p += shares[k] * times[k] * (t.xx - t.yy) / (2 * Wk * Wk);
+              rounding += shares[k] * times[k] * 8 * eps / (2 * Wk * Wk);
+            } else {
+              const Extension kind = flow == HomogeneousFlow::PlanarExtension ? Extension::Planar : Extension::Uniaxial;
+              const Conformation<double> t =
+                  test::closed_stress(l.model, l.c, steady_extension(l.model, kind, Wk, l.c));
+              eta_e_p += shares[k] * (t.xx - t.yy) / Wk;
+            }
+          }
+          const std::string what = describe(l, flow, log_form) + " three modes, W = " + std::to_string(W);
+          if (flow == HomogeneousFlow::Shear) {
+            EXPECT_NEAR(obs[at("eta_p")], eta_p, 1e-10 * eta_p) << what;
+            EXPECT_NEAR(obs[at("psi1_p")], psi1_p, 1e-10 * psi1_p + rounding) << what;
+          } else {
+            EXPECT_NEAR(obs[at("eta_e_p")], eta_e_p, 1e-10 * eta_e_p) << what;
+          }
+        }
       }
 }

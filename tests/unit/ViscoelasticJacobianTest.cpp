@@ -2,7 +2,8 @@
 // 0.25 with xi = 0.1 in the conformation form, FENE-CR b = 20), both formulations, both SUPG time
 // scales, FENE-P with M_zz eliminated and as an unknown, on curved distorted elements, at random
 // states and at M = I exactly (where the log-conformation algebra takes its series branches);
-// and every dF/dp (the law's constants among them). Fails above a relative error of 1e-6.
+// multi-mode fluids (two modes of different times and shares: PolymerModeKernel); and every dF/dp
+// (the law's constants and the modes' times among them). Fails above a relative error of 1e-6.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -22,11 +23,12 @@ struct Case {
   bool dynamic_zz;
   bool supg_local;
   bool at_identity;  // conformation exactly I (Psi = 0)
+  bool two_modes = false;
 };
 
 std::string label(const Case& c) {
   return std::string(to_string(c.model)) + (c.log_form ? " log" : " conf") + (c.dynamic_zz ? " zz" : "") +
-         (c.supg_local ? " local" : " global") + (c.at_identity ? " M=I" : "");
+         (c.supg_local ? " local" : " global") + (c.at_identity ? " M=I" : "") + (c.two_modes ? " two modes" : "");
 }
 
 void check(const Case& c) {
@@ -51,6 +53,7 @@ void check(const Case& c) {
   o.fluid.Re = 2.0;
   o.fluid.inertia = true;
   o.fluid.profile = c.model == FluidModel::Newtonian ? ProfileKind::Parabolic : ProfileKind::FullyDeveloped;
+  if (c.two_modes) o.fluid.modes = {{"slow", 1.3, 0.6}, {"fast", 0.2, 0.4}};
   Mesh mesh = build_channel_mesh(o.geometry, o.mesh, false);
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> U(-1, 1);
@@ -69,20 +72,23 @@ void check(const Case& c) {
   Vector u = problem.initial_guess();
   const DofMap& d = problem.dofs();
   for (int i = 0; i < u.size(); ++i) u[i] += 0.2 * U(rng) * (std::abs(u[i]) + 0.1);
-  // a symmetric positive definite conformation (or its log) at every node
-  const int fm = d.field_index("conformation");
-  for (int n = 0; n < mesh.num_nodes(); ++n) {
-    if (d.node_dof(fm, n, 0) < 0) continue;
-    const int nc = d.num_components(fm);
-    for (int k = 0; k < nc; ++k) {
-      double v = 0;
-      if (!c.at_identity)
-        v = c.log_form ? 0.4 * U(rng) : (k == 1 ? 0.3 * U(rng) : 1.2 + 0.4 * U(rng));
-      else
-        v = c.log_form ? 0.0 : (k == 1 ? 0.0 : 1.0);
-      u[d.node_dof(fm, n, k)] = v;
+  // a symmetric positive definite conformation (or its log) at every node, in every mode
+  for (int fm = 0; fm < d.num_fields(); ++fm)
+    if (d.field(fm).name.rfind("conformation", 0) == 0) {
+      ASSERT_TRUE(fm == d.field_index("conformation") || c.two_modes);
+      for (int n = 0; n < mesh.num_nodes(); ++n) {
+        if (d.node_dof(fm, n, 0) < 0) continue;
+        const int nc = d.num_components(fm);
+        for (int k = 0; k < nc; ++k) {
+          double v = 0;
+          if (!c.at_identity)
+            v = c.log_form ? 0.4 * U(rng) : (k == 1 ? 0.3 * U(rng) : 1.2 + 0.4 * U(rng));
+          else
+            v = c.log_form ? 0.0 : (k == 1 ? 0.0 : 1.0);
+          u[d.node_dof(fm, n, k)] = v;
+        }
+      }
     }
-  }
   const auto jc = test::check_problem_jacobian(problem, u);
   std::cout << label(c) << ": Jacobian max relative error " << jc.max_relative_error << " (row "
             << d.describe(jc.worst_row) << ")\n";
@@ -105,6 +111,12 @@ TEST(ViscoelasticJacobian, EveryFluidAndFormulation) {
 
 TEST(ViscoelasticJacobian, FenePWithDynamicZz) {
   for (bool log_form : {false, true}) check({FluidModel::FeneP, log_form, true, true, false});
+}
+
+TEST(ViscoelasticJacobian, TwoModesOfEveryFluidAndFormulation) {
+  for (FluidModel m : kLaws)
+    for (bool log_form : {false, true}) check({m, log_form, false, true, false, true});
+  check({FluidModel::FeneP, false, true, true, false, true});
 }
 
 TEST(ViscoelasticJacobian, GlobalSupg) { check({FluidModel::OldroydB, false, false, false, false}); }
