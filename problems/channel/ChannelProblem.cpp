@@ -170,8 +170,7 @@ SolutionFields ChannelProblem::fields(const Vector& u) const {
 
 std::string ChannelProblem::summary() const {
   const FluidOptions& f = options_.fluid;
-  return fmt::format("channel, {} fluid{}, rigid walls, {}; mesh {}: {} elements, {} nodes; {}, {} unknowns",
-                     to_string(f.model), f.viscoelastic() && f.log_conformation ? " (log-conformation)" : "",
+  return fmt::format("channel, {}, rigid walls, {}; mesh {}: {} elements, {} nodes; {}, {} unknowns", f.describe(),
                      f.inertia ? "Navier-Stokes" : "Stokes", options_.mesh.name, mesh_.num_elements(),
                      mesh_.num_nodes(), f.viscoelastic() ? "Q2-P1disc-Q1-Q1 DEVSS-TG/SUPG" : "Q2-P1disc", size());
 }

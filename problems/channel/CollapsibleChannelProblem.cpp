@@ -458,11 +458,10 @@ SolutionFields CollapsibleChannelProblem::fields(const Vector& u) const {
 std::string CollapsibleChannelProblem::summary() const {
   const FluidOptions& f = options_.fluid;
   return fmt::format(
-      "collapsible channel, {} fluid{}, neo-Hookean wall, elliptic mesh ({} wall nodes); mesh {}: {} elements ({} "
+      "collapsible channel, {}, neo-Hookean wall, elliptic mesh ({} wall nodes); mesh {}: {} elements ({} "
       "fluid + "
       "{} solid), {} nodes; {} unknowns",
-      to_string(f.model), f.viscoelastic() && f.log_conformation ? " (log-conformation)" : "",
-      options_.motion.sliding_walls ? "sliding" : "fixed", options_.mesh.name, mesh_.num_elements(),
+      f.describe(), options_.motion.sliding_walls ? "sliding" : "fixed", options_.mesh.name, mesh_.num_elements(),
       options_.mesh.fluid_elements(), options_.mesh.solid_elements(), mesh_.num_nodes(), size());
 }
 

@@ -14,7 +14,6 @@
 #include "problems/components/StokesStart.hpp"
 #include "problems/kernels/NewtonianFlowKernel.hpp"
 #include "problems/kernels/OutflowTractionKernel.hpp"
-#include "problems/kernels/PolymerModeKernel.hpp"
 #include "problems/kernels/TractionKernel.hpp"
 #include "problems/laws/LawKeys.hpp"
 #include "problems/laws/LogConformation.hpp"

@@ -29,6 +29,13 @@ void FluidOptions::declare(SceneSchema& s, double default_beta, double default_W
   LawKeys::declare_constants(s);
 }
 
+std::string FluidOptions::describe() const {
+  std::string s = std::string(to_string(model)) + " fluid";
+  if (modes.size() > 1) s += " of " + std::to_string(modes.size()) + " modes";
+  if (viscoelastic() && log_conformation) s += " (log-conformation)";
+  return s;
+}
+
 FluidOptions FluidOptions::from_scene(const Scene& sc) {
   FluidOptions o;
   const LawKeys law = LawKeys::from_scene(sc);

@@ -3,6 +3,7 @@
 // declared and read in one place for every problem with a fluid.
 #pragma once
 
+#include <string>
 #include <vector>
 
 #include "core/Scene.hpp"
@@ -28,6 +29,8 @@ struct FluidOptions {
   double power_index = 0.5;
 
   bool viscoelastic() const { return model != FluidModel::Newtonian; }
+  // "oldroyd-b fluid", "giesekus fluid of 3 modes (log-conformation)": for a problem's summary.
+  std::string describe() const;
   int conformation_components() const { return model == FluidModel::FeneP && dynamic_zz ? 4 : 3; }
 
   // Keys of [fluid], [inflow] and the fluid's entries of [parameters], with problem-specific

@@ -324,8 +324,7 @@ SolutionFields CylinderProblem::fields(const Vector& u) const {
 
 std::string CylinderProblem::summary() const {
   const FluidOptions& f = options_.fluid;
-  return fmt::format("confined cylinder (blockage 0.5), {} fluid{}; mesh {}: {} elements, {} nodes; {} unknowns",
-                     to_string(f.model), f.viscoelastic() && f.log_conformation ? " (log-conformation)" : "",
+  return fmt::format("confined cylinder (blockage 0.5), {}; mesh {}: {} elements, {} nodes; {} unknowns", f.describe(),
                      options_.mesh.name, mesh_.num_elements(), mesh_.num_nodes(), size());
 }
 

@@ -171,8 +171,7 @@ SolutionFields FlowProblem::fields(const Vector& u) const {
 
 std::string FlowProblem::summary() const {
   const FluidOptions& f = options_.fluid;
-  return fmt::format("flow, {} fluid{}{}; mesh {}: {} elements, {} nodes; {} unknowns", to_string(f.model),
-                     f.viscoelastic() && f.log_conformation ? " (log-conformation)" : "",
+  return fmt::format("flow, {}{}; mesh {}: {} elements, {} nodes; {} unknowns", f.describe(),
                      params_.get("Re") > 0.0 ? ", inertia" : "", options_.mesh_path, mesh_.num_elements(),
                      mesh_.num_nodes(), size());
 }

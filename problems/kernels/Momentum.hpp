@@ -115,6 +115,19 @@ void add_momentum_continuity(int q, const QpGeometry<G>& g, const G (&psi)[3], c
   for (int k = 0; k < 3; ++k) r[18 + k] -= (w * psi[k]) * div;
 }
 
+// Adds a stress's divergence-form momentum rows int dphi_a/dx_j S_ij dA at a Gauss point
+// (r[0..17]): a further polymer mode's stress, whose pressure, load and continuity rows are the
+// first mode's kernel's.
+template <class T, class G>
+void add_stress_divergence(const QpGeometry<G>& g, const PlaneStress<T>& S, T* r) {
+  const G w = g.wdetJ;
+  for (int a = 0; a < 9; ++a) {
+    const G dx = g.dN2dx[a][0], dy = g.dN2dx[a][1];
+    r[a] += w * (dx * S.xx + dy * S.xy);
+    r[9 + a] += w * (dx * S.xy + dy * S.yy);
+  }
+}
+
 // The rate of a Q2 field component (nodal rates fdot, 9 entries) at Gauss point q as seen at a
 // fixed point of space: sum N_a fdot_a - xdot . grad f, where the mesh moves at xdot (ALE; null:
 // a fixed mesh) and grad f is the field's gradient there.

@@ -15,6 +15,14 @@
 // Local unknowns: v_x (9), v_y (9), P (3), L_xx L_xy L_yx L_yy (4 each), then the conformation
 // components (4 each): 37 + 4 NC rows; on a moving mesh then x and y of nodes 0..8, whose rows
 // the kernel does not write.
+//
+// A multi-mode fluid's first mode is this kernel with the mode's time and share (options.mode);
+// each further mode is PolymerModeKernel (Mode = true): the mode's conformation M_k transported the
+// same way with its own relaxation time lambda_k = t_k lambda and modulus w_k (1 - beta) Gamma /
+// (t_k Wi) (FlowParameters.hpp, PolymerMode), by the velocity and stretched by the first mode's
+// projected gradient L, and its polymer stress added to the momentum rows, int dphi_a/dx_j
+// tau_k,ij dA; no pressure, solvent, DEVSS, projection or source terms. Its local unknowns are
+// v_x, v_y, L (16), then the mode's components: 34 + 4 NC rows (the rows of L not written).
 #pragma once
 
 #include <algorithm>
@@ -74,11 +82,12 @@ Status check_conformation_nodes(FluidModel model, bool log_form, const T* mc, co
 
 // Number of conformation unknowns per node: 3, or 4 for FENE-P with a dynamic M_zz. PTT's slip
 // xi (the conformation form only) is read where its parameter index is set.
-template <int NC, bool Moving = false>
+template <int NC, bool Moving = false, bool Mode = false>
 class ViscoelasticFlowKernel {
  public:
   static_assert(NC == 3 || NC == 4, "3 or 4 conformation components");
-  static constexpr int kConf = 37;
+  static constexpr int kGradient = Mode ? 18 : 21;
+  static constexpr int kConf = kGradient + 16;
   static constexpr int kRows = kConf + 4 * NC;
   static constexpr int kSize = kRows + (Moving ? 18 : 0);
 
@@ -94,15 +103,17 @@ class ViscoelasticFlowKernel {
     for (size_t k = 0; k < elements_.size(); ++k) {
       int* d = &dofs_[k * kSize];
       dofs.element_dofs(fv, elements_[k], d);
-      dofs.element_dofs(fp, elements_[k], d + 18);
-      dofs.element_dofs(fl, elements_[k], d + 21);
+      if constexpr (!Mode) dofs.element_dofs(fp, elements_[k], d + 18);
+      dofs.element_dofs(fl, elements_[k], d + kGradient);
       dofs.element_dofs(fm, elements_[k], d + kConf);
       if constexpr (Moving) dofs.element_dofs(dofs.field_index("position"), elements_[k], d + kRows);
       size_[k] = element_size((*geometry_)[k]);
     }
   }
 
-  std::string name() const { return std::string("viscoelastic-") + to_string(o_.model); }
+  std::string name() const {
+    return Mode ? "polymer-mode-" + o_.mode.field : std::string("viscoelastic-") + to_string(o_.model);
+  }
   int num_items() const { return static_cast<int>(elements_.size()); }
   void item_dofs(int item, int* out) const { std::copy_n(&dofs_[static_cast<size_t>(item) * kSize], kSize, out); }
 
@@ -150,7 +161,7 @@ class ViscoelasticFlowKernel {
       W xdot[2];
       if constexpr (Moving)
         if (ale) mesh_velocity(q, udot + kRows, xdot);
-      add_velocity_rate(q, rho * g.wdetJ, udot, s.K, ale ? xdot : nullptr, r);
+      if constexpr (!Mode) add_velocity_rate(q, rho * g.wdetJ, udot, s.K, ale ? xdot : nullptr, r);
       const ConformationAt<NC, double, double> mq(u + kConf, q, g);
       add_conformation_rate<NC>(q, g, tau, s.v, udot + kConf, mq, ale ? xdot : nullptr, r + kConf);
     }
@@ -175,9 +186,9 @@ class ViscoelasticFlowKernel {
     const P rho = flow_density(p_, params, o_.inertia);
     const T* vx = u;
     const T* vy = u + 9;
-    const T* pc = u + 18;
-    const T* Lc = u + 21;     // Lxx[4], Lxy[4], Lyx[4], Lyy[4]
-    const T* mc = u + kConf;  // component c at Q1 node k: mc[4 c + k]
+    const T* pc = u + 18;         // the first mode's only
+    const T* Lc = u + kGradient;  // Lxx[4], Lxy[4], Lyx[4], Lyy[4]
+    const T* mc = u + kConf;      // component c at Q1 node k: mc[4 c + k]
     for (int i = 0; i < kRows; ++i) r[i] = 0.0;
     if (!(value_of(Wi) > 0.0)) return {StatusCode::InvalidState, "Wi must be positive in the viscoelastic equations"};
     const LawConstants<P> law = law_constants(p_.law, params);
@@ -201,21 +212,27 @@ class ViscoelasticFlowKernel {
       if (inadmissible && !(value_of(k.factor) > 0.0)) return {StatusCode::InvalidState, inadmissible};
       const Conformation<T> tp = polymer_stress(M, k, modulus);
 
-      // momentum and continuity with the solvent, DEVSS and polymer stresses
-      const PlaneStress<T> visc = viscous_stress(beta, s.K), dv = devss_stress(beta_a, s.K, L);
-      const PlaneStress<T> stress{visc.xx + dv.xx + tp.xx, visc.xy + dv.xy + tp.xy, visc.yy + dv.yy + tp.yy};
-      T load[2];
-      momentum_load(s, o_.inertia, rho, o_.source.get(), g.x, load);
-      add_momentum_continuity(q, g, psi, s, load, stress, pressure_at(pc, psi), r);
+      if constexpr (Mode) {
+        // a further mode: its polymer stress in the momentum rows
+        add_stress_divergence(g, PlaneStress<T>{tp.xx, tp.xy, tp.yy}, r);
+      } else {
+        // momentum and continuity with the solvent, DEVSS and polymer stresses
+        const PlaneStress<T> visc = viscous_stress(beta, s.K), dv = devss_stress(beta_a, s.K, L);
+        const PlaneStress<T> stress{visc.xx + dv.xx + tp.xx, visc.xy + dv.xy + tp.xy, visc.yy + dv.yy + tp.yy};
+        T load[2];
+        momentum_load(s, o_.inertia, rho, o_.source.get(), g.x, load);
+        add_momentum_continuity(q, g, psi, s, load, stress, pressure_at(pc, psi), r);
 
-      // velocity-gradient projection
-      add_gradient_projection(q, g.wdetJ, s.K, L, r + 21);
+        // velocity-gradient projection
+        add_gradient_projection(q, g.wdetJ, s.K, L, r + 21);
+      }
 
       // conformation transport, SUPG-weighted
       const T inv_lambda = inverse_relaxation_time(o_.model, lambda, L, Gamma, o_.owens);
       const T tau = supg_time_scale(o_.supg, h, s.v, Gamma);
       T R[NC];
-      conformation_transport(mq, M, s.v, L, k, inv_lambda, o_.log_conformation, xi, o_.source.get(), g.x, R);
+      conformation_transport(mq, M, s.v, L, k, inv_lambda, o_.log_conformation, xi, Mode ? nullptr : o_.source.get(),
+                             g.x, R);
       add_conformation_rows<NC>(q, g, tau, s.v, R, r + kConf);
     }
     return {};
@@ -229,5 +246,9 @@ class ViscoelasticFlowKernel {
   FlowParameterIndices p_;
   ViscoelasticKernelOptions o_;
 };
+
+// A further mode of a multi-mode fluid (the header's comment).
+template <int NC, bool Moving = false>
+using PolymerModeKernel = ViscoelasticFlowKernel<NC, Moving, true>;
 
 }  // namespace keller

@@ -123,6 +123,9 @@ class KellerH5Test(unittest.TestCase):
         self.assertEqual(keller_h5.distinguishing_labels(files),
                          ["model = giesekus, alpha = 0.3", "model = ptt-linear, epsilon = 0.25, xi = 0.0",
                           "model = oldroyd-b"])
+        # a multi-mode fluid's mode times are labelled by their mode, other names by themselves
+        self.assertEqual(keller_h5.quantity("time_fast"), r"$\lambda_k / \lambda$ of mode fast")
+        self.assertEqual(keller_h5.quantity("time_"), "time_")
         # plot_rheometry.py draws them, and measured points from a CSV (bad CSV: exit 2, no figure)
         script = os.path.join(ARGS.source, "runs", "scripts", "plot_rheometry.py")
         with open(os.path.join(d, "m.csv"), "w") as f:

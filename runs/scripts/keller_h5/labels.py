@@ -36,7 +36,10 @@ QUANTITIES = {
 
 
 def quantity(name):
-    """The axis label of a parameter or observable (its name when it is not a known one)."""
+    """The axis label of a parameter or observable (its name when it is not a known one); a
+    multi-mode fluid's mode times time_<mode> are labelled by their mode."""
+    if name not in QUANTITIES and name.startswith("time_") and len(name) > 5:
+        return rf"$\lambda_k / \lambda$ of mode {name[5:]}"
     return QUANTITIES.get(name, name)
 
 
