@@ -1,5 +1,7 @@
 #include "problems/ProblemRegistry.hpp"
 
+#include <algorithm>
+
 #include <fmt/format.h>
 
 #include <stdexcept>
@@ -92,8 +94,8 @@ std::vector<ProblemType> with_memory(std::vector<ProblemType> types) {
 
 }  // namespace
 
-const std::vector<ProblemType>& problem_types() {
-  static const std::vector<ProblemType> types = with_memory({
+static std::vector<ProblemType>& registry() {
+  static std::vector<ProblemType> types = with_memory({
       {"channel", "steady flow in the 19 x 1 channel of model.md", ChannelOptions::declare,
        [](const Scene& s) -> std::unique_ptr<Problem> {
          return std::make_unique<ChannelProblem>(ChannelOptions::from_scene(s));
@@ -149,6 +151,22 @@ const std::vector<ProblemType>& problem_types() {
        Brusselator1DOptions::declare, Brusselator1DProblem::from_scene},
   });
   return types;
+}
+
+const std::vector<ProblemType>& problem_types() { return registry(); }
+
+void register_problem_type(ProblemType type) {
+  const bool named = !type.name.empty() && std::all_of(type.name.begin(), type.name.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '-' || c == '_';
+  });
+  if (!named)
+    throw std::invalid_argument("problem type name '" + type.name +
+                                "': use lower-case letters, digits, '-' and '_' (it is [problem] type in a scene)");
+  for (const ProblemType& t : registry())
+    if (t.name == type.name) throw std::invalid_argument("problem type '" + type.name + "' is registered already");
+  if (!type.declare || !type.build)
+    throw std::invalid_argument("problem type '" + type.name + "' needs both declare and build");
+  registry().push_back(std::move(type));
 }
 
 const ProblemType& problem_type(const std::string& name) {

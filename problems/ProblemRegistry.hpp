@@ -1,5 +1,7 @@
 // The registry of problem types a scene can name in [problem] type: each declares its scene
-// keys and builds itself from a validated scene. The driver in runs/ is the only user.
+// keys and builds itself from a validated scene. The driver in runs/ reads it; a program that
+// links keller adds its own types (register_problem_type) and then runs keller's command line
+// (runs/CommandLine.hpp) with them: docs/own_problem.md.
 #pragma once
 
 #include <functional>
@@ -35,7 +37,13 @@ struct ProblemType {
   std::function<Memory(const Scene&)> memory = nullptr;
 };
 
+// keller's own types, then the registered ones in the order of registration.
 const std::vector<ProblemType>& problem_types();
+// Adds a type of the calling program, with every command of keller for its scenes. Register
+// before any command runs (the references problem_type returns may move). Throws
+// std::invalid_argument for a name that is empty, has a character other than a-z, 0-9, '-' and
+// '_', or is taken, and for a type without declare or build.
+void register_problem_type(ProblemType type);
 // Throws std::invalid_argument listing the known types.
 const ProblemType& problem_type(const std::string& name);
 std::vector<std::string> problem_type_names();

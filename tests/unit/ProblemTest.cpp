@@ -12,6 +12,7 @@
 
 #include "continuation/Continuation.hpp"
 #include "core/Problem.hpp"
+#include "problems/ProblemRegistry.hpp"
 #include "problems/analytic/Bratu2DProblem.hpp"
 #include "support/TestProblems.hpp"
 
@@ -169,4 +170,38 @@ TEST(Problem, TheDefaultsAreDifferencesOfTheResidual) {
   EXPECT_TRUE(has_time_form(library));
   EXPECT_TRUE(p.monitor_names().empty());
   EXPECT_EQ(p.summary(), "user-bratu");
+}
+
+// A program's own problem types (register_problem_type): added after keller's, found by name;
+// refused with the reason for a bad or taken name and for a type that cannot declare or build.
+TEST(ProblemRegistry, AProgramRegistersItsOwnTypes) {
+  const size_t before = problem_types().size();
+  auto type = [](const std::string& name) {
+    ProblemType t;
+    t.name = name;
+    t.doc = "a test type";
+    t.declare = [](SceneSchema&) {};
+    t.build = [](const Scene&) -> std::unique_ptr<Problem> { return nullptr; };
+    return t;
+  };
+  register_problem_type(type("my-problem_2"));
+  ASSERT_EQ(problem_types().size(), before + 1);
+  EXPECT_EQ(problem_types().back().name, "my-problem_2");
+  EXPECT_EQ(problem_type("my-problem_2").doc, "a test type");
+  auto refusal = [](ProblemType t) -> std::string {
+    try {
+      register_problem_type(std::move(t));
+    } catch (const std::invalid_argument& e) {
+      return e.what();
+    }
+    return "";
+  };
+  EXPECT_NE(refusal(type("my-problem_2")).find("is registered already"), std::string::npos);
+  EXPECT_NE(refusal(type("bratu1d")).find("is registered already"), std::string::npos);
+  EXPECT_NE(refusal(type("")).find("use lower-case letters"), std::string::npos);
+  EXPECT_NE(refusal(type("My Problem")).find("use lower-case letters"), std::string::npos);
+  ProblemType no_build = type("no-build");
+  no_build.build = nullptr;
+  EXPECT_NE(refusal(no_build).find("needs both declare and build"), std::string::npos);
+  EXPECT_EQ(problem_types().size(), before + 1);
 }

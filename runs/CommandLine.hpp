@@ -1,0 +1,16 @@
+// keller's command line as a library function: the `keller` program is
+//   int main(int argc, char** argv) { return keller::run_command_line(argc, argv); }
+// and a program of a user's own problems registers them first (problems/ProblemRegistry.hpp,
+// register_problem_type) and then hands over the same way: it has every command (solve, trace,
+// evolve, export, info, study, --help-scene) for keller's problem types and its own
+// (docs/own_problem.md). Studies run their tasks in this same program (/proc/self/exe).
+#pragma once
+
+namespace keller {
+
+// Parses argv, runs the command and returns its exit code (runs/ExitCode.hpp: 0 done, 1 numerical
+// failure, 2 bad command line or input, 3 write failure, 4 internal error, 130 interrupted).
+// Prints every error itself; throws nothing.
+int run_command_line(int argc, char** argv);
+
+}  // namespace keller

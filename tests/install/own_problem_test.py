@@ -1,0 +1,118 @@
+"""keller as an installed library: install the build into a prefix, move the prefix (the package
+is relocatable), build examples/chafee_infante against it with only find_package(keller), and run
+the user's program through keller's commands. Checks, with their tolerances:
+  - the branch points of the trivial branch at the discrete eigenvalues (4 / h^2) sin^2(k h / 2),
+    h = pi / 64, to 1e-8 (located to the scene's event tolerance 1e-10 in the residual);
+  - the branch switched at the first is sin(x): u(pi/4) / max u = sin(pi/4) to 1e-3 at its first
+    point (the amplitude's correction is O(a^2) of the mode, a = 0.1), lambda(a) = lambda_1 (1 +
+    3 a^2 / 4 + O(a^4)) to 3% in its a^2 term, and stable (the smallest eigenvalue positive);
+  - a study of the user's type completes its three tasks, with local workers and under mpirun
+    (where it is installed): its tasks run in the user's program;
+  - --help-scene lists the user's keys; an unknown key, and a value the user's build refuses, exit 2
+    with keller's message naming the file, line and key; --version is keller's.
+
+Run by ctest (tests/CMakeLists.txt) as
+    python3 tests/install/own_problem_test.py --build build --source . --scratch DIR"""
+
+import argparse
+import csv
+import io
+import math
+import os
+import shutil
+import subprocess
+import sys
+
+
+def run(*words, cwd=None, expect=0):
+    p = subprocess.run(list(words), cwd=cwd, capture_output=True, text=True)
+    if expect is not None and p.returncode != expect:
+        sys.exit(f"FAIL: {' '.join(words)} exited {p.returncode}, expected {expect}\n{p.stdout}\n{p.stderr}")
+    return p
+
+
+def check(ok, what):
+    if not ok:
+        sys.exit("FAIL: " + what)
+    print("ok: " + what)
+
+
+def table(app, h5, cwd):
+    rows = list(csv.DictReader(io.StringIO(run(app, "export", h5, "--csv", "-", cwd=cwd).stdout)))
+    return [{k: (v if k == "kind" else float(v)) for k, v in r.items()} for r in rows]
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--build", required=True)
+    ap.add_argument("--source", required=True)
+    ap.add_argument("--scratch", required=True)
+    a = ap.parse_args()
+    build, source, scratch = (os.path.abspath(p) for p in (a.build, a.source, a.scratch))
+    shutil.rmtree(scratch, ignore_errors=True)
+    os.makedirs(scratch)
+    run("cmake", "--install", build, "--prefix", os.path.join(scratch, "installed"))
+    os.rename(os.path.join(scratch, "installed"), os.path.join(scratch, "moved"))
+    example = os.path.join(source, "examples", "chafee_infante")
+    run("cmake", "-S", example, "-B", os.path.join(scratch, "example"),
+        "-DCMAKE_PREFIX_PATH=" + os.path.join(scratch, "moved"))
+    run("cmake", "--build", os.path.join(scratch, "example"), "-j2")
+    app = os.path.join(scratch, "example", "chafee_infante")
+    scene = os.path.join(example, "chafee_infante.toml")
+
+    check(run(app, "--version").stdout == run(os.path.join(build, "bin", "keller"), "--version").stdout,
+          "--version is keller's")
+    keys = run(app, "solve", "--help-scene").stdout
+    own = keys[keys.find("Keys of problem type 'chafee-infante'"):]
+    check("[chafee_infante]  # the grid\n  intervals = 64\n" in own and "'collapsible-channel'" in keys,
+          "--help-scene lists the user's keys and keller's problem types")
+
+    run(app, "trace", scene, "-o", "trivial.h5", cwd=scratch)
+    h = math.pi / 64
+    bps = [r["lambda"] for r in table(app, "trivial.h5", scratch) if r["kind"] == "bp"]
+    exact = [4 / h ** 2 * math.sin(k * h / 2) ** 2 for k in (1, 2, 3)]
+    check(len(bps) == 3 and all(abs(b - e) < 1e-8 * e for b, e in zip(bps, exact)),
+          f"branch points {bps} at the discrete eigenvalues {exact}")
+
+    run(app, "trace", scene, "--switch", "trivial.h5:bp1", "-o", "mode1.h5", "--set", "continuation.upper=3",
+        cwd=scratch)
+    switched = table(app, "mode1.h5", scratch)
+    first = switched[1]
+    amplitude = first["u_max"]
+    check(abs(first["u_quarter"] / amplitude - math.sin(math.pi / 4)) < 1e-3,
+          f"the switched branch is sin(x): u(pi/4) / max u = {first['u_quarter'] / amplitude}")
+    a2 = (first["lambda"] / exact[0] - 1) / amplitude ** 2
+    check(abs(a2 / 0.75 - 1) < 0.03, f"lambda = lambda_1 (1 + c a^2) with c = {a2} (0.75 in the continuum)")
+    check(all(r["sigma1_re"] > 0 for r in switched[1:]), "the switched branch is stable (supercritical)")
+
+    # a study of the user's type, here and under mpirun: its tasks run in the user's program
+    shutil.copy(scene, os.path.join(scratch, "chafee_infante.toml"))
+    with open(os.path.join(scratch, "grid.toml"), "w") as f:
+        f.write('[study]\nscene = "chafee_infante.toml"\ntask = "trace"\n[grid]\n'
+                '"chafee_infante.intervals" = [16, 32, 64]\n')
+    studies = [("grid", [app, "study", "grid.toml", "--jobs", "2"])]
+    if shutil.which("mpirun"):
+        studies.append(("grid_mpi", ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", "2", app, "study",
+                                     "grid.toml", "-o", "grid_mpi"]))
+    for folder, words in studies:
+        run(*words, cwd=scratch)
+        with open(os.path.join(scratch, folder, "grid.csv")) as f:
+            tasks = list(csv.DictReader(f))
+        check(len(tasks) == 3 and all(t["status"] == "done" for t in tasks), f"the study {' '.join(words[:3])}: "
+              f"{len(tasks)} tasks done")
+
+    with open(os.path.join(scratch, "bad_key.toml"), "w") as f:
+        f.write('[problem]\ntype = "chafee-infante"\n[chafee_infante]\ninterval = 64\n')
+    p = run(app, "solve", "bad_key.toml", cwd=scratch, expect=2)
+    check("bad_key.toml:4" in p.stderr and "chafee_infante.interval" in p.stderr, "an unknown user key: " +
+          p.stderr.strip().splitlines()[0])
+    with open(os.path.join(scratch, "bad_value.toml"), "w") as f:
+        f.write('[problem]\ntype = "chafee-infante"\n[chafee_infante]\nintervals = 66\n')
+    p = run(app, "solve", "bad_value.toml", cwd=scratch, expect=2)
+    check("chafee_infante.intervals" in p.stderr and "multiple of 4" in p.stderr, "a refused user value: " +
+          p.stderr.strip().splitlines()[0])
+    check(not os.path.exists(os.path.join(scratch, "bad_value.h5")), "nothing written for a refused scene")
+
+
+if __name__ == "__main__":
+    main()
