@@ -8,6 +8,9 @@ the user's program through keller's commands. Checks, with their tolerances:
     3 a^2 / 4 + O(a^4)) to 3% in its a^2 term, and stable (the smallest eigenvalue positive);
   - a study of the user's type completes its three tasks, with local workers and under mpirun
     (where it is installed): its tasks run in the user's program;
+  - docs/own_problem.md's shell commands, extracted and run as written (HOME a scratch folder, so
+    that $HOME/keller is the prefix; build, examples and runs linked to the source's), exit 0
+    and make the tutorial's figure;
   - --help-scene lists the user's keys; an unknown key, and a value the user's build refuses, exit 2
     with keller's message naming the file, line and key; --version is keller's.
 
@@ -42,6 +45,41 @@ def table(app, h5, cwd):
     return [{k: (v if k == "kind" else float(v)) for k, v in r.items()} for r in rows]
 
 
+def tutorial_commands(path):
+    """The commands of the ```sh blocks of a markdown file, continuation lines joined."""
+    commands, block = [], None
+    with open(path) as f:
+        for line in f:
+            if line.startswith("```"):
+                block = [] if line.strip() == "```sh" and block is None else None
+                continue
+            if block is not None:
+                line = line.rstrip("\n")
+                if commands and commands[-1].endswith("\\"):
+                    commands[-1] = commands[-1][:-1] + " " + line.strip()
+                elif line.strip() and not line.lstrip().startswith("#"):
+                    commands.append(line.strip())
+    return commands
+
+
+def run_tutorial(build, source, scratch):
+    """docs/own_problem.md's commands in a folder of their own, as a user runs them."""
+    folder = os.path.join(scratch, "tutorial")
+    os.makedirs(os.path.join(folder, "home"))
+    os.symlink(build, os.path.join(folder, "build"))
+    for d in ("examples", "runs"):
+        os.symlink(os.path.join(source, d), os.path.join(folder, d))
+    env = dict(os.environ, HOME=os.path.join(folder, "home"), PATH="/usr/bin:" + os.environ.get("PATH", ""))
+    commands = tutorial_commands(os.path.join(source, "docs", "own_problem.md"))
+    check(len(commands) >= 6, f"docs/own_problem.md has {len(commands)} commands")
+    for c in commands:
+        p = subprocess.run(["sh", "-c", c], cwd=folder, env=env, capture_output=True, text=True)
+        if p.returncode != 0:
+            sys.exit(f"FAIL: docs/own_problem.md: '{c}' exited {p.returncode}\n{p.stdout}\n{p.stderr}")
+    check(os.path.getsize(os.path.join(folder, "chafee_infante.png")) > 10000,
+          f"docs/own_problem.md's {len(commands)} commands run and draw the figure")
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--build", required=True)
@@ -51,6 +89,7 @@ def main():
     build, source, scratch = (os.path.abspath(p) for p in (a.build, a.source, a.scratch))
     shutil.rmtree(scratch, ignore_errors=True)
     os.makedirs(scratch)
+    run_tutorial(build, source, scratch)
     run("cmake", "--install", build, "--prefix", os.path.join(scratch, "installed"))
     os.rename(os.path.join(scratch, "installed"), os.path.join(scratch, "moved"))
     example = os.path.join(source, "examples", "chafee_infante")
