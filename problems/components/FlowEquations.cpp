@@ -105,9 +105,12 @@ std::function<double(double)> FlowEquations::viscosity(const ParameterSet& p) co
   };
 }
 
-double FlowEquations::mode_lambda(const ParameterSet& p, size_t mode) const {
-  const double lambda = p.value(index_.Wi) / (index_.Gamma >= 0 ? p.value(index_.Gamma) : 1.0);
-  return mode_relaxation_time(lambda, modes_[mode], p.values());
+std::array<double, 4> FlowEquations::mode_shear_state(const ParameterSet& p, size_t mode, double gdot,
+                                                      const LawConstants<double>& law) const {
+  const double U = index_.Gamma >= 0 ? p.value(index_.Gamma) : 1.0;
+  double lam = mode_relaxation_time(p.value(index_.Wi) / U, modes_[mode], p.values());
+  if (options_.model == FluidModel::Owens) lam *= owens_factor(gdot * gdot, U, options_.kernel.owens);
+  return steady_state(lam * gdot, law);
 }
 
 std::array<double, 4> FlowEquations::steady_state(double W, const LawConstants<double>& law) const {
@@ -144,14 +147,8 @@ const FlowEquations::InflowValues& FlowEquations::inflow_values(const ParameterS
     for (size_t i = 0; i < u.size(); ++i)
       vel.push_back({sign * u[i] * in.frame.normal[0], sign * u[i] * in.frame.normal[1]});
     if (!ve || mean < 0) continue;
-    for (size_t mode = 0; mode < modes_.size(); ++mode) {
-      const double lambda = mode_lambda(p, mode);
-      for (double g : dudy) {
-        double lam = lambda;
-        if (options_.model == FluidModel::Owens) lam *= owens_factor(g * g, U, options_.kernel.owens);
-        iv.conformation[mode][k].push_back(in.frame.rotate(steady_state(lam * g, b)));
-      }
-    }
+    for (size_t mode = 0; mode < modes_.size(); ++mode)
+      for (double g : dudy) iv.conformation[mode][k].push_back(in.frame.rotate(mode_shear_state(p, mode, g, b)));
   }
   if (inflow_cache_.size() >= 4) inflow_cache_.erase(inflow_cache_.begin());
   inflow_cache_.emplace_back(key, std::move(iv));
@@ -309,7 +306,6 @@ void FlowEquations::initial_guess(Vector& u) const {
   in.profile.evaluate(ys, sign * mean, viscosity(*params_), vel, dudy);
   const bool ve = options_.viscoelastic();
   const int fl = ve ? dofs.field_index("gradient") : -1;
-  const double U = velocity_scale();
   const LawConstants<double> b = law_constants(index_.law, params_->values());
   for (size_t k = 0; k < nodes.size(); ++k) {
     const int n = nodes[k];
@@ -317,9 +313,7 @@ void FlowEquations::initial_guess(Vector& u) const {
     u[dofs.node_dof(fv, n, 1)] = in.frame.identity() ? 0.0 : sign * vel[k] * in.frame.normal[1];
     if (!ve || dofs.node_dof(fl, n, 0) < 0) continue;
     for (size_t mode = 0; mode < modes_.size(); ++mode) {
-      double lam = mode_lambda(*params_, mode);
-      if (options_.model == FluidModel::Owens) lam *= owens_factor(dudy[k] * dudy[k], U, options_.kernel.owens);
-      const auto state = in.frame.rotate(steady_state(lam * dudy[k], b));
+      const auto state = in.frame.rotate(mode_shear_state(*params_, mode, dudy[k], b));
       const int fm = dofs.field_index(modes_[mode].field);
       for (int c = 0; c < options_.conformation_components(); ++c)
         u[dofs.node_dof(fm, n, c)] = state[static_cast<size_t>(c)];

@@ -118,8 +118,10 @@ class FlowEquations final : public Component {
  private:
   // m1 <= m2 <= m3 of mode `mode` at conformation node n.
   std::array<double, 3> node_eigenvalues(const Vector& u, int n, size_t mode) const;
-  // The mode's relaxation time t_k lambda at the parameters p (lambda = Wi / Gamma).
-  double mode_lambda(const ParameterSet& p, size_t mode) const;
+  // The mode's steady shear state (its unknowns: M or log M) at shear rate gdot and the parameters
+  // p: steady_state at W = t_k lambda gdot (lambda = Wi / Gamma; Owens: times its Cross factor).
+  std::array<double, 4> mode_shear_state(const ParameterSet& p, size_t mode, double gdot,
+                                         const LawConstants<double>& law) const;
   template <bool Moving>
   void add_kernels(const DofMap& dofs);
   template <int NC, bool Moving>

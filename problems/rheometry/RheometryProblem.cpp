@@ -91,7 +91,6 @@ RheometryProblem::Kinematics RheometryProblem::kinematics() const {
       k.L[1][1] = k.Lzz = -0.5 * k.rate;
       break;
   }
-  k.inv_lambda_eff = inverse_relaxation_time(o_.law.model, k.lambda, k.L, Gamma, o_.law.owens, k.Lzz);
   return k;
 }
 
@@ -107,9 +106,7 @@ Status RheometryProblem::evaluate(const Vector& u, Vector& F, SparseMatrix* J) c
     const int at = static_cast<int>(mode) * NC;
     const double lambda = mode_relaxation_time(k.lambda, modes_[mode], params_.values());
     const double inv_lambda =
-        modes_[mode].time < 0
-            ? k.inv_lambda_eff
-            : inverse_relaxation_time(o_.law.model, lambda, k.L, params_.value(i_Gamma_), o_.law.owens, k.Lzz);
+        inverse_relaxation_time(o_.law.model, lambda, k.L, params_.value(i_Gamma_), o_.law.owens, k.Lzz);
     D m[NC], r[NC];
     for (int i = 0; i < NC; ++i) m[i] = make_variable<NC>(u[at + i], i);
     const Conformation<D> M = conformation_of<NC>(m, o_.law.log_conformation);

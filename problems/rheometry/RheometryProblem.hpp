@@ -86,7 +86,7 @@ class RheometryProblem final : public Problem {
 
  private:
   struct Kinematics {
-    double rate = 0, lambda = 0, inv_lambda_eff = 0;
+    double rate = 0, lambda = 0;
     double L[2][2] = {{0, 0}, {0, 0}};
     double Lzz = 0;
   };

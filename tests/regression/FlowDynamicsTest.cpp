@@ -199,7 +199,7 @@ TEST(FlowEvolve, AStokesFlowHasNoDynamicsAndIsRefusedNamingRe) {
   const std::string dir = test::scratch_dir("flow_evolve_stokes");
   const std::string steady = test::source_path("runs/scenes/flow_stenosis_stability.toml") + " --set parameters.Re=0";
   const std::string evolve = test::source_path("runs/scenes/flow_stenosis_evolve.toml") + " --set parameters.Re=0";
-  for (const std::string command : {"solve " + steady, "trace " + steady, "evolve " + evolve}) {
+  for (const std::string& command : {"solve " + steady, "trace " + steady, "evolve " + evolve}) {
     SCOPED_TRACE(command);
     const auto r = test::run_keller(command + " -o " + dir + "/s.h5");
     EXPECT_EQ(r.exit_code, 2) << r.out << r.err;

@@ -329,13 +329,14 @@ TEST(Rheometry, EveryLawsJacobianIsExact) {
 // lambda), to the same 1e-10 as one mode, over W = 1e-2 to 1e3.
 TEST(Rheometry, AMultiModeLawIsTheSumOfItsModes) {
   const double times[] = {1.0, 0.1, 0.01}, shares[] = {0.5, 0.3, 0.2};
+  const char* const kModeNames[] = {"m0", "m1", "m2"};
   for (const LawCase& l : kNewLaws)
     for (HomogeneousFlow flow :
          {HomogeneousFlow::Shear, HomogeneousFlow::PlanarExtension, HomogeneousFlow::UniaxialExtension})
       for (bool log_form : {false, true}) {
         if (log_form && l.c.xi != 0.0) continue;
         RheometryOptions o = options(l, flow, log_form);
-        for (int k = 0; k < 3; ++k) o.law.modes.push_back({"m" + std::to_string(k), times[k], shares[k]});
+        for (int k = 0; k < 3; ++k) o.law.modes.push_back({kModeNames[k], times[k], shares[k]});
         RheometryProblem p(o);
         ASSERT_EQ(p.size(), 3 * (flow == HomogeneousFlow::Shear ? 3 : 4));
         Vector u = p.initial_guess();
