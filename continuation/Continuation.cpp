@@ -409,6 +409,7 @@ void Continuation::analyse(BranchPoint& p) {
   p.analysis_width = r.width;
   p.locator = r.locator;
   p.critical_imag = r.critical_imag;
+  p.critical_multiplicity = r.critical_multiplicity;
   p.critical_re = std::move(r.critical_re);
   p.critical_im = std::move(r.critical_im);
   if (!st.is_ok())

@@ -207,6 +207,11 @@ void Continuation::locate_stability_change(BranchPoint& cur, BranchPoint& nxt, s
   // it within the step before. It is analysed again, and a count it had wrong is said, loudly: that
   // change is not located.
   const auto analyse_point = [this](BranchPoint& q) { analyse(q); };
+  // what the points located before this call are labelled (a re-location after widening undoes
+  // what it appended to them)
+  const size_t located_before = located.size();
+  std::vector<std::string> labels_before;
+  for (const LocatedPoint& l : located) labels_before.push_back(l.point.label);
   if (const auto r = spectra_->recount(cur, nxt, analyse_point)) {
     // (a fold or branch point the engine located before that row is one of the changes missed)
     const int change = std::abs(r->after - r->before);
@@ -264,8 +269,18 @@ void Continuation::locate_stability_change(BranchPoint& cur, BranchPoint& nxt, s
     }
     const double scale = 1.0 + std::abs(p->locator);
     const bool complex = std::abs(p->critical_imag) > kRealEigenvalue * scale;
-    const int after =
-        std::clamp(a.count + direction * (complex ? 2 : 1), std::min(a.count, b.count), std::max(a.count, b.count));
+    // a multiple eigenvalue (two modes of a symmetric domain) crosses as many times as it is multiple
+    const int crossed = (complex ? 2 : 1) * std::max(1, p->critical_multiplicity);
+    if (direction * (a.count + direction * crossed - b.count) > 0 && analysis_->widen()) {
+      // more crossed than the end of the bracket counts: its set missed modes that crossed and moved
+      // out of it within the step; computed wider, the step again, its points located anew
+      located.erase(located.begin() + static_cast<long>(located_before), located.end());
+      for (size_t i = 0; i < located_before; ++i) located[i].point.label = labels_before[i];
+      analyse(nxt);
+      locate_stability_change(cur, nxt, located, observer);
+      return;
+    }
+    const int after = std::clamp(a.count + direction * crossed, std::min(a.count, b.count), std::max(a.count, b.count));
     // the parameter turns on the bracket: the fold where this is its only crossing, else the
     // crossing where the engine located the fold
     const auto near_p = [&](const LocatedPoint& l) {
@@ -285,6 +300,9 @@ void Continuation::locate_stability_change(BranchPoint& cur, BranchPoint& nxt, s
     if (!change->this_step)
       label += fmt::format(" (bracketed by bisection between {} = {:.8g} and {:.8g})", options_.parameter,
                            change->a->lambda, b.lambda);
+    // a branch point's own tangent is J's null vector (keep_bracket_tangent): the old branch's, from
+    // the bracket, is what the next crossing's predictor, a restart and a switch need
+    if (kind == PointKind::BranchPoint) keep_bracket_tangent(a, b, *p);
     // the rest of the change lies beyond this crossing: the next bracket starts on its far side
     // (its locator unknown there, so the search starts by bisection of the count)
     BranchPoint next = *p;

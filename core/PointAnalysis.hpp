@@ -16,10 +16,14 @@
 namespace keller {
 
 struct PointAnalysisResult {
-  std::vector<double> columns;      // one value per PointAnalysis::column_names() (NaN: not available)
-  int count = -1;                   // e.g. eigenvalues with Re(sigma) < 0
-  double locator = 0.0;             // e.g. Re(sigma) of the eigenvalue nearest the imaginary axis
-  double critical_imag = 0.0;       // its imaginary part (0: real)
+  std::vector<double> columns;  // one value per PointAnalysis::column_names() (NaN: not available)
+  int count = -1;               // e.g. eigenvalues with Re(sigma) < 0
+  double locator = 0.0;         // e.g. Re(sigma) of the eigenvalue nearest the imaginary axis
+  double critical_imag = 0.0;   // its imaginary part (0: real)
+  // How many of the values counted equal the critical one (to 1e-6 (1 + |value|)): 2 where a double
+  // eigenvalue (two modes of a symmetric domain) crosses, so that a located crossing changes the
+  // count by that many.
+  int critical_multiplicity = 1;
   Vector critical_re, critical_im;  // its eigenvector (empty when not computed)
   std::string note;                 // what the caller should tell the user of this analysis (empty: nothing)
   // How much the analysis computed (e.g. eigenvalues over all shifts); where it grew since an

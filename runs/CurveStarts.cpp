@@ -111,7 +111,9 @@ TraceStart start_hopf_curve(Problem& problem, const TraceSettings& settings, con
                     from.file, hopf.index));
   auto curve = std::make_unique<HopfCurveProblem>(problem, stored.table.parameter, settings.lu);
   Vector U = curve->state(hopf.u, hopf.lambda, std::abs(critical->sigma_im));
-  const ComplexVector mode = critical->re.cast<std::complex<double>>() + std::complex<double>(0.0, 1.0) * critical->im;
+  // the mode of i omega, omega > 0: that of a stored -i omega conjugated
+  const double side = critical->sigma_im < 0 ? -1.0 : 1.0;
+  const ComplexVector mode = critical->re.cast<std::complex<double>>() + std::complex<double>(0.0, side) * critical->im;
   Status st = curve->start(U, mode, settings.newton, settings.lu);
   if (st.is_ok() && unfinished)
     st = borders_at<ComplexVector, std::complex<double>>(*curve, U, problem, parameter, *unfinished);

@@ -130,72 +130,86 @@ Status StabilityAnalysis::analyse(Problem& problem, const Vector& u, PointAnalys
   const int n = static_cast<int>(u.size());
   counts_.resize(options_.shifts.size(), std::min(k, n - 2));
   const int cap = cap_ = std::min(n - 2, std::max(kGrowthCap * k, kGrowthFloor));
-  for (size_t shift = 0; shift < options_.shifts.size(); ++shift) {
-    const auto& s = options_.shifts[shift];
-    EigenOptions eo;
-    if (options_.warm_start) eo.start = previous_[shift];
-    eo.shift = s;
-    eo.vectors = true;
-    eo.residual_tolerance = options_.residual_tolerance;
-    eo.tolerance = options_.arpack_tolerance;
-    EigenResult r;
-    // the set grows (and stays grown along the branch) until its unstable eigenvalues lie inside it
-    for (int& count = counts_[shift];;) {
-      eo.count = count;
-      // (a basis the scene sets is kept for the count it asked for, widened for a grown one)
-      if (options_.ncv > 0)
-        eo.ncv = std::min(count > std::min(k, n - 2) ? std::max(options_.ncv, 2 * count + 1) : options_.ncv, n);
-      r = EigenResult{};
-      st = solver_.solve(J_, B_, eo, r, factorised_j);  // used at s = 0 only
-      factorisations_ += r.factorisations;
-      solves_ += r.solves;
-      std::vector<std::complex<double>> values;
-      for (const EigenPair& p : r.pairs) values.push_back(p.value);
-      const int next = st.is_ok() ? count_to_separate(values, s, count, cap) : count;
-      if (next == count) {
-        if (st.is_ok() && !spectrum_edge_separated(values, s, count))
-          out.note = fmt::format(
-              "the eigenvalue farthest from the shift {} of the {} computed is unstable: the count of unstable "
-              "eigenvalues may miss some beyond it (the set is at its cap of 8 stability.count, 32 or n - 2)",
-              fmt::format("{}{:+}i", s.real(), s.imag()), count);
-        break;
+  // the whole set again, wider, where an unstable mode of the last analysis is not in it
+  for (;;) {
+    all.clear();
+    worst = Status{};
+    out.width = 0;
+    for (size_t shift = 0; shift < options_.shifts.size(); ++shift) {
+      const auto& s = options_.shifts[shift];
+      EigenOptions eo;
+      if (options_.warm_start) eo.start = previous_[shift];
+      eo.shift = s;
+      eo.vectors = true;
+      eo.residual_tolerance = options_.residual_tolerance;
+      eo.tolerance = options_.arpack_tolerance;
+      EigenResult r;
+      // the set grows (and stays grown along the branch) until its unstable eigenvalues lie inside it
+      for (int& count = counts_[shift];;) {
+        eo.count = count;
+        // (a basis the scene sets is kept for the count it asked for, widened for a grown one)
+        if (options_.ncv > 0)
+          eo.ncv = std::min(count > std::min(k, n - 2) ? std::max(options_.ncv, 2 * count + 1) : options_.ncv, n);
+        r = EigenResult{};
+        st = solver_.solve(J_, B_, eo, r, factorised_j);  // used at s = 0 only
+        factorisations_ += r.factorisations;
+        solves_ += r.solves;
+        std::vector<std::complex<double>> values;
+        for (const EigenPair& p : r.pairs) values.push_back(p.value);
+        const int next = st.is_ok() ? count_to_separate(values, s, count, cap) : count;
+        if (next == count) {
+          if (st.is_ok() && !spectrum_edge_separated(values, s, count))
+            out.note = fmt::format(
+                "the eigenvalue farthest from the shift {} of the {} computed is unstable: the count of unstable "
+                "eigenvalues may miss some beyond it (the set is at its cap of 8 stability.count, 32 or n - 2)",
+                fmt::format("{}{:+}i", s.real(), s.imag()), count);
+          break;
+        }
+        count = next;
+        if (options_.warm_start)
+          for (const EigenPair& p : r.pairs)
+            if (p.accurate && p.vector.size()) eo.start.push_back(p.vector);
       }
-      count = next;
-      if (options_.warm_start)
-        for (const EigenPair& p : r.pairs)
-          if (p.accurate && p.vector.size()) eo.start.push_back(p.vector);
-    }
-    // A shift almost at an eigenvalue (at a located fold or branch point, s = 0 is one) makes OP's
-    // spectrum span many orders of magnitude and the other pairs inaccurate: once more from a
-    // shift moved left by a quarter of the spread of those found.
-    const bool inaccurate = std::any_of(r.pairs.begin(), r.pairs.end(), [](const EigenPair& p) { return !p.accurate; });
-    if ((!st.is_ok() && inaccurate) || st.code() == StatusCode::SingularMatrix) {
-      double spread = 0.0;
-      for (const auto& p : r.pairs) spread = std::max(spread, std::abs(p.value - s));
-      if (!(spread > 0)) spread = 1.0;
-      eo.shift = s - 0.25 * spread;
-      EigenResult r2;
-      const Status st2 = solver_.solve(J_, B_, eo, r2);
-      factorisations_ += r2.factorisations;
-      solves_ += r2.solves;
-      if (st2.is_ok() || (!r2.pairs.empty() && st2.code() != StatusCode::SingularMatrix)) {
-        st = st2;
-        r = std::move(r2);
+      // A shift almost at an eigenvalue (SpectrumEdge: needs_moved_shift): once more from a shift
+      // moved left, kept where it is better (ok, or with pairs where J - sB was singular, or more pairs)
+      const bool inaccurate =
+          std::any_of(r.pairs.begin(), r.pairs.end(), [](const EigenPair& p) { return !p.accurate; });
+      const int n_found = static_cast<int>(r.pairs.size());
+      if (needs_moved_shift(st.is_ok(), inaccurate, st.code() == StatusCode::SingularMatrix, n_found, eo.count)) {
+        std::vector<std::complex<double>> values;
+        for (const auto& p : r.pairs) values.push_back(p.value);
+        eo.shift = s - shift_move(values, s, last_spread_);
+        EigenResult r2;
+        const Status st2 = solver_.solve(J_, B_, eo, r2);
+        factorisations_ += r2.factorisations;
+        solves_ += r2.solves;
+        const bool better = st.is_ok() ? st2.is_ok() && static_cast<int>(r2.pairs.size()) > n_found
+                                       : st2.is_ok() || (!r2.pairs.empty() && st2.code() != StatusCode::SingularMatrix);
+        if (better) {
+          st = st2;
+          r = std::move(r2);
+        }
       }
+      out.width += counts_[shift];
+      if (!st.is_ok() && r.pairs.empty()) return st;
+      if (!st.is_ok()) worst = st;
+      previous_[shift].clear();
+      for (const auto& p : r.pairs)
+        if (p.accurate && p.vector.size()) previous_[shift].push_back(p.vector);
+      // an eigenvalue found by two shifts once; a multiple one as often as one shift found it
+      std::vector<std::complex<double>> merged, found;
+      for (const EigenPair& p : all) merged.push_back(p.value);
+      for (const EigenPair& p : r.pairs) found.push_back(p.value);
+      for (size_t i : values_to_merge(merged, found)) all.push_back(std::move(r.pairs[i]));
     }
-    out.width += counts_[shift];
-    if (!st.is_ok() && r.pairs.empty()) return st;
-    if (!st.is_ok()) worst = st;
-    previous_[shift].clear();
-    for (const auto& p : r.pairs)
-      if (p.accurate && p.vector.size()) previous_[shift].push_back(p.vector);
-    for (auto& p : r.pairs) {
-      const bool duplicate = std::any_of(all.begin(), all.end(), [&](const EigenPair& q) {
-        return std::abs(q.value - p.value) <= 1e-8 * (1.0 + std::abs(p.value));
-      });
-      if (!duplicate) all.push_back(std::move(p));
-    }
+    std::vector<Eigen::VectorXcd> now;
+    for (const EigenPair& p : all)
+      if (p.vector.size()) now.push_back(p.vector);
+    if (!unstable_mode_lost(previous_unstable_, now) || !widen()) break;
   }
+  previous_unstable_.clear();
+  for (const EigenPair& p : all)
+    if (p.value.real() < 0 && p.vector.size()) previous_unstable_.push_back(p.vector);
   order_spectrum(all);
   // Two counts: the engine brackets a change by the strict sign of Re sigma (every trial point
   // falls on one side); the table reports eigenvalues on the axis to within neutral_tolerance as
@@ -217,11 +231,21 @@ Status StabilityAnalysis::analyse(Problem& problem, const Vector& u, PointAnalys
   if (!worst.is_ok() && max_residual > options_.residual_tolerance) return worst;
   out.count = unstable;
   if (!all.empty()) {
-    const auto critical = std::min_element(all.begin(), all.end(), [](const EigenPair& a, const EigenPair& b) {
+    auto critical = std::min_element(all.begin(), all.end(), [](const EigenPair& a, const EigenPair& b) {
       return std::abs(a.value.real()) < std::abs(b.value.real());
     });
+    // of a complex pair, the member with Im sigma > 0 (not whichever rounding put nearer the axis)
+    if (critical->value.imag() < 0) {
+      const auto conjugate = std::find_if(all.begin(), all.end(), [&](const EigenPair& p) {
+        return std::abs(p.value - std::conj(critical->value)) <= 1e-8 * (1.0 + std::abs(p.value));
+      });
+      if (conjugate != all.end()) critical = conjugate;
+    }
     out.locator = critical->value.real();
     out.critical_imag = critical->value.imag();
+    out.critical_multiplicity = static_cast<int>(std::count_if(all.begin(), all.end(), [&](const EigenPair& p) {
+      return std::abs(p.value - critical->value) <= 1e-6 * (1.0 + std::abs(critical->value));
+    }));
     if (critical->vector.size()) {
       out.critical_re = critical->vector.real();
       out.critical_im = critical->vector.imag();
@@ -229,6 +253,8 @@ Status StabilityAnalysis::analyse(Problem& problem, const Vector& u, PointAnalys
   } else {
     out.locator = INFINITY;
   }
+  last_spread_ = 0.0;
+  for (const EigenPair& p : all) last_spread_ = std::max(last_spread_, std::abs(p.value - options_.shifts.front()));
   spectrum_ = std::move(all);
   return {};
 }

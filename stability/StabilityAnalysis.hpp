@@ -6,8 +6,9 @@
 // eigenvector, so that the continuation engine detects and locates where the count changes.
 // Eigenvalues far from every shift are not computed: a count is "among the eigenvalues nearest
 // the shifts", as in every shift-invert monitor; where the farthest of those computed are
-// unstable, more are computed (SpectrumEdge), so that an unstable eigenvalue moving away from the
-// shift stays counted.
+// unstable, or an unstable mode of the last analysis is missing from the set, more are computed
+// (SpectrumEdge), so that an unstable eigenvalue moving away from the shift stays counted. A
+// multiple eigenvalue (the modes of a symmetric domain) counts as often as it is found.
 // A problem without dynamics (B = 0: no row carries a time derivative) has no finite
 // eigenvalue: count 0, columns NaN.
 #pragma once
@@ -68,7 +69,10 @@ class StabilityAnalysis final : public PointAnalysis {
   std::vector<EigenPair> spectrum_;
   std::vector<std::vector<Eigen::VectorXcd>> previous_;  // per shift: the last point's eigenvectors
   std::vector<int> counts_;  // per shift: eigenvalues computed (count, grown where the set's edge was unstable)
-  int cap_ = 0;              // the most counts_ can grow to (set by the first analysis)
+  // the eigenvectors of the last analysis's unstable eigenvalues: each must be in the next set (SpectrumEdge)
+  std::vector<Eigen::VectorXcd> previous_unstable_;
+  int cap_ = 0;             // the most counts_ can grow to (set by the first analysis)
+  double last_spread_ = 0;  // the last set's largest |sigma - first shift| (SpectrumEdge: shift_move)
   // the grown set's cap: kGrowthCap times count, at least kGrowthFloor (and at most n - 2)
   static constexpr int kGrowthCap = 8, kGrowthFloor = 32;
   double seconds_ = 0;

@@ -49,6 +49,7 @@ struct BranchPoint {
   int analysis_width = 0;  // what the analysis computed (PointAnalysisResult::width)
   double locator = 0.0;
   double critical_imag = 0.0;
+  int critical_multiplicity = 1;  // PointAnalysisResult::critical_multiplicity
   Vector critical_re, critical_im;
 };
 

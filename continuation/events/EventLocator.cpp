@@ -226,6 +226,17 @@ std::optional<BranchPoint> EventLocator::locate_root(const BranchPoint& a, const
           "computed (a larger stability.count keeps it)";
       return std::nullopt;
     }
+    // a count change narrowed to the tolerance (or settled) where the nearest eigenvalue is far from
+    // the axis on both sides is no crossing either, whatever the signs: a different eigenvalue is
+    // nearest on each side (the set is too small to count the same modes there)
+    if (by_count && (settled || width <= options_.events.tolerance) && std::isfinite(pa.locator) &&
+        std::isfinite(pb.locator) && std::min(std::abs(pa.locator), std::abs(pb.locator)) > kNearTheAxis * far) {
+      no_crossing_ = true;
+      note +=
+          "the count changes there, but no eigenvalue crosses zero: the eigenvalue nearest the axis differs on the "
+          "two sides (a larger stability.count counts the same modes)";
+      return std::nullopt;
+    }
     if (settled) {
       pc.iterations = solves;
       return pc;
