@@ -43,6 +43,8 @@ int run(int argc, char** argv) {  // argc and argv go on to MPI_Init under mpiru
   cmd_solve->add_option("scene", solve.scene, "scene file (TOML)");
   cmd_solve->add_option("-o,--output", solve.output, "output HDF5 file (default: <scene name>.h5 here)");
   cmd_solve->add_option("--set", solve.overrides, "override a scene key: section.key=value (repeatable)");
+  cmd_solve->add_flag("--check-jacobian", solve.check_jacobian,
+                      "check J and dF/dp against central differences of the residual before solving (exit 1 if wrong)");
   cmd_solve->add_flag("--help-scene", solve_help_scene, "list every scene key with its default, range and doc");
   cmd_solve->footer(keller::exit_code::help);
 

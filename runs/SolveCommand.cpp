@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "continuation/start/StartSolver.hpp"
+#include "core/JacobianCheck.hpp"
 #include "core/Newton.hpp"
 #include "core/OutputLock.hpp"
 #include "core/PendingFile.hpp"
@@ -182,6 +183,20 @@ int run_solve(const SolveArguments& args, RunSummary* out_summary) {
       if (settings.stability.enabled) settings.stability.check_problem(run.scene(), p);
     });
     fmt::print("problem: {}\n", problem.summary());
+    if (args.check_jacobian) {
+      const JacobianCheckOptions o;
+      const JacobianCheckResult check = check_jacobian(problem, problem.initial_guess(), o);
+      fmt::print(
+          "Jacobian check against central differences of the residual (tolerance {:.0e}), from the initial "
+          "guess:\n{}",
+          o.tolerance, check.describe());
+      if (!check.status.is_ok()) throw CommandFailure::numerical("the Jacobian check failed", check.status);
+      if (!check.passed(o.tolerance))
+        throw CommandFailure(
+            exit_code::numerical_failure,
+            fmt::format("the Jacobian check failed: an error above {:.0e} (above); no output written", o.tolerance));
+      fmt::print("Jacobian check passed\n");
+    }
 
     // 2. the steady state, and its spectrum where the scene asks for it
     NewtonSolver newton(problem, settings.newton, settings.lu);

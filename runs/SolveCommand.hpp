@@ -14,9 +14,12 @@ struct SolveArguments {
   std::string output;                  // empty: <scene stem>.h5 in the current directory
   std::vector<std::string> overrides;  // "section.key=value"
   bool output_locked = false;          // the caller holds OUT.h5.lock (a study's task): not taken again
+  // J and dF/dp against central differences at the initial guess and near it (core/JacobianCheck)
+  // before Newton: a failed check exits 1 with nothing written
+  bool check_jacobian = false;
 };
 
-// Returns the process exit code: 0 converged, 1 Newton failed (no output written),
+// Returns the process exit code: 0 converged, 1 Newton (or the Jacobian check) failed (no output written),
 // 2 bad input (no output written).
 int run_solve(const SolveArguments& args, RunSummary* summary = nullptr);
 
