@@ -34,6 +34,27 @@ MARKERS = {  # kind: (label, marker, colour)
 STABILITY = {"unstable", "eig_residual"}
 
 
+def annotate_points(ax, notes, parameter):
+    """Each fold, branch point and Hopf point labelled with its parameter value once (a branch
+    switched at a point starts on it: the same point), labels of points close together stacked
+    instead of drawn over each other."""
+    seen, placed = set(), []
+    xs = [n[0] for n in notes] + list(ax.get_xlim())
+    ys = [n[1] for n in notes] + list(ax.get_ylim())
+    xspan, yspan = (max(xs) - min(xs)) or 1.0, (max(ys) - min(ys)) or 1.0
+    for lam, val, colour in sorted(notes, key=lambda n: (n[0], n[1])):
+        key = (f"{lam:.8g}", round(val / yspan, 3))
+        if key in seen:
+            continue
+        seen.add(key)
+        level = 0
+        while any(abs(lam - pl) < 0.2 * xspan and abs(val - pv) < 0.06 * yspan and lv == level for pl, pv, lv in placed):
+            level += 1
+        placed.append((lam, val, level))
+        ax.annotate(f"{parameter} = {lam:.8g}", (lam, val), textcoords="offset points", xytext=(-10, 8 + 11 * level),
+                    ha="right", fontsize=8, color=colour)
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("branch", nargs="+", help="branch files (HDF5) written by keller trace")
@@ -74,6 +95,7 @@ def main(argv=None):
     fig, ax = plt.subplots(figsize=(6.4, 4.6))
     seen = set()
     styles_used = set()
+    notes = []  # (parameter, value, colour) of the folds, branch points and Hopf points
     for i, (path, _, cols, status) in enumerate(branches):
         x, v, kind = cols[parameter], cols[y], cols["kind"]
         colour = "0.35" if i == 0 and len(branches) == 1 else f"C{i % 10}"
@@ -105,9 +127,8 @@ def main(argv=None):
                            s=48 if k in (5, 7) else 36, zorder=3)
                 seen.add(label)
         for k, c in ((4, "tab:red"), (5, "tab:purple"), (7, "tab:cyan")):
-            for lam, val in zip(x[kind == k], v[kind == k]):
-                ax.annotate(f"{parameter} = {lam:.8g}", (lam, val), textcoords="offset points", xytext=(-10, 8),
-                            ha="right", fontsize=8, color=c)
+            notes += [(lam, val, c) for lam, val in zip(x[kind == k], v[kind == k])]
+    annotate_points(ax, notes, parameter)
     ax.set_xlabel(quantity(parameter))
     ax.set_ylabel(quantity(y))
     points = sum(len(b[2]["kind"]) for b in branches)

@@ -10,7 +10,7 @@ the user's program through keller's commands. Checks, with their tolerances:
     (where it is installed): its tasks run in the user's program;
   - docs/own_problem.md's shell commands, extracted and run as written (HOME a scratch folder, so
     that $HOME/keller is the prefix; build, examples and runs linked to the source's), exit 0
-    and make the tutorial's figure;
+    and make the tutorial's figures (the Chafee-Infante, Brusselator and Swift-Hohenberg ones);
   - --help-scene lists the user's keys; an unknown key, and a value the user's build refuses, exit 2
     with keller's message naming the file, line and key; --version is keller's.
 
@@ -19,30 +19,13 @@ Run by ctest (tests/CMakeLists.txt) as
 
 import argparse
 import csv
-import io
 import math
 import os
 import shutil
 import subprocess
 import sys
 
-
-def run(*words, cwd=None, expect=0):
-    p = subprocess.run(list(words), cwd=cwd, capture_output=True, text=True)
-    if expect is not None and p.returncode != expect:
-        sys.exit(f"FAIL: {' '.join(words)} exited {p.returncode}, expected {expect}\n{p.stdout}\n{p.stderr}")
-    return p
-
-
-def check(ok, what):
-    if not ok:
-        sys.exit("FAIL: " + what)
-    print("ok: " + what)
-
-
-def table(app, h5, cwd):
-    rows = list(csv.DictReader(io.StringIO(run(app, "export", h5, "--csv", "-", cwd=cwd).stdout)))
-    return [{k: (v if k == "kind" else float(v)) for k, v in r.items()} for r in rows]
+from install_support import build_example, check, install_moved, run, table
 
 
 def tutorial_commands(path):
@@ -76,8 +59,9 @@ def run_tutorial(build, source, scratch):
         p = subprocess.run(["sh", "-c", c], cwd=folder, env=env, capture_output=True, text=True)
         if p.returncode != 0:
             sys.exit(f"FAIL: docs/own_problem.md: '{c}' exited {p.returncode}\n{p.stdout}\n{p.stderr}")
-    check(os.path.getsize(os.path.join(folder, "chafee_infante.png")) > 10000,
-          f"docs/own_problem.md's {len(commands)} commands run and draw the figure")
+    figures = ["chafee_infante", "brusselator2d", "brusselator2d_pattern", "swift_hohenberg", "swift_hohenberg_patterns"]
+    check(all(os.path.getsize(os.path.join(folder, f + ".png")) > 10000 for f in figures),
+          f"docs/own_problem.md's {len(commands)} commands run and draw its {len(figures)} figures")
 
 
 def main():
@@ -90,13 +74,8 @@ def main():
     shutil.rmtree(scratch, ignore_errors=True)
     os.makedirs(scratch)
     run_tutorial(build, source, scratch)
-    run("cmake", "--install", build, "--prefix", os.path.join(scratch, "installed"))
-    os.rename(os.path.join(scratch, "installed"), os.path.join(scratch, "moved"))
+    app = build_example(source, "chafee_infante", install_moved(build, scratch), scratch)
     example = os.path.join(source, "examples", "chafee_infante")
-    run("cmake", "-S", example, "-B", os.path.join(scratch, "example"),
-        "-DCMAKE_PREFIX_PATH=" + os.path.join(scratch, "moved"))
-    run("cmake", "--build", os.path.join(scratch, "example"), "-j2")
-    app = os.path.join(scratch, "example", "chafee_infante")
     scene = os.path.join(example, "chafee_infante.toml")
 
     check(run(app, "--version").stdout == run(os.path.join(build, "bin", "keller"), "--version").stdout,
