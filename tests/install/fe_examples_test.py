@@ -28,15 +28,13 @@ keller's commands. Checks, with their tolerances:
 Run by ctest (tests/CMakeLists.txt) as
     python3 tests/install/fe_examples_test.py --build build --source . --scratch DIR"""
 
-import argparse
 import math
 import os
 import re
-import shutil
 
 import numpy as np
 
-from install_support import build_example, check, install_moved, run, table
+from install_support import arguments, build_example, check, install_moved, run, table
 
 
 def p2_eigenvalues(length, elements):
@@ -137,14 +135,7 @@ def swift_hohenberg(app, source, scratch):
 
 
 def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--build", required=True)
-    ap.add_argument("--source", required=True)
-    ap.add_argument("--scratch", required=True)
-    a = ap.parse_args()
-    build, source, scratch = (os.path.abspath(p) for p in (a.build, a.source, a.scratch))
-    shutil.rmtree(scratch, ignore_errors=True)
-    os.makedirs(scratch)
+    build, source, scratch = arguments()
     prefix = install_moved(build, scratch)
     brusselator(build_example(source, "brusselator2d", prefix, scratch), source, scratch)
     swift_hohenberg(build_example(source, "swift_hohenberg", prefix, scratch), source, scratch)

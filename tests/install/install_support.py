@@ -2,11 +2,27 @@
 file's table (by the program's own `export --csv`), installing keller into a moved prefix and
 building an example against it with only find_package(keller)."""
 
+import argparse
 import csv
 import io
 import os
+import shutil
 import subprocess
 import sys
+
+
+def arguments():
+    """(build, source, scratch) of the command line --build, --source, --scratch, absolute; the
+    scratch folder emptied."""
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--build", required=True)
+    ap.add_argument("--source", required=True)
+    ap.add_argument("--scratch", required=True)
+    a = ap.parse_args()
+    build, source, scratch = (os.path.abspath(p) for p in (a.build, a.source, a.scratch))
+    shutil.rmtree(scratch, ignore_errors=True)
+    os.makedirs(scratch)
+    return build, source, scratch
 
 
 def run(*words, cwd=None, expect=0, env=None):

@@ -17,7 +17,6 @@ the user's program through keller's commands. Checks, with their tolerances:
 Run by ctest (tests/CMakeLists.txt) as
     python3 tests/install/own_problem_test.py --build build --source . --scratch DIR"""
 
-import argparse
 import csv
 import math
 import os
@@ -25,7 +24,7 @@ import shutil
 import subprocess
 import sys
 
-from install_support import build_example, check, install_moved, run, table
+from install_support import arguments, build_example, check, install_moved, run, table
 
 
 def tutorial_commands(path):
@@ -65,14 +64,7 @@ def run_tutorial(build, source, scratch):
 
 
 def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--build", required=True)
-    ap.add_argument("--source", required=True)
-    ap.add_argument("--scratch", required=True)
-    a = ap.parse_args()
-    build, source, scratch = (os.path.abspath(p) for p in (a.build, a.source, a.scratch))
-    shutil.rmtree(scratch, ignore_errors=True)
-    os.makedirs(scratch)
+    build, source, scratch = arguments()
     run_tutorial(build, source, scratch)
     app = build_example(source, "chafee_infante", install_moved(build, scratch), scratch)
     example = os.path.join(source, "examples", "chafee_infante")
