@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 #include <CLI/CLI.hpp>
+#include <functional>
 
 #include <cstdio>
 #include <new>
@@ -154,39 +155,27 @@ int run(int argc, char** argv) {  // argc and argv go on to MPI_Init under mpiru
     return keller::exit_code::usage;
   }
 
-  if (cmd_solve->parsed()) {
-    if (solve_help_scene) {
-      fmt::print("{}", keller::scene_help());
+  // solve, trace and evolve: --help-scene lists the keys, else a scene file is needed
+  const auto scene_command = [](const char* command, bool help_scene, const std::string& scene,
+                                const std::function<void(keller::SceneSchema&)>& keys, const auto& run) {
+    if (help_scene) {
+      fmt::print("{}", keller::scene_help(keys));
       return keller::exit_code::ok;
     }
-    if (solve.scene.empty()) {
-      fmt::print(stderr, "keller: error: solve needs a scene file (keller solve SCENE.toml -o OUT.h5)\n");
+    if (scene.empty()) {
+      fmt::print(stderr, "keller: error: {0} needs a scene file (keller {0} SCENE.toml -o OUT.h5)\n", command);
       return keller::exit_code::usage;
     }
-    return keller::run_solve(solve);
-  }
-  if (cmd_trace->parsed()) {
-    if (trace_help_scene) {
-      fmt::print("{}", keller::scene_help(keller::declare_trace_keys));
-      return keller::exit_code::ok;
-    }
-    if (trace.scene.empty()) {
-      fmt::print(stderr, "keller: error: trace needs a scene file (keller trace SCENE.toml -o OUT.h5)\n");
-      return keller::exit_code::usage;
-    }
-    return keller::run_trace(trace);
-  }
-  if (cmd_evolve->parsed()) {
-    if (evolve_help_scene) {
-      fmt::print("{}", keller::scene_help(keller::declare_evolve_keys));
-      return keller::exit_code::ok;
-    }
-    if (evolve.scene.empty()) {
-      fmt::print(stderr, "keller: error: evolve needs a scene file (keller evolve SCENE.toml -o OUT.h5)\n");
-      return keller::exit_code::usage;
-    }
-    return keller::run_evolve(evolve);
-  }
+    return run();
+  };
+  if (cmd_solve->parsed())
+    return scene_command("solve", solve_help_scene, solve.scene, {}, [&] { return keller::run_solve(solve); });
+  if (cmd_trace->parsed())
+    return scene_command("trace", trace_help_scene, trace.scene, keller::declare_trace_keys,
+                         [&] { return keller::run_trace(trace); });
+  if (cmd_evolve->parsed())
+    return scene_command("evolve", evolve_help_scene, evolve.scene, keller::declare_evolve_keys,
+                         [&] { return keller::run_evolve(evolve); });
   if (cmd_export->parsed()) return keller::run_export(exp);
   if (cmd_info->parsed()) return keller::run_info(info);
   if (cmd_study->parsed()) {
