@@ -209,32 +209,19 @@ std::optional<BranchPoint> EventLocator::locate_root(const BranchPoint& a, const
     // a count change located by secant on its locator: successive trials agree along the branch
     if (by_count && it > 0) settled = std::abs(tc - t_before) * std::abs(b.s - a.s) <= options_.events.tolerance;
     t_before = tc;
-    // a change of the count where the eigenvalue nearest the axis keeps its sign across the
-    // bracket, narrowed by bisection, and stays as far from the axis as at the segment's ends, is no
-    // crossing: an eigenvalue left or entered the set of those computed (a secant root is where the
-    // locator changes sign; a bracket start whose locator is not known: the crossing is at it, as a
-    // second one of a pair)
+    // a change of the count narrowed to the tolerance (by bisection, or settled) where the eigenvalue
+    // nearest the axis stays as far from it on both sides as at the segment's ends is no crossing:
+    // an eigenvalue left or entered the set of those computed, or a different one is nearest on each
+    // side (a set too small to count the same modes; a bracket start whose locator is not known is
+    // the crossing, as the second one of a pair)
     const double far = std::max(std::isfinite(a.locator) ? std::abs(a.locator) : 0.0,
                                 std::isfinite(b.locator) ? std::abs(b.locator) : 0.0);
-    const bool no_crossing = by_count && !secant && (settled || width <= options_.events.tolerance) &&
-                             std::isfinite(pa.locator) && sign_of(pa.locator) == sign_of(pb.locator) &&
-                             std::min(std::abs(pa.locator), std::abs(pb.locator)) > kNearTheAxis * far;
-    if (no_crossing) {
-      no_crossing_ = true;
-      note +=
-          "the count changes there, but no eigenvalue crosses zero: one left or entered the set of those "
-          "computed (a larger stability.count keeps it)";
-      return std::nullopt;
-    }
-    // a count change narrowed to the tolerance (or settled) where the nearest eigenvalue is far from
-    // the axis on both sides is no crossing either, whatever the signs: a different eigenvalue is
-    // nearest on each side (the set is too small to count the same modes there)
     if (by_count && (settled || width <= options_.events.tolerance) && std::isfinite(pa.locator) &&
         std::isfinite(pb.locator) && std::min(std::abs(pa.locator), std::abs(pb.locator)) > kNearTheAxis * far) {
       no_crossing_ = true;
       note +=
-          "the count changes there, but no eigenvalue crosses zero: the eigenvalue nearest the axis differs on the "
-          "two sides (a larger stability.count counts the same modes)";
+          "the count changes there, but no eigenvalue crosses zero: one left or entered the set of those computed, "
+          "or a different one is nearest the axis on each side (a larger stability.count keeps them)";
       return std::nullopt;
     }
     if (settled) {
