@@ -15,6 +15,7 @@
 #include "runs/ExitCode.hpp"
 #include "runs/Interrupts.hpp"
 #include "runs/OutputFile.hpp"
+#include "runs/RunHooks.hpp"
 #include "runs/SceneLoader.hpp"
 #include "runs/StoredStart.hpp"
 #include "stability/EigenSolver.hpp"
@@ -400,7 +401,9 @@ int run_evolve(const EvolveArguments& args, RunSummary* out_summary) {
         },
         [&](TimeSeriesFile& file) {
           TimePrinter printer(settings.perturbation.print_every, columns);
-          TimeObservers observers({&file, &printer});
+          const std::unique_ptr<TimeObserver> hook = time_hook(problem);
+          TimeObservers observers(hook ? std::vector<TimeObserver*>{&file, &printer, hook.get()}
+                                       : std::vector<TimeObserver*>{&file, &printer});
           const auto stop = [] { return InterruptGuard::requested(); };
           if (seed) {
             fmt::print("continuing the unfinished run in {} from its step {} (t = {:.10g}; --fresh starts over)\n",

@@ -38,6 +38,8 @@ InterruptGuard::~InterruptGuard() {
 
 bool InterruptGuard::requested() { return g_requested != 0; }
 
+void InterruptGuard::request() { on_signal(0); }
+
 void InterruptGuard::forward_to(Continuation* run) {
   g_run.store(run);
   if (run && g_requested) run->request_stop();

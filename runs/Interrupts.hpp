@@ -15,6 +15,9 @@ class InterruptGuard {
   InterruptGuard& operator=(const InterruptGuard&) = delete;
 
   static bool requested();
+  // Asks for a stop as a signal does (a run hook that returns false: runs/RunHooks.hpp), while a
+  // guard lives.
+  static void request();
   // The continuation that a signal asks to stop (nullptr: none).
   static void forward_to(Continuation* run);
 };

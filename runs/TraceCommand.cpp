@@ -14,6 +14,7 @@
 #include "runs/CommandRun.hpp"
 #include "runs/Interrupts.hpp"
 #include "runs/OutputFile.hpp"
+#include "runs/RunHooks.hpp"
 #include "runs/SceneLoader.hpp"
 #include "runs/StoredStart.hpp"
 #include "runs/TraceStart.hpp"
@@ -158,7 +159,9 @@ ContinuationResult trace_branch(Continuation& stepper, TraceStart& start, const 
                                 BranchFile& file) {
   ProgressPrinter printer(settings.continuation.parameter, 3,
                           start.curve ? std::vector<std::string>{start.curve->p1_name()} : std::vector<std::string>{});
-  ObserverList observers({&file, &printer});
+  const std::unique_ptr<BranchObserver> hook = branch_hook(settings.continuation.parameter);
+  ObserverList observers(hook ? std::vector<BranchObserver*>{&file, &printer, hook.get()}
+                              : std::vector<BranchObserver*>{&file, &printer});
   std::optional<ContinuedBranch> continued;
   BranchObserver* observer = &observers;
   if (start.seed) observer = &continued.emplace(observers, start.seed->row);

@@ -39,5 +39,8 @@ if _missing:
     raise ImportError(missing_message(_missing))
 
 from keller.results import Branch, Curve, Solution, Study, TimeSeries, open  # noqa: E402,F401
+from keller.runs import KellerError, Point, evolve, solve, study, trace  # noqa: E402,F401
+from keller.problem import NumericalFailure, Problem  # noqa: E402,F401
 
-__all__ = ["Branch", "Curve", "Solution", "Study", "TimeSeries", "open"]
+__all__ = ["Branch", "Curve", "KellerError", "NumericalFailure", "Point", "Problem", "Solution", "Study", "TimeSeries",
+           "evolve", "open", "solve", "study", "trace"]

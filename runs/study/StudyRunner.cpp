@@ -17,6 +17,7 @@
 #include <filesystem>
 #include <map>
 #include <thread>
+#include <utility>
 
 #include "runs/ExitCode.hpp"
 #include "runs/Interrupts.hpp"
@@ -30,6 +31,8 @@ namespace keller {
 namespace fs = std::filesystem;
 
 namespace {
+
+std::string g_task_program = "/proc/self/exe";
 
 double now_seconds() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
@@ -118,10 +121,12 @@ pid_t spawn_task(const Study& study, const StudyTask& task, int blas_threads) {
   }
   ::setenv("OPENBLAS_NUM_THREADS", threads.c_str(), 1);
   ::setenv("OMP_NUM_THREADS", threads.c_str(), 1);
-  ::execl("/proc/self/exe", "keller", "study", "run", study.path().c_str(), "--task", index.c_str(), "-o",
+  ::execl(g_task_program.c_str(), "keller", "study", "run", study.path().c_str(), "--task", index.c_str(), "-o",
           study.folder().c_str(), static_cast<char*>(nullptr));
   ::_exit(127);
 }
+
+void set_task_program(std::string path) { g_task_program = std::move(path); }
 
 bool stopped_by_signal(int status) {
   return WIFSIGNALED(status) && (WTERMSIG(status) == SIGTERM || WTERMSIG(status) == SIGINT);

@@ -21,6 +21,9 @@ namespace keller {
 // Starts the task's process with its output in the task's log, `blas_threads` BLAS threads, and
 // SIGTERM if this process dies (the task then stops after its current point, to be continued).
 pid_t spawn_task(const Study& study, const StudyTask& task, int blas_threads);
+// The program a task's process runs: this one (/proc/self/exe) unless set, as a process that runs
+// keller's commands but is not a keller program sets it (the Python package: the keller program).
+void set_task_program(std::string path);
 // The record the finished task process `pid` left; `status` is waitpid's. A process that left no
 // record of its own for the task's hash died: the record says so (status "died").
 TaskRecord finished_task(const Study& study, const StudyTask& task, pid_t pid, int status);
