@@ -240,6 +240,14 @@ void register_python_type() {
   type.declare = [](SceneSchema& s) {
     if (!g_current) return;
     py::gil_scoped_acquire gil;
+    // what the problem is, its physics for the files (a stored point starts only a run of the
+    // same problem): its name and summary, which say its discretisation where the class says it
+    const py::object& obj = *g_current;
+    const std::string name = py::hasattr(obj, "name") ? py::str(obj.attr("name")).cast<std::string>()
+                                                       : py::str(obj.get_type().attr("__name__")).cast<std::string>();
+    s.section("python", "the problem written in Python (set by keller.trace(..., problem=...), not by a scene)");
+    s.string("python.problem", py::hasattr(obj, "summary") ? name + ": " + py::str(obj.attr("summary")()).cast<std::string>() : name,
+             "the Python problem's name and summary()");
     s.section("parameters", "initial values of the Python problem's named parameters");
     for (const auto& [key, value] : py::dict(g_current->attr("parameters")))
       s.real("parameters." + py::str(key).cast<std::string>(), value.cast<double>(),

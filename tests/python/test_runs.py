@@ -1,0 +1,119 @@
+"""keller's commands from Python (keller.trace, solve, evolve, study; python/keller/runs.py) against
+the command line: the same files row by row, a callback that stops a run, bad input, exceptions.
+Environment: KELLER_EXE (the keller program), KELLER_SOURCE (the source tree), PYTHONPATH with the
+build's python folder (ctest sets them)."""
+
+import os
+import subprocess
+
+import h5py
+import numpy as np
+import pytest
+
+import keller
+
+SOURCE = os.environ["KELLER_SOURCE"]
+KELLER = os.environ["KELLER_EXE"]
+BRATU = os.path.join(SOURCE, "runs", "scenes", "bratu1d_fold.toml")
+
+
+def table(path):
+    """{column: values} of a branch or time-series file read by h5py, without the wall times."""
+    with h5py.File(path, "r") as f:
+        group = f["branch"] if "branch" in f else f["evolve"]
+        columns = group.attrs["columns"]
+        columns = (columns.decode() if isinstance(columns, bytes) else str(columns)).split(",")
+        rows = np.array(group["table"][()]).reshape(-1, len(columns))
+    return {c: rows[:, i] for i, c in enumerate(columns) if c != "seconds"}
+
+
+def status(path):
+    with h5py.File(path, "r") as f:
+        s = f["branch/status"][()]
+    return (s.decode() if isinstance(s, bytes) else str(s)).rstrip("\x00")
+
+
+def test_trace_from_python_is_the_command_lines_row_by_row(tmp_path):
+    subprocess.run([KELLER, "trace", BRATU, "-o", str(tmp_path / "cli.h5")], check=True, capture_output=True)
+    branch = keller.trace(BRATU, tmp_path / "py.h5", verbose=False)
+    assert isinstance(branch, keller.Branch)
+    cli, py = table(tmp_path / "cli.h5"), table(tmp_path / "py.h5")
+    assert list(cli) == list(py)
+    for column in cli:  # the same computation in the same order: equal to the last bit
+        np.testing.assert_array_equal(py[column], cli[column], err_msg=column)
+    # and the object reads the same file
+    np.testing.assert_array_equal(branch["lambda"], py["lambda"])
+
+
+def test_a_scene_dict_and_overrides_are_the_files(tmp_path):
+    import tomllib
+    with open(BRATU, "rb") as f:
+        scene = tomllib.load(f)
+    scene["bratu"]["intervals"] = 64
+    from_dict = keller.trace(scene, tmp_path / "dict.h5", verbose=False)
+    from_file = keller.trace(BRATU, tmp_path / "file.h5", set={"bratu.intervals": 64}, verbose=False)
+    a, b = table(from_dict.path), table(from_file.path)
+    for column in a:
+        np.testing.assert_array_equal(a[column], b[column], err_msg=column)
+
+
+def test_a_callback_sees_every_point_and_stopping_leaves_a_restartable_file(tmp_path):
+    full = keller.trace(BRATU, tmp_path / "full.h5", verbose=False)
+    seen = []
+
+    def stop_after_five(point):
+        seen.append((point.row, point.kind, point["lambda"], point["u_mid"]))
+        assert point.u.shape == (127,)
+        return point.row < 5
+
+    out = tmp_path / "stopped.h5"
+    stopped = keller.trace(BRATU, out, callback=stop_after_five, verbose=False)
+    assert stopped.path.endswith("stopped.h5.part") and not out.exists()
+    assert status(stopped.path).startswith("interrupted")
+    rows = table(stopped.path)
+    whole = table(full.path)
+    assert len(rows["row"]) == 6  # rows 0..5: everything completed before the stop
+    for column in rows:
+        np.testing.assert_array_equal(rows[column], whole[column][:6], err_msg=column)
+    assert [s[0] for s in seen] == list(range(6))
+    np.testing.assert_array_equal([s[2] for s in seen], whole["lambda"][:6])
+    # the same call continues it to the end: the fold and the end where the whole run has them
+    continued = keller.trace(BRATU, out, callback=lambda p: seen.append(p.row), verbose=False)
+    assert continued.path == str(out) and out.exists()
+    assert seen[6] > 5  # the continuation's points only
+    assert abs(continued.point("fold1")["lambda"] - full.point("fold1")["lambda"]) < 1e-10
+    assert abs(continued.point("end")["lambda"] - full.point("end")["lambda"]) < 1e-10
+
+
+def test_an_exception_in_a_callback_stops_the_run_and_is_raised(tmp_path):
+    def fails(point):
+        if point.row == 3:
+            raise ZeroDivisionError("the callback's own error")
+
+    with pytest.raises(ZeroDivisionError, match="the callback's own error"):
+        keller.trace(BRATU, tmp_path / "x.h5", callback=fails, verbose=False)
+    assert len(table(tmp_path / "x.h5.part")["row"]) == 4  # kept, to be continued
+
+
+def test_bad_input_is_a_keller_error_naming_the_key_and_writes_nothing(tmp_path):
+    with pytest.raises(keller.KellerError) as e:
+        keller.trace(BRATU, tmp_path / "bad.h5", set={"continuation.max_step": -1.0}, verbose=False)
+    assert e.value.code == 2 and "continuation.max_step" in str(e.value)
+    with pytest.raises(keller.KellerError) as e:
+        keller.trace({"problem": {"type": "bratu1d"}, "bratu": {"intervalls": 4}}, tmp_path / "bad.h5", verbose=False)
+    assert e.value.code == 2 and "intervalls" in str(e.value) and "the scene dict" in str(e.value)
+    assert os.listdir(tmp_path) == []
+
+
+def test_solve_and_evolve_return_their_files(tmp_path):
+    solution = keller.solve(BRATU, tmp_path / "s.h5", set={"bratu.lambda": 2.0}, verbose=False)
+    assert isinstance(solution, keller.Solution)
+    with h5py.File(tmp_path / "s.h5", "r") as f:
+        np.testing.assert_array_equal(solution.u, f["solution/u"][()])
+    steps = []
+    series = keller.evolve(os.path.join(SOURCE, "runs", "scenes", "brusselator1d_evolve.toml"), tmp_path / "e.h5",
+                           set={"evolve.t_end": 2.0}, callback=lambda p: steps.append((p.row, p["t"])), verbose=False)
+    assert isinstance(series, keller.TimeSeries)
+    rows = table(tmp_path / "e.h5")
+    np.testing.assert_array_equal([s[0] for s in steps], rows["step"])
+    np.testing.assert_array_equal([s[1] for s in steps], rows["t"])
