@@ -16,6 +16,7 @@ written in Python (keller.Problem): its scene's [problem] type is "python".
 """
 
 import dataclasses
+import io
 import json
 import math
 import os
@@ -171,6 +172,13 @@ class _Output:
         sys.stdout.flush()
         sys.stderr.flush()
         self.saved = {fd: os.dup(fd) for fd in (1, 2)}
+        # Python's own writes while the command runs (a callback's print) go where they went
+        self.streams = {}
+        for fd, stream in ((1, "stdout"), (2, "stderr")):
+            if _uses_fd(getattr(sys, stream), fd):
+                self.streams[stream] = getattr(sys, stream)
+                setattr(sys, stream, io.TextIOWrapper(io.FileIO(self.saved[fd], "w", closefd=False),
+                                                      encoding=self.streams[stream].encoding, line_buffering=True))
         self.threads = []
         for fd, stream in ((1, "stdout"), (2, "stderr")):
             r, w = os.pipe()
@@ -188,24 +196,31 @@ class _Output:
                 if fd == 2:
                     self.errors.append(text)
                 if fd == 2 or self.verbose:
-                    target = getattr(sys, stream)
-                    try:
-                        uses_fd = target.fileno() == fd
-                    except (AttributeError, OSError, ValueError):
-                        uses_fd = False
-                    if uses_fd:  # a terminal or file: straight to where fd pointed before
+                    if stream in self.streams:  # a terminal or file: straight to where fd pointed before
                         os.write(self.saved[fd], line)
-                    else:
+                    else:  # a notebook's cell
+                        target = getattr(sys, stream)
                         target.write(text)
                         target.flush()
 
     def __exit__(self, *exc):
+        for stream, original in self.streams.items():
+            getattr(sys, stream).flush()
+            setattr(sys, stream, original)
         for fd in (1, 2):
             os.dup2(self.saved[fd], fd)  # closes the pipe's write end: the pump reads its end
         for t in self.threads:
             t.join()
         for fd in (1, 2):
             os.close(self.saved[fd])
+        return False
+
+
+def _uses_fd(stream, fd):
+    """Whether a Python stream writes to the file descriptor fd (a terminal or file; not a notebook's)."""
+    try:
+        return stream.fileno() == fd
+    except (AttributeError, OSError, ValueError):
         return False
 
 

@@ -117,3 +117,36 @@ def test_solve_and_evolve_return_their_files(tmp_path):
     rows = table(tmp_path / "e.h5")
     np.testing.assert_array_equal([s[0] for s in steps], rows["step"])
     np.testing.assert_array_equal([s[1] for s in steps], rows["t"])
+
+
+def test_ctrl_c_stops_after_the_current_point_keeps_the_file_and_raises_keyboard_interrupt(tmp_path):
+    """SIGINT while a trace runs in a Python process: the run stops as the command line's does and
+    the call raises KeyboardInterrupt; the same call continues the branch."""
+    import signal
+    import sys
+    code = f"""
+import sys, time, keller
+def slow(point):
+    print("row", point.row, flush=True)
+    time.sleep(0.2)
+try:
+    keller.trace({BRATU!r}, {str(tmp_path / 'c.h5')!r}, callback=slow, verbose=False)
+    print("finished", flush=True)
+except KeyboardInterrupt as e:
+    print("KeyboardInterrupt:", e, flush=True)
+"""
+    child = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True, env=dict(os.environ))
+    lines = []
+    for line in child.stdout:
+        lines.append(line)
+        if line.startswith("row 3"):
+            child.send_signal(signal.SIGINT)
+    child.wait(timeout=60)
+    assert child.returncode == 0
+    assert lines[-1].startswith("KeyboardInterrupt: keller trace interrupted"), lines
+    rows = table(tmp_path / "c.h5.part")["row"]
+    assert 4 <= len(rows) <= 5  # row 3 and at most the point in progress
+    assert status(tmp_path / "c.h5.part").startswith("interrupted")
+    branch = keller.trace(BRATU, tmp_path / "c.h5", verbose=False)  # the same call continues it
+    full = keller.trace(BRATU, tmp_path / "full.h5", verbose=False)
+    assert abs(branch.point("fold1")["lambda"] - full.point("fold1")["lambda"]) < 1e-10
