@@ -29,7 +29,9 @@ import sys
 
 import numpy as np
 
-from keller_h5 import OutputError, check_outputs, read_study, same_value, save_figure
+import keller.results
+from keller.outputs import OutputError, check_outputs, save_figure
+from keller.results import same_value
 
 COST = [("unknowns", "unknowns"), ("nnz_lu", "nnz(L+U)"), ("peak_mb", "peak MB"),
         ("seconds_per_solve", "s/solve"), ("seconds_per_point", "s/point"), ("seconds", "s/run")]
@@ -133,7 +135,7 @@ def markdown(rows, published):
     return "\n".join(lines) + "\n"
 
 
-def main():
+def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("study", help="STUDY.h5 written by keller study")
     ap.add_argument("--mesh", required=True, help="the varied key that names the mesh")
@@ -149,7 +151,7 @@ def main():
     ap.add_argument("--markdown")
     ap.add_argument("--figure")
     ap.add_argument("--title", help="the figure's title")
-    a = ap.parse_args()
+    a = ap.parse_args(argv)
     outputs = [o for o in (a.csv, a.markdown, a.figure) if o]
     try:
         check_outputs(outputs, [a.study])
@@ -159,7 +161,8 @@ def main():
     for p in a.published:
         k, _, v = p.partition("=")
         published[k] = float(v)
-    cols, _ = read_study(a.study)
+    study = keller.results.Study(a.study)
+    cols = dict(study.table.items())
     where = [w.partition("=") for w in a.where]
     for k in [a.mesh] + a.group + [k for k, _, _ in where]:
         if k not in cols:
@@ -227,4 +230,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

@@ -9,15 +9,21 @@ branch: the limiting Wi, where min m1 crosses zero).
   python3 -m keller.mesh_convergence M1.h5 M2.h5 M3.h5 [--labels M1 M2 M3]
           [--observables dP dy_max gap_min max_m3] [--tolerance 0.01] [--figure conv.png] [--csv c.csv]
 
-Reads only the branch files (HDF5)."""
+Reads only the branch files (HDF5, keller.open)."""
 
 import argparse
 import os
 import sys
 
-import numpy as np
 
-from keller_h5 import OutputError, check_outputs, read_branch, save_figure
+import keller.results
+from keller.outputs import OutputError, check_outputs, save_figure
+
+
+def read_branch(path):
+    """(parameter, {column: array}, status) of a branch file."""
+    b = keller.results.open(path)
+    return b.parameter, dict(b.table.items()), b.status
 
 
 def requested_rows(cols, parameter):
@@ -32,7 +38,7 @@ def requested_rows(cols, parameter):
     return out
 
 
-def main():
+def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("files", nargs="+", help="branch files, coarse to fine")
     ap.add_argument("--labels", nargs="*", help="mesh names (default: file names)")
@@ -41,7 +47,7 @@ def main():
     ap.add_argument("--figure", help="PNG: each observable against the parameter, one curve per mesh")
     ap.add_argument("--xmax", type=float, help="figure: largest parameter value shown")
     ap.add_argument("--csv", help="write the relative changes (one column per observable and mesh pair)")
-    a = ap.parse_args()
+    a = ap.parse_args(argv)
     if len(a.files) < 2:
         sys.exit("keller.mesh_convergence: needs at least two branch files")
     labels = a.labels or [os.path.splitext(os.path.basename(f))[0] for f in a.files]
@@ -65,7 +71,7 @@ def main():
     if not common:
         sys.exit("keller.mesh_convergence: no parameter value was located on every mesh (give the runs the same stops)")
 
-    print(f"ends: " + "; ".join(f"{l}: {st}" for l, (_, _, st) in zip(labels, runs)))
+    print("ends: " + "; ".join(f"{l}: {st}" for l, (_, _, st) in zip(labels, runs)))
     pairs = [f"{labels[k]}->{labels[k + 1]}" for k in range(len(labels) - 1)]
     worst = {}
     per_observable = {}
@@ -103,7 +109,7 @@ def main():
             last = v[0]
         print(f"  {o:>12}: " + (f"{last:g}" if last is not None else f"none (already {per_observable[o][0][1]:.2e} at "
                                                                        f"{parameter} = {common[0][0]:g})") +
-              (f" (the last common value)" if last is not None and last == common[-1][0] else ""))
+              (" (the last common value)" if last is not None and last == common[-1][0] else ""))
     converged = None
     for v in common:
         if worst[v] <= a.tolerance:
@@ -143,4 +149,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())
