@@ -132,8 +132,11 @@ class State:
         """{name: Field} ({} where the file stores none for this state: a branch whose run was
         killed before it wrote them, which `keller export FILE --xdmf` adds)."""
         if self._fields is None:
-            with open_h5(self.path) as f:
-                self._fields = read_fields(f[self.fields_group]) if self.fields_group in f else {}
+            self._fields = {}
+            if self.fields_group:
+                with open_h5(self.path) as f:
+                    if self.fields_group in f:
+                        self._fields = read_fields(f[self.fields_group])
         return self._fields
 
     @property

@@ -11,9 +11,9 @@ from keller.files.table import Table
 class Solution(RunFile, State):
     """A file of `keller solve`: `u` (the state vector), `fields` and `mesh` (deformed where there
     is a position field), `parameters` and `observables` (dicts of the state), `newton` (a Table
-    of its iterations), `status` (None: a solve writes its file only once solved), and with [stability] `stability` (a Table:
-    sigma_re, sigma_im, residual, by real part), `eigenvalues` (complex) and `unstable` (the
-    count, neutral ones not counted); those are None without it."""
+    of its iterations), `status` (None: a solve writes its file only once solved), and with
+    [stability] `stability` (a Table: sigma_re, sigma_im, residual, by real part), `eigenvalues`
+    (complex) and `unstable` (the count, neutral ones not counted); None without it."""
 
     def __init__(self, path):
         State.__init__(self, str(path), "solution/fields", "solution/u")
