@@ -158,3 +158,14 @@ def killed_branch(run):
     if p.returncode != -signal.SIGKILL or not os.path.exists(part):
         pytest.fail(f"the run was not killed part way (exit {p.returncode})")
     return part
+
+
+@pytest.fixture(scope="session")
+def channel_modes(run):
+    """One step of an Oldroyd-B Gamma branch on a tiny channel mesh with [stability]: the critical
+    eigenvector of each stored point, and its mode as fields (/branch/modes/<k>)."""
+    run("trace", run.scene("collapsible_oldroyd_b_gamma.toml"), "-o", "modes.h5", "--set", "mesh.name=custom",
+        "--set", "mesh.nx_upstream=3", "--set", "mesh.nx_deformable=6", "--set", "mesh.nx_downstream=3",
+        "--set", "mesh.ny_fluid=3", "--set", "mesh.ny_solid=1", "--set", "stability.enabled=true",
+        "--set", "continuation.max_steps=1")
+    return run.path("modes.h5")

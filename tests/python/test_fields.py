@@ -105,3 +105,26 @@ def test_a_solved_state_on_its_deformed_mesh(channel_solve):
             same(s.newton[c], n[:, i])
     assert s.stability is None and s.unstable is None and s.eigenvalues is None
     assert "conformation" in s.fields or "conformation_M" in s.fields  # Oldroyd-B
+
+
+def test_the_critical_modes_as_fields(channel_modes):
+    b = keller.open(channel_modes)
+    with h5py.File(channel_modes, "r") as f:
+        rows = f["branch/eigenvector_rows"][()]
+        vectors = f["branch/eigenvectors"][()]
+        by_row = {s.row: s for s in b.solutions}
+        checked = 0
+        for k, (row, _, re_, im) in enumerate(rows):
+            s = by_row[int(row)]
+            assert s.sigma == complex(re_, im)
+            np.testing.assert_array_equal(s.eigenvector, vectors[2 * k] + 1j * vectors[2 * k + 1])
+            g = f[f"branch/modes/{k}"]
+            assert int(g.attrs["row"]) == s.row
+            assert sorted(s.mode_fields) == sorted(p for p in ("re", "im") if p in g)
+            for part, fields in s.mode_fields.items():
+                stored = datasets(g[part])
+                assert sorted(fields) == sorted(stored) and "velocity" in fields
+                for name, d in stored.items():
+                    same(fields[name], d[()])
+            checked += 1
+        assert checked > 0

@@ -141,6 +141,11 @@ def test_a_branch_with_stability(run, pitchfork_branch):
             s = by_row[int(row)]
             assert s.sigma == complex(re_, im)
             same(s.eigenvector, ev[2 * i] + 1j * ev[2 * i + 1])
+            # the mode as fields: a 1D problem's are empty groups, as the file has them
+            g = f[f"branch/modes/{i}"]
+            assert sorted(s.mode_fields) == sorted(g)
+            for part in g:
+                assert sorted(s.mode_fields[part]) == sorted(n for n in g[part] if isinstance(g[part][n], h5py.Dataset))
     assert b.labels == info_labels(run, pitchfork_branch)
     assert [p.label for p in b.points("bp")] == ["bp1", "bp2"]
     # the discrete eigenvalues lambda_k = (4 / h^2) sin^2(k pi h / 2) of the scene's header

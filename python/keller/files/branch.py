@@ -8,7 +8,7 @@ import re
 
 import numpy as np
 
-from keller.files.fields import State
+from keller.files.fields import State, read_fields
 from keller.files.h5 import RunFile, names, open_h5, read_rows, text
 from keller.files.table import Table
 
@@ -52,7 +52,7 @@ class StoredSolution(State):
     `label` (or None for a regular point), `value` of the branch's parameter, the state `u`, its
     unit `tangent` and the tangent's parameter part, the `step` and arclength `s`, its `fields`
     and `mesh` (deformed where there is a position field), and `eigenvector` (the critical one,
-    complex, with `sigma`, where the run had [stability])."""
+    complex, with `sigma`, and `mode_fields`, where the run had [stability])."""
 
     def __init__(self, path, slot, saved_row, fields_group, label):
         super().__init__(path, fields_group, "branch/solutions", slot)
@@ -82,6 +82,19 @@ class StoredSolution(State):
         with open_h5(self.path) as f:
             v = f["branch/eigenvectors"]
             return np.array(v[2 * self._eigen_index]) + 1j * np.array(v[2 * self._eigen_index + 1])
+
+    @property
+    def mode_fields(self):
+        """The critical eigenmode as fields (/branch/modes/<k>: the linear change of each field
+        along the eigenvector's real and imaginary parts, on the deformed mesh), as {'re': {name:
+        Field}, 'im': {...}}; None where the file has none for this point."""
+        if self._eigen_index is None:
+            return None
+        with open_h5(self.path) as f:
+            group = f"branch/modes/{self._eigen_index}"
+            if group not in f:
+                return None
+            return {part: read_fields(f[group][part]) for part in ("re", "im") if part in f[group]}
 
     def __repr__(self):
         return f"StoredSolution(row {self.row}, {self.label or self.kind}, value {self.value:.10g})"
