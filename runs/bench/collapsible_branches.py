@@ -5,7 +5,7 @@ it ends: rows after the start, factorisations (continuation only; the first stea
 factorisations are printed apart), rejected steps, wall time of the trace and of the whole run,
 the located values (requested values, events, ends) and the end of the branch.
 
-  python3 runs/bench/collapsible_branches.py [--keller build/bin/keller] [--set key=value ...]
+  PYTHONPATH=build/python python3 runs/bench/collapsible_branches.py [--keller build/bin/keller] [--set key=value ...]
           [--config NAME key=value ... --config NAME2 ...] [--only owens_gamma ...]
           [--save FILE.json] [--compare FILE.json] [--relative 1e-8]
 
@@ -25,7 +25,7 @@ import tempfile
 import time
 
 from bench_support import ROOT, machine, scenes
-from keller_h5 import read_branch
+from keller import open as open_result
 
 # the located kinds of a branch table, by the names the saved JSON tables use
 KINDS = {2: "requested", 3: "event", 4: "fold", 5: "branch point", 6: "end", 7: "hopf"}
@@ -55,7 +55,8 @@ def trace(keller, name, overrides, workdir):
     nf = re.search(r"first steady state: .*?(\d+) factorisations", text)
     if nf:
         newton_fact = int(nf.group(1))
-    parameter, cols, status = read_branch(out)
+    branch = open_result(out)
+    parameter, cols, status = branch.parameter, branch.table, branch.status
     located = []
     for i, k in enumerate(cols["kind"]):
         if int(k) in KINDS:

@@ -16,7 +16,7 @@ near De = 0.46, relative to the Newtonian C0 = 0.3742, the scale of C over the b
    (keller: the first steady state and the branch, from its output; the peer: `t_continuation`,
    its De = 0 solve included) and the ratio keller / peer of the mean wall times.
 
-    /usr/bin/python3 runs/bench/contraction_vs_fenics.py [--meshes M1 M2 M3] [--target 1.0]
+    PYTHONPATH=build/python /usr/bin/python3 runs/bench/contraction_vs_fenics.py [--meshes M1 M2 M3] [--target 1.0]
         [--repeat 2] [--keller build/bin/keller] [--work DIR] [--skip-fenics]
         [--keller-only-set KEY=VALUE ...]
 
@@ -38,7 +38,7 @@ import tempfile
 import time
 
 from bench_support import machine
-from keller_h5 import open_h5, read_branch
+import keller
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
@@ -127,15 +127,15 @@ def run_keller(args, work, mesh, tag):
                        text, re.M)
     counts = re.search(r"^(\d+) points, (\d+) rejected steps, (\d+) factorisations", text, re.M)
     cont = (float(first.group(1)) if first else 0.0) + (float(branch.group(1)) if branch else float("nan"))
-    parameter, cols, _ = read_branch(out)
+    branch = keller.open(out)
+    parameter, cols = branch.parameter, branch.table
     values = {}
     for k, w in enumerate(cols[parameter]):
         w = float(w)
         de = 0.0 if k == 0 and w <= 1e-4 + 1e-12 else next((s for s in stops if abs(w - s) < 1e-9), None)
         if de is not None:
             values[de] = {q: float(cols[q][k]) for q in QUANTITIES}
-    with open_h5(out) as f:
-        unknowns = int(f["branch/solutions"].shape[1])
+    unknowns = int(branch.problem["unknowns"])
     where = ""
     if branch and counts:
         where = "%s points, %s rejected, %s factorisations; factorisations %s s, solves %s s, Jacobians %s s" % (

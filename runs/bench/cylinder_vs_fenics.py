@@ -7,7 +7,7 @@ deviation from the published table for Wi <= 0.6, the deviation at 0.7, 0.8 and 
 wall time of the whole branch (the whole process: setup, form compilation or mesh building
 included).
 
-    /usr/bin/python3 runs/bench/cylinder_vs_fenics.py [--mesh W2] [--fenics-mesh M2]
+    PYTHONPATH=build/python /usr/bin/python3 runs/bench/cylinder_vs_fenics.py [--mesh W2] [--fenics-mesh M2]
         [--keller build/bin/keller] [--peer ../shared/peers/fenics_cylinder] [--work DIR]
         [--skip-fenics] [--keller-only-set KEY=VALUE ...]
 
@@ -24,7 +24,7 @@ import tempfile
 import time
 
 from bench_support import machine
-from keller_h5 import open_h5, read_branch
+import keller
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
@@ -64,11 +64,11 @@ def run_keller(args, work):
     wall = time.perf_counter() - t0
     if rc != 0:
         sys.exit("keller trace failed (exit %d); see %s" % (rc, os.path.join(work, "keller.log")))
-    parameter, cols, _ = read_branch(out)
+    branch = keller.open(out)
+    parameter, cols = branch.parameter, branch.table
     values = {float(w): float(k) for w, k in zip(cols[parameter], cols["K"])}
-    with open_h5(out) as f:
-        unknowns = int(f["branch/solutions"].shape[1])
-        mesh = args.mesh or "scene default"
+    unknowns = int(branch.problem["unknowns"])
+    mesh = args.mesh or "scene default"
     return dict(name="keller " + mesh, unknowns=unknowns, dev=deviations(values), wall=wall, command=" ".join(cmd))
 
 

@@ -2,7 +2,7 @@
 """Every figure of the reference study (Chakraborty and Prakash's collapsible channel with a
 finite-thickness wall) by one command, from branch files keller makes itself:
 
-    python3 runs/paper/make_all.py [--jobs 2] [--keller build/bin/keller] [--only fig05 fig13]
+    PYTHONPATH=build/python python3 runs/paper/make_all.py [--jobs 2] [--keller build/bin/keller] [--only fig05 fig13]
 
 1. runs the studies of runs/paper (steady_shear, gamma, thickness, wi, wi_m3, wi_thickness; with
    --only, those the figures read) with

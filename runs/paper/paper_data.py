@@ -1,13 +1,15 @@
 """What the figures of runs/paper read: the tables of the studies that make_all.py runs, the
 branch file of each task, and the solutions stored on a branch (at its start, its requested
-values, its events and its end). Reads only keller's HDF5 files."""
+values, its events and its end). Reads only keller's HDF5 files, through the keller package
+(keller.open)."""
 
 import os
 
 import numpy as np
 
-from keller_h5 import (nodal_pressure, read_array, read_attribute, read_branch, read_mesh, read_study, same_value,
-                       saved_solutions, triangulation)
+import keller
+import keller.results
+from keller.results import same_value
 
 
 class MissingData(Exception):
@@ -23,7 +25,8 @@ class Study:
         table = os.path.join(folder, self.name + ".h5")
         if not os.path.exists(table):
             raise MissingData(f"no study table {table} (run the study first)")
-        self.cols, self.order = read_study(table)
+        study = keller.Study(table)
+        self.cols, self.order = dict(study.table.items()), study.columns
         self.table = table
 
     def rows(self, where):
@@ -60,14 +63,17 @@ class Study:
 
 
 class Branch:
-    """A branch file of keller trace: its table, and the solutions stored on it."""
+    """A branch file of keller trace: its table, and the solutions stored on it (a stored
+    solution is a keller.StoredSolution; the figures pass it back to the methods here)."""
 
     def __init__(self, path):
         self.path = path
-        self.parameter, self.cols, self.status = read_branch(path)
-        order = np.argsort(self.cols["s"], kind="stable")  # located rows in their order along the branch
-        self.cols = {c: v[order] for c, v in self.cols.items()}
-        self.saved = saved_solutions(path)  # [(parameter value, row, group)]
+        self.branch = keller.open(path)
+        self.parameter, self.status = self.branch.parameter, self.branch.status
+        # located rows in their order along the branch
+        self.cols = dict(self.branch.table.sorted_by("s").items())
+        # [(parameter value, row, stored solution)] of the solutions whose fields are stored
+        self.saved = [(s.value, s.row, s) for s in self.branch.solutions if s.fields]
 
     def __getitem__(self, column):
         return self.cols[column]
@@ -90,33 +96,34 @@ class Branch:
         """Parameter values of the stored solutions (up to a value), in branch order."""
         return [v for v, _, _ in self.saved if upto is None or v <= upto * (1 + 1e-9)]
 
-    def array(self, group, name):
-        a = read_array(self.path, group, name)
+    def array(self, solution, name):
+        a = solution.fields.get(name)
         if a is None:
-            raise MissingData(f"{self.path}: stored solution {group} has no {name}")
-        return a
+            raise MissingData(f"{self.path}: the stored solution at row {solution.row} has no {name}")
+        return np.asarray(a)
 
-    def conformation(self, group):
+    def conformation(self, solution):
         """M at the nodes (xx, xy, yy, ...): the log form stores M beside Psi as conformation_M."""
-        a = read_array(self.path, group, "conformation_M")
-        return a if a is not None else self.array(group, "conformation")
+        a = solution.fields.get("conformation_M")
+        return np.asarray(a) if a is not None else self.array(solution, "conformation")
 
-    def triangulation(self, group):
+    def triangulation(self, solution):
         """(matplotlib triangulation of the deformed fluid mesh, node positions)."""
-        tri, _, pos = triangulation(self.path, group)
-        return tri, pos
+        return solution.triangulation("fluid"), solution.mesh.nodes
 
-    def pressure(self, group, pos):
-        return nodal_pressure(self.path, group, pos)
+    def pressure(self, solution, pos):
+        """The P1disc pressure at the nodes `pos` (the deformed positions of the solution)."""
+        m = solution.mesh
+        return keller.results.Mesh(pos, m.elements, m.element_group, m.group_names, m.boundaries).nodal_pressure(
+            solution.fields["pressure"])
 
     def attribute(self, path, name):
-        return read_attribute(self.path, path, name)
+        return self.branch.attribute(path, name)
 
     def mesh(self):
         """(reference node positions, 9-node elements, element group names per element). The
         reference positions are a stored state's positions less its displacement (/mesh/nodes
         holds the deformed mesh of a collapsible-channel branch)."""
-        g = self.saved[0][2]
-        nodes = self.array(g, "position") - self.array(g, "displacement")
-        elements, groups, names = read_mesh(self.path)
-        return nodes, elements, [names[g] for g in groups]
+        solution = self.saved[0][2]
+        m = solution.mesh
+        return solution.undeformed_nodes(), m.elements, [m.group_names[g] for g in m.element_group]

@@ -1,14 +1,15 @@
 """One style for the figures of runs/paper: a colour per fluid, a line style per mesh, a colour
 map for a sequence of parameter values, axis labels that carry the quantity and its scaling
 (model.md: lengths in W, pressures and stresses in G, velocities in G W / eta0, so the mean
-inflow velocity is Gamma), and saving through a temporary name (keller_h5.save_figure)."""
+inflow velocity is Gamma), and saving through a temporary name (keller.outputs.save_figure)."""
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from keller_h5 import quantity, save_figure  # noqa: E402
+from keller.labels import quantity  # noqa: E402
+from keller.outputs import save_figure  # noqa: E402
 
 FLUIDS = ["newtonian", "oldroyd-b", "fene-p", "owens"]
 VISCOELASTIC = FLUIDS[1:]
@@ -20,7 +21,7 @@ MESH_STYLE = {"M1": ":", "M2": "-", "M3": "--", "M4": "-.", "M5": (0, (5, 1, 1, 
 # the channel (model.md): the deformable section runs from x = 7 to 12, its centre at 9.5
 WALL_START, WALL_END, WALL_CENTRE = 7.0, 12.0, 9.5
 
-# labels of the quantities the figures draw beyond keller_h5.QUANTITIES
+# labels of the quantities the figures draw beyond keller.labels.QUANTITIES
 LABEL = {
     "x": "x / W",
     "y": "y / W",

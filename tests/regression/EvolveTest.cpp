@@ -185,8 +185,8 @@ TEST(Evolve, TheCollapsibleSceneDecaysAtItsEigenvalueAndExports) {
   long lines = 0;
   for (std::string line; std::getline(csv, line);) ++lines;
   EXPECT_EQ(lines, t.rows.rows() + 1);
-  const std::string plot = std::string(KELLER_PYTHON) + " " + test::source_path("runs/scripts/plot_evolve.py") + " " +
-                           out + " --log -o " + dir + "/run.png > /dev/null";
+  const std::string plot =
+      test::python_module("keller.plot evolve") + " " + out + " --log -o " + dir + "/run.png > /dev/null";
   EXPECT_EQ(std::system(plot.c_str()), 0);
   EXPECT_TRUE(fs::exists(dir + "/run.png"));
 }

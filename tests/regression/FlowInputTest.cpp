@@ -139,7 +139,7 @@ TEST(FlowInput, AFlowBranchHasSpectraRestartsAndExports) {
   EXPECT_TRUE(fs::exists(dir + "/a.xdmf"));
 }
 
-// runs/scripts/plot_flow.py draws the mesh and the flow of a solve and of a branch. Its stream
+// python3 -m keller.plot flow draws the mesh and the flow of a solve and of a branch. Its stream
 // function is its own Python implementation of the least squares keller's `stream-function`
 // observable solves: on the Newtonian contraction, with psi = 0 on the same wall, its corner
 // vortex's extremum is keller's Psi_R times the flow rate to 1e-8 (both solve the same linear
@@ -152,7 +152,7 @@ TEST(FlowInput, FlowFiguresOfASolveAndOfABranch) {
   const auto at = r.out.find("Psi_R = ");
   ASSERT_NE(at, std::string::npos) << r.out;
   const double psi_r = std::stod(r.out.substr(at + 8));
-  const std::string py = std::string(KELLER_PYTHON) + " " + test::source_path("runs/scripts/plot_flow.py") + " ";
+  const std::string py = test::python_module("keller.plot flow") + " ";
   const std::string out = dir + "/psi.txt";
   std::string cmd = py + dir + "/c.h5 --psi-zero upstream_wall --xlim -8 6 -o " + dir + "/c.png > " + out;
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;

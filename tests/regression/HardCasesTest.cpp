@@ -24,7 +24,7 @@ namespace fs = std::filesystem;
 namespace {
 
 // An end at the step-size floor lies where the step controller gave up, which depends on the
-// path the branch took: it is not compared with the reference (runs/scripts/regenerate_references.py)
+// path the branch took: it is not compared with the reference (tests/tools/regenerate_references.py)
 const char* step_floor = "fell below min_step";
 
 struct HardCase {

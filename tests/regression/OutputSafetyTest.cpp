@@ -77,7 +77,7 @@ TEST(OutputSafety, NoOutputIsAnInputUnderAnyName) {
       {scene, dir + "/b1.h5"});
   // the figure scripts follow the same rules
   const std::string before = test::file_contents(dir + "/b1.h5");
-  const std::string script = std::string(KELLER_PYTHON) + " " + test::source_path("runs/scripts/plot_branch.py");
+  const std::string script = test::python_module("keller.plot branch");
   EXPECT_NE(std::system((script + " " + dir + "/b1.h5 --y u_mid -o " + dir + "/hard.h5 2>/dev/null").c_str()), 0);
   EXPECT_NE(std::system((script + " " + dir + "/b1.h5 --y u_mid -o " + dir + "/link.h5 2>/dev/null").c_str()), 0);
   EXPECT_EQ(test::file_contents(dir + "/b1.h5"), before);

@@ -24,7 +24,7 @@ namespace {
 
 test::CommandResult make_all(const std::string& dir, const std::string& args) {
   // the script runs keller through --keller; run_keller's shell runs the script instead
-  const std::string script = std::string(KELLER_PYTHON) + " " + test::source_path("runs/paper/make_all.py");
+  const std::string script = test::python_command() + " " + test::source_path("runs/paper/make_all.py");
   const std::string cmd = script + " --keller " + KELLER_BINARY + " --data " + dir + "/data --figures " + dir +
                           "/figures --jobs 2 " + args + " > " + dir + "/out.txt 2> " + dir + "/err.txt";
   test::CommandResult r;

@@ -220,7 +220,7 @@ TEST(Study, ABranchInAnotherParameterFromAStoredPointIsTheBranchFromAFreshSolve)
     }
 }
 
-// What accuracy costs (runs/scripts/convergence.py) on a family with a known limit: the fold of
+// What accuracy costs (python3 -m keller.convergence) on a family with a known limit: the fold of
 // the 1D Bratu problem on 16 to 128 intervals converges at second order, and the Richardson
 // extrapolation of the two finest grids lands on the continuum fold 3.513830719125 to within its
 // h^4 remainder (3e-8 here; 1e-7 relative asserted). Each family is the same grid traced with a
@@ -235,8 +235,7 @@ TEST(Study, TheConvergenceTableFindsTheOrderAndTheLimit) {
                        << "[collect]\nevents = [\"fold\"]\n";
   auto r = test::run_keller("study " + study + " --jobs 2 -o " + dir + "/conv");
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
-  const std::string script = std::string(KELLER_PYTHON) + " " + test::source_path("runs/scripts/convergence.py") + " " +
-                             dir +
+  const std::string script = test::python_module("keller.convergence") + " " + dir +
                              "/conv/conv.h5 --mesh bratu.intervals --resolution bratu.intervals --group "
                              "continuation.initial_step continuation.max_step --observables "
                              "event:fold --published event:fold=3.513830719125 --csv " +

@@ -153,8 +153,8 @@ TEST(Trace, ExportCsvAndFigure) {
   EXPECT_EQ(kinds["start"], 1);
   EXPECT_EQ(kinds["fold"], 1);  // Bratu's one fold, at lambda = 3.51
   EXPECT_EQ(kinds["end"], 1);
-  const std::string cmd = std::string(KELLER_PYTHON) + " " + test::source_path("runs/scripts/plot_branch.py") + " " +
-                          dir + "/b.h5 --y u_mid -o " + dir + "/b.png > /dev/null";
+  const std::string cmd =
+      test::python_module("keller.plot branch") + " " + dir + "/b.h5 --y u_mid -o " + dir + "/b.png > /dev/null";
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
   EXPECT_GT(fs::file_size(dir + "/b.png"), 10000u);
 }
@@ -261,8 +261,8 @@ TEST(Trace, SwitchAtABranchPointFollowsTheBifurcatedBranch) {
     EXPECT_GT(b.rows(i, b.column("lambda")), lambda1 - 1e-8) << "row " << i;
     EXPECT_EQ(b.rows(i, b.column("unstable")), 0.0) << "row " << i;
   }
-  const std::string cmd = std::string(KELLER_PYTHON) + " " + test::source_path("runs/scripts/plot_branch.py") + " " +
-                          dir + "/a.h5 " + dir + "/b.h5 --y u_quarter -o " + dir + "/ab.png > /dev/null";
+  const std::string cmd = test::python_module("keller.plot branch") + " " + dir + "/a.h5 " + dir +
+                          "/b.h5 --y u_quarter -o " + dir + "/ab.png > /dev/null";
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
   EXPECT_GT(fs::file_size(dir + "/ab.png"), 10000u);
   // --switch and --restart exclude each other
@@ -394,19 +394,17 @@ TEST(Trace, CollapsibleFiguresFromTheBranchFile) {
       "/c.h5 --set mesh.name=custom --set mesh.nx_upstream=5 --set mesh.nx_deformable=10 --set mesh.nx_downstream=5"
       " --set mesh.ny_fluid=4 --set mesh.ny_solid=2");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  const std::string py = std::string(KELLER_PYTHON) + " ";
-  std::string cmd =
-      py + test::source_path("runs/scripts/plot_collapsible.py") + " " + dir + "/c.h5 -o " + dir + "/c > /dev/null";
+  std::string cmd = test::python_module("keller.plot collapsible") + " " + dir + "/c.h5 -o " + dir + "/c > /dev/null";
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
   for (const char* f : {"branch", "interface", "path", "wall", "fields"})
     EXPECT_GT(fs::file_size(dir + "/c_" + f + ".png"), 10000u) << f;
-  cmd = py + test::source_path("runs/scripts/plot_interfaces.py") + " --newtonian " + dir + "/c.h5 " + dir +
-        "/c.h5 -o " + dir + "/i.png > /dev/null";
+  cmd = test::python_module("keller.plot interfaces") + " --newtonian " + dir + "/c.h5 " + dir + "/c.h5 -o " + dir +
+        "/i.png > /dev/null";
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
   EXPECT_GT(fs::file_size(dir + "/i.png"), 10000u);
 }
 
-// runs/scripts/mesh_convergence.py on the Bratu fold branch at 16, 32 and 64 intervals: u_mid is
+// python3 -m keller.mesh_convergence on the Bratu fold branch at 16, 32 and 64 intervals: u_mid is
 // compared at the requested lambda = 1, 2, 3, then 3, 2 again past the fold (second visits kept
 // apart). Central differences are second order, so halving h divides the change by 4.
 TEST(Trace, MeshConvergenceScript) {
@@ -419,9 +417,8 @@ TEST(Trace, MeshConvergenceScript) {
     ASSERT_EQ(r.exit_code, 0) << r.err;
     files += " " + out;
   }
-  const std::string cmd = std::string(KELLER_PYTHON) + " " + test::source_path("runs/scripts/mesh_convergence.py") +
-                          files + " --labels h16 h32 h64 --observables u_mid --csv " + dir + "/c.csv > " + dir +
-                          "/c.txt";
+  const std::string cmd = test::python_module("keller.mesh_convergence") + files +
+                          " --labels h16 h32 h64 --observables u_mid --csv " + dir + "/c.csv > " + dir + "/c.txt";
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
   const auto [cols, rows] = read_csv(dir + "/c.csv");
   ASSERT_EQ(cols, (std::vector<std::string>{"lambda", "u_mid:h16->h32", "u_mid:h32->h64"}));

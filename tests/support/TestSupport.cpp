@@ -158,6 +158,10 @@ CommandResult run_keller(const std::string& args, const std::string& env) {
 
 std::string source_path(const std::string& relative) { return std::string(KELLER_SOURCE_DIR) + "/" + relative; }
 
+std::string python_command() { return std::string("PYTHONPATH='") + KELLER_PYTHON_PATH + "' " + KELLER_PYTHON; }
+
+std::string python_module(const std::string& module) { return python_command() + " -m " + module; }
+
 std::string file_contents(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   std::stringstream ss;

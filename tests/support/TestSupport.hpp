@@ -45,6 +45,11 @@ struct CommandResult {
 // assignments, "A=1 B=2") in its environment. exit_code is -1 when a signal ended it.
 CommandResult run_keller(const std::string& args, const std::string& env = "");
 std::string source_path(const std::string& relative);
+// The shell words that run the configured Python with the build's keller package on its path
+// ("PYTHONPATH='BUILD/python' /usr/bin/python3"), and those that run a module of the package
+// (python_module("keller.plot branch") runs `python3 -m keller.plot branch`).
+std::string python_command();
+std::string python_module(const std::string& module);
 // The whole of a file as bytes ("" where it cannot be read).
 std::string file_contents(const std::string& path);
 // A fresh empty directory for a test's files.

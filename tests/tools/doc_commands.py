@@ -6,7 +6,9 @@ Every fenced block marked ```sh is taken, its lines joined where they end in a b
 line that is not empty or a comment is a command. The commands of one markdown file run in
 order, in one scratch folder of their own (later commands read what earlier ones wrote), with
 `build/bin/keller` the keller under test, `runs/` the repository's, `python3` the configured
-Python, and must exit 0.
+Python, and must exit 0. The keller Python package is the build's (--python-path, the folder
+holding `keller/`): PYTHONPATH is set to it for every command, and a command's own
+`PYTHONPATH=build/python` means it too (`build/python` is a link to it in the scratch folder).
 
 A command too long for CI (a study of minutes, a benchmark against another program, a build)
 says so in its comment, with the reason:
@@ -21,7 +23,8 @@ and a whole block says so in an HTML comment on the line before its fence:
 The scenes and scripts a command that is not run names (`runs/...`, `.ci/...`) must still exist.
 Nothing else is changed or substituted: a documented command that CI runs is run as written.
 
-Usage: doc_commands.py --source ROOT --keller BINARY --python PYTHON --scratch DIR [--list] [FILE.md ...]
+Usage: doc_commands.py --source ROOT --keller BINARY --python PYTHON [--python-path DIR] --scratch DIR
+       [--list] [FILE.md ...]
 (default: README.md and every docs/**/*.md; --list prints the commands and what is run)."""
 
 import argparse
@@ -96,15 +99,19 @@ def check_paths(cmd, source):
     return missing
 
 
-def prepare(scratch, source, keller, python):
-    """An empty scratch folder in which the documented paths mean the ones under test."""
+def prepare(scratch, source, keller, python, python_path=None):
+    """An empty scratch folder in which the documented paths mean the ones under test (the
+    build's python folder too, where given)."""
     shutil.rmtree(scratch, ignore_errors=True)
     os.makedirs(os.path.join(scratch, "build", "bin"), exist_ok=True)
     os.makedirs(os.path.join(scratch, ".bin"), exist_ok=True)
     os.makedirs(os.path.join(scratch, "docs", "figures"), exist_ok=True)  # where documented figures go
-    for link, target in ((os.path.join(scratch, "build", "bin", "keller"), keller),
-                         (os.path.join(scratch, "runs"), os.path.join(source, "runs")),
-                         (os.path.join(scratch, ".bin", "python3"), python)):
+    links = [(os.path.join(scratch, "build", "bin", "keller"), keller),
+             (os.path.join(scratch, "runs"), os.path.join(source, "runs")),
+             (os.path.join(scratch, ".bin", "python3"), python)]
+    if python_path:
+        links.append((os.path.join(scratch, "build", "python"), python_path))
+    for link, target in links:
         if os.path.lexists(link):
             os.remove(link)
         os.symlink(os.path.abspath(target), link)
@@ -115,6 +122,7 @@ def main():
     ap.add_argument("--source", required=True)
     ap.add_argument("--keller", required=True)
     ap.add_argument("--python", default=sys.executable)
+    ap.add_argument("--python-path", help="the folder holding the keller Python package (the build's python/)")
     ap.add_argument("--scratch", required=True)
     ap.add_argument("--list", action="store_true", help="print the commands and whether they run; run nothing")
     ap.add_argument("files", nargs="*")
@@ -137,6 +145,8 @@ def main():
         print(p)
 
     env = dict(os.environ, OPENBLAS_NUM_THREADS="1", MPLBACKEND="Agg")
+    if a.python_path:
+        env["PYTHONPATH"] = os.path.abspath(a.python_path)
     failed = len(problems)
     ran = skipped = 0
     t0 = time.monotonic()
@@ -145,7 +155,7 @@ def main():
         if not cmds:
             continue
         folder = os.path.join(os.path.abspath(a.scratch), rel.replace("/", "_").replace(".md", ""))
-        prepare(folder, source, a.keller, a.python)
+        prepare(folder, source, a.keller, a.python, a.python_path)
         env["PATH"] = os.path.join(folder, ".bin") + os.pathsep + os.environ.get("PATH", "")
         for cmd in cmds:
             if cmd.skip is not None:

@@ -1,13 +1,12 @@
-#!/usr/bin/env python3
 """Bifurcation diagram of branch files written by `keller trace`: any observable against the
 continuation parameter, with folds, branch points, Hopf points, events, requested points and the
 end marked differently. With [stability] enabled in the run, stable parts are drawn solid and
 unstable parts dashed (the `unstable` column: eigenvalues with Re sigma < 0). Several files (a
 branch and the branches switched from it) go into one diagram.
 
-    python3 runs/scripts/plot_branch.py BRANCH.h5 [MORE.h5 ...] [--y OBSERVABLE] [-o FIGURE.png]
+    python3 -m keller.plot branch BRANCH.h5 [MORE.h5 ...] [--y OBSERVABLE] [-o FIGURE.png]
 
-Reads only the HDF5 files (also one whose run was killed)."""
+Reads only the HDF5 files (keller.open; also one whose run was killed)."""
 
 import argparse
 import os
@@ -15,12 +14,11 @@ import sys
 
 import numpy as np
 
-import matplotlib
+import matplotlib.pyplot as plt
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-
-from keller_h5 import OutputError, check_outputs, distinguishing_labels, quantity, read_branch, save_figure  # noqa: E402
+from keller.labels import distinguishing_labels, quantity
+from keller.outputs import OutputError, check_outputs, save_figure
+from keller.plot.common import columns
 
 MARKERS = {  # kind: (label, marker, colour)
     1: ("start", "o", "tab:green"),
@@ -64,9 +62,9 @@ def main(argv=None):
     ap.add_argument("-o", "--output", help="figure file (default: BRANCH with .png)")
     args = ap.parse_args(argv)
     if args.labels and len(args.labels) != len(args.branch):
-        sys.exit(f"plot_branch: {len(args.labels)} labels for {len(args.branch)} files")
+        sys.exit(f"keller.plot branch: {len(args.labels)} labels for {len(args.branch)} files")
 
-    branches = [(path, *read_branch(path)) for path in args.branch]
+    branches = [(path, *columns(path)) for path in args.branch]
     # rows in the order along the branch: a change located by bisection (stability every N points)
     # is written after rows that lie beyond it
     for _, _, cols, _ in branches:
@@ -82,14 +80,14 @@ def main(argv=None):
     y = args.y or (observables[0] if observables else None)
     for path, par, cols, _ in branches:
         if par != parameter:
-            sys.exit(f"plot_branch: {path} continues in '{par}', {args.branch[0]} in '{parameter}'")
+            sys.exit(f"keller.plot branch: {path} continues in '{par}', {args.branch[0]} in '{parameter}'")
         if y not in cols:
-            sys.exit(f"plot_branch: no observable '{y}' in {path}; the first file has: {', '.join(observables)}")
+            sys.exit(f"keller.plot branch: no observable '{y}' in {path}; the first file has: {', '.join(observables)}")
     out = args.output or args.branch[0].rsplit(".", 1)[0] + ".png"
     try:
         check_outputs([out], args.branch)
     except OutputError as e:
-        sys.exit(f"plot_branch: {e}")
+        sys.exit(f"keller.plot branch: {e}")
 
     labels = args.labels or distinguishing_labels(args.branch, ignore={f"parameters.{parameter}"})
     fig, ax = plt.subplots(figsize=(6.4, 4.6))

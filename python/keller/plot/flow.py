@@ -1,4 +1,3 @@
-#!/usr/bin/env python3
 """The mesh and one flow field of a `flow` run (or any run on a mesh of 9-node quadrilaterals),
 from the file keller wrote: a branch (`keller trace`, one of its stored solutions) or a steady
 state (`keller solve`).
@@ -14,7 +13,7 @@ psi is computed here as keller's `stream-function` observable computes it: the Q
 solution of grad psi = (-v_y, v_x) over the fluid (3 x 3 Gauss points per element), with its
 mean over the nodes of that wall set to 0 (keller's `boundary`).
 
-    python3 runs/scripts/plot_flow.py RUN.h5 [--row N|last] [--xlim X0 X1] [--ylim Y0 Y1]
+    python3 -m keller.plot flow RUN.h5 [--row N|last] [--xlim X0 X1] [--ylim Y0 Y1]
         [--psi-zero BOUNDARY] [--levels N] [--colour FIELD:COMPONENT [--log]] [--title TEXT]
         [--mesh-only | --flow-only] -o FIG.png
 
@@ -24,21 +23,15 @@ intensity, in units of q) and how far psi is from constant along the walls."""
 
 import argparse
 import sys
-import tomllib
 
-import h5py
 import numpy as np
-
-import matplotlib
+import matplotlib.pyplot as plt
 import matplotlib.ticker
+import matplotlib.tri as mtri
+from matplotlib.collections import LineCollection
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import matplotlib.tri as mtri  # noqa: E402
-from matplotlib.collections import LineCollection  # noqa: E402
-
-from keller_h5 import OutputError, check_outputs, save_figure  # noqa: E402
-from keller_h5.h5 import open_h5, text  # noqa: E402
+import keller.results
+from keller.outputs import OutputError, check_outputs, save_figure
 
 # the three nodes of edge k (0 bottom, 1 right, 2 top, 3 left) of the lexicographic 3 x 3 element
 # (node i + 3 j at reference (s_i, t_j)), in the counter-clockwise order of the element
@@ -53,53 +46,42 @@ class PlotError(Exception):
 
 def read_run(path, row):
     """(nodes, elements, element groups, group names, boundaries {name: (E, 2) element, edge},
-    scene dict, velocity (N x 2), title text) of the stored solution `row` of a branch, or of
-    the steady state of a solve."""
-    with open_h5(path) as f:
-        if "mesh" not in f:
-            raise PlotError(f"'{path}' has no mesh (/mesh): not a run on a 2D mesh")
-        nodes = np.array(f["mesh/nodes"][()])
-        elements = np.array(f["mesh/elements"][()], dtype=int)
-        groups = np.array(f["mesh/element_group"][()], dtype=int)
-        names = [text(n) for n in f["mesh/group_names"][()]]
-        boundaries = {name: np.array(f["mesh/boundaries"][name][()], dtype=int) for name in f["mesh/boundaries"]}
-        scene = tomllib.loads(text(f["scene"][()])) if "scene" in f else {}
-        if "branch" in f:
-            if "branch/fields" not in f or len(f["branch/fields"]) == 0:
-                raise PlotError(f"'{path}': the branch has no stored fields (run `keller export {path} --xdmf`)")
-            parameter = text(f["branch"].attrs["parameter"])
-            slots = sorted(f["branch/fields"], key=lambda g: int(f["branch/fields"][g].attrs["row"]))
-            rows = [int(f["branch/fields"][g].attrs["row"]) for g in slots]
-            if row == "last":
-                slot = slots[-1]
-            else:
-                try:
-                    slot = slots[rows.index(int(row))]
-                except (ValueError, IndexError):
-                    raise PlotError(f"'{path}': no stored solution at row {row}; stored rows: "
-                                    + ", ".join(map(str, rows))) from None
-            g = f["branch/fields"][slot]
-            # the branch's parameter at this point, and the others (fixed along the branch)
-            values = {parameter: float(g.attrs[parameter])}
-            if "problem/parameters" in f:
-                values.update({k: float(v) for k, v in f["problem/parameters"].attrs.items() if k != parameter})
-        elif "solution/fields" in f:
-            if row not in ("last", "0", 0):
-                raise PlotError(f"'{path}' holds one steady state (keller solve): --row does not apply")
-            g = f["solution/fields"]
-            values = {k: float(v) for k, v in f["solution/parameters"].attrs.items()}
+    scene dict, velocity (N x 2), nodal fields {name: (values, components)}, parameter values)
+    of the stored solution `row` of a branch, or of the steady state of a solve; the nodes at
+    the state's positions where it has a `position` field."""
+    run = keller.results.open(path)
+    if isinstance(run, keller.results.Branch):
+        stored = [s for s in run.solutions if s.fields]
+        if not stored:
+            raise PlotError(f"'{path}': the branch has no stored fields (run `keller export {path} --xdmf`)")
+        rows = [s.row for s in stored]
+        if row == "last":
+            state = stored[-1]
         else:
-            raise PlotError(f"'{path}' holds neither a branch's stored solutions nor a steady state")
-        if "velocity" not in g:
-            raise PlotError(f"'{path}': the stored solution has no velocity field")
-        velocity = np.array(g["velocity"][()])
-        nodal = {}  # the nodal fields (Q2, and Q1 given at every node): name -> (values, components)
-        for name in g:
-            if isinstance(g[name], h5py.Dataset) and text(g[name].attrs.get("basis", "")) in ("Q2", "Q1"):
-                nodal[name] = (np.array(g[name][()]), text(g[name].attrs.get("components", "")).split(","))
-        if "position" in g:
-            nodes = np.array(g["position"][()])
-    return nodes, elements, groups, names, boundaries, scene, velocity, nodal, values
+            try:
+                state = stored[rows.index(int(row))]
+            except ValueError:
+                raise PlotError(f"'{path}': no stored solution at row {row}; stored rows: "
+                                + ", ".join(map(str, rows))) from None
+        # the branch's parameter at this point, and the others (fixed along the branch)
+        values = {run.parameter: state.value}
+        values.update({k: float(v) for k, v in run.parameters.items() if k != run.parameter})
+    elif isinstance(run, keller.results.Solution):
+        if row not in ("last", "0", 0):
+            raise PlotError(f"'{path}' holds one steady state (keller solve): --row does not apply")
+        state = run
+        values = {k: float(v) for k, v in run.parameters.items()}
+    else:
+        raise PlotError(f"'{path}' holds neither a branch's stored solutions nor a steady state")
+    mesh = state.mesh
+    if mesh is None:
+        raise PlotError(f"'{path}' has no mesh (/mesh): not a run on a 2D mesh")
+    if "velocity" not in state.fields:
+        raise PlotError(f"'{path}': the stored solution has no velocity field")
+    # the nodal fields (Q2, and Q1 given at every node): name -> (values, components)
+    nodal = {name: (np.asarray(f), f.components) for name, f in state.fields.items() if f.basis in ("Q2", "Q1")}
+    return (mesh.nodes, mesh.elements, mesh.element_group, mesh.group_names, mesh.boundaries, run.scene,
+            np.asarray(state.fields["velocity"]), nodal, values)
 
 
 def fluid_elements(elements, groups, names):
@@ -220,7 +202,7 @@ def colour_field(nodal, velocity, spec):
     return values[:, k], label
 
 
-def main():
+def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("run", help="the HDF5 file of keller trace (a branch) or keller solve")
     ap.add_argument("--row", default="last", help="the branch row of a stored solution, or 'last' (default)")
@@ -239,19 +221,19 @@ def main():
     which.add_argument("--mesh-only", action="store_true")
     which.add_argument("--flow-only", action="store_true")
     ap.add_argument("-o", "--output", required=True)
-    args = ap.parse_args()
+    args = ap.parse_args(argv)
     try:
         check_outputs([args.output], [args.run])
         nodes, elements, groups, names, boundaries, scene, velocity, nodal, values = read_run(args.run, args.row)
         colour, colour_label = colour_field(nodal, velocity, args.colour)
     except (OutputError, PlotError) as e:
-        sys.exit(f"plot_flow: {e}")
+        sys.exit(f"keller.plot flow: {e}")
     except OSError as e:
-        sys.exit(f"plot_flow: cannot read '{args.run}': {e}")
+        sys.exit(f"keller.plot flow: cannot read '{args.run}': {e}")
     fluid = fluid_elements(elements, groups, names)
     conditions = {name: b.get("type", "") for name, b in scene.get("boundaries", {}).items()}
     if args.psi_zero is not None and args.psi_zero not in boundaries:
-        sys.exit(f"plot_flow: --psi-zero: the mesh has no boundary '{args.psi_zero}'; its boundaries: "
+        sys.exit(f"keller.plot flow: --psi-zero: the mesh has no boundary '{args.psi_zero}'; its boundaries: "
                  + ", ".join(sorted(boundaries)))
 
     used = np.unique(fluid)
@@ -305,7 +287,7 @@ def main():
             c, label = c[:, 0], colour_label
             if args.log:
                 if np.min(c) <= 0:
-                    sys.exit(f"plot_flow: --log: {colour_label} is not positive everywhere (min {np.min(c):.3g})")
+                    sys.exit(f"keller.plot flow: --log: {colour_label} is not positive everywhere (min {np.min(c):.3g})")
                 c, label = np.log10(c), "$\\log_{10}$ " + colour_label
             pc = ax.tricontourf(tri, c, levels=np.linspace(np.min(c), np.max(c), 65), cmap="viridis",
                                 antialiased=False)

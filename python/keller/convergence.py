@@ -1,9 +1,8 @@
-#!/usr/bin/env python3
 """What accuracy costs in time: a study's collected values on a family of meshes, with the error
 of each mesh against the Richardson extrapolation of the finest ones (and against a published
 value where there is one), the observed order, and the cost of each run.
 
-    python3 runs/scripts/convergence.py STUDY/STUDY.h5 --mesh mesh.name --group fluid.formulation \\
+    python3 -m keller.convergence STUDY/STUDY.h5 --mesh mesh.name --group fluid.formulation \\
         --observables K@0.5 K@0.9 --published K@0.5=118.83 K@0.9=117.79 \\
         --csv conv.csv --markdown conv.md --figure conv.png
 
@@ -30,7 +29,9 @@ import sys
 
 import numpy as np
 
-from keller_h5 import OutputError, check_outputs, read_study, same_value, save_figure
+import keller.results
+from keller.outputs import OutputError, check_outputs, save_figure
+from keller.results import same_value
 
 COST = [("unknowns", "unknowns"), ("nnz_lu", "nnz(L+U)"), ("peak_mb", "peak MB"),
         ("seconds_per_solve", "s/solve"), ("seconds_per_point", "s/point"), ("seconds", "s/run")]
@@ -87,7 +88,7 @@ def analyse(cols, mesh_key, groups, observables, published, formal, dimension, r
             h = np.array([cols["unknowns"][i] for i in sel], dtype=float) ** (-1.0 / dimension)
         for obs in observables:
             if obs not in cols:
-                sys.exit(f"convergence.py: no column '{obs}' in the study")
+                sys.exit(f"keller.convergence: no column '{obs}' in the study")
             q = np.array([cols[obs][i] for i in sel], dtype=float)
             ok = np.isfinite(q)
             hs, qs = h[ok], q[ok]
@@ -134,7 +135,7 @@ def markdown(rows, published):
     return "\n".join(lines) + "\n"
 
 
-def main():
+def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("study", help="STUDY.h5 written by keller study")
     ap.add_argument("--mesh", required=True, help="the varied key that names the mesh")
@@ -150,26 +151,27 @@ def main():
     ap.add_argument("--markdown")
     ap.add_argument("--figure")
     ap.add_argument("--title", help="the figure's title")
-    a = ap.parse_args()
+    a = ap.parse_args(argv)
     outputs = [o for o in (a.csv, a.markdown, a.figure) if o]
     try:
         check_outputs(outputs, [a.study])
     except OutputError as e:
-        sys.exit(f"convergence.py: {e}")
+        sys.exit(f"keller.convergence: {e}")
     published = {}
     for p in a.published:
         k, _, v = p.partition("=")
         published[k] = float(v)
-    cols, _ = read_study(a.study)
+    study = keller.results.Study(a.study)
+    cols = dict(study.table.items())
     where = [w.partition("=") for w in a.where]
     for k in [a.mesh] + a.group + [k for k, _, _ in where]:
         if k not in cols:
-            sys.exit(f"convergence.py: the study varies no key '{k}'")
+            sys.exit(f"keller.convergence: the study varies no key '{k}'")
     keep = np.ones(len(cols["status"]), bool)
     for k, _, v in where:
         keep &= np.array([same_value(x, v) for x in cols[k]])
     if not keep.any():
-        sys.exit(f"convergence.py: no task has {' and '.join(a.where)}")
+        sys.exit(f"keller.convergence: no task has {' and '.join(a.where)}")
     cols = {c: np.asarray(v)[keep] for c, v in cols.items()}
     rows = analyse(cols, a.mesh, a.group, a.observables, published, a.order, a.dimension, a.resolution)
     table = markdown(rows, published)
@@ -228,4 +230,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

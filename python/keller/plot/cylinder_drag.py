@@ -1,44 +1,41 @@
-#!/usr/bin/env python3
 """Drag coefficient K(Wi) of Oldroyd-B flow past a confined cylinder (blockage 0.5, beta = 0.59)
 from one or more branch files of `keller trace`, with the published mesh-converged values
 (method.md) overlaid. The point where the smallest conformation eigenvalue crosses zero (the
 limiting Wi of the conformation form, a triangle) and the end of each finished branch (a cross) are
 marked; a branch file still flagged as running (an interrupted run) gets no end mark.
 
-    python3 runs/scripts/plot_cylinder_drag.py A.h5 [B.h5 ...] [--labels "C2 conf" "C2 log"] -o FIG.png"""
+    python3 -m keller.plot cylinder_drag A.h5 [B.h5 ...] [--labels "C2 conf" "C2 log"] -o FIG.png"""
 
 import argparse
 import sys
 
-import matplotlib
+import matplotlib.pyplot as plt
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-
-from keller_h5 import OutputError, check_outputs, read_branch, save_figure  # noqa: E402
+from keller.outputs import OutputError, check_outputs, save_figure
+from keller.plot.common import columns
 
 PUBLISHED = [(0.0, 132.36), (0.1, 130.36), (0.2, 126.62), (0.3, 123.19), (0.4, 120.59), (0.5, 118.83),
              (0.6, 117.78), (0.7, 117.32)]
 
 
-def main():
+def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("branches", nargs="+", help="branch files (HDF5) of the cylinder scene")
     ap.add_argument("--labels", nargs="*", help="legend labels, one per file")
     ap.add_argument("--xmax", type=float, help="upper limit of the Wi axis")
     ap.add_argument("-o", "--output", default="cylinder_drag.png")
-    args = ap.parse_args()
+    args = ap.parse_args(argv)
     try:
         check_outputs([args.output], args.branches)
     except OutputError as e:
-        sys.exit(f"plot_cylinder_drag: {e}")
+        sys.exit(f"keller.plot cylinder_drag: {e}")
     labels = args.labels or [b.rsplit("/", 1)[-1] for b in args.branches]
 
     fig, ax = plt.subplots(figsize=(6.4, 4.6))
     shown = [k for _, k in PUBLISHED]
     ax.plot(*zip(*PUBLISHED), "ks", mfc="none", ms=7, label="published (mesh converged)", zorder=4)
     for path, label in zip(args.branches, labels):
-        parameter, cols, status = read_branch(path)
+        parameter, cols, status = columns(path)
         wi, k, kind = cols[parameter], cols["K"], cols["kind"]
         shown += list(k[wi <= args.xmax] if args.xmax else k)
         ev = kind == 3

@@ -1,4 +1,3 @@
-#!/usr/bin/env python3
 """Rheometry of a law: branch files of the homogeneous problems `steady-shear`,
 `planar-extension` and `uniaxial-extension` (written by `keller trace`) on log-log axes against
 the local Weissenberg number W = lambda_0 x rate, or the rate in 1/s (--rate). Shear files give
@@ -9,9 +8,9 @@ eta_e_p / eta_p0 (right panel; 4 planar and 3 uniaxial at low rate, 2 Trouton ra
 eta_p, psi1_p, eta_e_p; rates in 1/s) are drawn over the law's curves, to compare a fitted law
 with the measurements before using it in a flow.
 
-    python3 runs/scripts/plot_rheometry.py BRANCH.h5 [MORE.h5 ...] [--data MEASURED.csv] [--rate] [-o FIGURE.png]
+    python3 -m keller.plot rheometry BRANCH.h5 [MORE.h5 ...] [--data MEASURED.csv] [--rate] [-o FIGURE.png]
 
-Reads only the HDF5 files."""
+Reads only the HDF5 files (keller.open)."""
 
 import argparse
 import csv
@@ -19,13 +18,11 @@ import sys
 
 import numpy as np
 
-import matplotlib
+import matplotlib.pyplot as plt
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-
-from keller_h5 import OutputError, check_outputs, distinguishing_labels, read_branch, save_figure  # noqa: E402
-from keller_h5.h5 import scene_values  # noqa: E402
+import keller.results
+from keller.labels import distinguishing_labels
+from keller.outputs import OutputError, check_outputs, save_figure
 
 SHEAR = (("eta_p", r"$\eta_p / \eta_{p0}$", "-"), ("psi1_p", r"$\Psi_{1,p} / (2 \eta_{p0} \lambda)$", "--"))
 EXTENSION = (("eta_e_p", r"$\eta_{e,p} / \eta_{p0}$", "-"),)
@@ -61,8 +58,9 @@ def main(argv=None):
         x_name = "rate" if a.rate else "Wi_local"
         used = set()
         for path, label in zip(a.branch, labels):
-            _, cols, _ = read_branch(path)
-            kind = scene_values(path).get("problem.type", "").strip('"')
+            branch = keller.results.open(path)
+            cols = branch.table
+            kind = branch.scene.get("problem", {}).get("type", "")
             if kind == "steady-shear":
                 ax, curves = left, SHEAR
             elif kind in ("planar-extension", "uniaxial-extension"):
@@ -97,7 +95,7 @@ def main(argv=None):
         fig.tight_layout()
         save_figure(fig, a.output, a.branch)
     except OutputError as e:
-        print(f"plot_rheometry.py: {e}", file=sys.stderr)
+        print(f"keller.plot rheometry: {e}", file=sys.stderr)
         return 2
     print(f"wrote {a.output}")
     return 0

@@ -6,7 +6,8 @@ tests/regression/references/<scene>.csv; the same for the hard cases of
 tests/regression/hard_cases.txt (on their coarse mesh) into references/hard/<name>.csv.
 
 Run it on purpose, after a change that is meant to move the numbers, and say why in the
-commit:  python3 runs/scripts/regenerate_references.py [--keller build/bin/keller] [--only SCENE ...]"""
+commit:  PYTHONPATH=build/python python3 tests/tools/regenerate_references.py [--keller build/bin/keller]
+             [--only SCENE ...]"""
 
 import argparse
 import os
@@ -14,9 +15,9 @@ import subprocess
 import sys
 import tempfile
 
-from keller_h5 import read_branch
+from keller import open as open_result
 
-ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
+ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))  # the repository
 
 
 # A branch that ended at the step-size floor ends where the step controller gave up, which
@@ -32,7 +33,8 @@ def regenerate(keller, scene, overrides, ref, tmp):
     for o in overrides:
         cmd += ["--set", o]
     subprocess.run(cmd, check=False, stdout=subprocess.DEVNULL)
-    parameter, cols, status = read_branch(out)
+    branch = open_result(out)
+    parameter, cols, status = branch.parameter, branch.table, branch.status
     fixed = {"row", "kind", "s", parameter, "iterations", "step", "seconds", "det_sign", "tangent_parameter",
              "saved_slot"}
     keep = ["kind", parameter] + [c for c in cols if c not in fixed and not c.startswith("monitor:")]

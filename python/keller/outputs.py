@@ -1,4 +1,4 @@
-"""The rules of every file keller writes (core/RunFiles), kept by the figures the scripts write:
+"""The rules of every file keller writes (core/RunFiles), kept by the figures the package writes:
 no output is an input or another output, and a figure takes its name only once complete."""
 
 import os

@@ -1,4 +1,3 @@
-#!/usr/bin/env python3
 """Figures of a collapsible-channel branch file of `keller trace` (reads only the HDF5 file):
 
   PREFIX_branch.png     dP, dy_max, gap_min (and min m1) against the branch parameter, with
@@ -8,38 +7,36 @@
   PREFIX_wall.png       M_xx (viscoelastic) or the pressure along the interface, per saved solution
   PREFIX_fields.png     v_x, P and M_xx (if present) in the deformed domain of one saved solution
 
-    python3 runs/scripts/plot_collapsible.py BRANCH.h5 -o PREFIX [--solution K] [--overlay NEWTONIAN.h5]
+    python3 -m keller.plot collapsible BRANCH.h5 -o PREFIX [--solution K] [--overlay NEWTONIAN.h5]
 
 --overlay adds the interface shapes of another branch file (e.g. the Newtonian one) in grey."""
 
 import argparse
 import sys
 
-import matplotlib
+import matplotlib.pyplot as plt
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-from keller_h5 import (OutputError, check_outputs, nodal_pressure, read_array, read_branch, save_figure,  # noqa: E402
-                       saved_solutions, triangulation)
+import keller.results
+from keller.outputs import OutputError, check_outputs, save_figure
+from keller.plot.common import columns
 
 
-def main():
+def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("branch")
     ap.add_argument("-o", "--output", default="collapsible", help="prefix of the figure files")
     ap.add_argument("--solution", type=int, default=-1, help="index of the saved solution for the field plot")
     ap.add_argument("--overlay", help="another branch file whose interface shapes are drawn in grey")
-    args = ap.parse_args()
+    args = ap.parse_args(argv)
     inputs = [args.branch] + ([args.overlay] if args.overlay else [])
     try:
         check_outputs([args.output + s for s in ("_branch.png", "_interface.png", "_path.png", "_wall.png", "_fields.png")],
                       inputs)
     except OutputError as e:
-        sys.exit(f"plot_collapsible: {e}")
+        sys.exit(f"keller.plot collapsible: {e}")
 
-    parameter, cols, status = read_branch(args.branch)
+    parameter, cols, status = columns(args.branch)
     p, kind = cols[parameter], cols["kind"]
     ev, end = kind == 3, len(p) - 1
     ys = [c for c in ("dP", "dy_max", "gap_min", "min_m1") if c in cols]
@@ -57,16 +54,20 @@ def main():
     fig.tight_layout()
     save_figure(fig, args.output + "_branch.png", inputs, dpi=150)
 
-    sols = saved_solutions(args.branch)
+    # the stored solutions with their fields (a killed run's file has none yet)
+    sols = [s for s in keller.results.open(args.branch).solutions if s.fields]
     cmap = plt.get_cmap("viridis")
     fig, ax = plt.subplots(figsize=(7.0, 3.0))
     if args.overlay:
-        for _, _, g in saved_solutions(args.overlay):
-            s = read_array(args.overlay, g, "interface_shape")
+        for o in keller.results.open(args.overlay).solutions:
+            if not o.fields:
+                continue
+            s = o.fields["interface_shape"]
             ax.plot(s[:, 0], s[:, 1], "-", color="0.7", lw=1.0)
-    for k, (v, _, g) in enumerate(sols):
-        s = read_array(args.branch, g, "interface_shape")
-        ax.plot(s[:, 0], s[:, 1], "-", color=cmap(k / max(1, len(sols) - 1)), lw=1.3, label=f"{parameter} = {v:.4g}")
+    for k, sol in enumerate(sols):
+        s = sol.fields["interface_shape"]
+        ax.plot(s[:, 0], s[:, 1], "-", color=cmap(k / max(1, len(sols) - 1)), lw=1.3,
+                label=f"{parameter} = {sol.value:.4g}")
     ax.axhline(0, color="k", lw=0.8)
     ax.axhline(1, color="k", lw=0.5, ls=":")
     ax.set_xlabel("x")
@@ -85,8 +86,9 @@ def main():
     save_figure(fig, args.output + "_path.png", inputs, dpi=150)
 
     fig, ax = plt.subplots(figsize=(6.4, 3.2))
-    for k, (v, _, g) in enumerate(sols):
-        prof = read_array(args.branch, g, "interface_profiles")
+    for k, sol in enumerate(sols):
+        v = sol.value
+        prof = sol.fields.get("interface_profiles")
         if prof is None:
             continue
         viscoelastic = not np.all(np.isnan(prof[:, 5]))
@@ -100,13 +102,14 @@ def main():
     save_figure(fig, args.output + "_wall.png", inputs, dpi=150)
 
     if sols:
-        _, row, g = sols[args.solution]
-        tri, fluid, pos = triangulation(args.branch, g)
-        vel = read_array(args.branch, g, "velocity")
-        conf = read_array(args.branch, g, "conformation_M")
-        if conf is None and parameter is not None:
-            conf = read_array(args.branch, g, "conformation")
-        panels = [("v_x", vel[:, 0]), ("P", nodal_pressure(args.branch, g, pos))]
+        sol = sols[args.solution]
+        row = sol.row
+        tri = sol.triangulation("fluid")
+        vel = sol.fields["velocity"]
+        conf = sol.fields.get("conformation_M")
+        if conf is None:
+            conf = sol.fields.get("conformation")
+        panels = [("v_x", vel[:, 0]), ("P", sol.nodal_pressure())]
         if conf is not None:
             panels.append(("M_xx", conf[:, 0]))
         fig, axes = plt.subplots(len(panels), 1, figsize=(9.0, 1.9 * len(panels)), sharex=True)

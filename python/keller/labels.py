@@ -1,9 +1,9 @@
-"""Labels of the figures: what each parameter and observable is, and what tells several files
-apart."""
+"""Labels of the figures: what each parameter and observable is (its axis label), and what
+tells several files apart (the scene keys whose values differ)."""
 
 import os
 
-from keller_h5.h5 import scene_values
+from keller.files.h5 import scene_values
 
 # What each parameter and observable is, with its scaling (model.md: lengths in W, pressures and
 # stresses in G, velocities in G W / eta0), for axis labels.

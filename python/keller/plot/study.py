@@ -1,7 +1,6 @@
-#!/usr/bin/env python3
 """A collected study value against a varied key, one curve per value of another key.
 
-    python3 runs/scripts/plot_study.py STUDY/STUDY.h5 --x parameters.Gamma --y event:min_m1 \\
+    python3 -m keller.plot study STUDY/STUDY.h5 --x parameters.Gamma --y event:min_m1 \\
         --curves fluid.model --ylabel "limiting Wi" -o limiting_wi.png
 
 Reads the table keller study writes (STUDY.h5: /study/<column>). Tasks that did not finish, or
@@ -13,12 +12,10 @@ import sys
 
 import numpy as np
 
-import matplotlib
+import matplotlib.pyplot as plt
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-
-from keller_h5 import OutputError, check_outputs, read_study, save_figure  # noqa: E402
+import keller.results
+from keller.outputs import OutputError, check_outputs, save_figure
 
 
 def as_numbers(v):
@@ -28,9 +25,9 @@ def as_numbers(v):
         return None
 
 
-def main():
+def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("study", help="STUDY.h5 written by keller study")
+    ap.add_argument("study", help="STUDY.h5 written by keller study, or its folder")
     ap.add_argument("--x", required=True, help="the varied key on the x axis (e.g. parameters.Gamma)")
     ap.add_argument("--y", required=True, help="the collected column on the y axis (e.g. event:min_m1)")
     ap.add_argument("--curves", help="a varied key: one curve per value")
@@ -40,19 +37,23 @@ def main():
     ap.add_argument("--logx", action="store_true")
     ap.add_argument("--logy", action="store_true")
     ap.add_argument("-o", "--output", help="figure file (default: STUDY_<y>.png)")
-    a = ap.parse_args()
-    out = a.output or os.path.splitext(a.study)[0] + "_" + a.y.replace(":", "_").replace("@", "_at_") + ".png"
+    a = ap.parse_args(argv)
     try:
-        check_outputs([out], [a.study])
+        study = keller.results.Study(a.study)
+    except (OSError, KeyError) as e:
+        sys.exit(f"keller.plot study: cannot read '{a.study}': {e}")
+    out = a.output or os.path.splitext(study.path)[0] + "_" + a.y.replace(":", "_").replace("@", "_at_") + ".png"
+    try:
+        check_outputs([out], [study.path])
     except OutputError as e:
-        sys.exit(f"plot_study: {e}")
-    cols, order = read_study(a.study)
+        sys.exit(f"keller.plot study: {e}")
+    cols, order = study.table, study.columns
     for key in [a.x, a.y] + ([a.curves] if a.curves else []):
         if key not in cols:
-            sys.exit(f"plot_study: {a.study} has no column '{key}'; it has: {', '.join(order)}")
+            sys.exit(f"keller.plot study: {a.study} has no column '{key}'; it has: {', '.join(order)}")
     x = as_numbers(cols[a.x])
     if x is None:
-        sys.exit(f"plot_study: '{a.x}' does not hold numbers")
+        sys.exit(f"keller.plot study: '{a.x}' does not hold numbers")
     y = np.asarray(cols[a.y], dtype=float)
     status = cols["status"]
     groups = [None] if not a.curves else list(dict.fromkeys(cols[a.curves]))
@@ -76,11 +77,11 @@ def main():
         ax.set_yscale("log")
     ax.set_xlabel(a.xlabel or a.x)
     ax.set_ylabel(a.ylabel or a.y)
-    ax.set_title(a.title or os.path.splitext(os.path.basename(a.study))[0], fontsize=10)
+    ax.set_title(a.title or os.path.splitext(os.path.basename(study.path))[0], fontsize=10)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()
-    save_figure(fig, out, [a.study], dpi=150)
+    save_figure(fig, out, [study.path], dpi=150)
     print(f"wrote {out}")
 
 

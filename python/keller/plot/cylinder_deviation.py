@@ -1,23 +1,20 @@
-#!/usr/bin/env python3
 """Deviation of the confined-cylinder drag K(Wi) from the published table (Oldroyd-B, beta = 0.59,
 blockage 0.5; Wi = 0, 0.1, ..., 0.9) for one or more branch files of `keller trace`, in percent,
 with the band of +-0.011% (the FEniCS peer's largest deviation on its mesh M2) shaded. A branch
 point at Wi <= 1e-4 stands for Wi = 0. A peer's results file (JSON with points of Wi and K_vol,
 as ../shared/peers/fenics_cylinder writes them) can be added with --fenics.
 
-    python3 runs/scripts/plot_cylinder_deviation.py A.h5 [B.h5 ...] [--labels C3 W3]
+    python3 -m keller.plot cylinder_deviation A.h5 [B.h5 ...] [--labels C3 W3]
         [--fenics bench.json] -o FIG.png"""
 
 import argparse
 import json
 import sys
 
-import matplotlib
+import matplotlib.pyplot as plt
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-
-from keller_h5 import OutputError, check_outputs, read_branch, save_figure  # noqa: E402
+from keller.outputs import OutputError, check_outputs, save_figure
+from keller.plot.common import columns
 
 PUBLISHED = {0.0: 132.36, 0.1: 130.36, 0.2: 126.62, 0.3: 123.19, 0.4: 120.59, 0.5: 118.83, 0.6: 117.78,
              0.7: 117.32, 0.8: 117.36, 0.9: 117.79}
@@ -34,28 +31,28 @@ def deviations(wi, k):
     return out
 
 
-def main():
+def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("branches", nargs="+", help="branch files (HDF5) of the cylinder scene")
     ap.add_argument("--labels", nargs="*", help="legend labels, one per file")
     ap.add_argument("--fenics", help="results JSON of the FEniCS peer")
     ap.add_argument("--fenics-label", default="FEniCS M2")
     ap.add_argument("-o", "--output", default="cylinder_deviation.png")
-    args = ap.parse_args()
+    args = ap.parse_args(argv)
     inputs = args.branches + ([args.fenics] if args.fenics else [])
     try:
         check_outputs([args.output], inputs)
     except OutputError as e:
-        sys.exit(f"plot_cylinder_deviation: {e}")
+        sys.exit(f"keller.plot cylinder_deviation: {e}")
     labels = args.labels or [b.rsplit("/", 1)[-1] for b in args.branches]
     if len(labels) != len(args.branches):
-        sys.exit("plot_cylinder_deviation: --labels needs one label per branch file")
+        sys.exit("keller.plot cylinder_deviation: --labels needs one label per branch file")
 
     fig, ax = plt.subplots(figsize=(6.4, 4.4))
     ax.axhspan(-BAND, BAND, color="0.85", label=f"within {BAND}% of the table")
     ax.axhline(0.0, color="k", lw=0.6)
     for path, label in zip(args.branches, labels):
-        parameter, cols, _ = read_branch(path)
+        parameter, cols, _ = columns(path)
         d = deviations(cols[parameter], cols["K"])
         ax.plot(*zip(*d), "o-", ms=4, lw=1.2, label=label)
     if args.fenics:

@@ -1,4 +1,3 @@
-#!/usr/bin/env python3
 """Time series written by `keller evolve`: any column of its time table (an observable, the
 deviation from the start's steady state, the components along the perturbation's eigenvector)
 against time. With --log the vertical axis is logarithmic and, for a run perturbed along an
@@ -6,21 +5,20 @@ eigenvector, the line exp(-Re sigma t) through the first point is drawn beside i
 fitted to the run (least squares of log |y| against t) in the legend: the check of the spectrum by
 dynamics (docs/dynamics.md).
 
-    python3 runs/scripts/plot_evolve.py RUN.h5 [--y COLUMN] [--log] [-o FIGURE.png]
+    python3 -m keller.plot evolve RUN.h5 [--y COLUMN] [--log] [-o FIGURE.png]
 
-Reads only the HDF5 file (also one whose run was killed)."""
+Reads only the HDF5 file (keller.open; also one whose run was killed)."""
 
 import argparse
 import sys
 
 import numpy as np
 
-import matplotlib
+import matplotlib.pyplot as plt
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-
-from keller_h5 import OutputError, check_outputs, quantity, read_time_series, save_figure  # noqa: E402
+import keller.results
+from keller.labels import quantity
+from keller.outputs import OutputError, check_outputs, save_figure
 
 BOOKKEEPING = {"step", "t", "h", "order", "error", "iterations", "factorisations", "rejected", "next_step", "seconds",
                "saved_slot"}
@@ -41,16 +39,20 @@ def main(argv=None):
     ap.add_argument("--log", action="store_true", help="logarithmic vertical axis (|y|), with the eigenvalue's rate")
     ap.add_argument("-o", "--output", help="figure file (default: RUN with .png)")
     args = ap.parse_args(argv)
-    cols, status, mode = read_time_series(args.run)
+    series = keller.results.open(args.run)
+    if not isinstance(series, keller.results.TimeSeries):
+        sys.exit(f"keller.plot evolve: {args.run} is not a time series (keller evolve)")
+    cols, status = series.table, series.status
+    mode = None if series.mode is None else (series.mode.sigma.real, series.mode.sigma.imag)
     y = args.y or ("mode_amplitude" if "mode_amplitude" in cols else "deviation")
     if y not in cols:
         choices = [c for c in cols if c not in BOOKKEEPING]
-        sys.exit(f"plot_evolve: no column '{y}' in {args.run}; it has: {', '.join(choices)}")
+        sys.exit(f"keller.plot evolve: no column '{y}' in {args.run}; it has: {', '.join(choices)}")
     out = args.output or args.run.rsplit(".", 1)[0] + ".png"
     try:
         check_outputs([out], [args.run])
     except OutputError as e:
-        sys.exit(f"plot_evolve: {e}")
+        sys.exit(f"keller.plot evolve: {e}")
 
     t, v = cols["t"], cols[y]
     fig, ax = plt.subplots(figsize=(6.4, 4.6))

@@ -1,4 +1,3 @@
-#!/usr/bin/env python3
 """Mesh convergence along a branch: the same scene traced on a sequence of meshes (coarse to
 fine), compared at the parameter values every run located exactly (its `stops`). For each
 observable it prints the values per mesh, the relative change between successive meshes (and,
@@ -7,18 +6,24 @@ and it reports the largest parameter value up to which that change stays below -
 every observable (the branch is "mesh converged" up to there), with each run's end (for a Wi
 branch: the limiting Wi, where min m1 crosses zero).
 
-  python3 runs/scripts/mesh_convergence.py M1.h5 M2.h5 M3.h5 [--labels M1 M2 M3]
+  python3 -m keller.mesh_convergence M1.h5 M2.h5 M3.h5 [--labels M1 M2 M3]
           [--observables dP dy_max gap_min max_m3] [--tolerance 0.01] [--figure conv.png] [--csv c.csv]
 
-Reads only the branch files (HDF5)."""
+Reads only the branch files (HDF5, keller.open)."""
 
 import argparse
 import os
 import sys
 
-import numpy as np
 
-from keller_h5 import OutputError, check_outputs, read_branch, save_figure
+import keller.results
+from keller.outputs import OutputError, check_outputs, save_figure
+
+
+def read_branch(path):
+    """(parameter, {column: array}, status) of a branch file."""
+    b = keller.results.open(path)
+    return b.parameter, dict(b.table.items()), b.status
 
 
 def requested_rows(cols, parameter):
@@ -33,7 +38,7 @@ def requested_rows(cols, parameter):
     return out
 
 
-def main():
+def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("files", nargs="+", help="branch files, coarse to fine")
     ap.add_argument("--labels", nargs="*", help="mesh names (default: file names)")
@@ -42,31 +47,31 @@ def main():
     ap.add_argument("--figure", help="PNG: each observable against the parameter, one curve per mesh")
     ap.add_argument("--xmax", type=float, help="figure: largest parameter value shown")
     ap.add_argument("--csv", help="write the relative changes (one column per observable and mesh pair)")
-    a = ap.parse_args()
+    a = ap.parse_args(argv)
     if len(a.files) < 2:
-        sys.exit("mesh_convergence.py: needs at least two branch files")
+        sys.exit("keller.mesh_convergence: needs at least two branch files")
     labels = a.labels or [os.path.splitext(os.path.basename(f))[0] for f in a.files]
     if len(labels) != len(a.files):
-        sys.exit("mesh_convergence.py: one label per file")
+        sys.exit("keller.mesh_convergence: one label per file")
     try:
         check_outputs([o for o in (a.csv, a.figure) if o], a.files)
     except OutputError as e:
-        sys.exit(f"mesh_convergence.py: {e}")
+        sys.exit(f"keller.mesh_convergence: {e}")
     runs = [read_branch(f) for f in a.files]
     parameter = runs[0][0]
     for (p, cols, _), f in zip(runs, a.files):
         if p != parameter:
-            sys.exit(f"mesh_convergence.py: {f} is a branch in {p}, not {parameter}")
+            sys.exit(f"keller.mesh_convergence: {f} is a branch in {p}, not {parameter}")
         missing = [o for o in a.observables if o not in cols]
         if missing:
-            sys.exit(f"mesh_convergence.py: {f} has no column {', '.join(missing)}")
+            sys.exit(f"keller.mesh_convergence: {f} has no column {', '.join(missing)}")
     rows = [requested_rows(cols, parameter) for _, cols, _ in runs]
     # in the order of the branch (of the finest run)
     common = sorted(set.intersection(*[set(r) for r in rows]), key=lambda key: rows[-1][key])
     if not common:
-        sys.exit("mesh_convergence.py: no parameter value was located on every mesh (give the runs the same stops)")
+        sys.exit("keller.mesh_convergence: no parameter value was located on every mesh (give the runs the same stops)")
 
-    print(f"ends: " + "; ".join(f"{l}: {st}" for l, (_, _, st) in zip(labels, runs)))
+    print("ends: " + "; ".join(f"{l}: {st}" for l, (_, _, st) in zip(labels, runs)))
     pairs = [f"{labels[k]}->{labels[k + 1]}" for k in range(len(labels) - 1)]
     worst = {}
     per_observable = {}
@@ -104,7 +109,7 @@ def main():
             last = v[0]
         print(f"  {o:>12}: " + (f"{last:g}" if last is not None else f"none (already {per_observable[o][0][1]:.2e} at "
                                                                        f"{parameter} = {common[0][0]:g})") +
-              (f" (the last common value)" if last is not None and last == common[-1][0] else ""))
+              (" (the last common value)" if last is not None and last == common[-1][0] else ""))
     converged = None
     for v in common:
         if worst[v] <= a.tolerance:
@@ -144,4 +149,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())
