@@ -6,6 +6,8 @@ the user's program through keller's commands. Checks, with their tolerances:
   - the branch switched at the first is sin(x): u(pi/4) / max u = sin(pi/4) to 1e-3 at its first
     point (the amplitude's correction is O(a^2) of the mode, a = 0.1), lambda(a) = lambda_1 (1 +
     3 a^2 / 4 + O(a^4)) to 3% in its a^2 term, and stable (the smallest eigenvalue positive);
+  - the Python package installed with it imports from the moved prefix, runs a trace in its
+    process (the fold of bratu1d to 1e-9) and finds the installed keller program;
   - a study of the user's type completes its three tasks, with local workers and under mpirun
     (where it is installed): its tasks run in the user's program;
   - docs/own_problem.md's shell commands, extracted and run as written (HOME a scratch folder, so
@@ -63,10 +65,29 @@ def run_tutorial(build, source, scratch):
           f"docs/own_problem.md's {len(commands)} commands run and draw its {len(figures)} figures")
 
 
+def check_python_package(prefix, source, scratch):
+    """The Python package installed with keller (PREFIX/lib/python3.X/dist-packages/keller), moved
+    with its prefix: it imports with that folder on the path, runs a trace in its process, and
+    finds the installed keller program for a study's tasks."""
+    import glob
+    sites = glob.glob(os.path.join(prefix, "lib", "python3*", "dist-packages"))
+    check(len(sites) == 1 and os.path.isdir(os.path.join(sites[0], "keller")), f"the Python package in {sites}")
+    env = {k: v for k, v in os.environ.items() if k not in ("KELLER_EXE", "PYTHONPATH")}
+    env["PYTHONPATH"] = sites[0]
+    scene = os.path.join(source, "runs", "scenes", "bratu1d_fold.toml")
+    code = ("import keller, keller.runs; print(keller.runs.keller_program()); "
+            f"print(keller.trace({scene!r}, 'py.h5', verbose=False).point('fold1')['lambda'])")
+    out = run(sys.executable, "-c", code, cwd=scratch, env=env).stdout.split()
+    check(out[0] == os.path.join(prefix, "bin", "keller"), f"the installed package's keller program {out[0]}")
+    check(abs(float(out[1]) - 3.5137191389) < 1e-9, f"a trace by the installed package: fold at {out[1]}")
+
+
 def main():
     build, source, scratch = arguments()
     run_tutorial(build, source, scratch)
-    app = build_example(source, "chafee_infante", install_moved(build, scratch), scratch)
+    prefix = install_moved(build, scratch)
+    check_python_package(prefix, source, scratch)
+    app = build_example(source, "chafee_infante", prefix, scratch)
     example = os.path.join(source, "examples", "chafee_infante")
     scene = os.path.join(example, "chafee_infante.toml")
 
