@@ -132,3 +132,27 @@ def test_a_jacobian_entry_outside_the_pattern_is_a_value_error(tmp_path):
 
     with pytest.raises(ValueError, match="outside the Jacobian's pattern"):
         keller.trace({"continuation": CONTINUATION}, tmp_path / "z.h5", problem=Outside(16), verbose=False)
+
+
+class Bratu1DWithMonitor(Bratu1D):
+    """Bratu 1D with the monitor u_mid - 1: its zeros are located events."""
+
+    monitor_names = ["u_mid_minus_1"]
+
+    def monitors(self, u, p):
+        return [self.observables(u, p)["u_mid"] - 1.0]
+
+
+def test_a_python_problems_monitor_is_an_event_and_a_stored_point_restarts_it(tmp_path):
+    branch = keller.trace({"continuation": CONTINUATION}, tmp_path / "m.h5", problem=Bratu1DWithMonitor(64),
+                          verbose=False)
+    events = branch.points("event")
+    assert len(events) == 1  # u_mid grows along the branch, through 1 before the fold (u_mid = 1.19 there)
+    assert abs(events[0]["u_mid"] - 1.0) < 1e-10
+    assert events[0].row < branch.point("fold1").row
+    # a restart from the event continues along the stored tangent, through the fold, to the same end
+    restarted = keller.trace({"continuation": CONTINUATION}, tmp_path / "r.h5", problem=Bratu1DWithMonitor(64),
+                             restart=(branch, "event1"), verbose=False)
+    assert restarted["lambda"][0] == events[0]["lambda"]
+    assert abs(restarted.point("fold1")["lambda"] - branch.point("fold1")["lambda"]) < 1e-10
+    assert abs(restarted.point("end")["lambda"] - branch.point("end")["lambda"]) < 1e-10
