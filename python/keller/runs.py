@@ -166,7 +166,7 @@ class _Output:
 
     def __init__(self, verbose):
         self.verbose = verbose
-        self.errors = []
+        self.errors, self.endings = [], []
 
     def __enter__(self):
         sys.stdout.flush()
@@ -195,6 +195,8 @@ class _Output:
                 text = line.decode(errors="replace")
                 if fd == 2:
                     self.errors.append(text)
+                elif "ended" in text or "failed" in text:
+                    self.endings.append(text)  # why a run ended: the message of a numerical failure
                 if fd == 2 or self.verbose:
                     if stream in self.streams:  # a terminal or file: straight to where fd pointed before
                         os.write(self.saved[fd], line)
@@ -246,7 +248,7 @@ def _run(command, scene, output, *, overrides, options, problem, callback, verbo
                 return callback(Point(d["command"], d["row"], d["kind"], d["label"], d["values"], d["u"]))
         with _Output(verbose) as out:
             code, stopped, interrupted = module.run(args, wrapped, problem)
-        message = "".join(out.errors).strip()
+        message = "".join(out.errors).strip() or "".join(out.endings[-2:]).strip()
         if not isinstance(scene, (str, os.PathLike)):
             message = message.replace(scene_path, "the scene dict")
     if output is None:

@@ -5,6 +5,7 @@
 #include <pybind11/stl.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <optional>
 #include <stdexcept>
@@ -184,22 +185,40 @@ Status PythonProblem::guarded(const char* method, Body&& body) {
   }
 }
 
+namespace {
+
+// NaN or Inf in what a Python method returned (an exp that overflowed) is a failed evaluation, as
+// it is for keller's C++ problems.
+Status finite(const char* method, const double* values, long n, Status st) {
+  if (!st.is_ok()) return st;
+  for (long i = 0; i < n; ++i)
+    if (!std::isfinite(values[i]))
+      return {StatusCode::NotFinite, fmt::format("{}() of the Python problem is not finite (entry {})", method, i)};
+  return st;
+}
+
+}  // namespace
+
 Status PythonProblem::residual(const Vector& u, Vector& F) {
-  return guarded("residual", [&] { from_numpy(call("residual", u), size_, "residual", F); });
+  const Status st = guarded("residual", [&] { from_numpy(call("residual", u), size_, "residual", F); });
+  return finite("residual", F.data(), F.size(), st);
 }
 
 Status PythonProblem::jacobian(const Vector& u, Vector& F, SparseMatrix& J) {
   if (!has_jacobian_) return Problem::jacobian(u, F, J);
   if (Status st = residual(u, F); !st.is_ok()) return st;
-  return guarded("jacobian", [&] { into_pattern(sparse_parts_, call("jacobian", u), pattern_, "jacobian", J); });
+  const Status st =
+      guarded("jacobian", [&] { into_pattern(sparse_parts_, call("jacobian", u), pattern_, "jacobian", J); });
+  return finite("jacobian", J.valuePtr(), J.nonZeros(), st);
 }
 
 Status PythonProblem::parameter_derivative(int p, const Vector& u, Vector& dF) {
   if (!has_dfdp_) return Problem::parameter_derivative(p, u, dF);
-  return guarded("parameter_derivative", [&] {
+  const Status st = guarded("parameter_derivative", [&] {
     from_numpy(obj_.attr("parameter_derivative")(to_numpy(u), parameter_dict(), params_.info(p).name), size_,
                "parameter_derivative", dF);
   });
+  return finite("parameter_derivative", dF.data(), dF.size(), st);
 }
 
 Status PythonProblem::mass_matrix(const Vector& u, SparseMatrix& B) {
@@ -244,9 +263,10 @@ void register_python_type() {
     // same problem): its name and summary, which say its discretisation where the class says it
     const py::object& obj = *g_current;
     const std::string name = py::hasattr(obj, "name") ? py::str(obj.attr("name")).cast<std::string>()
-                                                       : py::str(obj.get_type().attr("__name__")).cast<std::string>();
+                                                      : py::str(obj.get_type().attr("__name__")).cast<std::string>();
     s.section("python", "the problem written in Python (set by keller.trace(..., problem=...), not by a scene)");
-    s.string("python.problem", py::hasattr(obj, "summary") ? name + ": " + py::str(obj.attr("summary")()).cast<std::string>() : name,
+    s.string("python.problem",
+             py::hasattr(obj, "summary") ? name + ": " + py::str(obj.attr("summary")()).cast<std::string>() : name,
              "the Python problem's name and summary()");
     s.section("parameters", "initial values of the Python problem's named parameters");
     for (const auto& [key, value] : py::dict(g_current->attr("parameters")))

@@ -11,9 +11,10 @@ import nbformat
 SOURCE = os.environ["KELLER_SOURCE"]
 
 
-def test_the_tour_runs_and_finds_the_closed_forms(tmp_path):
+def test_the_tour_runs_and_finds_the_closed_forms(tmp_path, monkeypatch):
     nb = nbformat.read(os.path.join(SOURCE, "docs", "python_tour.ipynb"), as_version=4)
-    os.environ.setdefault("PYDEVD_DISABLE_FILE_VALIDATION", "1")
+    monkeypatch.setenv("PYDEVD_DISABLE_FILE_VALIDATION", "1")
+    monkeypatch.delenv("MPLBACKEND", raising=False)  # the kernel's own inline backend, as in Jupyter
     nbclient.NotebookClient(nb, timeout=600, kernel_name="python3",
                             resources={"metadata": {"path": str(tmp_path)}}).execute()
     text = "".join(o.get("text", "") for c in nb.cells if c.cell_type == "code" for o in c.outputs)

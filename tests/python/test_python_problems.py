@@ -121,6 +121,7 @@ def test_python_exceptions_and_numerical_failures(tmp_path):
     with pytest.raises(keller.KellerError) as e:
         keller.trace({"continuation": CONTINUATION}, tmp_path / "y.h5", problem=Bounded(32), verbose=False)
     assert e.value.code == 1  # the branch failed where the model ends; what it traced is kept
+    assert "residual(): u above 1.5 is outside this model" in str(e.value)  # the failure's own words
     b = keller.open(str(tmp_path / "y.h5.part")) if os.path.exists(tmp_path / "y.h5.part") else keller.open(str(tmp_path / "y.h5"))
     assert b["u_max"].max() <= 1.5
 
@@ -156,3 +157,19 @@ def test_a_python_problems_monitor_is_an_event_and_a_stored_point_restarts_it(tm
     assert restarted["lambda"][0] == events[0]["lambda"]
     assert abs(restarted.point("fold1")["lambda"] - branch.point("fold1")["lambda"]) < 1e-10
     assert abs(restarted.point("end")["lambda"] - branch.point("end")["lambda"]) < 1e-10
+
+
+def test_the_problem_of_docs_python_md_runs_as_written(tmp_path, monkeypatch):
+    """The Bratu1D class of docs/python.md section 4, executed as written in a scratch folder: its
+    branch has the C++ problem's fold (the same discretisation with 128 intervals)."""
+    import re
+    with open(os.path.join(SOURCE, "docs", "python.md")) as f:
+        text = f.read()
+    section = text[text.index("## 4. Problems written in Python"):]
+    block = re.search(r"```python\n(.*?)```", section, re.S).group(1)
+    monkeypatch.chdir(tmp_path)
+    scope = {}
+    exec(compile(block.replace('"bratu.h5", problem', '"bratu.h5", verbose=False, problem'), "docs/python.md", "exec"),
+         scope)
+    cpp = keller.trace(BRATU, tmp_path / "cpp.h5", verbose=False)
+    assert abs(scope["branch"].point("fold1")["lambda"] - cpp.point("fold1")["lambda"]) < 1e-9
