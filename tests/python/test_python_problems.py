@@ -2,7 +2,6 @@
 branch points, Hopf points, switching, two-parameter curves and time integration against closed forms
 and keller's own C++ problems."""
 
-import math
 import os
 import sys
 

@@ -10,7 +10,7 @@ import numpy as np
 
 from keller.files.fields import State, read_fields
 from keller.files.h5 import RunFile, names, open_h5, read_rows, text
-from keller.files.table import Table
+from keller.files.table import Table, TableView
 
 # the kind column's numbers by the names the CSV export, the terminal and the labels use
 KINDS = ("point", "start", "stop", "event", "fold", "bp", "end", "hopf")
@@ -120,7 +120,7 @@ class Point:
         return f"Point(row {self.row}, {self.label or self.kind}, value {self.value:.10g})"
 
 
-class Branch(RunFile):
+class Branch(TableView, RunFile):
     """A branch file of `keller trace`: `parameter` (its name), `table` (a Table of named columns,
     rows as stored: `keller export --csv`), `kinds` (a name per row), `status` (why it ended, or
     `running`), `exit_code` (None while running), `observables`, `monitors`, `labels`
@@ -160,19 +160,6 @@ class Branch(RunFile):
                 if s is not None:
                     s.sigma, s._eigen_index = complex(re_, im), k
         return sorted(out, key=lambda s: s.row)
-
-    @property
-    def columns(self):
-        return self.table.columns
-
-    def __getitem__(self, column):
-        return self.table[column]
-
-    def __contains__(self, column):
-        return column in self.table
-
-    def __len__(self):
-        return len(self.table)
 
     @property
     def solutions(self):

@@ -7,7 +7,7 @@ import os
 import numpy as np
 
 from keller.files.h5 import RunFile, names, open_h5, text
-from keller.files.table import Table
+from keller.files.table import Table, TableView
 
 
 def same_value(cell, value):
@@ -40,7 +40,7 @@ def study_table_path(path):
     raise FileNotFoundError(f"'{path}' holds no study table (STUDY.h5 with /study)")
 
 
-class Study(RunFile):
+class Study(TableView, RunFile):
     """A study's collected table: `table` (a Table: numbers as floats, text columns such as name,
     status and the varied keys as strings), `columns`, `tasks` (the task names), `folder`;
     `rows(where)`, `value(column, where)` and `branch(task)` (the task's Branch)."""
@@ -56,19 +56,6 @@ class Study(RunFile):
             v = s[c][()]
             cols[c] = np.array([text(x) for x in v]) if v.dtype.kind in "SO" else np.asarray(v)
         self.table = Table(cols)
-
-    @property
-    def columns(self):
-        return self.table.columns
-
-    def __getitem__(self, column):
-        return self.table[column]
-
-    def __contains__(self, column):
-        return column in self.table
-
-    def __len__(self):
-        return len(self.table)
 
     @property
     def tasks(self):

@@ -75,3 +75,21 @@ class Table:
 
     def __repr__(self):
         return f"Table({self._rows} rows: {', '.join(self._columns)})"
+
+
+class TableView:
+    """What a file object with a `table` (a Table) reads like: `obj["column"]`, `column in obj`,
+    `len(obj)` (its rows) and `obj.columns`."""
+
+    @property
+    def columns(self):
+        return self.table.columns
+
+    def __getitem__(self, column):
+        return self.table[column]
+
+    def __contains__(self, column):
+        return column in self.table
+
+    def __len__(self):
+        return len(self.table)

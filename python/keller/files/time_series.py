@@ -5,7 +5,7 @@ import numpy as np
 
 from keller.files.fields import State
 from keller.files.h5 import RunFile, names, open_h5, read_rows, text
-from keller.files.table import Table
+from keller.files.table import Table, TableView
 
 
 class Mode:
@@ -31,7 +31,7 @@ class StoredState(State):
         return f"StoredState(step {self.step}, t = {self.t:.10g})"
 
 
-class TimeSeries(RunFile):
+class TimeSeries(TableView, RunFile):
     """A time-series file of `keller evolve`: `table` (a Table: step, t, h, ..., the observables,
     deviation), `status`, `exit_code` (None while running), `observables`, `save_every`, `mode`
     (a Mode, or None without a perturbation along an eigenvector), `start_state` (the steady
@@ -61,19 +61,6 @@ class TimeSeries(RunFile):
             saved = read_rows(f["evolve/saved"]).reshape(-1, 2)
             self._states = [StoredState(self.path, i, int(step), float(t), groups.get(int(step)))
                             for i, (step, t) in enumerate(saved)]
-
-    @property
-    def columns(self):
-        return self.table.columns
-
-    def __getitem__(self, column):
-        return self.table[column]
-
-    def __contains__(self, column):
-        return column in self.table
-
-    def __len__(self):
-        return len(self.table)
 
     @property
     def states(self):
