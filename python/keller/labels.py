@@ -34,7 +34,7 @@ QUANTITIES = {
     # the collapsible channel
     "dP": r"pressure drop across the wall $\Delta P / G$",
     "dP_inlet_outlet": r"pressure drop inlet to outlet $\Delta P_{io} / G$",
-    "dx_max": r"x of the largest deflection $x_{max} / W$",
+    "dx_max": r"x of the largest deflection from the centre / W",
     "dy_max": r"largest deflection $\delta y_{max} / W$",
     "gap_min": "narrowest gap / W",
     "min_m1": r"min $m_1$ (smallest eigenvalue of M)",

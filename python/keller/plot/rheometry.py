@@ -53,47 +53,49 @@ def main(argv=None):
     a = ap.parse_args(argv)
     try:
         check_outputs([a.output], a.branch + ([a.data] if a.data else []))
-        fig, (left, right) = plt.subplots(1, 2, figsize=(10, 4.2))
+        branches = [keller.results.open(path) for path in a.branch]
+        kinds = [b.scene.get("problem", {}).get("type", "") for b in branches]
+        for path, kind in zip(a.branch, kinds):
+            if kind not in ("steady-shear", "planar-extension", "uniaxial-extension"):
+                raise OutputError(f"{path}: not a rheometry branch (problem.type {kind or 'unknown'})")
+        data = read_data(a.data) if a.data else {}
+        if data and not a.rate:
+            raise OutputError("--data is in rates (1/s): use it with --rate")
+        # a panel for shear and one for extension, only where there is something to draw in it
+        want_shear = "steady-shear" in kinds or any(n in data for n, _, _ in SHEAR)
+        want_ext = any(k != "steady-shear" for k in kinds) or any(n in data for n, _, _ in EXTENSION)
+        panels = [p for p, want in (("shear", want_shear), ("extension", want_ext)) if want]
+        fig, axes = plt.subplots(1, len(panels), figsize=(5.0 * len(panels), 4.2), squeeze=False)
+        ax_of = dict(zip(panels, axes[0]))
+        left, right = ax_of.get("shear"), ax_of.get("extension")
         labels = distinguishing_labels(a.branch, ignore=("problem.type",))
         x_name = "rate" if a.rate else "Wi_local"
-        used = set()
-        for path, label in zip(a.branch, labels):
-            branch = keller.results.open(path)
+        for branch, kind, label in zip(branches, kinds, labels):
             cols = branch.table
-            kind = branch.scene.get("problem", {}).get("type", "")
             if kind == "steady-shear":
                 ax, curves = left, SHEAR
-            elif kind in ("planar-extension", "uniaxial-extension"):
+            else:
                 ax, curves = right, EXTENSION
                 label = f"{kind.split('-')[0]}, {label}" if len(a.branch) > 1 else kind.split("-")[0]
-            else:
-                raise OutputError(f"{path}: not a rheometry branch (problem.type {kind or 'unknown'})")
-            used.add(ax)
             x = cols[x_name]
             colour = None  # one colour per file, a line style per quantity
             for name, tex, style in curves:
                 ok = cols[name] > 0
                 line = ax.loglog(x[ok], cols[name][ok], style, color=colour, label=f"{tex}: {label}")[0]
                 colour = line.get_color()
-        if a.data:
-            d = read_data(a.data)
-            if not a.rate:
-                raise OutputError("--data is in rates (1/s): use it with --rate")
-            for ax, curves in ((left, SHEAR), (right, EXTENSION)):
-                for name, tex, _ in curves:
-                    if name in d:
-                        ax.loglog(d["rate"], d[name], "o", mfc="none", label=f"{tex}: {a.data}")
-                        used.add(ax)
+        for ax, curves in ((left, SHEAR), (right, EXTENSION)):
+            for name, tex, _ in curves:
+                if name in data:
+                    ax.loglog(data["rate"], data[name], "o", mfc="none", label=f"{tex}: measured")
         for ax, title in ((left, "steady shear"), (right, "steady extension")):
-            ax.set_xlabel("rate (1/s)" if a.rate else r"$W = \lambda_0 \times$ rate")
-            ax.set_title(title)
+            if ax is None:
+                continue
+            ax.set_xlabel("rate (1/s)" if a.rate else r"$W = \lambda_0 \dot\gamma$")
+            ax.set_title(title, fontsize=10)
             ax.grid(True, which="both", alpha=0.3)
-            if ax in used:
-                ax.legend(fontsize=7)
-            else:
-                ax.set_axis_off()
+            ax.legend(fontsize=7)
         fig.tight_layout()
-        save_figure(fig, a.output, a.branch)
+        save_figure(fig, a.output, a.branch, dpi=150)
     except OutputError as e:
         print(f"keller.plot rheometry: {e}", file=sys.stderr)
         return 2
