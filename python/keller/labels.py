@@ -95,7 +95,8 @@ KEYS = {
 SYMBOLS = {
     "Gamma": r"$\Gamma$", "beta": r"$\beta$", "alpha": r"$\alpha$", "epsilon": r"$\varepsilon$", "xi": r"$\xi$",
     "lambda": r"$\lambda$", "mu": r"$\mu$", "Pe": r"$P_e$", "dP": r"$\Delta P$", "min_m1": r"min $m_1$",
-    "max_m3": r"max $m_3$", "dy_max": r"$\delta y_{max}$", "dx_max": r"$x_{max}$", "eta_p": r"$\eta_p$",
+    "max_m3": r"max $m_3$", "dP_inlet_outlet": r"$\Delta P_{io}$", "gap_min": "narrowest gap",
+    "K": "K", "dy_max": r"$\delta y_{max}$", "dx_max": r"$x_{max}$", "eta_p": r"$\eta_p$",
     "eta": r"$\eta$", "log10_rate": r"$\log_{10}$ rate", "psi1_p": r"$\Psi_{1,p}$", "inertia": r"$\rho_s / \rho$",
     "t": "t", "fold": "the fold", "bp": "the branch point", "hopf": "the Hopf point",
 }
