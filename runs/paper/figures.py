@@ -9,7 +9,8 @@ from matplotlib.colors import LogNorm
 from matplotlib.lines import Line2D
 
 import paper_style as st
-from paper_data import Branch, Study
+from keller.plot.curves import draw_branch
+from paper_data import Study
 
 GAMMAS = [4.95e-5, 1.98e-4, 3.0e-4, 3.96e-4, 4.95e-4, 6.6e-4]
 LOW, MID, HIGH = 4.95e-5, 1.98e-4, 4.95e-4
@@ -83,7 +84,7 @@ def limiting(branch):
 
 def fig01(ctx):
     """Steady-shear viscosity (polymer part) against the local Wi; inset against the rate."""
-    s = ctx.study("steady_shear")
+    ctx.study("steady_shear")  # MissingData where the study is not there
     fig, axes = st.figure(1, 1, width=7.8, height=4.6,
                           title="Steady-shear viscosity of the polymer: Owens and FENE-P ($\\lambda_0$ = 0.263 s)")
     ax = axes[0, 0]
@@ -155,7 +156,7 @@ def fig03(ctx):
             lim = limiting(b)
             lab = f"{mesh}" + (f": limit Wi = {lim:.4g}" if lim else f": ended at Wi = {b.end('Wi'):.4g}")
             for r, obs in enumerate(["min_m1", "max_m3"]):
-                axes[r, c].plot(b["Wi"], b[obs], ls=st.MESH_STYLE[mesh], color=st.FLUID_COLOUR[fluid], label=lab)
+                st.branch_line(axes[r, c], b, "Wi", obs, ls=st.MESH_STYLE[mesh], color=st.FLUID_COLOUR[fluid], label=lab)
                 if lim:
                     axes[r, c].plot([lim], [np.interp(lim, b["Wi"], b[obs])], "o", ms=3.5, color=st.FLUID_COLOUR[fluid])
         axes[0, c].axhline(0, color="k", lw=0.6)
@@ -328,13 +329,16 @@ def fig09(ctx):
 JUMP = 0.3  # a step of dx_max longer than this is the largest deflection moving to another extremum
 
 
-def path_with_arrows(ax, x, y, colour, label):
-    """The path (x, y) with arrows along it; where the largest deflection jumps from one
-    extremum of the interface to another (a dip to a bulge), a thin dotted line."""
+def path_with_arrows(ax, b, colour, label):
+    """The path (dx_max, dy_max) of a branch with arrows along it, smooth in the arclength between
+    its points; where the largest deflection jumps from one extremum of the interface to another
+    (a dip to a bulge), a thin dotted line."""
+    s, x, y = b["s"], b["dx_max"], b["dy_max"]
     jumps = np.where(np.abs(np.diff(x)) > JUMP)[0]
     start = 0
     for j in list(jumps) + [len(x) - 1]:
-        ax.plot(x[start:j + 1], y[start:j + 1], "-", color=colour, label=label if start == 0 else None)
+        draw_branch(ax, s[start:j + 1], x[start:j + 1], y[start:j + 1], color=colour,
+                    label=label if start == 0 else None)
         if j < len(x) - 1:
             ax.plot(x[j:j + 2], y[j:j + 2], ":", color=colour, lw=0.8)
         start = j + 1
@@ -353,11 +357,11 @@ def fig07(ctx):
                                 "dotted: it jumps from the dip to the bulge)")
     for fluid in st.FLUIDS:
         b = ctx.gamma(fluid)
-        path_with_arrows(axes[0, 0], b["dx_max"], b["dy_max"], st.FLUID_COLOUR[fluid], st.fluid_label(fluid))
+        path_with_arrows(axes[0, 0], b, st.FLUID_COLOUR[fluid], st.fluid_label(fluid))
     axes[0, 0].set_title("Wi = 0.1, $\\Gamma$ from 4.95e-5 to 6.6e-4")
     for fluid in st.VISCOELASTIC:
         b = ctx.wi(fluid, HIGH)
-        path_with_arrows(axes[0, 1], b["dx_max"], b["dy_max"], st.FLUID_COLOUR[fluid],
+        path_with_arrows(axes[0, 1], b, st.FLUID_COLOUR[fluid],
                          f"{st.fluid_label(fluid)}, Wi 0.01 to {limiting(b):.3g}")
     axes[0, 1].set_title("$\\Gamma$ = 4.95e-4, Wi from 0.01 to the limiting Wi")
     for ax in axes[0]:
@@ -590,8 +594,8 @@ def fig13(ctx):
     for fluid in st.FLUIDS:
         b = ctx.gamma(fluid)
         col = st.FLUID_COLOUR[fluid]
-        axes[0, 0].plot(b["Gamma"], b["dP_inlet_outlet"], "-", color=col, label=st.fluid_label(fluid))
-        axes[0, 0].plot(b["Gamma"], b["dP"], "--", color=col)
+        st.branch_line(axes[0, 0], b, "Gamma", "dP_inlet_outlet", color=col, label=st.fluid_label(fluid))
+        st.branch_line(axes[0, 0], b, "Gamma", "dP", ls="--", color=col)
         if fluid == "newtonian":
             i = int(np.argmin(abs(b["Gamma"] - HIGH)))
             for c, (key, ls) in enumerate((("dP_inlet_outlet", "-"), ("dP", "--"))):
@@ -599,7 +603,7 @@ def fig13(ctx):
             continue
         w = ctx.wi(fluid, HIGH)
         for c, (key, ls) in enumerate((("dP_inlet_outlet", "-"), ("dP", "--"))):
-            axes[0, c + 1].plot(w["Wi"], w[key], ls, color=col, label=st.fluid_label(fluid))
+            st.branch_line(axes[0, c + 1], w, "Wi", key, ls=ls, color=col, label=st.fluid_label(fluid))
             axes[0, c + 1].plot(w["Wi"][-1:], w[key][-1:], "x", color=col, ms=7)
     axes[0, 0].set_title("Wi = 0.1")
     axes[0, 0].set_xlabel(st.label("Gamma"))
