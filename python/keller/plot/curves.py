@@ -26,9 +26,13 @@ SAMPLES = 24  # samples per segment between two rows
 
 
 def ordered(s, *columns):
-    """The rows sorted by s with repeated s dropped: (index of the kept rows in the input, s, columns...)."""
+    """The rows sorted by s with repeated s, and rows where a column is not finite (an observable
+    not defined there), dropped: (index of the kept rows in the input, s, columns...)."""
     s = np.asarray(s, dtype=float)
-    order = np.argsort(s, kind="stable")
+    finite = np.isfinite(s)
+    for c in columns:
+        finite &= np.isfinite(np.asarray(c, dtype=float))
+    order = np.nonzero(finite)[0][np.argsort(s[finite], kind="stable")]
     keep = np.concatenate(([True], np.diff(s[order]) > 0)) if len(s) else np.zeros(0, bool)
     idx = order[keep]
     return (idx, s[idx]) + tuple(np.asarray(c, dtype=float)[idx] for c in columns)
@@ -55,6 +59,19 @@ def parameter_slopes(s, x, slope):
     return d
 
 
+def branch_splines(s, x, y, slope=None):
+    """(x(s), y(s), rows): the parameter's cubic Hermite spline with the stored slopes (PCHIP's
+    where a slope is not usable, parameter_slopes), the observable's PCHIP, over the rows sorted
+    by s without repeats (`rows`, their indices into the input)."""
+    rows, s, x, y = ordered(s, x, y)
+    sl = None if slope is None else np.asarray(slope, dtype=float)[rows]
+    if len(s) < 2:
+        raise ValueError("a smooth curve needs two points with different s")
+    fx = CubicHermiteSpline(s, x, parameter_slopes(s, x, sl))
+    fy = PchipInterpolator(s, y) if len(s) > 2 else CubicHermiteSpline(s, y, np.full(2, (y[1] - y[0]) / (s[1] - s[0])))
+    return fx, fy, rows
+
+
 def smooth_branch(s, x, y, slope=None, samples=SAMPLES):
     """The branch as a smooth curve: (s, x, y, segment) sampled `samples` times per segment between
     consecutive rows (in the order of s), segment[j] the index (into the sorted, deduplicated rows)
@@ -62,12 +79,9 @@ def smooth_branch(s, x, y, slope=None, samples=SAMPLES):
     with the slopes `slope` (dx/ds, the stored tangent_parameter; None: PCHIP's), y is PCHIP in s.
     Also returns the kept rows' indices into the input (`rows`) as a fifth item."""
     rows, s, x, y = ordered(s, x, y)
-    sl = None if slope is None else np.asarray(slope, dtype=float)[rows]
     if len(s) < 2:
         return s, x, y, np.zeros(len(s), int), rows
-    d = parameter_slopes(s, x, sl)
-    fx = CubicHermiteSpline(s, x, d)
-    fy = PchipInterpolator(s, y) if len(s) > 2 else (lambda t: np.interp(t, s, y))
+    fx, fy, _ = branch_splines(s, x, y, None if slope is None else np.asarray(slope, dtype=float)[rows])
     t = np.linspace(0.0, 1.0, samples + 1)[:-1]
     ss = np.concatenate([s[:-1, None] + t[None, :] * np.diff(s)[:, None]]).ravel()
     ss = np.concatenate((ss, s[-1:]))
