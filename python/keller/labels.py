@@ -70,6 +70,13 @@ QUANTITIES = {
     "u_centre": "u at the centre",
     "u_quarter": "u(1/4)",
     "v_mean": "mean v",
+    # the examples' observables (examples/)
+    "u_corner": "u - a at the corner (0, 0)",
+    "u_origin": "u(0, 0)",
+    "u_mid_wall": "u - a at the middle of the bottom wall",
+    "u_top": "u(0, Ly)",
+    "u_range": "max u - min u",
+    "nu": r"$\nu$",
     "vx_max": r"max $v_x$",
     # time series
     "deviation": "deviation from the steady state",
@@ -141,6 +148,33 @@ def quantity(name, parameter=None):
     if "." in name:
         return name.rsplit(".", 1)[1].replace("_", " ")
     return name
+
+
+FLUID_NAMES = {"newtonian": "Newtonian", "oldroyd-b": "Oldroyd-B", "fene-p": "FENE-P", "owens": "Owens",
+               "giesekus": "Giesekus", "ptt-linear": "linear PTT", "ptt-exponential": "exponential PTT",
+               "fene-cr": "FENE-CR"}
+
+
+def readable(label):
+    """A label of distinguishing_labels as a reader writes it: 'model = giesekus, alpha = 0.3' as
+    'Giesekus, $\\alpha$ = 0.3' (the law by its name, a parameter by its symbol, a key by its
+    meaning)."""
+    parts = []
+    for part in label.split(", "):
+        key, eq, value = part.partition(" = ")
+        if not eq:
+            parts.append(part)
+        elif key == "name":  # mesh.name
+            parts.append(f"mesh {value.strip(chr(34))}")
+        elif key == "formulation":
+            parts.append(value.strip('"'))
+        elif key == "model":
+            parts.append(FLUID_NAMES.get(value.strip('"'), value.strip('"')))
+        elif key in SYMBOLS or key in QUANTITIES:
+            parts.append(f"{symbol(key)} = {value.strip(chr(34))}")
+        else:
+            parts.append(f"{key.replace('_', ' ')} = {value.strip(chr(34))}")
+    return ", ".join(parts)
 
 
 # The constants of the constitutive laws (docs/fluids.md): a scene lists each with its default

@@ -15,6 +15,7 @@ No title unless --title; --footer adds why each branch ended under the axes. Rea
 files (keller.open; also one whose run was killed)."""
 
 import argparse
+import os
 import sys
 
 import numpy as np
@@ -58,6 +59,33 @@ def labelled_points(branch, y, values=False):
     return out
 
 
+def origin_labels(paths, branches):
+    """A legend label per branch from how it was started, for branches whose scenes agree (a branch
+    and those switched from it): 'switched at bp1' from `--switch FILE:bp1` (a row number named by
+    the label of that row in FILE where FILE is one of the plotted files), 'from fold1' from
+    `--from`, else 'primary branch'. None where a command line is not stored."""
+    import shlex
+
+    out = []
+    by_name = {os.path.basename(p): b for p, b in zip(paths, branches)}
+    for b in branches:
+        words = shlex.split(b.provenance.get("command_line", "")) if b.provenance else []
+        if not words:
+            return None
+        text = "primary branch"
+        for flag, how in (("--switch", "switched at"), ("--from", "from")):
+            if flag in words[:-1]:
+                source, _, point = words[words.index(flag) + 1].rpartition(":")
+                src = by_name.get(os.path.basename(source))
+                if src is not None and point.isdigit():
+                    point = next((lab for lab, row in src.labels if row == int(point)), f"row {point}")
+                text = f"{how} {point}"
+        if "--switch-direction" in words[:-1] and words[words.index("--switch-direction") + 1].startswith("-"):
+            text += ", other direction"
+        out.append(text)
+    return out if len(set(out)) == len(out) else None
+
+
 def draw(ax, branches, y, labels, values=False):
     """Draws the branches into ax (curves and markers); returns (legend handles, names, points to
     label [(x, y, text, colour)])."""
@@ -70,8 +98,8 @@ def draw(ax, branches, y, labels, values=False):
         drawn, line = draw_branch(ax, t["s"], t[b.parameter], t[y], t.get("tangent_parameter"),
                                   t.get("unstable"), color=colour)
         states |= drawn
-        if not single:
-            handles.append(line)
+        if not single:  # the branch by its colour (its line style says its stability)
+            handles.append(plt.Line2D([], [], color=colour, lw=1.6))
             names.append(labels[i])
         codes = np.asarray(t["kind"]).astype(int)
         for code, kind in KIND_CODES.items():
@@ -127,6 +155,8 @@ def main(argv=None):
         sys.exit(f"keller.plot branch: {e}")
 
     labels = args.labels or distinguishing_labels(args.branch, ignore={f"parameters.{parameter}"})
+    if not args.labels and len(branches) > 1 and labels == [os.path.basename(p) for p in args.branch]:
+        labels = origin_labels(args.branch, branches) or labels  # the scenes agree: not by file names
     fig, ax = plt.subplots(figsize=(6.4, 4.4))
     handles, names, notes = draw(ax, branches, y, labels, args.values)
     ax.set_xlabel(quantity(parameter))

@@ -13,11 +13,11 @@ import matplotlib
 matplotlib.use("Agg")
 
 import matplotlib.pyplot as plt  # noqa: E402
-import matplotlib.ticker as ticker  # noqa: E402
 import numpy as np  # noqa: E402
 
 from keller.labels import quantity, symbol  # noqa: E402
 from keller.outputs import save_figure  # noqa: E402
+from keller.plot.common import log_ticks  # noqa: E402
 
 MESH_MARKERS = ["o", "s", "^", "D", "v", "P", "X", "*", "h", "<", ">"]
 
@@ -34,19 +34,6 @@ def group_name(values):
         else:
             parts.append(f"{quantity(key)} = {value}")
     return ", ".join(parts) or "all tasks"
-
-
-def log_ticks(axis, lo, hi):
-    """Labelled ticks on a log axis spanning [lo, hi]: decades where it spans two or more, else
-    1-2-5 steps, plain numbers, no minor labels."""
-    if not (np.isfinite(lo) and np.isfinite(hi) and lo > 0 and hi > 0):
-        return
-    decades = np.log10(hi) - np.log10(lo)
-    if decades < 1.5:
-        axis.set_major_locator(ticker.LogLocator(base=10, subs=(1.0, 2.0, 5.0) if decades > 0.5 else
-                                                 (1.0, 1.5, 2.0, 3.0, 5.0, 7.0)))
-        axis.set_major_formatter(ticker.FuncFormatter(lambda v, _: f"{v:.3g}"))
-    axis.set_minor_formatter(ticker.NullFormatter())
 
 
 def draw(rows, published, path, inputs, title=None, mark_unsettled=False, parameter=None):

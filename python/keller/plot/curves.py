@@ -15,8 +15,9 @@ PCHIP's instead.
 
 The labels (`place_labels`): greedy, in the order given; each label tries a list of offsets from
 its point (in points, display coordinates) and takes the first whose text box, as the renderer
-draws it, overlaps no label placed before, no marker and stays inside the axes; when none does,
-the one with the least overlap. Placed after the figure's layout is final (offsets are in points,
+draws it, overlaps no label placed before, no marker, stays inside the axes and covers no drawn
+curve; when none does, the one with the least overlap (of labels, markers and the frame first,
+then of curves). Placed after the figure's layout is final (offsets are in points,
 so later layout changes would move the points apart from the labels' tests)."""
 
 import numpy as np
@@ -142,7 +143,8 @@ def place_labels(ax, points, texts, colors=None, marker_px=6.0, fontsize=8, offs
     """Labels each point (data coordinates) with its text, greedily: the first offset (points) of
     `offsets` (default OFFSETS, then the same twice and three times as far) whose text box overlaps
     no placed label and no marker (a square of half-side marker_px pixels round each point) and
-    stays inside the axes, else the one of least overlap. Returns the annotations."""
+    stays inside the axes and covers no drawn curve, else the one of least overlap (an overlap of
+    labels, markers or the frame outweighs any number of curve samples). Returns the annotations."""
     fig = ax.figure
     renderer = fig.canvas.get_renderer()
     base = offsets or OFFSETS
@@ -153,6 +155,11 @@ def place_labels(ax, points, texts, colors=None, marker_px=6.0, fontsize=8, offs
     r = marker_px * fig.dpi / 72.0
     markers = [Bbox.from_extents(px - r, py - r, px + r, py + r) for px, py in disp]
     frame = ax.get_window_extent(renderer)
+    # the drawn curves: a label should not hide them either (a lesser fault than an overlap)
+    curve = [ax.transData.transform(np.column_stack(line.get_data()).astype(float)) for line in ax.get_lines()
+             if len(line.get_xdata())]
+    curve = np.concatenate(curve) if curve else np.zeros((0, 2))
+    curve = curve[np.isfinite(curve).all(axis=1)]
     placed, out = [], []
     for k, ((x, y), text) in enumerate(zip(points, texts)):
         color = colors[k] if colors else "black"
@@ -165,6 +172,8 @@ def place_labels(ax, points, texts, colors=None, marker_px=6.0, fontsize=8, offs
             cost = sum(_overlap(box, b) for b in placed) + sum(_overlap(box, m) for m in markers)
             outside = box.x0 < frame.x0 or box.x1 > frame.x1 or box.y0 < frame.y0 or box.y1 > frame.y1
             cost += (box.width * box.height) if outside else 0.0
+            cost = 1e6 * cost + np.count_nonzero((curve[:, 0] > box.x0) & (curve[:, 0] < box.x1) &
+                                                 (curve[:, 1] > box.y0) & (curve[:, 1] < box.y1))
             if best is None or cost < best[0]:
                 if best is not None:
                     best[1].remove()

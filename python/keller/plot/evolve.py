@@ -21,6 +21,7 @@ import matplotlib.pyplot as plt
 import keller.results
 from keller.labels import quantity
 from keller.outputs import OutputError, check_outputs, save_figure
+from keller.plot.common import log_ticks
 
 BOOKKEEPING = {"step", "t", "h", "order", "error", "iterations", "factorisations", "rejected", "next_step", "seconds",
                "saved_slot"}
@@ -67,6 +68,9 @@ def main(argv=None):
             ax.semilogy(t, abs(v[0]) * np.exp(-mode[0] * t), "--", color="tab:red",
                         label=rf"$e^{{-\mathrm{{Re}}\,\sigma\, t}}$, $\sigma$ = {mode[0]:.6g} {mode[1]:+.6g} i")
         ax.legend(frameon=False, fontsize=8)
+        shown = np.abs(v)[np.abs(v) > 0]
+        if len(shown):
+            log_ticks(ax.yaxis, shown.min(), shown.max())  # a span under a decade still gets labels
     else:
         ax.plot(t, v, color="0.25")
     ax.set_xlabel("time t")

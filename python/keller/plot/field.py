@@ -2,8 +2,8 @@
 branch files side by side (the patterns of branches switched at different branch points, say):
 any problem on a mesh of 9-node quadrilaterals, keller's own or one of your own
 (docs/own_problem.md). The solution is the last one stored on each branch, or the one stored
-nearest a row (--row); its parameter value is in the panel's title (after the file's label with
---labels; the file's name is never shown).
+nearest a row (--row); its parameter value is in the panel's title (after a label per file: --labels, or
+the scene keys that differ, or how the branch started, 'switched at bp1'; never the file's name).
 
     python3 -m keller.plot field BRANCH.h5 [MORE.h5 ...] --field FIELD:COMPONENT [--row N]
         [--labels L ...] -o FIGURE.png
@@ -11,14 +11,16 @@ nearest a row (--row); its parameter value is in the panel's title (after the fi
 Reads only the HDF5 files (keller.open)."""
 
 import argparse
+import os
 import sys
 
 import numpy as np
 import matplotlib.pyplot as plt
 
 import keller.results
-from keller.labels import symbol
+from keller.labels import distinguishing_labels, readable, symbol
 from keller.outputs import OutputError, save_figure
+from keller.plot.branch import origin_labels
 
 
 def field_component(path, solution, field, component):
@@ -46,7 +48,7 @@ def main(argv=None):
         sys.exit(f"keller.plot field: {len(a.labels)} labels for {len(a.branch)} files")
     field, component = a.field.split(":", 1)
     try:
-        panels = []
+        panels, branches = [], []
         for k, path in enumerate(a.branch):
             branch = keller.results.open(path)
             parameter = branch.parameter
@@ -60,6 +62,12 @@ def main(argv=None):
                 raise OutputError(f"{path}: no mesh (/mesh): a 1D problem's fields are tables")
             tri = sol.mesh.triangulation()  # on the deformed positions where there are some
             panels.append((tri, u, parameter, value))
+            branches.append(branch)
+        names = a.labels
+        if not names and len(branches) > 1:  # by the scene keys that differ, or how each branch started
+            names = [readable(x) for x in distinguishing_labels(a.branch)]
+            if names == [os.path.basename(p) for p in a.branch]:
+                names = origin_labels(a.branch, branches)
         # the figure shaped by the domain: side by side where it is about square, stacked where
         # it is long (a channel), so that no panel is mostly white space
         xs = np.concatenate([t.x for t, *_ in panels])
@@ -82,7 +90,7 @@ def main(argv=None):
             ax.set_xlabel("x")
             ax.set_ylabel("y")
             what = f"{symbol(parameter)} = {value:.6g}"
-            ax.set_title(f"{a.labels[k]}: {what}" if a.labels else what, fontsize=10)
+            ax.set_title(f"{names[k]}\n{what}" if names else what, fontsize=9)
             fig.colorbar(art, ax=ax, shrink=0.6 if aspect < 0.5 else 0.8, label=component, pad=0.02)
         fig.tight_layout()
         save_figure(fig, a.output, a.branch, dpi=150)
