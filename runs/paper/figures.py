@@ -279,12 +279,14 @@ def shape_axes(ax, title):
     ax.set_title(title)
     ax.set_xlabel(st.label("x"))
     ax.set_ylabel("interface y / W")
-    ax.legend(ncol=2, fontsize=6)
+    # under the panel: inside it the legend would cover shapes (they fill the panel's width)
+    ax.legend(ncol=4, fontsize=6, loc="upper center", bbox_to_anchor=(0.5, -0.2), frameon=False,
+              columnspacing=1.0, handlelength=1.6)
 
 
 def fig06(ctx):
     """Interface shapes: against Gamma at Wi = 0.1 (Newtonian dashed), against Wi at 4.95e-4."""
-    fig, axes = st.figure(2, 3, width=11.5, height=6.6,
+    fig, axes = st.figure(2, 3, width=11.5, height=8.4,
                           title="Interface shapes: top, Wi = 0.1 for six $\\Gamma$ (Newtonian dashed); "
                                 "bottom, $\\Gamma$ = 4.95e-4 for several Wi up to the limit")
     newt = ctx.gamma("newtonian")
@@ -304,7 +306,7 @@ def fig06(ctx):
 def fig09(ctx):
     """Interface shapes against the wall thickness (Gamma = 4.95e-4, Wi = 0.1), and at t = 0.1
     for several Wi."""
-    fig, axes = st.figure(2, 3, width=11.5, height=6.6,
+    fig, axes = st.figure(2, 3, width=11.5, height=8.0,
                           title="Interface shapes at $\\Gamma$ = 4.95e-4: top, Wi = 0.1 for t = 0.4, 0.2, 0.1 "
                                 "(Newtonian dashed); bottom, t = 0.1 for several Wi")
     ts = [0.4, 0.2, 0.1]
@@ -345,7 +347,10 @@ def path_with_arrows(ax, b, colour, label):
     n = len(x)
     for k in np.linspace(0, n - 2, min(6, n - 1)).astype(int):
         if abs(x[k + 1] - x[k]) <= JUMP:
-            ax.annotate("", xy=(x[k + 1], y[k + 1]), xytext=(x[k], y[k]),
+            # the head at the next point, pointing along the chord; a short shaft (a chord drawn
+            # whole would show the polygon beside the smooth path)
+            ax.annotate("", xy=(x[k + 1], y[k + 1]), xytext=(x[k + 1] - 0.05 * (x[k + 1] - x[k]),
+                                                           y[k + 1] - 0.05 * (y[k + 1] - y[k])),
                         arrowprops={"arrowstyle": "-|>", "color": colour, "lw": 1.0, "mutation_scale": 10})
     ax.plot(x[:1], y[:1], "o", ms=4, color=colour)
 
@@ -509,13 +514,15 @@ def profile_axes(ax, title, column):
     ax.set_title(title)
     ax.set_xlabel(st.label("x"))
     ax.set_ylabel(st.label(column))
-    ax.legend(ncol=2, fontsize=6)
+    # under the panel, as shape_axes: profiles fill the panel, a legend inside covers some
+    ax.legend(ncol=4, fontsize=6, loc="upper center", bbox_to_anchor=(0.5, -0.2), frameon=False,
+              columnspacing=1.0, handlelength=1.6)
 
 
 def fig11(ctx):
     """Pressure along the interface: against Gamma at Wi = 0.1 (Newtonian dashed; vertical marks at
     the x of largest deflection), against Wi at Gamma = 1.98e-4 and 4.95e-4."""
-    fig, axes = st.figure(3, 3, width=11.5, height=9.0,
+    fig, axes = st.figure(3, 3, width=11.5, height=11.4,
                           title="Pressure along the interface (dotted verticals: x of largest deflection)")
     newt = ctx.gamma("newtonian")
     for c, fluid in enumerate(st.VISCOELASTIC):
@@ -534,7 +541,7 @@ def fig11(ctx):
 
 def fig14(ctx):
     """M_xx along the interface against Gamma (Wi = 0.1) and against Wi (Gamma = 4.95e-4)."""
-    fig, axes = st.figure(2, 3, width=11.5, height=6.6,
+    fig, axes = st.figure(2, 3, width=11.5, height=8.2,
                           title="$M_{xx}$ along the interface: top, Wi = 0.1; bottom, $\\Gamma$ = 4.95e-4")
     for c, fluid in enumerate(st.VISCOELASTIC):
         b = ctx.gamma(fluid)
@@ -550,7 +557,7 @@ def fig14(ctx):
 def fig16(ctx):
     """Tangential stress and normal extra stress on the interface, against Gamma (Wi = 0.1) and
     against Wi (Gamma = 4.95e-4), per fluid."""
-    fig, axes = st.figure(3, 4, width=15.0, height=9.0,
+    fig, axes = st.figure(3, 4, width=15.0, height=11.4,
                           title="Stresses on the interface: tangential $t \\cdot \\tau \\cdot n$ and normal extra "
                                 "$n \\cdot \\tau \\cdot n$ (t downstream, n out of the fluid; values at the "
                                 "corners x = 7, 12 leave the scale)")
