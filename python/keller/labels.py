@@ -81,6 +81,8 @@ QUANTITIES = {
     # time series
     "deviation": "deviation from the steady state",
     "mode_amplitude": "amplitude along the eigenvector",
+    "mode_re": "amplitude along the eigenvector, real part",
+    "mode_im": "amplitude along the eigenvector, imaginary part",
     # study columns
     "unknowns": "unknowns",
     "seconds": "time of the run (s)",
