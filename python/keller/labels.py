@@ -162,7 +162,10 @@ def readable(label):
     'Giesekus, $\\alpha$ = 0.3' (the law by its name, a parameter by its symbol, a key by its
     meaning)."""
     parts = []
-    for part in label.split(", "):
+    given = label.split(", ")
+    # the law first: 'Giesekus, alpha = 0.1, log-conformation', not sorted by key
+    given = [p for p in given if p.startswith("model = ")] + [p for p in given if not p.startswith("model = ")]
+    for part in given:
         key, eq, value = part.partition(" = ")
         if not eq:
             parts.append(part)

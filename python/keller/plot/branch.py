@@ -23,7 +23,7 @@ import numpy as np
 import matplotlib.pyplot as plt
 
 import keller.results
-from keller.labels import distinguishing_labels, quantity, symbol
+from keller.labels import distinguishing_labels, quantity, readable, symbol
 from keller.outputs import OutputError, check_outputs, save_figure
 from keller.plot.curves import STYLES, draw_branch, place_labels
 
@@ -157,6 +157,8 @@ def main(argv=None):
     labels = args.labels or distinguishing_labels(args.branch, ignore={f"parameters.{parameter}"})
     if not args.labels and len(branches) > 1 and labels == [os.path.basename(p) for p in args.branch]:
         labels = origin_labels(args.branch, branches) or labels  # the scenes agree: not by file names
+    elif not args.labels:
+        labels = [readable(lab) for lab in labels]  # 'Giesekus, alpha = 0.1', not 'model = giesekus, ...'
     fig, ax = plt.subplots(figsize=(6.4, 4.4))
     handles, names, notes = draw(ax, branches, y, labels, args.values)
     ax.set_xlabel(quantity(parameter))

@@ -13,7 +13,7 @@ import sys
 
 import matplotlib.pyplot as plt
 
-from keller.labels import distinguishing_labels
+from keller.labels import distinguishing_labels, readable
 from keller.outputs import OutputError, check_outputs, save_figure
 from keller.plot.common import columns
 
@@ -46,7 +46,7 @@ def main(argv=None):
         check_outputs([args.output], inputs)
     except OutputError as e:
         sys.exit(f"keller.plot cylinder_deviation: {e}")
-    labels = args.labels or distinguishing_labels(args.branches, ignore={"parameters.Wi"})
+    labels = args.labels or [readable(x) for x in distinguishing_labels(args.branches, ignore={"parameters.Wi"})]
     if len(labels) != len(args.branches):
         sys.exit("keller.plot cylinder_deviation: --labels needs one label per branch file")
 

@@ -14,7 +14,7 @@ import sys
 
 import matplotlib.pyplot as plt
 
-from keller.labels import distinguishing_labels, quantity
+from keller.labels import distinguishing_labels, quantity, readable
 from keller.outputs import OutputError, check_outputs, save_figure
 from keller.plot.common import columns
 from keller.plot.curves import draw_branch
@@ -35,7 +35,7 @@ def main(argv=None):
         check_outputs([args.output], args.branches)
     except OutputError as e:
         sys.exit(f"keller.plot cylinder_drag: {e}")
-    labels = args.labels or distinguishing_labels(args.branches, ignore={"parameters.Wi"})
+    labels = args.labels or [readable(x) for x in distinguishing_labels(args.branches, ignore={"parameters.Wi"})]
 
     fig, ax = plt.subplots(figsize=(6.4, 4.6))
     shown = [k for _, k in PUBLISHED]
