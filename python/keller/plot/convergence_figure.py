@@ -15,7 +15,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from keller.labels import quantity, symbol  # noqa: E402
+from keller.labels import FLUID_NAMES, quantity, symbol  # noqa: E402
 from keller.outputs import save_figure  # noqa: E402
 from keller.plot.common import log_ticks  # noqa: E402
 
@@ -29,7 +29,9 @@ def group_name(values):
         value = str(value).strip('"')
         if key.startswith("parameters."):
             parts.append(f"{symbol(key)} = {value}")
-        elif key in ("fluid.model", "fluid.formulation", "mesh.name"):
+        elif key == "fluid.model":
+            parts.append(FLUID_NAMES.get(value, value))
+        elif key in ("fluid.formulation", "mesh.name"):
             parts.append(value)
         else:
             parts.append(f"{quantity(key)} = {value}")

@@ -17,7 +17,7 @@ import numpy as np
 import matplotlib.pyplot as plt
 
 import keller.results
-from keller.labels import quantity
+from keller.labels import quantity, readable
 from keller.outputs import OutputError, check_outputs, save_figure
 
 
@@ -70,7 +70,7 @@ def main(argv=None):
         sel = np.ones(len(x), bool) if g is None else cols[a.curves] == g
         ok = sel & np.isfinite(y) & (status == "done")
         idx = np.where(ok)[0][np.argsort(x[ok])]
-        label = quantity(a.y, parameter) if g is None else f"{quantity(a.curves)} = {str(g).strip(chr(34))}"
+        label = quantity(a.y, parameter) if g is None else readable(f"{a.curves.split('.')[-1]} = {g}")
         ax.plot(x[idx], y[idx], marks[i % len(marks)] + "-", ms=4, label=label)
         missing = sel & ~ok
         if missing.any():
