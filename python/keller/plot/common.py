@@ -33,6 +33,6 @@ def log_ticks(axis, lo, hi):
     decades = np.log10(hi) - np.log10(lo)
     if decades < 1.5:
         axis.set_major_locator(ticker.LogLocator(base=10, subs=(1.0, 2.0, 5.0) if decades > 0.5 else
-                                                 (1.0, 1.5, 2.0, 3.0, 5.0, 7.0)))
+                                                 (1.0, 1.5, 2.0, 3.0, 4.0, 5.0, 7.0)))
         axis.set_major_formatter(ticker.FuncFormatter(lambda v, _: f"{v:.3g}"))
     axis.set_minor_formatter(ticker.NullFormatter())
