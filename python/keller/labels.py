@@ -42,6 +42,16 @@ QUANTITIES = {
     "min_m1_y": r"y of min $m_1$ / W",
     "max_m3": r"max $m_3$ (largest eigenvalue of M)",
     "max_trM": "max tr M",
+    "x_min_m1": r"x of min $m_1$ / W",
+    "y_min_m1": r"y of min $m_1$ / W",
+    "Q_in": r"flow rate in $Q_{in}$",
+    "Q_out": r"flow rate out $Q_{out}$",
+    "area_change": "relative change of the fluid's area",
+    "mesh_quality": "mesh quality (min det J / generated)",
+    "min_detF": r"min det F (solid)",
+    # an event curve's pieces (docs/two_parameter.md)
+    "place": "place of the minimum (node index)",
+    "switch margin": "switch margin",
     # the cylinder
     "K": r"drag $K = F_x / (\eta_0 U)$",
     "drag": r"drag $K = F_x / (\eta_0 U)$",
