@@ -40,6 +40,7 @@ def main(argv=None):
     ap.add_argument("--field", required=True, help="FIELD:COMPONENT, e.g. c:u")
     ap.add_argument("--row", type=int, help="the stored solution nearest this table row (default: the last)")
     ap.add_argument("--labels", nargs="+", help="a label per file, before its parameter value in the panel's title")
+    ap.add_argument("--title", help="a title over the panels (default: none)")
     ap.add_argument("-o", "--output", required=True, help="figure file")
     a = ap.parse_args(argv)
     if ":" not in a.field:
@@ -92,6 +93,8 @@ def main(argv=None):
             what = f"{symbol(parameter)} = {value:.6g}"
             ax.set_title(f"{names[k]}\n{what}" if names else what, fontsize=9)
             fig.colorbar(art, ax=ax, shrink=0.6 if aspect < 0.5 else 0.8, label=component, pad=0.02)
+        if a.title:
+            fig.suptitle(a.title, fontsize=10)
         fig.tight_layout()
         save_figure(fig, a.output, a.branch, dpi=150)
     except OutputError as e:

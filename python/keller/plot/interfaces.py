@@ -35,6 +35,7 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("branches", nargs="+", help="Gamma branch files, one panel each")
     ap.add_argument("--newtonian", help="the Newtonian Gamma branch, overlaid in grey")
+    ap.add_argument("--title", help="a title over the panels (default: none)")
     ap.add_argument("-o", "--output", default="interfaces.png")
     args = ap.parse_args(argv)
     files = args.branches
@@ -69,6 +70,8 @@ def main(argv=None):
     ax.set_ylabel(quantity("dP"), fontsize=8)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=6, loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False)
+    if args.title:
+        fig.suptitle(args.title, fontsize=10)
     fig.tight_layout()
     save_figure(fig, args.output, inputs, dpi=150)
     print(f"wrote {args.output}")
