@@ -18,8 +18,28 @@ Meshes are ordered by their number of unknowns n, with mesh size h = n^(-1/d) (d
 - the cost: unknowns, nonzeros of L + U, peak memory, seconds per linear solve, per continuation
   point and per run, as the study recorded them.
 
+Outside the asymptotic range. Richardson's extrapolation, and an error read against it, hold only
+where every mesh is in the asymptotic range, where the error falls as C h^p with one p. So the
+observed order is computed from every three successive meshes (p_1 from meshes 1-3, p_2 from 2-4,
+...), and the sequence counts as settled when:
+
+- it has at least three meshes with values (with fewer there is no order at all: not settled);
+- every triple has an observed order (differences falling monotonically);
+- with three meshes, the one observed order is within --order-tolerance (0.25 by default) of the
+  formal order (there is no second order to compare it with, and the formal order is what the
+  method promises); with four or more, every two successive observed orders are within
+  --order-tolerance of each other (an order still moving, 1.2 then 1.9 then 2.0, says the coarse
+  meshes were not yet asymptotic, and nothing shows the finest pair is).
+
+0.25 is a quarter of an order: well above the scatter of the orders of a smooth sequence that is
+asymptotic (the 1e-2 of rounding in the differences of a second-order sequence moves its
+observed order by about 0.02), well below the change of a pre-asymptotic one. A sequence that is
+not settled is warned about on stderr, marked "(not settled)" in the printed and Markdown tables
+(the column `settled` of the CSV), and, with --mark-unsettled only, drawn dashed in the figure.
+
 The figure: one panel per observable, the error against the run's time on log-log axes, one
-curve per group."""
+curve per group (a marker per mesh, its key with the groups' legend in a panel left free by the
+grid, or under the panels)."""
 
 import argparse
 import csv
@@ -30,7 +50,7 @@ import sys
 import numpy as np
 
 import keller.results
-from keller.outputs import OutputError, check_outputs, save_figure
+from keller.outputs import OutputError, check_outputs
 from keller.results import same_value
 
 COST = [("unknowns", "unknowns"), ("nnz_lu", "nnz(L+U)"), ("peak_mb", "peak MB"),
@@ -63,6 +83,34 @@ def observed_order(h, q, formal):
     return 0.5 * (lo + hi), True
 
 
+ORDER_TOLERANCE = 0.25
+
+
+def settled_order(h, q, formal, tolerance=ORDER_TOLERANCE):
+    """(settled, orders, why): the observed orders of every three successive meshes (h decreasing)
+    and whether the sequence is in the asymptotic range by the rule of the module's doc; `why`
+    says why not (empty when settled)."""
+    h, q = list(h), list(q)
+    if len(q) < 3:
+        return False, [], f"{len(q)} meshes with a value: fewer than 3 give no order"
+    orders = []
+    for k in range(len(q) - 2):
+        p, observed = observed_order(h[k:k + 3], q[k:k + 3], formal)
+        if not observed:
+            return False, orders, f"no observed order from meshes {k + 1}-{k + 3} (the differences do not fall)"
+        orders.append(p)
+    if len(orders) == 1:
+        if abs(orders[0] - formal) > tolerance:
+            return False, orders, (f"the observed order {orders[0]:.2f} of 3 meshes is not the formal {formal:g} "
+                                   f"(within {tolerance:g})")
+        return True, orders, ""
+    jumps = [abs(b - a) for a, b in zip(orders, orders[1:])]
+    if max(jumps) > tolerance:
+        return False, orders, ("the observed orders " + ", ".join(f"{p:.2f}" for p in orders)
+                               + f" differ by more than {tolerance:g}")
+    return True, orders, ""
+
+
 def richardson(h, q, p):
     """The extrapolation of the two finest meshes at order p."""
     if len(q) < 2:
@@ -72,8 +120,10 @@ def richardson(h, q, p):
     return q3 + (q3 - q2) * h3 ** p / (h2 ** p - h3 ** p)
 
 
-def analyse(cols, mesh_key, groups, observables, published, formal, dimension, resolution=None):
-    """Rows of the convergence table, one per (group, observable, mesh)."""
+def analyse(cols, mesh_key, groups, observables, published, formal, dimension, resolution=None,
+            tolerance=ORDER_TOLERANCE):
+    """Rows of the convergence table, one per (group, observable, mesh), each with whether its
+    sequence is `settled` (settled_order) and, where not, `why`."""
     done = cols["status"] == "done"
     keys = [tuple(cols[g][i] for g in groups) for i in range(len(done))]
     out = []
@@ -93,12 +143,14 @@ def analyse(cols, mesh_key, groups, observables, published, formal, dimension, r
             ok = np.isfinite(q)
             hs, qs = h[ok], q[ok]
             p, observed = observed_order(list(hs), list(qs), formal)
+            settled, orders, why = settled_order(hs, qs, formal, tolerance)
             qx = richardson(list(hs), list(qs), p)
             for k, i in enumerate(sel):
                 row = {"group": ", ".join(f"{g} = {v}" for g, v in zip(groups, group)), "observable": obs,
                        "mesh": cols[mesh_key][i], "value": q[k],
                        "error": abs(q[k] - qx) / abs(qx) if np.isfinite(q[k]) and qx else float("nan"),
-                       "extrapolated": qx, "order": p, "observed": observed}
+                       "extrapolated": qx, "order": p, "observed": observed, "settled": settled, "why": why,
+                       "group_values": dict(zip(groups, group))}
                 if obs in published:
                     row["published_error"] = abs(q[k] - published[obs]) / abs(published[obs])
                 for c, _ in COST:
@@ -128,7 +180,8 @@ def markdown(rows, published):
         cells = [r["group"], r["observable"], str(r["mesh"]), fmt(r["value"], ".8g"), fmt(r["error"], ".2e")]
         if published:
             cells.append(fmt(r.get("published_error"), ".2e"))
-        cells.append(fmt(r["order"], ".2f") + ("" if r["observed"] else " (formal)"))
+        cells.append(fmt(r["order"], ".2f") + ("" if r["observed"] else " (formal)")
+                     + ("" if r["settled"] else " (not settled)"))
         cells += [fmt(r["unknowns"], ".0f"), fmt(r["nnz_lu"], ".3g"), fmt(r["peak_mb"], ".0f"),
                   fmt(r["seconds_per_solve"], ".3g"), fmt(r["seconds_per_point"], ".3g"), fmt(r["seconds"], ".3g")]
         lines.append("| " + " | ".join(cells) + " |")
@@ -150,7 +203,11 @@ def main(argv=None):
     ap.add_argument("--csv")
     ap.add_argument("--markdown")
     ap.add_argument("--figure")
-    ap.add_argument("--title", help="the figure's title")
+    ap.add_argument("--title", help="the figure's title (default: none)")
+    ap.add_argument("--order-tolerance", type=float, default=ORDER_TOLERANCE,
+                    help="successive observed orders further apart than this: not in the asymptotic range")
+    ap.add_argument("--mark-unsettled", action="store_true",
+                    help="figure: draw dashed the sequences not in the asymptotic range")
     a = ap.parse_args(argv)
     outputs = [o for o in (a.csv, a.markdown, a.figure) if o]
     try:
@@ -173,7 +230,14 @@ def main(argv=None):
     if not keep.any():
         sys.exit(f"keller.convergence: no task has {' and '.join(a.where)}")
     cols = {c: np.asarray(v)[keep] for c, v in cols.items()}
-    rows = analyse(cols, a.mesh, a.group, a.observables, published, a.order, a.dimension, a.resolution)
+    rows = analyse(cols, a.mesh, a.group, a.observables, published, a.order, a.dimension, a.resolution,
+                   a.order_tolerance)
+    warned = set()
+    for r in rows:
+        if not r["settled"] and (r["group"], r["observable"]) not in warned:
+            warned.add((r["group"], r["observable"]))
+            print(f"keller.convergence: warning: {r['observable']}" + (f" ({r['group']})" if r["group"] else "")
+                  + f" is outside the asymptotic range: {r['why']}", file=sys.stderr)
     table = markdown(rows, published)
     print(table, end="")
     if a.markdown:
@@ -183,7 +247,7 @@ def main(argv=None):
         os.replace(tmp, a.markdown)
     if a.csv:
         fields = ["group", "observable", "mesh", "value", "extrapolated", "error", "published_error", "order",
-                  "observed"] + [c for c, _ in COST]
+                  "observed", "settled"] + [c for c, _ in COST]
         tmp = a.csv + ".part"
         with open(tmp, "w", newline="") as f:
             # a group of several keys reads "a = 1, b = 2": the csv module quotes such cells
@@ -193,41 +257,12 @@ def main(argv=None):
                 w.writerow([str(r.get(c, "")) for c in fields])
         os.replace(tmp, a.csv)
     if a.figure:
-        import matplotlib
+        from keller.plot.convergence_figure import draw
 
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-
-        obs = list(dict.fromkeys(r["observable"] for r in rows))
-        groups = list(dict.fromkeys(r["group"] for r in rows))
-        ncols = min(4, len(obs))
-        nrows = -(-len(obs) // ncols)
-        fig, axes = plt.subplots(nrows, ncols, figsize=(3.6 * ncols, 3.0 * nrows + 0.4 + 0.2 * len(groups)),
-                                 squeeze=False)
-        for ax, o in zip(axes.flat, obs):
-            key = "published_error" if o in published else "error"
-            for k, g in enumerate(groups):
-                pts = [r for r in rows if r["observable"] == o and r["group"] == g]
-                t = [r["seconds"] for r in pts]
-                e = [r.get(key, float("nan")) for r in pts]
-                ax.loglog(t, e, "o-", ms=4, color=f"C{k % 10}", label=g or "all")
-                for r in pts:
-                    ax.annotate(str(r["mesh"]), (r["seconds"], r.get(key, float("nan"))), fontsize=6,
-                                textcoords="offset points", xytext=(3, 3))
-            ax.set_xlabel("time of the run (s)", fontsize=8)
-            ax.set_ylabel("relative error, " + ("against the published value" if o in published else
-                                                 "against the extrapolation"), fontsize=8)
-            ax.set_title(o, fontsize=9)
-            ax.grid(alpha=0.3, which="both")
-        for ax in axes.flat[len(obs):]:
-            ax.set_visible(False)
-        handles, labels = axes.flat[0].get_legend_handles_labels()
-        fig.legend(handles, labels, loc="lower center", ncol=min(2, len(groups)), fontsize=7)
-        if a.title:
-            fig.suptitle(a.title, fontsize=10)
-        fig.tight_layout(rect=(0, (0.25 + 0.2 * len(groups)) / fig.get_figheight(), 1, 1))
-        save_figure(fig, a.figure, [a.study], dpi=150)
-
+        pars = set(cols["parameter"]) if "parameter" in cols else set()
+        draw(rows, published, a.figure, [a.study], title=a.title, mark_unsettled=a.mark_unsettled,
+             parameter=pars.pop() if len(pars) == 1 else None)
+    return 0
 
 if __name__ == "__main__":
     sys.exit(main())

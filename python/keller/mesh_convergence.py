@@ -15,6 +15,7 @@ import argparse
 import os
 import sys
 
+import numpy as np
 
 import keller.results
 from keller.outputs import OutputError, check_outputs, save_figure
@@ -129,20 +130,26 @@ def main(argv=None):
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
 
-        fig, axes = plt.subplots(1, len(a.observables), figsize=(4 * len(a.observables), 3.4), squeeze=False)
+        from keller.labels import quantity
+        from keller.plot.curves import draw_branch
+
+        fig, axes = plt.subplots(1, len(a.observables), figsize=(3.6 * len(a.observables), 3.2), squeeze=False)
         for ax, o in zip(axes[0], a.observables):
-            for (_, cols, _), l in zip(runs, labels):
+            for k, ((_, cols, _), l) in enumerate(zip(runs, labels)):
                 x, y = cols[parameter], cols[o]
-                if a.xmax is not None:
-                    x, y = x[x <= a.xmax], y[x <= a.xmax]
-                ax.plot(x, y, ".-", label=l)  # in the order of the branch
+                keep = np.ones(len(x), bool) if a.xmax is None else x <= a.xmax
+                # each mesh's branch smoothly through its tangents, its points marked
+                draw_branch(ax, cols["s"][keep], x[keep], y[keep], cols.get("tangent_parameter")[keep]
+                            if "tangent_parameter" in cols else None, color=f"C{k % 10}", lw=1.2, label=l)
+                ax.plot(x[keep], y[keep], ".", ms=3, color=f"C{k % 10}")
             if converged is not None:
-                ax.axvline(converged, color="0.6", ls=":", lw=1)
+                ax.axvline(converged, color="0.6", ls=":", lw=1, label=f"converged up to {converged:g}")
             if a.xmax is not None:
                 ax.set_xlim(right=a.xmax)
-            ax.set_xlabel(parameter)
-            ax.set_ylabel(o)
-        axes[0][0].legend()
+            ax.set_xlabel(quantity(parameter))
+            ax.set_ylabel(quantity(o), fontsize=8)
+            ax.grid(alpha=0.3)
+        axes[0][0].legend(fontsize=7)
         fig.tight_layout()
         save_figure(fig, a.figure, a.files, dpi=130)
         print(f"wrote {a.figure}")

@@ -48,12 +48,13 @@ def draw(job):
     """Draws one figure in a worker process; returns (name, path or error text, seconds)."""
     name, data, figures_dir = job
     import figures
+    import paper_context
     import paper_data
     import paper_style
 
     paper_style.setup()
     t0 = time.monotonic()
-    ctx = figures.Context(data, figures_dir)
+    ctx = paper_context.Context(data, figures_dir)
     try:
         path = getattr(figures, name)(ctx)
         return name, path, time.monotonic() - t0, True, sorted(set(ctx.inputs))

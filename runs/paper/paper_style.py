@@ -10,6 +10,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 from keller.labels import quantity  # noqa: E402
 from keller.outputs import save_figure  # noqa: E402
+from keller.plot.curves import draw_branch  # noqa: E402
 
 FLUIDS = ["newtonian", "oldroyd-b", "fene-p", "owens"]
 VISCOELASTIC = FLUIDS[1:]
@@ -55,6 +56,17 @@ def sequence_colours(n, cmap="viridis"):
     """n colours along a colour map, for a sequence of parameter values (dark to light)."""
     m = plt.get_cmap(cmap)
     return [m(0.9 * k / max(1, n - 1)) for k in range(n)]
+
+
+def branch_line(ax, b, x, y, **kw):
+    """A branch's y against x drawn smoothly through its points (keller.plot.curves): against its
+    parameter with the stored tangents, against another column (a path) shape-preserving in s."""
+    slope = b["tangent_parameter"] if x == b.parameter and "tangent_parameter" in b.cols else None
+    colour = kw.pop("color", "0.3")
+    ls = kw.pop("ls", "-")
+    _, line = draw_branch(ax, b["s"], b[x], b[y], slope, color=colour, lw=kw.pop("lw", 1.3), label=kw.pop("label", None))
+    line.set_linestyle(ls)
+    return line
 
 
 def fmt_value(name, v):

@@ -1,12 +1,18 @@
 """Bifurcation diagram of branch files written by `keller trace`: any observable against the
-continuation parameter, with folds, branch points, Hopf points, events, requested points and the
-end marked differently. With [stability] enabled in the run, stable parts are drawn solid and
-unstable parts dashed (the `unstable` column: eigenvalues with Re sigma < 0). Several files (a
-branch and the branches switched from it) go into one diagram.
+continuation parameter, each branch a smooth curve through its points and their stored tangents
+(keller.plot.curves), with folds, branch points, Hopf points, events, requested points and the end
+marked differently. With [stability] enabled in the run, stable parts are drawn solid, unstable
+parts dashed and parts not analysed dotted (the `unstable` column), a legend entry for each that
+is there. Folds, branch points and Hopf points are labelled as `keller.open(...).points()` names
+them (fold1, bp1, hopf1; --values: by the parameter's value), placed where they overlap no other
+label and no marker. Several files (a branch and the branches switched from it) go into one
+diagram.
 
-    python3 -m keller.plot branch BRANCH.h5 [MORE.h5 ...] [--y OBSERVABLE] [-o FIGURE.png]
+    python3 -m keller.plot branch BRANCH.h5 [MORE.h5 ...] [--y OBSERVABLE] [--values] [--title T]
+        [--footer] [-o FIGURE.png]
 
-Reads only the HDF5 files (keller.open; also one whose run was killed)."""
+No title unless --title; --footer adds why each branch ended under the axes. Reads only the HDF5
+files (keller.open; also one whose run was killed)."""
 
 import argparse
 import os
@@ -16,41 +22,108 @@ import numpy as np
 
 import matplotlib.pyplot as plt
 
-from keller.labels import distinguishing_labels, quantity
+import keller.results
+from keller.labels import distinguishing_labels, quantity, readable, symbol
 from keller.outputs import OutputError, check_outputs, save_figure
-from keller.plot.common import columns
+from keller.plot.curves import STYLES, draw_branch, place_labels
 
-MARKERS = {  # kind: (label, marker, colour)
-    1: ("start", "o", "tab:green"),
-    2: ("requested", ".", "tab:blue"),
-    3: ("event", "D", "tab:orange"),
-    4: ("fold", "^", "tab:red"),
-    5: ("branch point", "X", "tab:purple"),
-    6: ("end", "s", "black"),
-    7: ("Hopf point", "*", "tab:cyan"),
+MARKERS = {  # kind: (legend label, marker, colour, size)
+    "start": ("start", "o", "tab:green", 30),
+    "point_requested": ("requested", ".", "tab:blue", 30),
+    "event": ("event", "D", "tab:orange", 26),
+    "fold": ("fold", "^", "tab:red", 40),
+    "bp": ("branch point", "X", "tab:purple", 48),
+    "end": ("end", "s", "black", 26),
+    "hopf": ("Hopf point", "*", "tab:cyan", 60),
 }
+KIND_CODES = {1: "start", 2: "point_requested", 3: "event", 4: "fold", 5: "bp", 6: "end", 7: "hopf"}
+LABELLED = ("fold", "bp", "hopf")
 STABILITY = {"unstable", "eig_residual"}
+BOOKKEEPING = {"row", "kind", "s", "iterations", "step", "seconds", "det_sign", "tangent_parameter", "saved_slot"}
 
 
-def annotate_points(ax, notes, parameter):
-    """Each fold, branch point and Hopf point labelled with its parameter value once (a branch
-    switched at a point starts on it: the same point), labels of points close together stacked
-    instead of drawn over each other."""
-    seen, placed = set(), []
-    xs = [n[0] for n in notes] + list(ax.get_xlim())
-    ys = [n[1] for n in notes] + list(ax.get_ylim())
-    xspan, yspan = (max(xs) - min(xs)) or 1.0, (max(ys) - min(ys)) or 1.0
-    for lam, val, colour in sorted(notes, key=lambda n: (n[0], n[1])):
-        key = (f"{lam:.8g}", round(val / yspan, 3))
-        if key in seen:
-            continue
-        seen.add(key)
-        level = 0
-        while any(abs(lam - pl) < 0.2 * xspan and abs(val - pv) < 0.06 * yspan and lv == level for pl, pv, lv in placed):
-            level += 1
-        placed.append((lam, val, level))
-        ax.annotate(f"{parameter} = {lam:.8g}", (lam, val), textcoords="offset points", xytext=(-10, 8 + 11 * level),
-                    ha="right", fontsize=8, color=colour)
+def observables_of(branch):
+    """The columns that can go on the vertical axis (no bookkeeping, monitors, eigenvalues)."""
+    return [c for c in branch.table if c not in BOOKKEEPING and c != branch.parameter and not c.startswith("monitor:")
+            and c not in STABILITY and not (c.startswith("sigma") and c.endswith(("_re", "_im")))]
+
+
+def labelled_points(branch, y, values=False):
+    """[(parameter, observable, text, kind)] of the folds, branch points and Hopf points of a branch."""
+    out = []
+    for p in branch.points():
+        kind = KIND_CODES.get(int(branch.table["kind"][p.index]))
+        if kind in LABELLED and p.label:
+            text = f"{symbol(branch.parameter)} = {p.value:.6g}" if values else p.label
+            out.append((p.value, float(branch.table[y][p.index]), text, kind))
+    return out
+
+
+def origin_labels(paths, branches):
+    """A legend label per branch from how it was started, for branches whose scenes agree (a branch
+    and those switched from it): 'switched at bp1' from `--switch FILE:bp1` (a row number named by
+    the label of that row in FILE where FILE is one of the plotted files), 'from fold1' from
+    `--from`, else 'primary branch'. None where a command line is not stored."""
+    import shlex
+
+    out = []
+    by_name = {os.path.basename(p): b for p, b in zip(paths, branches)}
+    for b in branches:
+        words = shlex.split(b.provenance.get("command_line", "")) if b.provenance else []
+        if not words:
+            return None
+        text = "primary branch"
+        for flag, how in (("--switch", "switched at"), ("--from", "from")):
+            if flag in words[:-1]:
+                source, _, point = words[words.index(flag) + 1].rpartition(":")
+                src = by_name.get(os.path.basename(source))
+                if src is not None and point.isdigit():
+                    point = next((lab for lab, row in src.labels if row == int(point)), f"row {point}")
+                text = f"{how} {point}"
+        if "--switch-direction" in words[:-1] and words[words.index("--switch-direction") + 1].startswith("-"):
+            text += ", other direction"
+        out.append(text)
+    return out if len(set(out)) == len(out) else None
+
+
+def draw(ax, branches, y, labels, values=False):
+    """Draws the branches into ax (curves and markers); returns (legend handles, names, points to
+    label [(x, y, text, colour)])."""
+    single = len(branches) == 1
+    states, seen, notes = set(), set(), []
+    handles, names = [], []
+    for i, b in enumerate(branches):
+        t = b.table
+        colour = "0.3" if single else f"C{i % 10}"
+        drawn, line = draw_branch(ax, t["s"], t[b.parameter], t[y], t.get("tangent_parameter"),
+                                  t.get("unstable"), color=colour)
+        states |= drawn
+        if not single:  # the branch by its colour (its line style says its stability)
+            handles.append(plt.Line2D([], [], color=colour, lw=1.6))
+            names.append(labels[i])
+        codes = np.asarray(t["kind"]).astype(int)
+        for code, kind in KIND_CODES.items():
+            sel = codes == code
+            if sel.any():
+                label, marker, mcolour, size = MARKERS[kind]
+                ax.scatter(t[b.parameter][sel], t[y][sel], marker=marker, color=mcolour if single else colour,
+                           edgecolors="black" if not single else "none", linewidths=0.5, s=size, zorder=3)
+                seen.add(kind)
+        for lam, val, text, kind in labelled_points(b, y, values):
+            if not any(abs(lam - n[0]) <= 1e-9 * max(1.0, abs(lam)) and abs(val - n[1]) <= 1e-9 * max(1.0, abs(val))
+                       for n in notes):  # a switched branch starts on its branch point: label it once
+                notes.append((lam, val, text, MARKERS[kind][2] if single else colour))
+    for state in ("stable", "unstable", "not analysed"):
+        if state in states:
+            handles.append(plt.Line2D([], [], ls=STYLES[state], color="0.3", lw=1.4))
+            names.append(state)
+    for kind, (label, marker, mcolour, size) in MARKERS.items():
+        if kind in seen:
+            handles.append(plt.Line2D([], [], ls="", marker=marker, color=mcolour if single else "0.6",
+                                      markeredgecolor="black" if not single else "none", markeredgewidth=0.5,
+                                      markersize=np.sqrt(size)))
+            names.append(label)
+    return handles, names, notes
 
 
 def main(argv=None):
@@ -58,30 +131,22 @@ def main(argv=None):
     ap.add_argument("branch", nargs="+", help="branch files (HDF5) written by keller trace")
     ap.add_argument("--y", help="observable on the vertical axis (default: the first one)")
     ap.add_argument("--labels", nargs="+", help="a legend label per file (default: the scene keys that differ)")
-    ap.add_argument("--title", help="title (default: the observable against the parameter)")
+    ap.add_argument("--values", action="store_true", help="label the located points by their parameter value")
+    ap.add_argument("--title", help="a title (default: none)")
+    ap.add_argument("--footer", action="store_true", help="why each branch ended, under the axes")
     ap.add_argument("-o", "--output", help="figure file (default: BRANCH with .png)")
     args = ap.parse_args(argv)
     if args.labels and len(args.labels) != len(args.branch):
         sys.exit(f"keller.plot branch: {len(args.labels)} labels for {len(args.branch)} files")
 
-    branches = [(path, *columns(path)) for path in args.branch]
-    # rows in the order along the branch: a change located by bisection (stability every N points)
-    # is written after rows that lie beyond it
-    for _, _, cols, _ in branches:
-        if "s" in cols:
-            order = np.argsort(cols["s"], kind="stable")
-            for c in cols:
-                cols[c] = cols[c][order]
-    parameter, cols0 = branches[0][1], branches[0][2]
-    fixed = {"row", "kind", "s", parameter, "iterations", "step", "seconds", "det_sign", "tangent_parameter",
-             "saved_slot"}
-    observables = [c for c in cols0 if c not in fixed and not c.startswith("monitor:") and c not in STABILITY
-                   and not (c.startswith("sigma") and (c.endswith("_re") or c.endswith("_im")))]
+    branches = [keller.results.open(path) for path in args.branch]
+    parameter = branches[0].parameter
+    observables = observables_of(branches[0])
     y = args.y or (observables[0] if observables else None)
-    for path, par, cols, _ in branches:
-        if par != parameter:
-            sys.exit(f"keller.plot branch: {path} continues in '{par}', {args.branch[0]} in '{parameter}'")
-        if y not in cols:
+    for path, b in zip(args.branch, branches):
+        if b.parameter != parameter:
+            sys.exit(f"keller.plot branch: {path} continues in '{b.parameter}', {args.branch[0]} in '{parameter}'")
+        if y not in b.table:
             sys.exit(f"keller.plot branch: no observable '{y}' in {path}; the first file has: {', '.join(observables)}")
     out = args.output or args.branch[0].rsplit(".", 1)[0] + ".png"
     try:
@@ -90,65 +155,28 @@ def main(argv=None):
         sys.exit(f"keller.plot branch: {e}")
 
     labels = args.labels or distinguishing_labels(args.branch, ignore={f"parameters.{parameter}"})
-    fig, ax = plt.subplots(figsize=(6.4, 4.6))
-    seen = set()
-    styles_used = set()
-    notes = []  # (parameter, value, colour) of the folds, branch points and Hopf points
-    for i, (path, _, cols, status) in enumerate(branches):
-        x, v, kind = cols[parameter], cols[y], cols["kind"]
-        colour = "0.35" if i == 0 and len(branches) == 1 else f"C{i % 10}"
-        curve = labels[i] if len(branches) > 1 else None
-        if "unstable" in cols:
-            # one segment per pair of consecutive rows: solid where both ends are stable
-            n_unst = cols["unstable"]
-            for j in range(len(x) - 1):
-                a, b = n_unst[j], n_unst[j + 1]
-                if a != a or b != b:  # NaN: not analysed
-                    style, name = ":", "not analysed"
-                elif a > 0 or b > 0:
-                    style, name = "--", "unstable"
-                else:
-                    style, name = "-", "stable"
-                lab = name if name not in styles_used else None
-                styles_used.add(name)
-                ax.plot(x[j:j + 2], v[j:j + 2], style, color=colour, lw=1.4, zorder=1, label=lab)
-            if curve:
-                ax.plot([], [], "-", color=colour, lw=1.4, label=curve)
-        else:
-            ax.plot(x, v, "-", color=colour, lw=1.2, zorder=1, label=curve)
-        for k, (label, marker, mcolour) in MARKERS.items():
-            sel = kind == k
-            if sel.any():
-                # one branch: a colour per kind; several: the branch's colour, the kind by the shape
-                ax.scatter(x[sel], v[sel], marker=marker, color=mcolour if len(branches) == 1 else colour,
-                           edgecolors="black" if len(branches) > 1 else None, linewidths=0.5,
-                           s=48 if k in (5, 7) else 36, zorder=3)
-                seen.add(label)
-        for k, c in ((4, "tab:red"), (5, "tab:purple"), (7, "tab:cyan")):
-            notes += [(lam, val, c) for lam, val in zip(x[kind == k], v[kind == k])]
-    annotate_points(ax, notes, parameter)
+    if not args.labels and len(branches) > 1 and labels == [os.path.basename(p) for p in args.branch]:
+        labels = origin_labels(args.branch, branches) or labels  # the scenes agree: not by file names
+    elif not args.labels:
+        labels = [readable(lab) for lab in labels]  # 'Giesekus, alpha = 0.1', not 'model = giesekus, ...'
+    fig, ax = plt.subplots(figsize=(6.4, 4.4))
+    handles, names, notes = draw(ax, branches, y, labels, args.values)
     ax.set_xlabel(quantity(parameter))
     ax.set_ylabel(quantity(y))
-    points = sum(len(b[2]["kind"]) for b in branches)
-    title = args.title or (f"{y} against {parameter}: " + (os.path.basename(args.branch[0]) if len(branches) == 1
-                                                             else f"{len(branches)} branches") + f", {points} points")
-    ax.set_title(title, fontsize=9, wrap=True)
-    # the curves first, then one entry per kind of marked point (in black where the branch's
-    # colour marks it)
-    handles, names = ax.get_legend_handles_labels()
-    for k, (label, marker, mcolour) in MARKERS.items():
-        if label in seen:
-            handles.append(ax.scatter([], [], marker=marker, color=mcolour if len(branches) == 1 else "0.6",
-                                      edgecolors="black" if len(branches) > 1 else None, linewidths=0.5,
-                                      s=48 if k in (5, 7) else 36))
-            names.append(label)
-    ax.legend(handles, names, fontsize=7, loc="best")
+    if args.title:
+        ax.set_title(args.title, fontsize=10)
+    if handles:
+        ax.legend(handles, names, fontsize=7, loc="best", framealpha=0.9)
     ax.grid(alpha=0.3)
-    # why each branch ended, one line each, under the axes
-    ends = [f"{labels[i] if len(branches) > 1 else 'ended'}: {b[3]}" for i, b in enumerate(branches)]
-    ends = [e if len(e) < 110 else e[:107] + "..." for e in ends]
-    fig.text(0.01, 0.005, "\n".join(ends), fontsize=6, color="0.4", va="bottom")
-    fig.tight_layout(rect=(0, 0.012 * (len(ends) + 1), 1, 1))
+    ax.margins(x=0.06, y=0.08)
+    bottom = 0.0
+    if args.footer:
+        ends = [f"{labels[i] if len(branches) > 1 else 'ended'}: {b.status}" for i, b in enumerate(branches)]
+        ends = [e if len(e) < 110 else e[:107] + "..." for e in ends]
+        fig.text(0.01, 0.005, "\n".join(ends), fontsize=6, color="0.4", va="bottom")
+        bottom = 0.025 * (len(ends) + 1)
+    fig.tight_layout(rect=(0, bottom, 1, 1))
+    place_labels(ax, [(n[0], n[1]) for n in notes], [n[2] for n in notes], [n[3] for n in notes])
     save_figure(fig, out, args.branch, dpi=150)
     print(f"wrote {out}")
 

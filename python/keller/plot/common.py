@@ -1,5 +1,6 @@
 """What the figure modules share: matplotlib without a display, a branch's columns as a dict (the
-form the figure code computes with), and the messages of a figure command."""
+form the figure code computes with), the messages of a figure command, and log axes whose ticks
+are labelled however short their span."""
 
 import sys
 
@@ -8,6 +9,8 @@ import matplotlib
 matplotlib.use("Agg")
 
 import keller.results  # noqa: E402
+import matplotlib.ticker as ticker  # noqa: E402
+import numpy as np  # noqa: E402
 
 
 def columns(path):
@@ -20,3 +23,16 @@ def fail(kind, message):
     """Ends a figure command with exit 1 and `keller.plot KIND: message` (argparse's usage errors
     are exit 2)."""
     sys.exit(f"keller.plot {kind}: {message}")
+
+
+def log_ticks(axis, lo, hi):
+    """Labelled ticks on a log axis spanning [lo, hi]: decades where it spans two or more, else
+    1-2-5 steps, plain numbers, no minor labels."""
+    if not (np.isfinite(lo) and np.isfinite(hi) and lo > 0 and hi > 0):
+        return
+    decades = np.log10(hi) - np.log10(lo)
+    if decades < 1.5:
+        axis.set_major_locator(ticker.LogLocator(base=10, subs=(1.0, 2.0, 5.0) if decades > 0.5 else
+                                                 (1.0, 1.5, 2.0, 3.0, 4.0, 5.0, 7.0)))
+        axis.set_major_formatter(ticker.FuncFormatter(lambda v, _: f"{v:.3g}"))
+    axis.set_minor_formatter(ticker.NullFormatter())

@@ -13,6 +13,7 @@ import sys
 
 import matplotlib.pyplot as plt
 
+from keller.labels import distinguishing_labels, readable
 from keller.outputs import OutputError, check_outputs, save_figure
 from keller.plot.common import columns
 
@@ -37,6 +38,7 @@ def main(argv=None):
     ap.add_argument("--labels", nargs="*", help="legend labels, one per file")
     ap.add_argument("--fenics", help="results JSON of the FEniCS peer")
     ap.add_argument("--fenics-label", default="FEniCS M2")
+    ap.add_argument("--title", help="a title (default: none)")
     ap.add_argument("-o", "--output", default="cylinder_deviation.png")
     args = ap.parse_args(argv)
     inputs = args.branches + ([args.fenics] if args.fenics else [])
@@ -44,7 +46,7 @@ def main(argv=None):
         check_outputs([args.output], inputs)
     except OutputError as e:
         sys.exit(f"keller.plot cylinder_deviation: {e}")
-    labels = args.labels or [b.rsplit("/", 1)[-1] for b in args.branches]
+    labels = args.labels or [readable(x) for x in distinguishing_labels(args.branches, ignore={"parameters.Wi"})]
     if len(labels) != len(args.branches):
         sys.exit("keller.plot cylinder_deviation: --labels needs one label per branch file")
 
@@ -61,8 +63,9 @@ def main(argv=None):
         d = deviations([p["Wi"] for p in pts], [p["K_vol"] for p in pts])
         ax.plot(*zip(*d), "k^--", ms=5, lw=1.0, mfc="none", label=args.fenics_label)
     ax.set_xlabel("Wi")
-    ax.set_ylabel("K / K_published - 1  (%)")
-    ax.set_title("Oldroyd-B, confined cylinder, beta = 0.59: drag against the published table", fontsize=9)
+    ax.set_ylabel(r"$K / K_{published} - 1$ (%)")
+    if args.title:
+        ax.set_title(args.title, fontsize=10)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()

@@ -5,7 +5,9 @@ eigenvector, the line exp(-Re sigma t) through the first point is drawn beside i
 fitted to the run (least squares of log |y| against t) in the legend: the check of the spectrum by
 dynamics (docs/dynamics.md).
 
-    python3 -m keller.plot evolve RUN.h5 [--y COLUMN] [--log] [-o FIGURE.png]
+    python3 -m keller.plot evolve RUN.h5 [--y COLUMN] [--log] [--title T] [--footer] [-o FIGURE.png]
+
+No title unless --title; --footer adds why the run ended under the axes.
 
 Reads only the HDF5 file (keller.open; also one whose run was killed)."""
 
@@ -19,6 +21,7 @@ import matplotlib.pyplot as plt
 import keller.results
 from keller.labels import quantity
 from keller.outputs import OutputError, check_outputs, save_figure
+from keller.plot.common import log_ticks
 
 BOOKKEEPING = {"step", "t", "h", "order", "error", "iterations", "factorisations", "rejected", "next_step", "seconds",
                "saved_slot"}
@@ -37,6 +40,8 @@ def main(argv=None):
     ap.add_argument("run", help="time-series file (HDF5) written by keller evolve")
     ap.add_argument("--y", help="column on the vertical axis (default: mode_amplitude when there, else deviation)")
     ap.add_argument("--log", action="store_true", help="logarithmic vertical axis (|y|), with the eigenvalue's rate")
+    ap.add_argument("--title", help="a title (default: none)")
+    ap.add_argument("--footer", action="store_true", help="why the run ended, under the axes")
     ap.add_argument("-o", "--output", help="figure file (default: RUN with .png)")
     args = ap.parse_args(argv)
     series = keller.results.open(args.run)
@@ -62,13 +67,21 @@ def main(argv=None):
         if mode is not None and y in ("mode_amplitude", "deviation"):
             ax.semilogy(t, abs(v[0]) * np.exp(-mode[0] * t), "--", color="tab:red",
                         label=rf"$e^{{-\mathrm{{Re}}\,\sigma\, t}}$, $\sigma$ = {mode[0]:.6g} {mode[1]:+.6g} i")
-        ax.legend(frameon=False)
+        ax.legend(frameon=False, fontsize=8)
+        shown = np.abs(v)[np.abs(v) > 0]
+        if len(shown):
+            log_ticks(ax.yaxis, shown.min(), shown.max())  # a span under a decade still gets labels
     else:
         ax.plot(t, v, color="0.25")
     ax.set_xlabel("time t")
     ax.set_ylabel(quantity(y) if not args.log else f"|{quantity(y)}|")
-    ax.set_title(f"{y} against time ({status})", fontsize=10)
-    fig.tight_layout()
+    if args.title:
+        ax.set_title(args.title, fontsize=10)
+    bottom = 0.0
+    if args.footer:
+        fig.text(0.01, 0.005, f"ended: {status}"[:120], fontsize=6, color="0.4", va="bottom")
+        bottom = 0.03
+    fig.tight_layout(rect=(0, bottom, 1, 1))
     save_figure(fig, out, [args.run], dpi=130)
     print(f"wrote {out}")
 

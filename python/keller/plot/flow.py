@@ -215,7 +215,8 @@ def main(argv=None):
                     help="the field in colour: speed (default) or a nodal field's component, e.g. "
                          "conformation_M:Mxx (the stored fields: h5ls RUN.h5/branch/fields/0)")
     ap.add_argument("--log", action="store_true", help="a logarithmic colour scale")
-    ap.add_argument("--title", help="a line above the figure (default: the fluid and the parameter values)")
+    ap.add_argument("--title", help="a line above the figure (default: none; 'auto': the fluid and the "
+                                    "parameter values)")
     ap.add_argument("--unit", default="", help="the length unit for the axis labels, e.g. H (default: none)")
     which = ap.add_mutually_exclusive_group()
     which.add_argument("--mesh-only", action="store_true")
@@ -255,7 +256,7 @@ def main(argv=None):
     ah = aw * (y1 - y0) / (x1 - x0)
     legend_rows = (len(boundaries) + 2) // 3
     below = {"mesh": 0.3 + 0.17 * legend_rows, "flow": 0.6}
-    top = 0.45 if args.title != "" else 0.1
+    top = 0.45 if args.title else 0.1
     heights = [(0.3, ah, 0.45, below[p]) for p in panels]
     height = top + sum(sum(h) for h in heights)
     fig = plt.figure(figsize=(width, height))
@@ -291,7 +292,8 @@ def main(argv=None):
                 c, label = np.log10(c), "$\\log_{10}$ " + colour_label
             pc = ax.tricontourf(tri, c, levels=np.linspace(np.min(c), np.max(c), 65), cmap="viridis",
                                 antialiased=False)
-            for coll in pc.collections:
+            # the filled contours as images in a vector file (matplotlib >= 3.8: one artist)
+            for coll in [pc] if isinstance(pc, matplotlib.artist.Artist) else pc.collections:
                 coll.set_rasterized(True)
             cax = fig.add_axes([(left + 0.6 * aw) / width, (y - h_label - 0.05) / height, 0.4 * aw / width,
                                 0.12 / height])
@@ -325,7 +327,7 @@ def main(argv=None):
         ax.set_ylabel(f"$y${unit}")
         y -= h_label + h_below
     title = args.title
-    if title is None:
+    if title == "auto":
         fluid_model = scene.get("fluid", {}).get("model", "newtonian")
         fluid_model = {"newtonian": "Newtonian", "oldroyd-b": "Oldroyd-B", "fene-p": "FENE-P",
                        "owens": "Owens"}.get(fluid_model, fluid_model)

@@ -14,6 +14,7 @@ Reads only the HDF5 files (keller.open)."""
 
 import argparse
 import csv
+import os
 import sys
 
 import numpy as np
@@ -21,7 +22,7 @@ import numpy as np
 import matplotlib.pyplot as plt
 
 import keller.results
-from keller.labels import distinguishing_labels
+from keller.labels import FLUID_NAMES, distinguishing_labels, readable
 from keller.outputs import OutputError, check_outputs, save_figure
 
 SHEAR = (("eta_p", r"$\eta_p / \eta_{p0}$", "-"), ("psi1_p", r"$\Psi_{1,p} / (2 \eta_{p0} \lambda)$", "--"))
@@ -53,47 +54,68 @@ def main(argv=None):
     a = ap.parse_args(argv)
     try:
         check_outputs([a.output], a.branch + ([a.data] if a.data else []))
-        fig, (left, right) = plt.subplots(1, 2, figsize=(10, 4.2))
-        labels = distinguishing_labels(a.branch, ignore=("problem.type",))
-        x_name = "rate" if a.rate else "Wi_local"
-        used = set()
-        for path, label in zip(a.branch, labels):
-            branch = keller.results.open(path)
-            cols = branch.table
-            kind = branch.scene.get("problem", {}).get("type", "")
-            if kind == "steady-shear":
-                ax, curves = left, SHEAR
-            elif kind in ("planar-extension", "uniaxial-extension"):
-                ax, curves = right, EXTENSION
-                label = f"{kind.split('-')[0]}, {label}" if len(a.branch) > 1 else kind.split("-")[0]
-            else:
+        branches = [keller.results.open(path) for path in a.branch]
+        kinds = [b.scene.get("problem", {}).get("type", "") for b in branches]
+        for path, kind in zip(a.branch, kinds):
+            if kind not in ("steady-shear", "planar-extension", "uniaxial-extension"):
                 raise OutputError(f"{path}: not a rheometry branch (problem.type {kind or 'unknown'})")
-            used.add(ax)
+        data = read_data(a.data) if a.data else {}
+        if data and not a.rate:
+            raise OutputError("--data is in rates (1/s): use it with --rate")
+        # a panel for shear and one for extension, only where there is something to draw in it
+        want_shear = "steady-shear" in kinds or any(n in data for n, _, _ in SHEAR)
+        want_ext = any(k != "steady-shear" for k in kinds) or any(n in data for n, _, _ in EXTENSION)
+        panels = [p for p, want in (("shear", want_shear), ("extension", want_ext)) if want]
+        fig, axes = plt.subplots(1, len(panels), figsize=(5.0 * len(panels), 4.2), squeeze=False)
+        ax_of = dict(zip(panels, axes[0]))
+        left, right = ax_of.get("shear"), ax_of.get("extension")
+        # a colour per fluid (its shear and extension files share it), a line style per quantity
+        labels = distinguishing_labels(a.branch, ignore=("problem.type",))
+        if labels == [os.path.basename(p) for p in a.branch]:  # one fluid: by its law's name
+            labels = [FLUID_NAMES.get(b.scene.get("fluid", {}).get("model", ""), "fluid") for b in branches]
+        labels = [readable(lab) for lab in labels]
+        colour = {lab: f"C{k % 10}" for k, lab in enumerate(dict.fromkeys(labels))}
+        x_name = "rate" if a.rate else "Wi_local"
+        styles = {}  # legend entries of the line styles: {text: style}
+        for branch, kind, label in zip(branches, kinds, labels):
+            cols = branch.table
+            curves = SHEAR if kind == "steady-shear" else EXTENSION
+            ax = left if kind == "steady-shear" else right
             x = cols[x_name]
-            colour = None  # one colour per file, a line style per quantity
             for name, tex, style in curves:
+                if kind == "uniaxial-extension":
+                    style = "-."
+                what = tex if kind == "steady-shear" else f"{tex}, {kind.split('-')[0]}"
+                styles[what] = style
                 ok = cols[name] > 0
-                line = ax.loglog(x[ok], cols[name][ok], style, color=colour, label=f"{tex}: {label}")[0]
-                colour = line.get_color()
-        if a.data:
-            d = read_data(a.data)
-            if not a.rate:
-                raise OutputError("--data is in rates (1/s): use it with --rate")
-            for ax, curves in ((left, SHEAR), (right, EXTENSION)):
-                for name, tex, _ in curves:
-                    if name in d:
-                        ax.loglog(d["rate"], d[name], "o", mfc="none", label=f"{tex}: {a.data}")
-                        used.add(ax)
-        for ax, title in ((left, "steady shear"), (right, "steady extension")):
-            ax.set_xlabel("rate (1/s)" if a.rate else r"$W = \lambda_0 \times$ rate")
-            ax.set_title(title)
-            ax.grid(True, which="both", alpha=0.3)
-            if ax in used:
-                ax.legend(fontsize=7)
-            else:
-                ax.set_axis_off()
-        fig.tight_layout()
-        save_figure(fig, a.output, a.branch)
+                ax.loglog(x[ok], cols[name][ok], style, color=colour[label])
+        for ax, curves in ((left, SHEAR), (right, EXTENSION)):
+            for name, tex, _ in curves:
+                if name in data:
+                    ax.loglog(data["rate"], data[name], "o", mfc="none", color="0.2")
+                    styles[f"{tex}: measured"] = "o"
+        for ax, title, ylabel in ((left, "steady shear", r"$\eta_p / \eta_{p0}$, $\Psi_{1,p} / (2 \eta_{p0} \lambda)$"),
+                                  (right, "steady extension", r"$\eta_{e,p} / \eta_{p0}$")):
+            if ax is None:
+                continue
+            ax.set_xlabel("rate (1/s)" if a.rate else r"$W = \lambda_0 \dot\gamma$")
+            ax.set_ylabel(ylabel)
+            ax.set_title(title, fontsize=10)
+            ax.grid(True, which="major", alpha=0.3)
+        # under the panels: the fluids by colour, then the quantities by line style
+        fluids = [plt.Line2D([], [], color=c, lw=2) for c in colour.values()]
+        kinds_ = [plt.Line2D([], [], color="0.3", ls="" if st == "o" else st, marker="o" if st == "o" else None,
+                             mfc="none") for st in styles.values()]
+        ncol = min(3, len(colour))
+        rows = -(-len(colour) // ncol)
+        fig.set_figheight(4.2 + 0.2 * (rows + 1))
+        height = fig.get_figheight()
+        fig.legend(fluids, list(colour), loc="lower center", bbox_to_anchor=(0.5, 0.22 / height), ncol=ncol,
+                   fontsize=8, frameon=False)
+        fig.legend(kinds_, list(styles), loc="lower center", bbox_to_anchor=(0.5, 0.0), ncol=len(styles), fontsize=8,
+                   frameon=False)
+        fig.tight_layout(rect=(0, (0.3 + 0.2 * rows) / height, 1, 1))
+        save_figure(fig, a.output, a.branch, dpi=150)
     except OutputError as e:
         print(f"keller.plot rheometry: {e}", file=sys.stderr)
         return 2

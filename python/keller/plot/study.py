@@ -4,7 +4,9 @@
         --curves fluid.model --ylabel "limiting Wi" -o limiting_wi.png
 
 Reads the table keller study writes (STUDY.h5: /study/<column>). Tasks that did not finish, or
-found no value, are drawn as crosses on the x axis, with their status in the legend."""
+found no value, are drawn as crosses on the x axis, with their status in the legend. The axes
+are labelled by what the columns are (keller.labels.quantity: `parameters.Gamma` as its symbol,
+`event:min_m1` as the branch's parameter where min m1 = 0); no title unless --title."""
 
 import argparse
 import os
@@ -15,6 +17,7 @@ import numpy as np
 import matplotlib.pyplot as plt
 
 import keller.results
+from keller.labels import quantity, readable
 from keller.outputs import OutputError, check_outputs, save_figure
 
 
@@ -31,9 +34,9 @@ def main(argv=None):
     ap.add_argument("--x", required=True, help="the varied key on the x axis (e.g. parameters.Gamma)")
     ap.add_argument("--y", required=True, help="the collected column on the y axis (e.g. event:min_m1)")
     ap.add_argument("--curves", help="a varied key: one curve per value")
-    ap.add_argument("--xlabel", help="x axis label (default: the key)")
-    ap.add_argument("--ylabel", help="y axis label (default: the column)")
-    ap.add_argument("--title", help="title (default: the study's name)")
+    ap.add_argument("--xlabel", help="x axis label (default: what the key is)")
+    ap.add_argument("--ylabel", help="y axis label (default: what the column is)")
+    ap.add_argument("--title", help="a title (default: none)")
     ap.add_argument("--logx", action="store_true")
     ap.add_argument("--logy", action="store_true")
     ap.add_argument("-o", "--output", help="figure file (default: STUDY_<y>.png)")
@@ -57,6 +60,9 @@ def main(argv=None):
     y = np.asarray(cols[a.y], dtype=float)
     status = cols["status"]
     groups = [None] if not a.curves else list(dict.fromkeys(cols[a.curves]))
+    # the branches' parameter, where the tasks share one: it names event: and @ columns
+    pars = set(cols["parameter"]) if "parameter" in cols else set()
+    parameter = pars.pop() if len(pars) == 1 else None
 
     fig, ax = plt.subplots(figsize=(6.4, 4.4))
     marks = ["o", "s", "^", "D", "v", "P", "X", "*"]
@@ -64,7 +70,7 @@ def main(argv=None):
         sel = np.ones(len(x), bool) if g is None else cols[a.curves] == g
         ok = sel & np.isfinite(y) & (status == "done")
         idx = np.where(ok)[0][np.argsort(x[ok])]
-        label = a.y if g is None else f"{a.curves} = {g}"
+        label = quantity(a.y, parameter) if g is None else readable(f"{a.curves.split('.')[-1]} = {g}")
         ax.plot(x[idx], y[idx], marks[i % len(marks)] + "-", ms=4, label=label)
         missing = sel & ~ok
         if missing.any():
@@ -75,11 +81,13 @@ def main(argv=None):
         ax.set_xscale("log")
     if a.logy:
         ax.set_yscale("log")
-    ax.set_xlabel(a.xlabel or a.x)
-    ax.set_ylabel(a.ylabel or a.y)
-    ax.set_title(a.title or os.path.splitext(os.path.basename(study.path))[0], fontsize=10)
+    ax.set_xlabel(a.xlabel or quantity(a.x, parameter))
+    ax.set_ylabel(a.ylabel or quantity(a.y, parameter))
+    if a.title:
+        ax.set_title(a.title, fontsize=10)
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
+    if len(ax.get_legend_handles_labels()[0]) > 1:  # one curve alone is named by the axis
+        ax.legend(fontsize=8)
     fig.tight_layout()
     save_figure(fig, out, [study.path], dpi=150)
     print(f"wrote {out}")
