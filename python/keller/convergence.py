@@ -257,6 +257,9 @@ def main(argv=None):
                 w.writerow([str(r.get(c, "")) for c in fields])
         os.replace(tmp, a.csv)
     if a.figure:
+        import matplotlib
+
+        matplotlib.use("Agg")  # a file: no display
         from keller.plot.convergence_figure import draw
 
         pars = set(cols["parameter"]) if "parameter" in cols else set()

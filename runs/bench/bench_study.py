@@ -47,8 +47,8 @@ def main():
             runs.append((f"mpirun -n {n}", [mpirun, *flags, "-n", str(n), a.keller, "study", study]))
     print(f"machine: {machine()}")
     print(f"study: {a.tasks} tasks, Oldroyd-B Wi branches to Wi = 0.1 on {a.mesh}, Gamma from 4.95e-5 to 6.6e-4\n")
-    print(f"| executor | wall s | speed-up | scheduling gap per task | of a task's time |")
-    print(f"| --- | --- | --- | --- | --- |")
+    print("| executor | wall s | speed-up | scheduling gap per task | of a task's time |")
+    print("| --- | --- | --- | --- | --- |")
     base = None
     for name, cmd in runs:
         folder = os.path.join(work, re.sub(r"\W+", "_", name))

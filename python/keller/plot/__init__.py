@@ -12,12 +12,9 @@
     cylinder_drag, cylinder_deviation   the confined cylinder's drag against the published table
 
 They read only keller's files (keller.open) and write their figures the way keller writes every
-file (keller.outputs: never over an input, under a temporary name until complete). Importing the
-package selects matplotlib's Agg backend: the figures are files, no display is needed."""
-
-import matplotlib
-
-matplotlib.use("Agg")
+file (keller.outputs: never over an input, under a temporary name until complete). The commands
+draw with matplotlib's Agg backend (the figures are files, no display is needed); importing the
+package leaves the backend alone, so a notebook that calls its functions keeps its inline figures."""
 
 KINDS = ("branch", "collapsible", "field", "flow", "evolve", "study", "rheometry", "interfaces", "cylinder_drag",
          "cylinder_deviation")

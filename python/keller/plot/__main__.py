@@ -4,7 +4,11 @@ them); `python3 -m keller.plot KIND --help` says what it draws and its options."
 import importlib
 import sys
 
-from keller.plot import KINDS
+import matplotlib
+
+matplotlib.use("Agg")  # the commands write files: no display
+
+from keller.plot import KINDS  # noqa: E402
 
 
 def main(argv=None):

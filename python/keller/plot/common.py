@@ -1,16 +1,12 @@
-"""What the figure modules share: matplotlib without a display, a branch's columns as a dict (the
+"""What the figure modules share: a branch's columns as a dict (the
 form the figure code computes with), the messages of a figure command, and log axes whose ticks
 are labelled however short their span."""
 
 import sys
 
-import matplotlib
-
-matplotlib.use("Agg")
-
-import keller.results  # noqa: E402
-import matplotlib.ticker as ticker  # noqa: E402
-import numpy as np  # noqa: E402
+import keller.results
+import matplotlib.ticker as ticker
+import numpy as np
 
 
 def columns(path):

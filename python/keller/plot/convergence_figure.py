@@ -8,16 +8,12 @@ Gamma = 4.95e-05); the legend in the panels the grid leaves free, or under the p
 empty panel); log axes with at least two labelled ticks and no minor labels (which overlap on a
 narrow panel spanning less than a decade); the y label once per row."""
 
-import matplotlib
+import matplotlib.pyplot as plt
+import numpy as np
 
-matplotlib.use("Agg")
-
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-from keller.labels import FLUID_NAMES, quantity, symbol  # noqa: E402
-from keller.outputs import save_figure  # noqa: E402
-from keller.plot.common import log_ticks  # noqa: E402
+from keller.labels import FLUID_NAMES, quantity, symbol
+from keller.outputs import save_figure
+from keller.plot.common import log_ticks
 
 MESH_MARKERS = ["o", "s", "^", "D", "v", "P", "X", "*", "h", "<", ">"]
 
