@@ -12,6 +12,8 @@
 #include <utility>
 
 #include "problems/ProblemRegistry.hpp"
+#include "runs/CommandFailure.hpp"
+#include "runs/ExitCode.hpp"
 
 namespace py = pybind11;
 
@@ -181,7 +183,12 @@ Status PythonProblem::guarded(const char* method, Body&& body) {
       return {StatusCode::InvalidState, fmt::format("{}(): {}", method, py::str(e.value()).cast<std::string>())};
     const std::string what = e.what();
     keep_exception(e);
-    throw std::runtime_error(fmt::format("the Python problem's {}() raised {}", method, what));
+    // the user's code, not a defect of keller: the command stops as an interrupted one does, keeping
+    // what it completed (the same call continues it)
+    throw CommandFailure(exit_code::interrupted,
+                         fmt::format("the Python problem's {}() raised {}: stopped (the exception is raised again in "
+                                     "Python)",
+                                     method, what));
   }
 }
 

@@ -110,6 +110,8 @@ def test_python_exceptions_and_numerical_failures(tmp_path):
 
     with pytest.raises(KeyError, match="a bug in the residual"):
         keller.trace({"continuation": CONTINUATION}, tmp_path / "x.h5", problem=Broken(32), verbose=False)
+    kept = keller.open(str(tmp_path / "x.h5.part"))  # what it completed, to be continued
+    assert len(kept["lambda"]) >= 4 and kept["lambda"].max() <= 2.0
 
     class Bounded(Bratu1D):
         def residual(self, u, p):
