@@ -1,5 +1,6 @@
 #include "runs/RunHooks.hpp"
 
+#include <algorithm>
 #include <utility>
 
 #include "runs/Interrupts.hpp"
@@ -15,6 +16,15 @@ void call_hook(const RunPoint& point) {
   if (g_hook && !g_hook(point)) InterruptGuard::request();
 }
 
+// Only values with a name: a value the observer was not told the name of (none in a run: the
+// continuation names its monitors and stop thresholds at its start) is left out, never unnamed.
+RunPoint& named(RunPoint& point) {
+  const size_t n = std::min(point.names.size(), point.values.size());
+  point.names.resize(n);
+  point.values.resize(n);
+  return point;
+}
+
 class BranchHook final : public BranchObserver {
  public:
   explicit BranchHook(std::string parameter) : parameter_(std::move(parameter)) {}
@@ -27,8 +37,7 @@ class BranchHook final : public BranchObserver {
     RunPoint point{"trace", p.index, to_string(p.kind), p.label, names_, {p.lambda}, &p.u};
     point.values.insert(point.values.end(), p.observables.begin(), p.observables.end());
     point.values.insert(point.values.end(), p.monitors.begin(), p.monitors.end());
-    point.names.resize(point.values.size());  // monitors beyond the problem's: the stop thresholds
-    call_hook(point);
+    call_hook(named(point));
   }
 
  private:
@@ -46,8 +55,7 @@ class TimeHook final : public TimeObserver {
     std::vector<double> observables;
     if (names_.size() > 1 && problem_.observables(p.u, observables).is_ok())
       point.values.insert(point.values.end(), observables.begin(), observables.end());
-    point.names.resize(point.values.size());
-    call_hook(point);
+    call_hook(named(point));
   }
 
  private:
