@@ -294,9 +294,9 @@ MIN_MIDSIDE_ORDER = 1.8
 
 
 FIGURE_VIEWS = {  # geometry label -> (title, x range, y range) of its panel
-    "cylinder.geo (C<f>)": ("cylinder.geo, C1 (f = 1)", (-4.5, 7.5), (0, 2)),
-    "contraction.geo": ("contraction.geo, M1 (f = 1)", (-6.5, 5.5), (0, 4)),
-    "stenosis.geo": ("stenosis.geo, f = 1", (-5, 8), (0, 1)),
+    "cylinder.geo (C<f>)": ("confined cylinder, mesh C1 (f = 1)", (-4.5, 7.5), (0, 2)),
+    "contraction.geo": ("4:1 contraction, mesh M1 (f = 1)", (-6.5, 5.5), (0, 4)),
+    "stenosis.geo": ("stenosis, f = 1", (-5, 8), (0, 1)),
 }
 
 
@@ -327,6 +327,8 @@ def draw(meshes, path):
         ax.set_ylim(*yr)
         ax.set_aspect("equal")
         ax.set_title(title, fontsize=9)
+        ax.set_xlabel("x", fontsize=9)
+        ax.set_ylabel("y", fontsize=9)
     fig.savefig(path, dpi=150)
 
 
