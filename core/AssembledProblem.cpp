@@ -36,4 +36,16 @@ Status AssembledProblem::time_residual(const Vector& u, const Vector& udot, Vect
   return assembler().time_residual(u, udot, R);
 }
 
+Status AssembledProblem::directional_derivative(const Vector& u, const std::vector<Direction>& directions,
+                                                Vector& out) {
+  std::vector<const Vector*> du, dp;
+  for (const Direction& d : directions) {
+    if (d.parameters && d.parameters->size() != params_.size())
+      throw std::invalid_argument("directional_derivative: a parameter direction has one entry per parameter");
+    du.push_back(d.u);
+    dp.push_back(d.parameters);
+  }
+  return assembler().directional_derivative(u, du, dp, out);
+}
+
 }  // namespace keller

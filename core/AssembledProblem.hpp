@@ -10,13 +10,14 @@
 #include <vector>
 
 #include "core/Assembler.hpp"
+#include "core/ExactDerivatives.hpp"
 #include "core/ParameterSet.hpp"
 #include "core/Problem.hpp"
 #include "core/Term.hpp"
 
 namespace keller {
 
-class AssembledProblem : public Problem {
+class AssembledProblem : public Problem, public ExactDerivatives {
  public:
   // The Assembler's number of unknowns.
   int size() const final { return assembler().size(); }
@@ -32,6 +33,11 @@ class AssembledProblem : public Problem {
   // with TimeForm::None.
   Status mass_matrix(const Vector& u, SparseMatrix& B) final;
   Status time_residual(const Vector& u, const Vector& udot, Vector& R) final;
+
+  // Exact, by nested dual numbers through the terms, where every term offers them (kernel terms
+  // do; core/ExactDerivatives.hpp).
+  bool offers_exact_derivatives() const override { return assembler().has_directional_derivatives(); }
+  Status directional_derivative(const Vector& u, const std::vector<Direction>& directions, Vector& out) override;
 
   // The global assembly (terms, weak residual, timing). Throws std::logic_error before assemble().
   const Assembler& assembler() const;

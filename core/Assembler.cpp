@@ -289,4 +289,37 @@ Status Assembler::parameter_derivative(int p, const Vector& u, Vector& dF) const
   return st;
 }
 
+bool Assembler::has_directional_derivatives() const {
+  for (const auto& t : terms_)
+    if (!t->has_directional_derivative()) return false;
+  return true;
+}
+
+Status Assembler::directional_derivative(const Vector& u, const std::vector<const Vector*>& du,
+                                         const std::vector<const Vector*>& dp, Vector& out) const {
+  const int order = static_cast<int>(du.size());
+  if ((order != 2 && order != 3) || dp.size() != du.size())
+    throw std::invalid_argument("Assembler::directional_derivative: 2 or 3 directions");
+  std::vector<std::vector<double>> local(du.size());
+  std::vector<const double*> dul(du.size()), dpl(du.size());
+  for (size_t j = 0; j < dp.size(); ++j) dpl[j] = dp[j] ? dp[j]->data() : nullptr;
+  std::vector<int> dofs;
+  Status st = assemble_vector(u, out, [&](const Term& t, int item, const double* ul, double* rl) {
+    dofs.resize(t.local_size());
+    t.item_dofs(item, dofs.data());
+    for (size_t j = 0; j < du.size(); ++j) {
+      if (!du[j]) {
+        dul[j] = nullptr;
+        continue;
+      }
+      local[j].resize(dofs.size());
+      for (size_t i = 0; i < dofs.size(); ++i) local[j][i] = (*du[j])[dofs[i]];
+      dul[j] = local[j].data();
+    }
+    return t.directional_derivative(item, ul, order, dul.data(), dpl.data(), rl);
+  });
+  if (st.code() == StatusCode::NotFinite) return {st.code(), "directional derivative " + st.message()};
+  return st;
+}
+
 }  // namespace keller

@@ -51,6 +51,13 @@ class Assembler {
   // rate(): no matrix is formed.
   Status time_residual(const Vector& u, const Vector& udot, Vector& R) const;
 
+  // D^k F[d_1, ..., d_k] (k = du.size(), 2 or 3) from the terms' directional derivatives (every
+  // term must offer them: has_directional_derivatives()); du[j] over the unknowns, dp[j] over the
+  // parameters, each possibly null (no change).
+  Status directional_derivative(const Vector& u, const std::vector<const Vector*>& du,
+                                const std::vector<const Vector*>& dp, Vector& out) const;
+  bool has_directional_derivatives() const;
+
   const Timing& timing() const { return timing_; }
   void reset_timing() { timing_ = {}; }
   const std::vector<std::shared_ptr<const Term>>& terms() const { return terms_; }

@@ -32,6 +32,14 @@ class DirichletTerm final : public Term {
   Status residual(int item, const double* u, double* r) const override;
   Status jacobian(int item, const double* u, double* r, double* J) const override;
   Status parameter_derivative(int item, int p, const double* u, double* dr) const override;
+  // u_i - g_i is linear in u, and g_i affine in the parameters (as dF/dp above takes them): the
+  // second and third derivatives are zero.
+  bool has_directional_derivative() const override { return true; }
+  Status directional_derivative(int, const double*, int, const double* const*, const double* const*,
+                                double* r) const override {
+    r[0] = 0.0;
+    return {};
+  }
 
   const std::vector<int>& dofs() const { return dofs_; }
   double value(int item) const;

@@ -18,15 +18,19 @@
 // is taken exactly by dual numbers (Dual<kSize>, the rates the variables); or the block itself,
 //   Status mass(int item, const double* u, const double* params, double* B) const;
 // evaluate is instantiated with (double, double) for residuals, (Dual<kSize>, double) for the
-// Jacobian and (Dual<1>, Dual<1>) for dF/dp, so kernels must only mix T with P and double in
-// ways that give T.
+// Jacobian, (Dual<1>, Dual<1>) for dF/dp and (HyperDual<K>, HyperDual<K>) for second and third
+// directional derivatives, so kernels must only mix T with P and double in ways that give T, and
+// call the functions HyperDual has (exp, log, pow, sqrt, cosh, sinh, tanh, sin, cos, abs)
+// unqualified.
 #pragma once
 
 #include <array>
+#include <stdexcept>
 #include <utility>
 #include <vector>
 
 #include "core/AutoDiff.hpp"
+#include "core/HyperDual.hpp"
 #include "core/ParameterSet.hpp"
 #include "core/Term.hpp"
 
@@ -83,6 +87,14 @@ class KernelTerm final : public Term {
     return st;
   }
 
+  bool has_directional_derivative() const override { return true; }
+  Status directional_derivative(int item, const double* u, int order, const double* const* du, const double* const* dp,
+                                double* r) const override {
+    if (order == 2) return hyper<2>(item, u, du, dp, r);
+    if (order == 3) return hyper<3>(item, u, du, dp, r);
+    throw std::invalid_argument("KernelTerm::directional_derivative: order 2 or 3");
+  }
+
   static constexpr bool kHasRate = requires(const Kernel& k, const double* x, double* y) { k.rate(0, x, x, x, y); };
   static constexpr bool kHasMass = requires(const Kernel& k, const double* x, double* y) { k.mass(0, x, x, y); };
 
@@ -113,6 +125,26 @@ class KernelTerm final : public Term {
   const Kernel& kernel() const { return kernel_; }
 
  private:
+  // D^k r by one evaluation in hyper-dual numbers (core/HyperDual.hpp)
+  template <int K>
+  Status hyper(int item, const double* u, const double* const* du, const double* const* dp, double* r) const {
+    using S = HyperDual<K>;
+    auto seed = [&](double v, const double* const* d, int i) {
+      std::array<double, K> along{};
+      for (int j = 0; j < K; ++j) along[static_cast<size_t>(j)] = d[j] ? d[j][i] : 0.0;
+      return seeded<K>(v, along);
+    };
+    std::array<S, N> ud;
+    std::array<S, R> rd;
+    for (int i = 0; i < N; ++i) ud[static_cast<size_t>(i)] = seed(u[i], du, i);
+    const int np = params_->size();
+    std::vector<S> pd(static_cast<size_t>(np));
+    for (int i = 0; i < np; ++i) pd[static_cast<size_t>(i)] = seed(params_->values()[i], dp, i);
+    Status st = kernel_.template evaluate<S, S>(item, ud.data(), pd.data(), rd.data());
+    for (int i = 0; i < R; ++i) r[i] = mixed_part<K>(rd[static_cast<size_t>(i)]);
+    return st;
+  }
+
   Kernel kernel_;
   const ParameterSet* params_;
 };

@@ -41,6 +41,13 @@ class RateConstraintTerm final : public Term {
     dr[0] = 0.0;
     return {};
   }
+  // r = u_i is linear: its second and third derivatives are zero
+  bool has_directional_derivative() const override { return true; }
+  Status directional_derivative(int, const double*, int, const double* const*, const double* const*,
+                                double* r) const override {
+    r[0] = 0.0;
+    return {};
+  }
   bool has_mass() const override { return true; }
   Status mass(int, const double*, double* B) const override {
     B[0] = 0.0;

@@ -1,5 +1,6 @@
 #include "core/Term.hpp"
 
+#include <stdexcept>
 #include <vector>
 
 namespace keller {
@@ -14,6 +15,11 @@ Status Term::rate(int item, const double* u, const double* udot, double* r) cons
   for (int i = 0; i < k; ++i)
     for (int j = 0; j < m; ++j) r[i] += B[static_cast<size_t>(i) * m + j] * udot[j];
   return {};
+}
+
+Status Term::directional_derivative(int, const double*, int, const double* const*, const double* const*,
+                                    double*) const {
+  throw std::logic_error("term '" + name() + "' offers no exact directional derivatives");
 }
 
 }  // namespace keller

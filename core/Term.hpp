@@ -37,6 +37,14 @@ class Term {
   // time-dependent residual B du/dt + F that holds the time derivatives. The default multiplies
   // mass() out; a term that writes them directly (KernelTerm) evaluates them without forming B.
   virtual Status rate(int item, const double* u, const double* udot, double* r) const;
+  // The order-th directional derivative of r (order 2 or 3), D^k r[d_1, ..., d_k] (local_rows()),
+  // each direction d_j a change du[j] of the item's unknowns (local_size()) and dp[j] of the
+  // problem's parameters (its ParameterSet's size; null: none), for normal forms
+  // (core/ExactDerivatives.hpp). has_directional_derivative(): whether the term offers it exactly;
+  // the default offers nothing and its directional_derivative throws std::logic_error.
+  virtual bool has_directional_derivative() const { return false; }
+  virtual Status directional_derivative(int item, const double* u, int order, const double* const* du,
+                                        const double* const* dp, double* r) const;
 };
 
 }  // namespace keller

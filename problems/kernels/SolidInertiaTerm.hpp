@@ -66,6 +66,13 @@ class SolidInertiaTerm final : public Term {
     std::fill_n(dr, kRows, 0.0);
     return {};
   }
+  // the steady residual is zero, and so are its derivatives
+  bool has_directional_derivative() const override { return true; }
+  Status directional_derivative(int, const double*, int, const double* const*, const double* const*,
+                                double* r) const override {
+    std::fill(r, r + kRows, 0.0);
+    return {};
+  }
   bool has_mass() const override { return true; }
   // B[a][18 + b] = B[9 + a][27 + b] = rho* int phi_a phi_b dA0 (the consistent mass matrix).
   Status mass(int item, const double*, double* B) const override {

@@ -1,0 +1,233 @@
+#include "core/HigherDerivatives.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <stdexcept>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "core/ExactDerivatives.hpp"
+
+namespace keller {
+
+namespace {
+
+// of the state and the parameter, for second and third derivatives (the header says the accuracy)
+constexpr double kRelativeStep[2] = {1e-3, 1e-2};
+
+bool is_zero(const HigherDerivatives::Direction& d) {
+  return d.lambda == 0.0 && (d.u.size() == 0 || d.u.isZero(0.0)) && (d.rate.size() == 0 || d.rate.isZero(0.0));
+}
+bool has_rate(const HigherDerivatives::Direction& d) { return d.rate.size() > 0 && !d.rate.isZero(0.0); }
+bool moves_state(const HigherDerivatives::Direction& d) {
+  return d.lambda != 0.0 || (d.u.size() > 0 && !d.u.isZero(0.0));
+}
+
+// the real (part 0) or imaginary (part 1) part of a complex direction
+HigherDerivatives::Direction part(const HigherDerivatives::ComplexDirection& d, int which) {
+  HigherDerivatives::Direction r;
+  if (d.u.size() > 0) r.u = which == 0 ? Vector(d.u.real()) : Vector(d.u.imag());
+  r.lambda = which == 0 ? d.lambda.real() : d.lambda.imag();
+  if (d.rate.size() > 0) r.rate = which == 0 ? Vector(d.rate.real()) : Vector(d.rate.imag());
+  return r;
+}
+
+}  // namespace
+
+HigherDerivatives::HigherDerivatives(Problem& problem, int parameter, Vector u0, bool force_differences)
+    : problem_(problem), parameter_(parameter), u0_(std::move(u0)) {
+  if (parameter < 0 || parameter >= problem.parameters().size())
+    throw std::invalid_argument("HigherDerivatives: no parameter with that index");
+  if (u0_.size() != problem.size()) throw std::invalid_argument("HigherDerivatives: the state has the wrong size");
+  lambda0_ = problem.parameters().value(parameter);
+  exact_ = dynamic_cast<ExactDerivatives*>(&problem);
+  if (exact_ && (force_differences || !exact_->offers_exact_derivatives())) exact_ = nullptr;
+  method_ = exact_ ? Method::Exact : Method::Differences;
+  has_time_form_ = has_time_form(problem);
+}
+
+std::string HigherDerivatives::method_name() const {
+  return method_ == Method::Exact ? "exact (hyper-dual numbers)" : "central differences of the residual";
+}
+
+double HigherDerivatives::step(const Direction& d, int order) const {
+  const double su = std::max(1.0, u0_.lpNorm<Eigen::Infinity>());
+  const double sl = lambda0_ != 0.0 ? std::abs(lambda0_) : 1.0;
+  double size = std::abs(d.lambda) / sl;
+  if (d.u.size() > 0) size = std::max(size, d.u.lpNorm<Eigen::Infinity>() / su);
+  return size > 0.0 ? kRelativeStep[order == 2 ? 0 : 1] / size : 0.0;
+}
+
+Status HigherDerivatives::shifted(const Direction* const* d, const double* s, int order, const Vector* rate,
+                                  Vector& out) {
+  Vector u = u0_;
+  double lambda = lambda0_;
+  for (int i = 0; i < order; ++i) {
+    if (s[i] == 0.0) continue;
+    if (d[i]->u.size() > 0) u += s[i] * d[i]->u;
+    lambda += s[i] * d[i]->lambda;
+  }
+  ParameterSet& params = problem_.parameters();
+  Status st;
+  try {
+    params.set(parameter_, lambda);
+    ++evaluations_;
+    st = rate ? problem_.time_residual(u, *rate, out) : problem_.residual(u, out);
+  } catch (const std::out_of_range& e) {
+    st = Status(StatusCode::InvalidState, fmt::format("a difference step leaves the parameter's range: {}", e.what()));
+  }
+  params.set(parameter_, lambda0_);
+  return st;
+}
+
+Status HigherDerivatives::f_differences(const Direction* const* d, int order, Vector& out) {
+  std::array<double, 3> t{};
+  double scale = 1.0;
+  for (int i = 0; i < order; ++i) {
+    t[static_cast<size_t>(i)] = step(*d[i], order);
+    if (t[static_cast<size_t>(i)] == 0.0) {  // along the rates alone: F does not change
+      out.setZero(problem_.size());
+      return {};
+    }
+    scale *= 2.0 * t[static_cast<size_t>(i)];
+  }
+  out.setZero(problem_.size());
+  Vector r;
+  for (int signs = 0; signs < (1 << order); ++signs) {
+    std::array<double, 3> s{};
+    double sign = 1.0;
+    for (int i = 0; i < order; ++i) {
+      const bool minus = (signs >> i) & 1;
+      s[static_cast<size_t>(i)] = minus ? -t[static_cast<size_t>(i)] : t[static_cast<size_t>(i)];
+      if (minus) sign = -sign;
+    }
+    Status st = shifted(d, s.data(), order, nullptr, r);
+    if (!st.is_ok()) return st;
+    out += sign * r;
+  }
+  out /= scale;
+  return {};
+}
+
+Status HigherDerivatives::f_part(const Direction* const* d, int order, Vector& out) {
+  if (!exact_) return f_differences(d, order, out);
+  std::vector<Vector> parameter_changes(static_cast<size_t>(order));
+  std::vector<ExactDerivatives::Direction> dirs(static_cast<size_t>(order));
+  for (int i = 0; i < order; ++i) {
+    auto& dir = dirs[static_cast<size_t>(i)];
+    if (d[i]->u.size() > 0) dir.u = &d[i]->u;
+    if (d[i]->lambda != 0.0) {
+      Vector& p = parameter_changes[static_cast<size_t>(i)];
+      p.setZero(problem_.parameters().size());
+      p[parameter_] = d[i]->lambda;
+      dir.parameters = &p;
+    }
+  }
+  ++evaluations_;
+  return exact_->directional_derivative(u0_, dirs, out);
+}
+
+// The time terms' part: B(u, lambda) is differentiated along the directions that move the state,
+// at the rate of the one that has rates (R is linear in the rates: one of them at a time).
+Status HigherDerivatives::rate_part(const Direction* const* d, int order, Vector& out) {
+  out.setZero(problem_.size());
+  if (!has_time_form_) return {};
+  Vector r;
+  for (int k = 0; k < order; ++k) {
+    if (!has_rate(*d[k])) continue;
+    std::array<const Direction*, 2> others{};
+    int n = 0;
+    for (int i = 0; i < order; ++i)
+      if (i != k) others[static_cast<size_t>(n++)] = d[i];
+    bool moves = true;
+    std::array<double, 2> t{};
+    double scale = 1.0;
+    for (int i = 0; i < n; ++i) {
+      moves = moves && moves_state(*others[static_cast<size_t>(i)]);
+      t[static_cast<size_t>(i)] = step(*others[static_cast<size_t>(i)], order);
+      scale *= 2.0 * t[static_cast<size_t>(i)];
+    }
+    if (!moves) continue;
+    for (int signs = 0; signs < (1 << n); ++signs) {
+      std::array<double, 2> s{};
+      double sign = 1.0;
+      for (int i = 0; i < n; ++i) {
+        const bool minus = (signs >> i) & 1;
+        s[static_cast<size_t>(i)] = minus ? -t[static_cast<size_t>(i)] : t[static_cast<size_t>(i)];
+        if (minus) sign = -sign;
+      }
+      Status st = shifted(others.data(), s.data(), n, &d[k]->rate, r);
+      if (!st.is_ok()) return st;
+      out += (sign / scale) * r;
+    }
+  }
+  return {};
+}
+
+Status HigherDerivatives::second(const Direction& a, const Direction& b, Vector& out) {
+  if (is_zero(a) || is_zero(b)) {
+    out.setZero(problem_.size());
+    return {};
+  }
+  const Direction* d[2] = {&a, &b};
+  Status st = f_part(d, 2, out);
+  if (!st.is_ok() || (!has_rate(a) && !has_rate(b))) return st;
+  Vector time;
+  st = rate_part(d, 2, time);
+  out += time;
+  return st;
+}
+
+Status HigherDerivatives::third(const Direction& a, const Direction& b, const Direction& c, Vector& out) {
+  if (is_zero(a) || is_zero(b) || is_zero(c)) {
+    out.setZero(problem_.size());
+    return {};
+  }
+  const Direction* d[3] = {&a, &b, &c};
+  Status st = f_part(d, 3, out);
+  if (!st.is_ok() || (!has_rate(a) && !has_rate(b) && !has_rate(c))) return st;
+  Vector time;
+  st = rate_part(d, 3, time);
+  out += time;
+  return st;
+}
+
+// Multilinear in complex directions: the sum over choosing the real or the imaginary part of each,
+// times i^(number of imaginary parts).
+Status HigherDerivatives::second(const ComplexDirection& a, const ComplexDirection& b, ComplexVector& out) {
+  const std::array<Direction, 2> pa{part(a, 0), part(a, 1)}, pb{part(b, 0), part(b, 1)};
+  out.setZero(problem_.size());
+  Vector r;
+  const std::complex<double> unit[3] = {1.0, {0.0, 1.0}, -1.0};
+  for (int i = 0; i < 2; ++i)
+    for (int j = 0; j < 2; ++j) {
+      if (is_zero(pa[static_cast<size_t>(i)]) || is_zero(pb[static_cast<size_t>(j)])) continue;
+      Status st = second(pa[static_cast<size_t>(i)], pb[static_cast<size_t>(j)], r);
+      if (!st.is_ok()) return st;
+      out += unit[i + j] * r.cast<std::complex<double>>();
+    }
+  return {};
+}
+
+Status HigherDerivatives::third(const ComplexDirection& a, const ComplexDirection& b, const ComplexDirection& c,
+                                ComplexVector& out) {
+  const std::array<Direction, 2> pa{part(a, 0), part(a, 1)}, pb{part(b, 0), part(b, 1)}, pc{part(c, 0), part(c, 1)};
+  out.setZero(problem_.size());
+  Vector r;
+  const std::complex<double> unit[4] = {1.0, {0.0, 1.0}, -1.0, {0.0, -1.0}};
+  for (int i = 0; i < 2; ++i)
+    for (int j = 0; j < 2; ++j)
+      for (int k = 0; k < 2; ++k) {
+        const Direction &x = pa[static_cast<size_t>(i)], &y = pb[static_cast<size_t>(j)],
+                        &z = pc[static_cast<size_t>(k)];
+        if (is_zero(x) || is_zero(y) || is_zero(z)) continue;
+        Status st = third(x, y, z, r);
+        if (!st.is_ok()) return st;
+        out += unit[i + j + k] * r.cast<std::complex<double>>();
+      }
+  return {};
+}
+
+}  // namespace keller

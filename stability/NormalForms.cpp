@@ -1,0 +1,309 @@
+#include "stability/NormalForms.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numbers>
+
+#include <fmt/format.h>
+
+#include "core/HigherDerivatives.hpp"
+#include "stability/ComplexSparseLU.hpp"
+
+namespace keller {
+
+namespace {
+
+using Complex = std::complex<double>;
+using ComplexVector = Eigen::VectorXcd;
+using ComplexSparse = ComplexSparseLU::ComplexSparseMatrix;
+using Direction = HigherDerivatives::Direction;
+using ComplexDirection = HigherDerivatives::ComplexDirection;
+
+constexpr int kInverseIterations = 3;
+// a bifurcation-equation coefficient this small against the others is zero (a pitchfork's a)
+constexpr double kZeroCoefficient = 1e-6;
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// A start for inverse iteration with no guess: deterministic and in general position (not
+// orthogonal to a symmetric or antisymmetric mode).
+Vector generic_start(int n) {
+  Vector v(n);
+  for (int i = 0; i < n; ++i) v[i] = 1.0 + 0.5 * std::sin(1.7 * i + 0.3);
+  return v.normalized();
+}
+
+// Factorises J; a matrix singular to working precision (a point located exactly) gets a shift of
+// 1e-12 of its largest entry, which moves its null vectors by that much.
+Status factorise(SparseLU& lu, const SparseMatrix& J, long& count) {
+  ++count;
+  Status st = lu.factorize(J);
+  if (st.code() != StatusCode::SingularMatrix) return st;
+  SparseMatrix shifted = J;
+  const double scale = std::max(1.0, J.coeffs().cwiseAbs().maxCoeff());
+  for (int i = 0; i < J.rows(); ++i) shifted.coeffRef(i, i) += 1e-12 * scale;
+  ++count;
+  return lu.factorize(shifted);
+}
+
+// J's null vector (transpose: its left null vector) by inverse iteration from `start`.
+Status null_vector(SparseLU& lu, Vector start, bool transpose, Vector& out) {
+  out = start.normalized();
+  Vector x;
+  for (int k = 0; k < kInverseIterations; ++k) {
+    Status st = lu.solve(out, x, transpose);
+    if (!st.is_ok()) return st;
+    out = x.normalized();
+  }
+  return {};
+}
+
+// out := J^-1 rhs, with rhs first made orthogonal to psi (J's range) and the result to phi.
+Status solve_bordered(SparseLU& lu, const Vector& phi, const Vector& psi, Vector rhs, Vector& out) {
+  rhs -= psi.dot(rhs) * psi;
+  Status st = lu.solve(rhs, out);
+  if (!st.is_ok()) return st;
+  out -= phi.dot(out) * phi;
+  return {};
+}
+
+Status jacobian(Problem& problem, const Vector& u, SparseMatrix& J) {
+  Vector F;
+  J = problem.jacobian_pattern();
+  return problem.jacobian(u, F, J);
+}
+
+// <psi, B phi>, with B = I for a problem without a time-dependent form
+Status weighted(Problem& problem, const Vector& u, const Vector& psi, const Vector& phi, double& out) {
+  if (!has_time_form(problem)) {
+    out = psi.dot(phi);
+    return {};
+  }
+  Vector Bphi;
+  Status st = problem.time_residual(u, phi, Bphi);
+  out = psi.dot(Bphi);
+  return st;
+}
+
+void record(const HigherDerivatives& d, NormalForm& out) {
+  out.exact_derivatives = d.method() == HigherDerivatives::Method::Exact;
+  out.derivatives = d.method_name();
+  out.derivative_evaluations = d.evaluations();
+}
+
+}  // namespace
+
+std::string NormalForm::summary() const {
+  switch (kind) {
+    case Kind::Fold:
+      return fmt::format("fold: curvature {:.6g} (a {:.6g}, b {:.6g}), a {} of the parameter", curvature, a, b,
+                         curvature < 0 ? "maximum" : "minimum");
+    case Kind::BranchPoint:
+      if (type.rfind("pitchfork", 0) == 0)
+        return fmt::format("{}: cubic {:.6g}, branches toward {} parameter (a {:.3g}, b {:.6g}, c {:.6g})", type, cubic,
+                           side > 0 ? "larger" : "smaller", a, b, c);
+      return fmt::format("{}: a {:.6g}, b {:.6g}, c {:.6g}", type, a, b, c);
+    case Kind::Hopf:
+      return fmt::format("{}: l1 {:.6g}, omega {:.6g}, period {:.6g}, amplitude {:.4g} sqrt(|d|) for {} parameter",
+                         type, l1, omega, period, amplitude_coefficient, side > 0 ? "larger" : "smaller");
+  }
+  return type;
+}
+
+Status NormalForms::fold(Problem& problem, int parameter, const Vector& u, const Vector* guess, NormalForm& out) {
+  const auto t0 = std::chrono::steady_clock::now();
+  out = {};
+  out.kind = NormalForm::Kind::Fold;
+  out.type = "fold";
+  HigherDerivatives d(problem, parameter, u, force_differences_);
+  SparseMatrix J;
+  Status st = jacobian(problem, u, J);
+  if (!st.is_ok()) return st;
+  SparseLU lu(lu_);
+  if (st = factorise(lu, J, out.factorisations); !st.is_ok()) return st;
+  Vector Fl;
+  if (st = problem.parameter_derivative(parameter, u, Fl); !st.is_ok()) return st;
+  const Vector start = guess && guess->size() == u.size() && guess->norm() > 0 ? *guess : generic_start(u.size());
+  if (st = null_vector(lu, start, false, out.phi); !st.is_ok()) return st;
+  if (guess && guess->size() == u.size() && out.phi.dot(*guess) < 0) out.phi = -out.phi;
+  const Vector left_start = Fl.norm() > 0 ? Vector(Fl) : generic_start(u.size());
+  if (st = null_vector(lu, left_start, true, out.psi); !st.is_ok()) return st;
+  out.b = out.psi.dot(Fl);
+  if (out.b < 0) {
+    out.psi = -out.psi;
+    out.b = -out.b;
+  }
+  Vector D2;
+  if (st = d.second({out.phi}, {out.phi}, D2); !st.is_ok()) return st;
+  out.a = out.psi.dot(D2);
+  out.curvature = -out.a / out.b;
+  record(d, out);
+  out.seconds = seconds_since(t0);
+  return {};
+}
+
+Status NormalForms::branch_point(Problem& problem, int parameter, const Vector& u, const Vector* guess,
+                                 NormalForm& out) {
+  const auto t0 = std::chrono::steady_clock::now();
+  out = {};
+  out.kind = NormalForm::Kind::BranchPoint;
+  HigherDerivatives d(problem, parameter, u, force_differences_);
+  SparseMatrix J;
+  Status st = jacobian(problem, u, J);
+  if (!st.is_ok()) return st;
+  SparseLU lu(lu_);
+  if (st = factorise(lu, J, out.factorisations); !st.is_ok()) return st;
+  const Vector start = guess && guess->size() == u.size() && guess->norm() > 0 ? *guess : generic_start(u.size());
+  if (st = null_vector(lu, start, false, out.phi); !st.is_ok()) return st;
+  if (st = null_vector(lu, generic_start(u.size()), true, out.psi); !st.is_ok()) return st;
+  if (out.psi.dot(out.phi) < 0) out.psi = -out.psi;
+  Vector Fl, v;
+  if (st = problem.parameter_derivative(parameter, u, Fl); !st.is_ok()) return st;
+  if (st = solve_bordered(lu, out.phi, out.psi, -Fl, v); !st.is_ok()) return st;
+  // the direction of the continued branch's family, (v, 1) scaled to unit length
+  const double scale = std::sqrt(v.squaredNorm() + 1.0);
+  const Direction P{out.phi}, E{v / scale, 1.0 / scale};
+  Vector D2;
+  if (st = d.second(P, P, D2); !st.is_ok()) return st;
+  out.a = out.psi.dot(D2);
+  if (st = d.second(P, E, D2); !st.is_ok()) return st;
+  out.b = out.psi.dot(D2);
+  if (st = d.second(E, E, D2); !st.is_ok()) return st;
+  out.c = out.psi.dot(D2);
+  double psi_b_phi = 0.0;
+  if (st = weighted(problem, u, out.psi, out.phi, psi_b_phi); !st.is_ok()) return st;
+  // d(growth rate of the critical mode) / d lambda along (v, 1): -<psi, D2[phi, (v, 1)]> / <psi, B phi>
+  out.growth_rate_derivative = psi_b_phi != 0.0 ? -out.b * scale / psi_b_phi : 0.0;
+  const double disc = out.b * out.b - out.a * out.c;
+  auto tangent = [&](int k, double al, double be) {
+    const double n = std::hypot(al, be);
+    out.tangent_u[k] = (al * out.phi + be * E.u) / n;
+    out.tangent_lambda[k] = be * E.lambda / n;
+  };
+  const double size = std::max(std::abs(out.b), std::abs(out.c));
+  if (std::abs(out.a) <= kZeroCoefficient * size && out.b != 0.0) {
+    // be = 0 is a root: a branch along phi that turns at the point; its lambda from the cubic terms
+    Vector w2, D3;
+    if (st = d.second(P, P, D2); !st.is_ok()) return st;
+    if (st = solve_bordered(lu, out.phi, out.psi, -0.5 * D2, w2); !st.is_ok()) return st;
+    if (st = d.second(P, {w2}, D2); !st.is_ok()) return st;
+    if (st = d.third(P, P, P, D3); !st.is_ok()) return st;
+    out.cubic = -(out.psi.dot(D2) + out.psi.dot(D3) / 6.0) / (out.b * scale);
+    out.side = out.cubic > 0 ? 1 : -1;
+    const bool super = out.growth_rate_derivative != 0.0 && (out.growth_rate_derivative > 0) == (out.cubic > 0);
+    out.type = super ? "pitchfork (supercritical)" : "pitchfork (subcritical)";
+    tangent(0, 1.0, 0.0);
+    tangent(1, -out.c / (2.0 * out.b), 1.0);
+  } else if (disc >= 0.0) {
+    out.type = "transcritical";
+    const double r = std::sqrt(disc);
+    // roots al / be of a al^2 + 2 b al be + c be^2 = 0, written to avoid cancellation
+    const double q = -(out.b + std::copysign(r, out.b));
+    if (q == 0.0) {
+      tangent(0, 1.0, 0.0);
+      tangent(1, 0.0, 1.0);
+    } else {
+      tangent(0, q, out.a);  // al / be = q / a
+      tangent(1, out.c, q);  // al / be = c / q
+    }
+  } else {
+    out.type = "isolated point";  // no real branch through it besides the point itself
+  }
+  record(d, out);
+  out.seconds = seconds_since(t0);
+  return {};
+}
+
+Status NormalForms::hopf(Problem& problem, int parameter, const Vector& u, double omega, const Eigen::VectorXcd* guess,
+                         NormalForm& out) {
+  const auto t0 = std::chrono::steady_clock::now();
+  out = {};
+  out.kind = NormalForm::Kind::Hopf;
+  const int n = static_cast<int>(u.size());
+  HigherDerivatives d(problem, parameter, u, force_differences_);
+  SparseMatrix J, B;
+  Status st = jacobian(problem, u, J);
+  if (!st.is_ok()) return st;
+  B = problem.jacobian_pattern();
+  if (st = problem.mass_matrix(u, B); !st.is_ok()) return st;
+  omega = std::abs(omega);
+  const Complex I(0.0, 1.0);
+  const ComplexSparse Jc = J.cast<Complex>(), Bc = B.cast<Complex>();
+  ComplexSparseLU lu1(lu_);
+  ComplexSparse A1 = Jc + (I * omega) * Bc;
+  ++out.factorisations;
+  if (st = lu1.factorize(A1); !st.is_ok()) return st;
+  // q: (J + i omega B) q = 0, by inverse iteration from the guess's real part (it holds both of
+  // the pair); p: (J + i omega B)^H p = 0
+  Vector start = generic_start(n);
+  if (guess && guess->size() == n && guess->norm() > 0) start = guess->real() + guess->imag();
+  ComplexVector q = start.cast<Complex>().normalized(), p, x;
+  for (int k = 0; k < kInverseIterations; ++k) {
+    if (st = lu1.solve(Bc * q, x); !st.is_ok()) return st;
+    q = x.normalized();
+  }
+  p = (Bc * q).normalized();
+  for (int k = 0; k < kInverseIterations; ++k) {
+    if (st = lu1.solve(p, x, true); !st.is_ok()) return st;
+    p = x.normalized();
+  }
+  // the frequency from the Rayleigh quotient sigma = p^H J q / p^H B q = -i omega
+  const Complex sigma = p.dot(Jc * q) / p.dot(Bc * q);
+  omega = -sigma.imag();
+  if (!(omega > 0.0))
+    return {StatusCode::InvalidState,
+            fmt::format("no complex pair near the Hopf point (sigma = {:.6g}{:+.6g}i)", sigma.real(), sigma.imag())};
+  Eigen::Index k = 0;
+  q.cwiseAbs().maxCoeff(&k);
+  q *= std::conj(q[k]) / std::norm(q[k]);  // q_k = 1
+  p /= std::conj(p.dot(Bc * q));           // p^H B q = 1
+  out.q = q;
+  out.omega = omega;
+  out.period = 2.0 * std::numbers::pi / omega;
+  out.amplitude_entry = static_cast<int>(k);
+
+  const ComplexDirection Q{q, 0.0, I * omega * q}, Qbar{q.conjugate(), 0.0, -I * omega * q.conjugate()};
+  ComplexVector r;
+  // h11: J h11 = -D2R[Q, Qbar] (real)
+  if (st = d.second(Q, Qbar, r); !st.is_ok()) return st;
+  SparseLU lu(lu_);
+  if (st = factorise(lu, J, out.factorisations); !st.is_ok()) return st;
+  Vector h11;
+  if (st = lu.solve(-Vector(r.real()), h11); !st.is_ok()) return st;
+  // h20: (J + 2 i omega B) h20 = -D2R[Q, Q]
+  if (st = d.second(Q, Q, r); !st.is_ok()) return st;
+  ComplexSparseLU lu2(lu_);
+  ++out.factorisations;
+  if (st = lu2.factorize(Jc + (2.0 * I * omega) * Bc); !st.is_ok()) return st;
+  ComplexVector h20;
+  if (st = lu2.solve(-r, h20); !st.is_ok()) return st;
+  const ComplexDirection H20{h20, 0.0, 2.0 * I * omega * h20}, H11{h11.cast<Complex>(), 0.0, {}};
+  ComplexVector sum, t;
+  if (st = d.third(Q, Q, Qbar, sum); !st.is_ok()) return st;
+  if (st = d.second(Qbar, H20, t); !st.is_ok()) return st;
+  sum += t;
+  if (st = d.second(Q, H11, t); !st.is_ok()) return st;
+  sum += 2.0 * t;
+  out.c1 = -0.5 * p.dot(sum);
+  out.l1 = out.c1.real() / omega;
+  // transversality: d(growth rate)/d lambda = -p^H D2R[Q, (v, 1)], J v = -F_lambda
+  Vector Fl, v;
+  if (st = problem.parameter_derivative(parameter, u, Fl); !st.is_ok()) return st;
+  if (st = lu.solve(-Fl, v); !st.is_ok()) return st;
+  if (st = d.second(Q, ComplexDirection{v.cast<Complex>(), 1.0, {}}, r); !st.is_ok()) return st;
+  out.growth_rate_derivative = -p.dot(r).real();
+  const double g = out.growth_rate_derivative, rc = out.c1.real();
+  if (g != 0.0 && rc != 0.0) {
+    out.side = -g / rc > 0 ? 1 : -1;
+    out.amplitude_coefficient = 2.0 * std::sqrt(std::abs(g / rc));
+  }
+  out.type = out.l1 < 0 ? "Hopf (supercritical)" : "Hopf (subcritical)";
+  record(d, out);
+  out.seconds = seconds_since(t0);
+  return {};
+}
+
+}  // namespace keller

@@ -1,0 +1,87 @@
+// Normal forms of located points of F(u, lambda) = 0, B du/dt = -F: what happens beyond a fold, a
+// simple branch point or a Hopf point, from second and third derivatives of F (and of B u', where
+// B depends on u) at the point (core/HigherDerivatives.hpp: exact where the problem offers them).
+//
+// Conventions (docs/normal_forms.md):
+// - phi is J's null vector with |phi|_2 = 1 (Hopf: q, with max_i |q_i| = 1 and that entry real
+//   and positive), psi J's left null vector with |psi|_2 = 1 (Hopf: p with p^H B q = 1).
+// - Fold: along u = u0 + eps phi + O(eps^2), lambda = lambda0 + curvature eps^2 / 2, curvature =
+//   -a / b with a = <psi, F_uu[phi, phi]> and b = <psi, F_lambda> (psi's sign makes b > 0): a fold
+//   with curvature < 0 is a maximum of lambda along the branch, > 0 a minimum.
+// - Simple branch point: the algebraic bifurcation equation a al^2 + 2 b al be + c be^2 = 0 in the
+//   tangents al phi + be (v, 1) (J v = -F_lambda, v orthogonal to phi, (v, 1) scaled to unit
+//   length), a, b, c = <psi, D^2 F> on (phi, 0) and (v, 1); two real roots (b^2 > a c):
+//   transcritical, or a pitchfork where one root is be = 0 (a = 0, up to 1e-6 of |b| and |c|),
+//   whose branch u = u0 + eps phi has lambda = lambda0 + cubic eps^2. Supercritical: the
+//   bifurcating branches lie on the side where the continued branch is unstable (growth rate
+//   -<psi, J_lambda phi> / <psi, B phi>; B = I for a problem without a time-dependent form).
+// - Hopf: the critical eigenvalue sigma = -i omega of J phi = sigma B phi (growth rate -sigma),
+//   the normal form z' = (g' (lambda - lambda0) + i omega) z + c1 z |z|^2 of the amplitude z of
+//   u = u0 + z q + conj(z q) + ..., first Lyapunov coefficient l1 = Re c1 / omega (< 0:
+//   supercritical, stable orbits; > 0: subcritical), period 2 pi / omega, and the orbit's
+//   amplitude max_t |u_i - u0_i| = 2 |z| |q_i| with |z|^2 = -g' (lambda - lambda0) / Re c1: at the
+//   entry where |q_i| = 1, amplitude_coefficient sqrt(|lambda - lambda0|) on the side `side`.
+#pragma once
+
+#include <complex>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/Problem.hpp"
+#include "core/SparseLU.hpp"
+#include "core/Status.hpp"
+#include "core/Types.hpp"
+
+namespace keller {
+
+struct NormalForm {
+  enum class Kind { Fold, BranchPoint, Hopf };
+  Kind kind = Kind::Fold;
+  std::string type;            // "fold", "transcritical", "pitchfork (supercritical)", "Hopf (subcritical)", ...
+  double a = 0, b = 0, c = 0;  // fold: a, b; branch point: the bifurcation equation's
+  double curvature = 0;        // fold
+  double cubic = 0;            // pitchfork: lambda - lambda0 = cubic eps^2 on the branch along phi
+  // branch point: the two branches' unit tangents (state, parameter): the pitchfork's bifurcating
+  // branch first
+  Vector tangent_u[2];
+  double tangent_lambda[2] = {0, 0};
+  double growth_rate_derivative = 0;  // d Re(growth rate) / d lambda along the continued branch
+  // Hopf
+  double omega = 0, period = 0, l1 = 0;
+  std::complex<double> c1 = 0;
+  double amplitude_coefficient = 0;
+  int amplitude_entry = -1;  // the unknown where |q| = 1
+  int side = 0;              // orbits (pitchfork: branches) exist for lambda > lambda0 (+1) or < (-1)
+  Eigen::VectorXcd q;        // Hopf: the critical eigenvector as normalised above
+  Vector phi, psi;           // fold, branch point
+  bool exact_derivatives = false;
+  std::string derivatives;  // how the derivatives were taken
+  long factorisations = 0, derivative_evaluations = 0;
+  double seconds = 0;
+  // One line for people: the type and the numbers that say what happens beyond the point.
+  std::string summary() const;
+};
+
+class NormalForms {
+ public:
+  // force_differences: central differences even where the problem offers exact derivatives.
+  explicit NormalForms(SparseLUOptions lu = {}, bool force_differences = false)
+      : lu_(lu), force_differences_(force_differences) {}
+
+  // At a located point u, the parameters at the point's values; `parameter` is lambda's index.
+  // guess: a vector close to phi (a fold's tangent, J's null vector at a branch point; null:
+  // none). Numerical failures come back as a Status.
+  Status fold(Problem& problem, int parameter, const Vector& u, const Vector* guess, NormalForm& out);
+  Status branch_point(Problem& problem, int parameter, const Vector& u, const Vector* guess, NormalForm& out);
+  // omega: |Im sigma| of the critical pair; guess: its eigenvector (either of the pair; null: none).
+  Status hopf(Problem& problem, int parameter, const Vector& u, double omega, const Eigen::VectorXcd* guess,
+              NormalForm& out);
+
+ private:
+  SparseLUOptions lu_;
+  bool force_differences_;
+};
+
+}  // namespace keller

@@ -1,0 +1,271 @@
+// Normal forms of located points against closed forms (stability/NormalForms.hpp): a fold's
+// curvature from a problem with a known reduced equation, the discrete pitchfork's cubic
+// coefficient, the Brusselator's first Lyapunov coefficient, frequency, transversality and orbit
+// amplitude; and the derivatives they are built on: hyper-dual numbers against closed-form
+// derivatives, and the exact (hyper-dual) derivatives of the collapsible channel's kernels against
+// central differences of its residual.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+
+#include "core/HigherDerivatives.hpp"
+#include "core/HyperDual.hpp"
+#include "core/Newton.hpp"
+#include "problems/analytic/Brusselator1DProblem.hpp"
+#include "problems/analytic/Pitchfork1DProblem.hpp"
+#include "problems/channel/CollapsibleChannelProblem.hpp"
+#include "stability/NormalForms.hpp"
+#include "support/TestSupport.hpp"
+
+using namespace keller;
+
+namespace {
+
+// f''' at x by a hyper-dual number seeded along 1 in all three units
+template <class F>
+double third_derivative(F f, double x) {
+  return mixed_part<3>(f(seeded<3>(x, {1.0, 1.0, 1.0})));
+}
+
+TEST(HyperDual, ThirdDerivativesOfEveryFunctionAgainstClosedForms) {
+  const double x = 0.7, t = std::tanh(x);
+  using H = HyperDual<3>;
+  EXPECT_NEAR(third_derivative([](H v) { return exp(v); }, x), std::exp(x), 1e-14);
+  EXPECT_NEAR(third_derivative([](H v) { return log(v); }, x), 2.0 / (x * x * x), 1e-13);
+  EXPECT_NEAR(third_derivative([](H v) { return pow(v, 2.5); }, x), 2.5 * 1.5 * 0.5 * std::pow(x, -0.5), 1e-13);
+  EXPECT_NEAR(third_derivative([](H v) { return sqrt(v); }, x), 0.375 * std::pow(x, -2.5), 1e-13);
+  EXPECT_NEAR(third_derivative([](H v) { return cosh(v); }, x), std::sinh(x), 1e-14);
+  EXPECT_NEAR(third_derivative([](H v) { return sinh(v); }, x), std::cosh(x), 1e-14);
+  EXPECT_NEAR(third_derivative([](H v) { return tanh(v); }, x), (1 - t * t) * (6 * t * t - 2), 1e-14);
+  EXPECT_NEAR(third_derivative([](H v) { return sin(v); }, x), -std::cos(x), 1e-14);
+  EXPECT_NEAR(third_derivative([](H v) { return cos(v); }, x), std::sin(x), 1e-14);
+  EXPECT_NEAR(third_derivative([](H v) { return 1.0 / v; }, x), -6.0 / std::pow(x, 4), 1e-12);
+  EXPECT_NEAR(third_derivative([](H v) { return v * v * v - 2.0 * v; }, x), 6.0, 1e-14);
+  // mixed: f = x^2 y / (1 + y), D^3 f[ex, ex, ey] = 2 d/dy (y / (1 + y)) = 2 / (1 + y)^2
+  const double y = 0.4;
+  H X = seeded<3>(x, {1.0, 1.0, 0.0}), Y = seeded<3>(y, {0.0, 0.0, 1.0});
+  EXPECT_NEAR(mixed_part<3>(X * X * Y / (1.0 + Y)), 2.0 / ((1 + y) * (1 + y)), 1e-14);
+  // D^2 f[ex, ey] = 2 x / (1 + y)^2 from the second-order type
+  HyperDual<2> X2 = seeded<2>(x, {1.0, 0.0}), Y2 = seeded<2>(y, {0.0, 1.0});
+  EXPECT_NEAR(mixed_part<2>(X2 * X2 * Y2 / (1.0 + Y2)), 2 * x / ((1 + y) * (1 + y)), 1e-14);
+}
+
+// F1 = c2 u1^2 + u2 - lambda, F2 = u2 - d u1^2: on F2 = 0, F1 = (c2 + d) u1^2 - lambda, so the branch
+// is lambda = (c2 + d) eps^2 along phi = (1, 0): a fold at the origin with curvature 2 (c2 + d).
+class ReducedFold final : public Problem {
+ public:
+  ReducedFold() {
+    params_.add("lambda", 0.0, "load");
+    pattern_.resize(2, 2);
+    for (int i = 0; i < 2; ++i)
+      for (int j = 0; j < 2; ++j) pattern_.insert(i, j) = 0.0;
+    pattern_.makeCompressed();
+  }
+  static constexpr double c2 = 1.5, d = 0.7;
+  std::string name() const override { return "reduced-fold"; }
+  int size() const override { return 2; }
+  ParameterSet& parameters() override { return params_; }
+  const ParameterSet& parameters() const override { return params_; }
+  const SparseMatrix& jacobian_pattern() const override { return pattern_; }
+  Status residual(const Vector& u, Vector& F) override {
+    F.resize(2);
+    F[0] = c2 * u[0] * u[0] + u[1] - params_.value(0);
+    F[1] = u[1] - d * u[0] * u[0];
+    return {};
+  }
+  Status jacobian(const Vector& u, Vector& F, SparseMatrix& J) override {
+    residual(u, F);
+    J.coeffRef(0, 0) = 2 * c2 * u[0];
+    J.coeffRef(0, 1) = 1.0;
+    J.coeffRef(1, 0) = -2 * d * u[0];
+    J.coeffRef(1, 1) = 1.0;
+    return {};
+  }
+  Vector initial_guess() override { return Vector::Zero(2); }
+
+ private:
+  ParameterSet params_;
+  SparseMatrix pattern_;
+};
+
+TEST(NormalForms, FoldCurvatureIsThatOfTheReducedEquation) {
+  ReducedFold problem;
+  NormalForm nf;
+  const Vector u = Vector::Zero(2);
+  ASSERT_TRUE(NormalForms().fold(problem, 0, u, nullptr, nf).is_ok());
+  // differences of a quadratic: exact up to rounding of the O(1e-4) steps
+  EXPECT_NEAR(nf.curvature, 2.0 * (ReducedFold::c2 + ReducedFold::d), 1e-7);
+  EXPECT_GT(nf.b, 0.0);
+  EXPECT_NEAR(std::abs(nf.phi[0]), 1.0, 1e-12);
+  EXPECT_FALSE(nf.exact_derivatives);
+  EXPECT_NE(nf.summary().find("minimum"), std::string::npos) << nf.summary();
+}
+
+// The discrete pitchfork at its first branch point lambda_1 = (4 / h^2) sin^2(pi h / 2): u = eps phi
+// with phi the grid's sine mode (unit 2-norm), so lambda - lambda_1 = (sum phi_i^4) eps^2 and
+// sum_i sin^4(pi i / n) / (sum_i sin^2(pi i / n))^2 = (3 n / 8) / (n / 2)^2 = 3 / (2 n): in the
+// amplitude A of u = A sin(pi x), lambda - lambda_1 = 3 A^2 / 4.
+TEST(NormalForms, PitchforkCubicCoefficientIsTheGridsClosedForm) {
+  for (int n : {16, 40}) {
+    const double h = 1.0 / n, lambda1 = 4.0 / (h * h) * std::pow(std::sin(std::numbers::pi * h / 2), 2);
+    Pitchfork1DProblem problem(n, lambda1);
+    NormalForm nf;
+    ASSERT_TRUE(NormalForms().branch_point(problem, 0, Vector::Zero(n - 1), nullptr, nf).is_ok());
+    EXPECT_EQ(nf.type, "pitchfork (supercritical)") << nf.summary();
+    // differences of a cubic residual: the third derivative to about 1e-8 of its size
+    EXPECT_NEAR(nf.cubic, 3.0 / (2.0 * n), 1e-7 * n) << nf.summary();
+    EXPECT_EQ(nf.side, 1);
+    EXPECT_NEAR(nf.growth_rate_derivative, 1.0, 1e-8);  // sigma = mu_1 - lambda: growth lambda - lambda_1
+    // the bifurcating branch's tangent is phi (no parameter part), the trivial one's (0, 1)
+    EXPECT_NEAR(nf.tangent_lambda[0], 0.0, 1e-12);
+    EXPECT_NEAR(std::abs(nf.tangent_lambda[1]), 1.0, 1e-8);
+    EXPECT_NEAR(nf.tangent_u[1].norm(), 0.0, 1e-8);
+  }
+}
+
+// The Brusselator's uniform Hopf point at b = 1 + a^2: its normal form is that of the ODE
+// u' = a - (b + 1) u + u^2 v, v' = b u - u^2 v (the uniform mode's quadratic and cubic terms stay
+// uniform), whose first Lyapunov coefficient with q normalised to max |q_i| = 1 (the v entry, since
+// |q_v| / |q_u| = sqrt(a^2 + 1) / a > 1) is l1 = -(a^2 + 2) / (2 a (a^2 + 1)) (Kuznetsov's formula
+// worked symbolically; the time-dependent form there is x' = f, here B u' = -F with F = -f),
+// omega = a, Re d(growth)/db = 1/2 (trace/2 = (b - 1 - a^2) / 2), so the orbit's v amplitude is
+// 2 sqrt(|0.5 / Re c1|) sqrt(b - b0).
+TEST(NormalForms, BrusselatorHopfAgainstTheClosedForm) {
+  for (double a : {2.0, 1.3}) {
+    Brusselator1DOptions o;
+    o.intervals = 12;
+    o.a = a;
+    o.b = 1.0 + a * a;
+    Brusselator1DProblem problem(o);
+    const Vector u = problem.initial_guess();
+    NormalForm nf;
+    const int b = problem.parameters().index("b");
+    ASSERT_TRUE(NormalForms().hopf(problem, b, u, a * 1.01, nullptr, nf).is_ok());
+    const double l1 = -(a * a + 2) / (2 * a * (a * a + 1)), re_c1 = l1 * a;
+    // differences: the third derivatives to ~1e-8 relative (HigherDerivatives)
+    EXPECT_NEAR(nf.omega, a, 1e-10);
+    EXPECT_NEAR(nf.l1, l1, 1e-6 * std::abs(l1)) << nf.summary();
+    EXPECT_NEAR(nf.growth_rate_derivative, 0.5, 1e-7);
+    EXPECT_NEAR(nf.amplitude_coefficient, 2.0 * std::sqrt(0.5 / std::abs(re_c1)), 1e-6);
+    EXPECT_EQ(nf.side, 1);
+    EXPECT_EQ(nf.type, "Hopf (supercritical)");
+    EXPECT_EQ(nf.amplitude_entry % 2, 1);  // a v entry
+    EXPECT_NEAR(nf.period, 2 * std::numbers::pi / a, 1e-9);
+  }
+}
+
+// The collapsible channel's kernels (flow with inertia and shape derivatives, FENE-P conformation,
+// mesh, solid): second and third derivatives by hyper-dual numbers against central differences of
+// its residual at a converged steady state, along smooth directions (the branch's derivatives in
+// Wi, Re and Pe) with a change of Wi in one of them. The differences converge to the exact values
+// at second order: halving the step cuts their error fourfold (measured 4.00 and 4.06; the errors
+// 6e-5 and 2e-3 of the derivatives); a wrong hyper-dual derivative would leave an error of its own
+// size that does not shrink.
+TEST(NormalForms, ExactDerivativesOfTheCollapsibleChannelAreTheLimitOfDifferences) {
+  CollapsibleOptions o;
+  o.mesh = test::custom_channel_mesh(2, 4, 2, 2, 1);
+  o.Pe = 0.04;
+  o.fluid.model = FluidModel::FeneP;
+  o.fluid.Wi = 0.3;
+  o.fluid.beta = 0.5;
+  o.fluid.constants.b = 20.0;
+  o.fluid.Re = 1.0;
+  o.fluid.inertia = true;
+  o.fluid.profile = ProfileKind::FullyDeveloped;
+  CollapsibleChannelProblem problem(o);
+  Vector u = problem.initial_guess();
+  NewtonSolver newton(problem);
+  ASSERT_TRUE(newton.solve(u).converged());
+  ParameterSet& params = problem.parameters();
+  const int wi = params.index("Wi");
+  auto along = [&](const char* name, double dv) {  // du/dp along the branch
+    const int i = params.index(name);
+    const double v = params.value(i);
+    Vector w = u;
+    params.set(i, v + dv);
+    EXPECT_TRUE(newton.solve(w).converged());
+    params.set(i, v);
+    return Vector((w - u) / dv);
+  };
+  const Vector a = along("Wi", 0.01), b = along("Re", 0.1), c = along("Pe", 0.004);
+  const double b_wi = 0.3;  // b also changes Wi
+  HigherDerivatives exact(problem, wi, u);
+  ASSERT_EQ(exact.method(), HigherDerivatives::Method::Exact);
+  Vector e2, e3;
+  ASSERT_TRUE(exact.second({a}, {b, b_wi}, e2).is_ok());
+  ASSERT_TRUE(exact.third({a}, {b, b_wi}, {c}, e3).is_ok());
+  // F at u + s_a a + s_b b + s_c c, Wi + s_b b_wi
+  auto F = [&](double sa, double sb, double sc) {
+    Vector r;
+    params.set(wi, 0.3 + sb * b_wi);
+    EXPECT_TRUE(problem.residual(u + sa * a + sb * b + sc * c, r).is_ok());
+    params.set(wi, 0.3);
+    return r;
+  };
+  auto d2 = [&](double h) { return Vector((F(h, h, 0) - F(h, -h, 0) - F(-h, h, 0) + F(-h, -h, 0)) / (4 * h * h)); };
+  auto d3 = [&](double h) {
+    Vector s = Vector::Zero(u.size());
+    for (int k = 0; k < 8; ++k) {
+      const double x = k & 1 ? -h : h, y = k & 2 ? -h : h, z = k & 4 ? -h : h;
+      s += (x * y * z > 0 ? 1.0 : -1.0) * F(x, y, z);
+    }
+    return Vector(s / (8 * h * h * h));
+  };
+  // steps in the truncation regime (rounding, eps x the size of the terms assembled over h^2 or h^3,
+  // takes over below about 0.03 and 0.2 of the directions' largest entries)
+  const double h2 = 0.4 / a.lpNorm<Eigen::Infinity>(), h3 = 0.8 / c.lpNorm<Eigen::Infinity>();
+  const double err2 = (d2(h2) - e2).norm(), err2_half = (d2(h2 / 2) - e2).norm();
+  const double err3 = (d3(h3) - e3).norm(), err3_half = (d3(h3 / 2) - e3).norm();
+  RecordProperty("D2_ratio", std::to_string(err2 / err2_half));
+  RecordProperty("D3_ratio", std::to_string(err3 / err3_half));
+  EXPECT_GT(e2.norm(), 0.0);
+  EXPECT_GT(e3.norm(), 0.0);
+  EXPECT_NEAR(err2 / err2_half, 4.0, 0.5);
+  EXPECT_NEAR(err3 / err3_half, 4.0, 0.5);
+  EXPECT_LT(err2_half, 1e-3 * e2.norm());
+  EXPECT_LT(err3_half, 1e-2 * e3.norm());
+  // symmetric in the directions
+  Vector e2ba;
+  ASSERT_TRUE(exact.second({b, b_wi}, {a}, e2ba).is_ok());
+  EXPECT_LT((e2ba - e2).norm(), 1e-12 * e2.norm());
+}
+
+}  // namespace
+TEST(Scratch, Steps) {
+  CollapsibleOptions o;
+  o.mesh = test::custom_channel_mesh(2, 4, 2, 2, 1);
+  o.Pe = 0.04;
+  o.fluid.model = FluidModel::FeneP;
+  o.fluid.Wi = 0.3;
+  o.fluid.beta = 0.5;
+  o.fluid.constants.b = 20.0;
+  o.fluid.Re = 1.0;
+  o.fluid.inertia = true;
+  o.fluid.profile = ProfileKind::FullyDeveloped;
+  CollapsibleChannelProblem problem(o);
+  Vector u = problem.initial_guess();
+  NewtonSolver newton(problem);
+  ASSERT_TRUE(newton.solve(u).converged());
+  auto along = [&](const char* name, double dv) {
+    const int i = problem.parameters().index(name);
+    const double v = problem.parameters().value(i);
+    Vector w = u;
+    problem.parameters().set(i, v + dv);
+    EXPECT_TRUE(newton.solve(w).converged());
+    problem.parameters().set(i, v);
+    return Vector((w - u) / dv);
+  };
+  Vector a = along("Wi", 0.01), b = along("Re", 0.1), c = along("Pe", 0.004);
+  std::printf("|a| %g %g |b| %g |c| %g\n", a.norm(), a.lpNorm<Eigen::Infinity>(), b.norm(), c.norm());
+  const int p = problem.parameters().index("Wi");
+  HigherDerivatives exact(problem, p, u), diff(problem, p, u, true);
+  Vector e2, d2, e3, d3;
+  exact.second({a}, {b, 0.3}, e2);
+  diff.second({a}, {b, 0.3}, d2);
+  exact.third({a}, {b, 0.3}, {c}, e3);
+  diff.third({a}, {b, 0.3}, {c}, d3);
+  std::printf("D2 %g rel %g  D3 %g rel %g\n", e2.norm(), (e2 - d2).norm() / e2.norm(), e3.norm(),
+              (e3 - d3).norm() / e3.norm());
+}
