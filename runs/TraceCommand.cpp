@@ -13,6 +13,7 @@
 #include "runs/BranchOutput.hpp"
 #include "runs/CommandRun.hpp"
 #include "runs/Interrupts.hpp"
+#include "runs/NormalFormObserver.hpp"
 #include "runs/OutputFile.hpp"
 #include "runs/RunHooks.hpp"
 #include "runs/SceneLoader.hpp"
@@ -156,7 +157,7 @@ struct ForwardedInterrupts {
 // (continuing an unfinished run) is numbered after its rows, then goes to the file and the terminal
 // (a curve's table shows its other parameter first).
 ContinuationResult trace_branch(Continuation& stepper, TraceStart& start, const TraceSettings& settings,
-                                BranchFile& file) {
+                                BranchFile& file, Problem* plain) {
   ProgressPrinter printer(settings.continuation.parameter, 3,
                           start.curve ? std::vector<std::string>{start.curve->p1_name()} : std::vector<std::string>{});
   const std::unique_ptr<BranchObserver> hook = branch_hook(settings.continuation.parameter);
@@ -167,6 +168,11 @@ ContinuationResult trace_branch(Continuation& stepper, TraceStart& start, const 
   if (start.seed) observer = &continued.emplace(observers, start.seed->row);
   std::unique_ptr<BranchObserver> borders;
   if (start.borders) observer = (borders = start.borders(*observer)).get();
+  // the normal forms of its located points, where the branch is one of the problem itself
+  std::optional<NormalFormObserver> normal_forms;
+  if (plain && start.begin != TraceStart::Begin::EventCurve)
+    observer = &normal_forms.emplace(*observer, *plain, plain->parameters().index(settings.continuation.parameter),
+                                     settings.lu);
   const ForwardedInterrupts forwarded(&stepper);
   switch (start.begin) {
     case TraceStart::Begin::State: return stepper.run(start.state, *observer, std::move(start.factorisation));
@@ -219,7 +225,7 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
                                               stepper->analysis_columns(), start.seed ? &*start.seed : nullptr);
         },
         [&](BranchFile& file) {
-          result = trace_branch(*stepper, start, settings, file);
+          result = trace_branch(*stepper, start, settings, file, &traced == &problem ? &problem : nullptr);
           return RunEnd{result.code == StopCode::Interrupted, is_failure(result.code)};
         });
     if (stability)

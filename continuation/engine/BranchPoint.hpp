@@ -51,6 +51,10 @@ struct BranchPoint {
   double critical_imag = 0.0;
   int critical_multiplicity = 1;  // PointAnalysisResult::critical_multiplicity
   Vector critical_re, critical_im;
+  // The normal form at a located fold, branch point or Hopf point, in the order of
+  // normal_form_columns() (continuation/output/BranchFile.hpp) after row and kind; empty where none
+  // was computed.
+  std::vector<double> normal_form;
 };
 
 }  // namespace keller

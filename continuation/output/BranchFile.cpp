@@ -60,6 +60,34 @@ std::vector<std::string> branch_table_columns(const std::string& parameter, cons
   return c;
 }
 
+const std::vector<std::string>& normal_form_columns() {
+  static const std::vector<std::string> columns = {"type",
+                                                   "exact",
+                                                   "a",
+                                                   "b",
+                                                   "c",
+                                                   "curvature",
+                                                   "cubic",
+                                                   "growth_rate_derivative",
+                                                   "omega",
+                                                   "period",
+                                                   "l1",
+                                                   "c1_re",
+                                                   "c1_im",
+                                                   "amplitude_coefficient",
+                                                   "amplitude_entry",
+                                                   "side",
+                                                   "seconds"};
+  return columns;
+}
+
+const std::vector<std::string>& normal_form_types() {
+  static const std::vector<std::string> types = {
+      "fold",           "transcritical",        "pitchfork (supercritical)", "pitchfork (subcritical)",
+      "isolated point", "Hopf (supercritical)", "Hopf (subcritical)"};
+  return types;
+}
+
 BranchFile::BranchFile(const std::string& path, const Problem& problem, const ContinuationOptions& options,
                        const std::vector<std::string>& monitor_names, double state_scale,
                        const std::function<void(H5File&)>& header, const std::vector<std::string>& analysis_columns,
@@ -88,6 +116,9 @@ BranchFile::BranchFile(const std::string& path, const Problem& problem, const Co
         f.create_appendable("/branch/tangents", n_, 1);
         f.create_appendable("/branch/events", 4, 16);
         f.set_attribute("/branch/events", "columns", std::string(kEventColumns));
+        f.create_appendable("/branch/normal_forms", static_cast<long>(normal_form_columns().size()) + 2, 16);
+        f.set_attribute("/branch/normal_forms", "columns", "row,kind," + join_names(normal_form_columns()));
+        f.set_attribute("/branch/normal_forms", "types", join_names(normal_form_types()));
         if (n_analysis_) {
           f.create_appendable("/branch/eigenvectors", n_, 1);
           f.create_appendable("/branch/eigenvector_rows", 4, 16);
@@ -103,6 +134,7 @@ void BranchFile::write_seed(H5File& f, const BranchSeed& seed) {
   append_table_rows(f, "/branch/solutions", seed.solutions);
   append_table_rows(f, "/branch/tangents", seed.tangents);
   append_table_rows(f, "/branch/events", seed.events);
+  append_table_rows(f, "/branch/normal_forms", seed.normal_forms);
   if (n_analysis_) {
     append_table_rows(f, "/branch/eigenvectors", seed.eigenvectors);
     append_table_rows(f, "/branch/eigenvector_rows", seed.eigenvector_rows);
@@ -140,6 +172,11 @@ void BranchFile::on_point(const BranchPoint& p) {
     run_.h5().append_rows("/branch/events", event_record(p, monitors_).data(), 1);
     const bool critical = p.kind == PointKind::Fold || p.kind == PointKind::BranchPoint || p.kind == PointKind::Hopf;
     if (n_analysis_ && critical) save_mode(p);
+    if (critical && p.normal_form.size() == normal_form_columns().size()) {
+      std::vector<double> nf = {static_cast<double>(p.index), static_cast<double>(p.kind)};
+      nf.insert(nf.end(), p.normal_form.begin(), p.normal_form.end());
+      run_.h5().append_rows("/branch/normal_forms", nf.data(), 1);
+    }
   }
   run_.h5().flush();
   signal_point("point");
@@ -259,6 +296,7 @@ BranchSeed read_branch_seed(const std::string& path) {
   seed.solutions = solutions.topRows(slots);
   seed.tangents = tangents.topRows(slots);
   seed.events = rows_up_to(read_table_rows(f, "/branch/events"), seed.row);
+  seed.normal_forms = rows_up_to(read_table_rows(f, "/branch/normal_forms"), seed.row);
   const Eigen::MatrixXd modes = read_table_rows(f, "/branch/eigenvector_rows"),
                         vectors = read_table_rows(f, "/branch/eigenvectors");
   long m = rows_up_to(modes, seed.row).rows();

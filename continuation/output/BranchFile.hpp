@@ -7,6 +7,9 @@
 //                       part, next step, arclength
 //   /branch/solutions   the stored solutions (one row each), /branch/tangents their tangents
 //   /branch/events      located points that are not regular: row, kind, parameter, monitor
+//   /branch/normal_forms the normal forms of located folds, branch points and Hopf points: row,
+//                       kind, then normal_form_columns() (attribute `columns`; `types` names the
+//                       type codes)
 //   /branch/status      "running" while running, then why the branch ended
 //   /branch/exit_code   -1, then the exit code of a run whose ended branch takes its name
 // Attributes of /branch: parameter, observables, monitors, kinds, state_scale, theta.
@@ -31,13 +34,22 @@ namespace keller {
 struct BranchSeed {
   int row = -1;  // the row the run continues from: it becomes the new run's start
   std::vector<std::string> columns;
-  Eigen::MatrixXd table, saved, events, eigenvector_rows;  // rows of those datasets, row <= `row`
-  Eigen::MatrixXd solutions, tangents, eigenvectors;       // one stored vector per row
+  Eigen::MatrixXd table, saved, events, eigenvector_rows, normal_forms;  // rows of those datasets, row <= `row`
+  Eigen::MatrixXd solutions, tangents, eigenvectors;                     // one stored vector per row
 };
 // Reads the seed of an unfinished branch file (also one whose writer was killed): its rows up to
 // the last one that has both its table row and its stored solution. Throws std::runtime_error
 // if there is none.
 BranchSeed read_branch_seed(const std::string& path);
+
+// The numbers of a normal form (BranchPoint::normal_form; stability/NormalForms.hpp says what
+// each is): type (a code of normal_form_types()), exact (1: exact derivatives, 0: differences),
+// a, b, c, curvature, cubic, growth_rate_derivative, omega, period, l1, c1_re, c1_im,
+// amplitude_coefficient, amplitude_entry, side, seconds.
+const std::vector<std::string>& normal_form_columns();
+// The type codes: 0 fold, 1 transcritical, 2 pitchfork (supercritical), 3 pitchfork
+// (subcritical), 4 isolated point, 5 Hopf (supercritical), 6 Hopf (subcritical).
+const std::vector<std::string>& normal_form_types();
 
 // The columns of a branch table: row, kind, s, the parameter, the observables, monitor:NAME for
 // each monitor, the analysis's columns, then iterations, step, seconds, det_sign,

@@ -1,0 +1,36 @@
+// Computes the normal form of every located fold, simple branch point and Hopf point of a traced
+// branch (stability/NormalForms) as the points arrive, attaches its numbers to the point for the
+// branch file (/branch/normal_forms) and tells the terminal what happens beyond the point.
+#pragma once
+
+#include "continuation/Continuation.hpp"
+#include "core/Problem.hpp"
+#include "core/SparseLU.hpp"
+#include "stability/NormalForms.hpp"
+
+namespace keller {
+
+class NormalFormObserver final : public BranchObserver {
+ public:
+  // parameter: the traced parameter's index in the problem's ParameterSet.
+  NormalFormObserver(BranchObserver& inner, Problem& problem, int parameter, SparseLUOptions lu);
+  void on_start(const std::vector<std::string>& o, const std::vector<std::string>& m) override {
+    inner_.on_start(o, m);
+  }
+  void on_point(const BranchPoint& p) override;
+  void on_rejected(double l, double s, const Status& w) override { inner_.on_rejected(l, s, w); }
+  void on_note(const std::string& m) override { inner_.on_note(m); }
+  void on_finish(const std::string& r, const BranchPoint& last) override { inner_.on_finish(r, last); }
+
+ private:
+  BranchObserver& inner_;
+  Problem& problem_;
+  int parameter_;
+  NormalForms forms_;
+  bool has_time_form_;
+};
+
+// The numbers of a normal form in the order of normal_form_columns().
+std::vector<double> normal_form_row(const NormalForm& nf);
+
+}  // namespace keller
