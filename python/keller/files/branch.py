@@ -102,8 +102,9 @@ class StoredSolution(State):
 
 class Point:
     """A row of a branch table: its `index` in the table, `row` number, `kind`, `label` (None for
-    a regular point), `value` of the parameter, `values` ({column: value}) and the stored
-    `solution` at this row (None where none is stored)."""
+    a regular point), `value` of the parameter, `values` ({column: value}), the stored
+    `solution` at this row (None where none is stored) and its `normal_form` (a located fold,
+    branch point or Hopf point: Branch.normal_form_at; else None)."""
 
     def __init__(self, branch, index, label):
         self.index, self.label = index, label
@@ -112,6 +113,7 @@ class Point:
         self.value = float(branch.table[branch.parameter][index])
         self.values = branch.table.row(index)
         self.solution = branch.solution_at(self.row)
+        self.normal_form = branch.normal_form_at(self.row)
 
     def __getitem__(self, column):
         return self.values[column]
@@ -125,8 +127,9 @@ class Branch(TableView, RunFile):
     rows as stored: `keller export --csv`), `kinds` (a name per row), `status` (why it ended, or
     `running`), `exit_code` (None while running), `observables`, `monitors`, `labels`
     ([(label, row)]), `points(kind)`, `point(label_or_row)`, `solutions` (StoredSolution, in
-    row order), `unstable` and `eigenvalues` where the run had [stability]. `branch["Wi"]` is a
-    column of the table."""
+    row order), `unstable` and `eigenvalues` where the run had [stability], `normal_forms` (a
+    Table: a row per located fold, branch point and Hopf point, docs/normal_forms.md).
+    `branch["Wi"]` is a column of the table."""
 
     def _read(self, f):
         b = f["branch"]
@@ -140,6 +143,23 @@ class Branch(TableView, RunFile):
         self.kinds = np.array([KINDS[int(k)] for k in self.table["kind"]], dtype=object)
         self.labels = point_labels(self.kinds, self.table["row"])
         self._solutions = self._read_solutions(f)
+        self.normal_forms, self._normal_form_types = Table.from_rows(["row", "kind"], []), []
+        if "normal_forms" in b:
+            nf = b["normal_forms"]
+            self.normal_forms = Table.from_rows(names(nf.attrs["columns"]), read_rows(nf))
+            self._normal_form_types = names(nf.attrs["types"])
+
+    def normal_form_at(self, row):
+        """The normal form of a located row as {column: value} with `type` its name ("fold",
+        "pitchfork (supercritical)", "Hopf (subcritical)", ...) and `exact` a bool; None where the
+        row has none."""
+        hits = np.flatnonzero(self.normal_forms["row"] == row)
+        if len(hits) == 0:
+            return None
+        out = self.normal_forms.row(int(hits[-1]))
+        out["type"] = self._normal_form_types[int(out["type"])]
+        out["exact"] = bool(out["exact"])
+        return out
 
     def _read_solutions(self, f):
         if "branch/saved" not in f:
