@@ -16,7 +16,7 @@ std::vector<double> normal_form_row(const NormalForm& nf) {
   const double type = it == types.end() ? NAN : static_cast<double>(it - types.begin());
   const bool hopf = nf.kind == NormalForm::Kind::Hopf, fold = nf.kind == NormalForm::Kind::Fold;
   const bool pitchfork = nf.type.rfind("pitchfork", 0) == 0;
-  return {type,
+  std::vector<double> row = {type,
           nf.exact_derivatives ? 1.0 : 0.0,
           hopf ? NAN : nf.a,
           hopf ? NAN : nf.b,
@@ -33,6 +33,8 @@ std::vector<double> normal_form_row(const NormalForm& nf) {
           hopf ? static_cast<double>(nf.amplitude_entry) : NAN,
           hopf || pitchfork ? static_cast<double>(nf.side) : NAN,
           nf.seconds};
+  for (double a : nf.observable_amplitudes) row.push_back(hopf ? a : NAN);
+  return row;
 }
 
 NormalFormObserver::NormalFormObserver(BranchObserver& inner, Problem& problem, int parameter, SparseLUOptions lu)
@@ -74,6 +76,8 @@ void NormalFormObserver::on_point(const BranchPoint& p) {
   }
   BranchPoint with = p;
   with.normal_form = normal_form_row(nf);
+  with.normal_form.resize(with.normal_form.size() + problem_.observable_names().size() - nf.observable_amplitudes.size(),
+                          NAN);
   inner_.on_point(with);
   inner_.on_note(fmt::format("{} ({} derivatives, {:.2f} s)", nf.summary(),
                              nf.exact_derivatives ? "exact" : "difference", nf.seconds));

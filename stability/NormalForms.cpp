@@ -94,6 +94,29 @@ void record(const HigherDerivatives& d, NormalForm& out) {
   out.derivative_evaluations = d.evaluations();
 }
 
+// D o[q] of every observable by central differences along Re q and Im q (a step of 1e-6 of the
+// state's size: observables are evaluated in double, their rounding is eps / 1e-6 relative), and
+// the orbit's amplitude of each, 2 |z| |D o[q]| per sqrt(|lambda - lambda0|)
+Status observable_amplitudes(Problem& problem, const Vector& u, const ComplexVector& q, NormalForm& out) {
+  const size_t m = problem.observable_names().size();
+  out.observable_amplitudes.assign(m, NAN);
+  if (m == 0 || out.amplitude_coefficient == 0.0) return {};
+  const double h = 1e-6 * std::max(1.0, u.lpNorm<Eigen::Infinity>());
+  std::vector<double> plus, minus;
+  std::vector<Complex> derivative(m, 0.0);
+  for (int part = 0; part < 2; ++part) {
+    const Vector d = part == 0 ? Vector(q.real()) : Vector(q.imag());
+    Status st = problem.observables(u + h * d, plus);
+    if (st.is_ok()) st = problem.observables(u - h * d, minus);
+    if (!st.is_ok()) return st;
+    for (size_t i = 0; i < m; ++i)
+      derivative[i] += (part == 0 ? Complex(1.0) : Complex(0.0, 1.0)) * ((plus[i] - minus[i]) / (2.0 * h));
+  }
+  // amplitude_coefficient = 2 sqrt(|g' / Re c1|) = 2 |z| / sqrt(|d|) for |q|_inf = 1
+  for (size_t i = 0; i < m; ++i) out.observable_amplitudes[i] = out.amplitude_coefficient * std::abs(derivative[i]);
+  return {};
+}
+
 }  // namespace
 
 std::string NormalForm::summary() const {
@@ -300,6 +323,7 @@ Status NormalForms::hopf(Problem& problem, int parameter, const Vector& u, doubl
     out.side = -g / rc > 0 ? 1 : -1;
     out.amplitude_coefficient = 2.0 * std::sqrt(std::abs(g / rc));
   }
+  if (st = observable_amplitudes(problem, u, q, out); !st.is_ok()) return st;
   out.type = out.l1 < 0 ? "Hopf (supercritical)" : "Hopf (subcritical)";
   record(d, out);
   out.seconds = seconds_since(t0);

@@ -20,7 +20,8 @@
 //   u = u0 + z q + conj(z q) + ..., first Lyapunov coefficient l1 = Re c1 / omega (< 0:
 //   supercritical, stable orbits; > 0: subcritical), period 2 pi / omega, and the orbit's
 //   amplitude max_t |u_i - u0_i| = 2 |z| |q_i| with |z|^2 = -g' (lambda - lambda0) / Re c1: at the
-//   entry where |q_i| = 1, amplitude_coefficient sqrt(|lambda - lambda0|) on the side `side`.
+//   entry where |q_i| = 1, amplitude_coefficient sqrt(|lambda - lambda0|) on the side `side`, and
+//   for each observable o, 2 |z| |D o[q]|.
 #pragma once
 
 #include <complex>
@@ -55,6 +56,9 @@ struct NormalForm {
   int amplitude_entry = -1;  // the unknown where |q| = 1
   int side = 0;              // orbits (pitchfork: branches) exist for lambda > lambda0 (+1) or < (-1)
   Eigen::VectorXcd q;        // Hopf: the critical eigenvector as normalised above
+  // Hopf: the amplitude of each of the problem's observables on the orbit, max_t |o - o0| =
+  // observable_amplitudes[i] sqrt(|lambda - lambda0|) (2 |z| |D o[q]|, D o by central differences)
+  std::vector<double> observable_amplitudes;
   Vector phi, psi;           // fold, branch point
   bool exact_derivatives = false;
   std::string derivatives;  // how the derivatives were taken

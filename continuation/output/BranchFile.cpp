@@ -60,8 +60,8 @@ std::vector<std::string> branch_table_columns(const std::string& parameter, cons
   return c;
 }
 
-const std::vector<std::string>& normal_form_columns() {
-  static const std::vector<std::string> columns = {"type",
+std::vector<std::string> normal_form_columns(const std::vector<std::string>& observables) {
+  std::vector<std::string> columns = {"type",
                                                    "exact",
                                                    "a",
                                                    "b",
@@ -78,6 +78,7 @@ const std::vector<std::string>& normal_form_columns() {
                                                    "amplitude_entry",
                                                    "side",
                                                    "seconds"};
+  for (const std::string& o : observables) columns.push_back("amplitude:" + o);
   return columns;
 }
 
@@ -96,6 +97,7 @@ BranchFile::BranchFile(const std::string& path, const Problem& problem, const Co
       columns_(branch_table_columns(options.parameter, problem.observable_names(), monitor_names, analysis_columns)),
       monitors_(monitor_names),
       n_analysis_(analysis_columns.size()),
+      n_normal_form_(normal_form_columns(problem.observable_names()).size()),
       run_(path, "/branch", [&](H5File& f) {
         if (header) header(f);
         f.create_group("/branch");
@@ -116,8 +118,9 @@ BranchFile::BranchFile(const std::string& path, const Problem& problem, const Co
         f.create_appendable("/branch/tangents", n_, 1);
         f.create_appendable("/branch/events", 4, 16);
         f.set_attribute("/branch/events", "columns", std::string(kEventColumns));
-        f.create_appendable("/branch/normal_forms", static_cast<long>(normal_form_columns().size()) + 2, 16);
-        f.set_attribute("/branch/normal_forms", "columns", "row,kind," + join_names(normal_form_columns()));
+        f.create_appendable("/branch/normal_forms", static_cast<long>(n_normal_form_) + 2, 16);
+        f.set_attribute("/branch/normal_forms", "columns",
+                        "row,kind," + join_names(normal_form_columns(problem.observable_names())));
         f.set_attribute("/branch/normal_forms", "types", join_names(normal_form_types()));
         if (n_analysis_) {
           f.create_appendable("/branch/eigenvectors", n_, 1);
@@ -172,7 +175,7 @@ void BranchFile::on_point(const BranchPoint& p) {
     run_.h5().append_rows("/branch/events", event_record(p, monitors_).data(), 1);
     const bool critical = p.kind == PointKind::Fold || p.kind == PointKind::BranchPoint || p.kind == PointKind::Hopf;
     if (n_analysis_ && critical) save_mode(p);
-    if (critical && p.normal_form.size() == normal_form_columns().size()) {
+    if (critical && p.normal_form.size() == n_normal_form_) {
       std::vector<double> nf = {static_cast<double>(p.index), static_cast<double>(p.kind)};
       nf.insert(nf.end(), p.normal_form.begin(), p.normal_form.end());
       run_.h5().append_rows("/branch/normal_forms", nf.data(), 1);

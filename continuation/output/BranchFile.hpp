@@ -45,8 +45,9 @@ BranchSeed read_branch_seed(const std::string& path);
 // The numbers of a normal form (BranchPoint::normal_form; stability/NormalForms.hpp says what
 // each is): type (a code of normal_form_types()), exact (1: exact derivatives, 0: differences),
 // a, b, c, curvature, cubic, growth_rate_derivative, omega, period, l1, c1_re, c1_im,
-// amplitude_coefficient, amplitude_entry, side, seconds.
-const std::vector<std::string>& normal_form_columns();
+// amplitude_coefficient, amplitude_entry, side, seconds, then amplitude:NAME for each observable
+// (a Hopf point's orbit amplitude of it per sqrt(|lambda - lambda0|)).
+std::vector<std::string> normal_form_columns(const std::vector<std::string>& observables);
 // The type codes: 0 fold, 1 transcritical, 2 pitchfork (supercritical), 3 pitchfork
 // (subcritical), 4 isolated point, 5 Hopf (supercritical), 6 Hopf (subcritical).
 const std::vector<std::string>& normal_form_types();
@@ -93,6 +94,7 @@ class BranchFile final : public BranchObserver {
   std::vector<std::string> columns_;
   std::vector<std::string> monitors_;  // the names an event's monitor index refers to
   size_t n_analysis_ = 0;
+  size_t n_normal_form_ = 0;  // columns of /branch/normal_forms after row and kind
   int saved_ = 0;
   int last_saved_row_ = -1;
   int last_mode_row_ = -1;
