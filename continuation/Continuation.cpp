@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <stdexcept>
 
 #include "continuation/events/BranchSwitcher.hpp"
@@ -149,7 +150,8 @@ ContinuationResult Continuation::resume(BranchPoint start, BranchObserver& obser
   return trace(std::move(start), observer);
 }
 
-ContinuationResult Continuation::switch_branch(BranchPoint bp, int direction, BranchObserver& observer) {
+ContinuationResult Continuation::switch_branch(BranchPoint bp, int direction, BranchObserver& observer,
+                                               const SwitchPrediction* prediction) {
   t_start_ = std::chrono::steady_clock::now();
   if (!(options_.state_scale > 0))
     throw std::invalid_argument("switch_branch needs the state scale of the original run");
@@ -161,7 +163,33 @@ ContinuationResult Continuation::switch_branch(BranchPoint bp, int direction, Br
   adopted_ = false;
   resumed_ = false;
   BranchPoint start = bp;
-  const Status st = branch_direction(ev_, lu_options_, norm_, bp, direction, start.tu, start.tlambda);
+  first_curvature_u_.resize(0);
+  first_step_ = 0.0;
+  Status st;
+  if (prediction) {
+    // the normal form's tangent, unit in the arclength norm: s = |t| epsilon, so d^2/ds^2 = (d^2/de^2) / |t|^2
+    const double t = norm_.norm(prediction->tu, prediction->tl);
+    if (!(t > 0) || !std::isfinite(t) || prediction->tu.size() != bp.u.size()) {
+      st = {StatusCode::InvalidState, "the predicted tangent is zero"};
+    } else {
+      const double sign = direction >= 0 ? 1.0 : -1.0;
+      start.tu = (sign / t) * prediction->tu;
+      start.tlambda = sign * prediction->tl / t;
+      if (prediction->second_u.size() == bp.u.size()) {
+        first_curvature_u_ = prediction->second_u / (t * t);
+        first_curvature_l_ = prediction->second_l / (t * t);
+        // the tangent turns at the curvature's part normal to it per unit arclength: a first step
+        // that turns it by at most 3/4 of the angle limit
+        const double along = norm_.dot(first_curvature_u_, first_curvature_l_, start.tu, start.tlambda);
+        const double kappa =
+            norm_.norm(first_curvature_u_ - along * start.tu, first_curvature_l_ - along * start.tlambda);
+        const double limit = 0.75 * options_.step.max_angle_degrees * std::numbers::pi / 180.0;
+        if (kappa > 0 && std::isfinite(kappa)) first_step_ = std::min(options_.step.initial, limit / kappa);
+      }
+    }
+  } else {
+    st = branch_direction(ev_, lu_options_, norm_, bp, direction, start.tu, start.tlambda);
+  }
   if (!st.is_ok()) {
     ContinuationResult r;
     r.code = StopCode::StartFailed;
@@ -172,7 +200,8 @@ ContinuationResult Continuation::switch_branch(BranchPoint bp, int direction, Br
   start.kind = PointKind::Start;
   start.label = "switched";
   start.s = 0.0;
-  start.step = options_.step.initial;
+  start.step = first_step_ > 0 ? first_step_ : options_.step.initial;
+  first_step_ = 0.0;
   start.analysed = false;
   return trace(std::move(start), observer);
 }
@@ -282,6 +311,11 @@ Continuation::Step Continuation::attempt(const BranchPoint& cur, const BranchPoi
   if (zero && pr.land && pr.land->fraction * reach <= zero->land.fraction) zero.reset();
   if (zero) ZeroLander::predict(*zero, cur, du, dl, ds, pr);
   if (prev) predictor_.bend(cur, *prev, du, dl, pr);
+  if (!prev && step_number == 1 && first_curvature_u_.size() == pr.u.size() && !pr.land && !zero) {
+    // a switched branch's first step on the normal form's parabola
+    pr.u += (0.5 * ds * ds) * first_curvature_u_;
+    pr.lambda += 0.5 * ds * ds * first_curvature_l_;
+  }
   s.land = pr.land;
   const bool landed = pr.land.has_value();
   nxt.u = std::move(pr.u);

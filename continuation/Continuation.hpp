@@ -89,8 +89,17 @@ class Continuation {
   // Continues from a stored point (solution, tangent, step, arclength) of an earlier run.
   ContinuationResult resume(BranchPoint start, BranchObserver& observer);
   // Starts a new branch at a branch point bp (a stored point of an earlier run with the same
-  // state scale) along branch_direction(); direction +1 or -1 picks the side.
-  ContinuationResult switch_branch(BranchPoint bp, int direction, BranchObserver& observer);
+  // state scale) along branch_direction(); direction +1 or -1 picks the side. With a prediction
+  // (the new branch's normal form, stability/NormalForms), along its tangent instead, the first
+  // step predicted on its parabola.
+  struct SwitchPrediction {
+    Vector tu;        // the new branch's tangent in (u, lambda) as a function of some epsilon
+    double tl = 0.0;  //   (any scale: it is normalised in the arclength norm)
+    Vector second_u;  // d^2 (u, lambda) / d epsilon^2 (empty: a straight first step)
+    double second_l = 0.0;
+  };
+  ContinuationResult switch_branch(BranchPoint bp, int direction, BranchObserver& observer,
+                                   const SwitchPrediction* prediction = nullptr);
   // Analyses accepted points (SpectrumScheduler) and located points (with every = 1), adds its
   // columns, and detects and locates changes of its count (folds, branch points, Hopf points).
   void set_analysis(PointAnalysis* analysis);
@@ -211,8 +220,13 @@ class Continuation {
   std::vector<double> engine_located_pending_, engine_located_before_analysed_;
   // a resumed branch starts on a point located as this kind (its first step does not locate it again)
   std::optional<PointKind> start_on_;
-  bool resumed_ = false;               // the branch continues from a stored point (resume)
-  bool adopted_ = false;               // the start's factorisation came from the solve of the start
+  // the first step's second-order term along the unit tangent (d^2 (u, lambda) / ds^2 at the start of
+  // a switched branch), added to its prediction; empty: none
+  Vector first_curvature_u_;
+  double first_curvature_l_ = 0.0;
+  double first_step_ = 0.0;  // a switched branch's first step from its normal form's curvature (0: the initial step)
+  bool resumed_ = false;     // the branch continues from a stored point (resume)
+  bool adopted_ = false;     // the start's factorisation came from the solve of the start
   double shared_solve_seconds_ = 0.0;  // solves of the analysis with the continuation's factorisation
   long shared_solves_ = 0;
   ContinuationResult result_;

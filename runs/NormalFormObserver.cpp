@@ -17,24 +17,73 @@ std::vector<double> normal_form_row(const NormalForm& nf) {
   const bool hopf = nf.kind == NormalForm::Kind::Hopf, fold = nf.kind == NormalForm::Kind::Fold;
   const bool pitchfork = nf.type.rfind("pitchfork", 0) == 0;
   std::vector<double> row = {type,
-          nf.exact_derivatives ? 1.0 : 0.0,
-          hopf ? NAN : nf.a,
-          hopf ? NAN : nf.b,
-          hopf || fold ? NAN : nf.c,
-          fold ? nf.curvature : NAN,
-          pitchfork ? nf.cubic : NAN,
-          fold ? NAN : nf.growth_rate_derivative,
-          hopf ? nf.omega : NAN,
-          hopf ? nf.period : NAN,
-          hopf ? nf.l1 : NAN,
-          hopf ? nf.c1.real() : NAN,
-          hopf ? nf.c1.imag() : NAN,
-          hopf ? nf.amplitude_coefficient : NAN,
-          hopf ? static_cast<double>(nf.amplitude_entry) : NAN,
-          hopf || pitchfork ? static_cast<double>(nf.side) : NAN,
-          nf.seconds};
+                             nf.exact_derivatives ? 1.0 : 0.0,
+                             hopf ? NAN : nf.a,
+                             hopf ? NAN : nf.b,
+                             hopf || fold ? NAN : nf.c,
+                             fold ? nf.curvature : NAN,
+                             pitchfork ? nf.cubic : NAN,
+                             fold ? NAN : nf.growth_rate_derivative,
+                             hopf ? nf.omega : NAN,
+                             hopf ? nf.period : NAN,
+                             hopf ? nf.l1 : NAN,
+                             hopf ? nf.c1.real() : NAN,
+                             hopf ? nf.c1.imag() : NAN,
+                             hopf ? nf.amplitude_coefficient : NAN,
+                             hopf ? static_cast<double>(nf.amplitude_entry) : NAN,
+                             hopf || pitchfork ? static_cast<double>(nf.side) : NAN,
+                             nf.seconds};
   for (double a : nf.observable_amplitudes) row.push_back(hopf ? a : NAN);
   return row;
+}
+
+std::optional<Continuation::SwitchPrediction> switch_prediction(Problem& problem, int parameter, const BranchPoint& bp,
+                                                                SparseLUOptions lu, std::string& note) {
+  ParameterSet& params = problem.parameters();
+  const double before = params.value(parameter);
+  NormalForm nf;
+  Status st;
+  try {
+    params.set(parameter, bp.lambda);
+    st = NormalForms(lu).branch_point(problem, parameter, bp.u, nullptr, nf);
+  } catch (const std::exception& e) {
+    st = Status(StatusCode::InvalidState, e.what());
+  }
+  params.set(parameter, before);
+  if (!st.is_ok()) {
+    note = "no normal form at the branch point (" + st.message() + "): the switch takes J's null vector";
+    return std::nullopt;
+  }
+  if (nf.tangent_u[0].size() != bp.u.size()) {
+    note = "the normal form at the branch point is an " + nf.type + ": the switch takes J's null vector";
+    return std::nullopt;
+  }
+  // the branch least parallel to the old tangent (plain inner product of unit vectors)
+  const double old = std::sqrt(bp.tu.squaredNorm() + bp.tlambda * bp.tlambda);
+  auto overlap = [&](int k) {
+    const double n = std::sqrt(nf.tangent_u[k].squaredNorm() + nf.tangent_lambda[k] * nf.tangent_lambda[k]);
+    return std::abs(nf.tangent_u[k].dot(bp.tu) + nf.tangent_lambda[k] * bp.tlambda) / (n * old);
+  };
+  const int k = overlap(0) <= overlap(1) ? 0 : 1;
+  Continuation::SwitchPrediction p;
+  p.tu = nf.tangent_u[k];
+  p.tl = nf.tangent_lambda[k];
+  // a fixed sign, as J's null vector's: the entry of largest magnitude positive (the parameter part
+  // where the state part vanishes)
+  Eigen::Index imax = 0;
+  const double largest = p.tu.size() ? p.tu.cwiseAbs().maxCoeff(&imax) : 0.0;
+  const double lead = largest > 1e-12 * std::abs(p.tl) ? p.tu[imax] : p.tl;
+  if (lead < 0) {
+    p.tu = -p.tu;
+    p.tl = -p.tl;
+  }
+  if (k == 0 && nf.second_u.size() == bp.u.size()) {  // the parabola is even in eps: no sign change
+    p.second_u = nf.second_u;
+    p.second_l = nf.second_lambda;
+  }
+  note = fmt::format("switching along the {} of the normal form ({})",
+                     k == 0 && p.second_u.size() ? "parabola" : "tangent", nf.summary());
+  return p;
 }
 
 NormalFormObserver::NormalFormObserver(BranchObserver& inner, Problem& problem, int parameter, SparseLUOptions lu)
@@ -76,8 +125,8 @@ void NormalFormObserver::on_point(const BranchPoint& p) {
   }
   BranchPoint with = p;
   with.normal_form = normal_form_row(nf);
-  with.normal_form.resize(with.normal_form.size() + problem_.observable_names().size() - nf.observable_amplitudes.size(),
-                          NAN);
+  with.normal_form.resize(
+      with.normal_form.size() + problem_.observable_names().size() - nf.observable_amplitudes.size(), NAN);
   inner_.on_point(with);
   inner_.on_note(fmt::format("{} ({} derivatives, {:.2f} s)", nf.summary(),
                              nf.exact_derivatives ? "exact" : "difference", nf.seconds));

@@ -3,6 +3,9 @@
 // branch file (/branch/normal_forms) and tells the terminal what happens beyond the point.
 #pragma once
 
+#include <optional>
+#include <string>
+
 #include "continuation/Continuation.hpp"
 #include "core/Problem.hpp"
 #include "core/SparseLU.hpp"
@@ -29,6 +32,14 @@ class NormalFormObserver final : public BranchObserver {
   NormalForms forms_;
   bool has_time_form_;
 };
+
+// The prediction `keller trace --switch` starts a new branch with at the branch point bp: the
+// tangent of the branch of bp's normal form that is not the old one (the one least parallel to
+// bp's tangent), a pitchfork's bifurcating branch with its parabola; nothing (and why in `note`)
+// where the normal form is not computed or has no real branches, so that the switch falls back on
+// J's null vector.
+std::optional<Continuation::SwitchPrediction> switch_prediction(Problem& problem, int parameter, const BranchPoint& bp,
+                                                                SparseLUOptions lu, std::string& note);
 
 // The numbers of a normal form in the order of normal_form_columns().
 std::vector<double> normal_form_row(const NormalForm& nf);

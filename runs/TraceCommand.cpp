@@ -177,7 +177,17 @@ ContinuationResult trace_branch(Continuation& stepper, TraceStart& start, const 
   switch (start.begin) {
     case TraceStart::Begin::State: return stepper.run(start.state, *observer, std::move(start.factorisation));
     case TraceStart::Begin::Point: return stepper.resume(*start.point, *observer);
-    case TraceStart::Begin::Switch: return stepper.switch_branch(*start.point, start.direction, *observer);
+    case TraceStart::Begin::Switch: {
+      // the normal form's branch where it has one, else J's null vector
+      std::optional<Continuation::SwitchPrediction> prediction;
+      if (plain && settings.continuation.switch_normal_form) {
+        std::string note;
+        prediction = switch_prediction(*plain, plain->parameters().index(settings.continuation.parameter), *start.point,
+                                       settings.lu, note);
+        fmt::print("{}\n", note);
+      }
+      return stepper.switch_branch(*start.point, start.direction, *observer, prediction ? &*prediction : nullptr);
+    }
     case TraceStart::Begin::EventCurve:
       return start.event_tracer->trace(start.options, settings.newton, settings.lu, start.state, *observer,
                                        [](Continuation* piece) { InterruptGuard::forward_to(piece); });

@@ -20,7 +20,10 @@ using ComplexSparse = ComplexSparseLU::ComplexSparseMatrix;
 using Direction = HigherDerivatives::Direction;
 using ComplexDirection = HigherDerivatives::ComplexDirection;
 
-constexpr int kInverseIterations = 3;
+// inverse iteration: until the direction changes by less than 1e-10, at most 100 solves on one
+// factorisation (as the branch switcher's: slow modes near zero separate slowly)
+constexpr int kInverseIterations = 100;
+constexpr double kInverseTolerance = 1e-10;
 // a bifurcation-equation coefficient this small against the others is zero (a pitchfork's a)
 constexpr double kZeroCoefficient = 1e-6;
 
@@ -56,7 +59,11 @@ Status null_vector(SparseLU& lu, Vector start, bool transpose, Vector& out) {
   for (int k = 0; k < kInverseIterations; ++k) {
     Status st = lu.solve(out, x, transpose);
     if (!st.is_ok()) return st;
-    out = x.normalized();
+    x.normalize();
+    if (x.dot(out) < 0) x = -x;  // a negative eigenvalue flips the sign at every step
+    const double change = (x - out).norm();
+    out = x;
+    if (change < kInverseTolerance) break;
   }
   return {};
 }
@@ -215,6 +222,8 @@ Status NormalForms::branch_point(Problem& problem, int parameter, const Vector& 
     if (st = d.second(P, {w2}, D2); !st.is_ok()) return st;
     if (st = d.third(P, P, P, D3); !st.is_ok()) return st;
     out.cubic = -(out.psi.dot(D2) + out.psi.dot(D3) / 6.0) / (out.b * scale);
+    out.second_u = 2.0 * (w2 + out.cubic * v);
+    out.second_lambda = 2.0 * out.cubic;
     out.side = out.cubic > 0 ? 1 : -1;
     const bool super = out.growth_rate_derivative != 0.0 && (out.growth_rate_derivative > 0) == (out.cubic > 0);
     out.type = super ? "pitchfork (supercritical)" : "pitchfork (subcritical)";
@@ -264,15 +273,23 @@ Status NormalForms::hopf(Problem& problem, int parameter, const Vector& u, doubl
   Vector start = generic_start(n);
   if (guess && guess->size() == n && guess->norm() > 0) start = guess->real() + guess->imag();
   ComplexVector q = start.cast<Complex>().normalized(), p, x;
-  for (int k = 0; k < kInverseIterations; ++k) {
-    if (st = lu1.solve(Bc * q, x); !st.is_ok()) return st;
-    q = x.normalized();
-  }
+  // (the phase of each iterate is fixed by its inner product with the last)
+  auto iterate = [&](ComplexVector& v, bool adjoint) -> Status {
+    for (int k = 0; k < kInverseIterations; ++k) {
+      Status s = adjoint ? lu1.solve(v, x, true) : lu1.solve(Bc * v, x);
+      if (!s.is_ok()) return s;
+      x.normalize();
+      const Complex overlap = v.dot(x);
+      if (std::abs(overlap) > 0) x *= std::conj(overlap) / std::abs(overlap);
+      const double change = (x - v).norm();
+      v = x;
+      if (change < kInverseTolerance) break;
+    }
+    return {};
+  };
+  if (st = iterate(q, false); !st.is_ok()) return st;
   p = (Bc * q).normalized();
-  for (int k = 0; k < kInverseIterations; ++k) {
-    if (st = lu1.solve(p, x, true); !st.is_ok()) return st;
-    p = x.normalized();
-  }
+  if (st = iterate(p, true); !st.is_ok()) return st;
   // the frequency from the Rayleigh quotient sigma = p^H J q / p^H B q = -i omega
   const Complex sigma = p.dot(Jc * q) / p.dot(Bc * q);
   omega = -sigma.imag();

@@ -48,6 +48,10 @@ struct NormalForm {
   // branch first
   Vector tangent_u[2];
   double tangent_lambda[2] = {0, 0};
+  // pitchfork: the bifurcating branch's second derivative in eps, d^2 (u, lambda) / d eps^2 =
+  // (2 (w2 + cubic v), 2 cubic) (J w2 = -F_uu[phi, phi] / 2): the parabola a switch predicts along
+  Vector second_u;
+  double second_lambda = 0;
   double growth_rate_derivative = 0;  // d Re(growth rate) / d lambda along the continued branch
   // Hopf
   double omega = 0, period = 0, l1 = 0;
@@ -59,7 +63,7 @@ struct NormalForm {
   // Hopf: the amplitude of each of the problem's observables on the orbit, max_t |o - o0| =
   // observable_amplitudes[i] sqrt(|lambda - lambda0|) (2 |z| |D o[q]|, D o by central differences)
   std::vector<double> observable_amplitudes;
-  Vector phi, psi;           // fold, branch point
+  Vector phi, psi;  // fold, branch point
   bool exact_derivatives = false;
   std::string derivatives;  // how the derivatives were taken
   long factorisations = 0, derivative_evaluations = 0;

@@ -17,6 +17,10 @@ void ContinuationOptions::declare(SceneSchema& s) {
            "predictor: along the tangent, the secant, or the cubic through the last two points and their tangents",
            {"tangent", "secant", "cubic"});
   s.string("continuation.direction", "increase", "initial direction of the parameter", {"increase", "decrease"});
+  s.string("continuation.switch_predictor", "normal-form",
+           "how --switch starts the new branch: along the branch of the branch point's normal form, its first "
+           "step on the normal form's parabola and sized by its curvature, or along J's null vector",
+           {"normal-form", "null-vector"});
   s.real("continuation.theta", 0.5, "weight of the state (vs the parameter) in the arclength norm",
          Range{0.0, 1.0, true, true});
   s.real("continuation.state_scale", 0.0, "state scale in the arclength norm (0: RMS of the start)",
@@ -103,6 +107,7 @@ ContinuationOptions ContinuationOptions::from_scene(const Scene& sc) {
                 : predictor == "tangent" ? Predictor::Tangent
                                          : Predictor::Cubic;
   o.direction = sc.string("continuation.direction") == "decrease" ? -1 : +1;
+  o.switch_normal_form = sc.string("continuation.switch_predictor") == "normal-form";
   o.theta = sc.real("continuation.theta");
   o.state_scale = sc.real("continuation.state_scale");
   o.save_every = static_cast<int>(sc.integer("continuation.save_every"));

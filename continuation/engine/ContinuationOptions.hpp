@@ -100,6 +100,8 @@ struct ContinuationOptions {
   Method method = Method::Arclength;  // Keller's pseudo-arclength, or natural (parameter) steps
   Predictor predictor = Predictor::Cubic;
   int direction = +1;  // initial sign of the parameter change
+  // --switch starts along the branch point's normal form (runs/NormalFormObserver), else J's null vector
+  bool switch_normal_form = true;
   // Arclength norm |(du, dp)|^2 = theta |du|^2 / (n s^2) + (1 - theta) dp^2, s the state scale
   // (root mean square of the starting solution, or 1 if that is zero) so that states of any
   // magnitude weigh alike.

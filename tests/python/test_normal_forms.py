@@ -8,6 +8,7 @@ import math
 import os
 import sys
 
+import numpy as np
 import pytest
 
 import keller
@@ -87,3 +88,93 @@ def test_past_the_brusselators_hopf_point_the_orbit_has_the_predicted_amplitude(
     assert abs(difference - earlier) < 1e-3
     assert abs(difference) < d
     assert os.path.getsize(tmp_path / "a.png") > 10000
+
+
+class Transcritical(keller.Problem):
+    """-u'' - lambda u - u^2 = 0 on (0, 1), u = 0 at both ends, central differences: the trivial
+    branch u = 0 meets a nontrivial one transcritically at each lambda_k of the grid (the quadratic
+    term's sum of phi_k^3 is nonzero for odd k)."""
+    name = "transcritical-python"
+    parameters = {"lambda": 5.0}
+    observable_names = ["u_mid"]
+
+    def __init__(self, intervals=32):
+        import scipy.sparse as sp
+        self.np, self.n = np, intervals
+        m, ih2 = intervals - 1, float(intervals) ** 2
+        self.A = sp.diags([-ih2 * np.ones(m - 1), 2 * ih2 * np.ones(m), -ih2 * np.ones(m - 1)], [-1, 0, 1], format="csc")
+        self.sp = sp
+
+    def initial_guess(self, p):
+        return self.np.zeros(self.n - 1)
+
+    def residual(self, u, p):
+        return self.A @ u - p["lambda"] * u - u * u
+
+    def jacobian(self, u, p):
+        return (self.A - self.sp.diags(p["lambda"] + 2 * u)).tocsc()
+
+    def parameter_derivative(self, u, p, name):
+        return -u
+
+    def observables(self, u, p):
+        return {"u_mid": u[self.n // 2 - 1]}
+
+
+def rejected_first_steps(text):
+    """The steps rejected before the first point after a switched start, from keller's terminal table."""
+    lines = text.splitlines()
+    start = next(i for i, line in enumerate(lines) if "start switched" in line)
+    count = 0
+    for line in lines[start + 1:]:
+        if "step rejected" in line:
+            count += 1
+        elif line.split()[:2] == ["1", "point"]:
+            return count
+    raise AssertionError("no first point after the switch:\n" + text)
+
+
+@pytest.mark.parametrize("direction", [1, -1])
+def test_switching_along_the_normal_form_at_a_pitchfork_and_a_transcritical_point(tmp_path, capfd, direction):
+    """--switch with the normal form's predictor follows the new branch in both directions with fewer
+    rejected first steps than J's null vector (continuation.switch_predictor = "null-vector"): none
+    against 3 at the grid's pitchfork (the tangent turns by 64 degrees over the first step, which the
+    normal form's curvature sizes), 1 against 25 at a transcritical point, where the null vector
+    (no parameter part) is not the new branch's tangent: the step halves 25 times before the
+    corrector holds on to the branch (and on one side the branch then ends at the step floor)."""
+    pitchfork = os.path.join(SCENES, "pitchfork1d_trivial.toml")
+    branch = keller.trace(pitchfork, tmp_path / "p.h5", verbose=False)
+    counts = {}
+    for predictor in ("normal-form", "null-vector"):
+        capfd.readouterr()
+        new = keller.trace(pitchfork, tmp_path / f"s_{predictor}.h5", switch=(branch, "bp1"), direction=direction,
+                           set={"continuation.switch_predictor": predictor})
+        counts[predictor] = rejected_first_steps(capfd.readouterr().out)
+        # the bifurcating branch, on the side asked for
+        assert direction * new["u_mid"][1] > 0
+    assert counts["normal-form"] == 0 and counts["null-vector"] == 3, counts
+
+    scene = {"continuation": {"parameter": "lambda", "lower": 0.0, "upper": 15.0, "initial_step": 0.5, "max_step": 1.0,
+                              "event_tolerance": 1e-10}}
+    trivial = keller.trace(scene, tmp_path / "t.h5", problem=Transcritical(), verbose=False)
+    bp = trivial.point("bp1")
+    nf = bp.normal_form
+    assert nf["type"] == "transcritical"
+    # a = <psi, F_uu[phi, phi]> = -2 sum phi^3 (phi the grid's first sine mode, unit norm), b = -1, c = 0
+    h = 1 / 32
+    phi = np.sin(np.pi * h * np.arange(1, 32))
+    phi /= np.linalg.norm(phi)
+    assert nf["a"] == pytest.approx(-2 * np.sum(phi ** 3), rel=1e-6)
+    assert nf["b"] == pytest.approx(-1.0, rel=1e-8) and abs(nf["c"]) < 1e-8
+    capfd.readouterr()
+    new = keller.trace(scene, tmp_path / "ts.h5", problem=Transcritical(), switch=(trivial, "bp1"), direction=direction)
+    assert rejected_first_steps(capfd.readouterr().out) == 1
+    lam, mid = new["lambda"], new["u_mid"]
+    # on the nontrivial branch lambda - lambda_1 = -(sum phi^3) eps with u = eps phi: the side of
+    # u_mid (the direction asked for) sets that of lambda
+    assert direction * mid[1] > 0
+    assert np.sign(lam[1] - bp.value) == -np.sign(mid[1])
+    keller.trace({**scene, "continuation": {**scene["continuation"], "switch_predictor": "null-vector"}},
+                 tmp_path / "tn.h5", problem=Transcritical(), switch=(trivial, "bp1"), direction=direction)
+    out = capfd.readouterr().out
+    assert rejected_first_steps(out) >= 10

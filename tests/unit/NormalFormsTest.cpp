@@ -212,7 +212,10 @@ class CurvedBrusselator final : public Problem {
     return {};
   }
   Status time_residual(const Vector& y, const Vector& ydot, Vector& R) override {
-    R = Dg(y) * ydot;
+    const Eigen::Matrix2d m = Dg(y);
+    R.resize(2);
+    R[0] = m(0, 0) * ydot[0] + m(0, 1) * ydot[1];
+    R[1] = m(1, 0) * ydot[0] + m(1, 1) * ydot[1];
     return {};
   }
   std::vector<std::string> observable_names() const override { return {"x_u", "x_v"}; }
