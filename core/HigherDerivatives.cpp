@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <map>
 #include <stdexcept>
 #include <vector>
 
@@ -195,39 +196,79 @@ Status HigherDerivatives::third(const Direction& a, const Direction& b, const Di
 }
 
 // Multilinear in complex directions: the sum over choosing the real or the imaginary part of each,
-// times i^(number of imaginary parts).
-Status HigherDerivatives::second(const ComplexDirection& a, const ComplexDirection& b, ComplexVector& out) {
-  const std::array<Direction, 2> pa{part(a, 0), part(a, 1)}, pb{part(b, 0), part(b, 1)};
+// times i^(number of imaginary parts). Parts that are equal or opposite (q and conj q share them)
+// are evaluated once per multiset: D^3 R[Q, Q, conj Q] takes 4 real derivatives instead of 8.
+namespace {
+
+bool same(const Vector& a, const Vector& b, double sign) {
+  if (a.size() != b.size()) return a.size() == 0 ? b.isZero(0.0) : (b.size() == 0 && a.isZero(0.0));
+  return a.size() == 0 || (a - sign * b).isZero(0.0);
+}
+
+// Distinct real directions up to sign: the index of d among them (added if new) and its sign.
+int distinct_index(std::vector<HigherDerivatives::Direction>& distinct, const HigherDerivatives::Direction& d,
+                   double& sign) {
+  for (size_t k = 0; k < distinct.size(); ++k)
+    for (double s : {1.0, -1.0})
+      if (d.lambda == s * distinct[k].lambda && same(d.u, distinct[k].u, s) && same(d.rate, distinct[k].rate, s)) {
+        sign = s;
+        return static_cast<int>(k);
+      }
+  distinct.push_back(d);
+  sign = 1.0;
+  return static_cast<int>(distinct.size()) - 1;
+}
+
+}  // namespace
+
+Status HigherDerivatives::expand(const std::vector<const ComplexDirection*>& dirs, ComplexVector& out) {
+  const int order = static_cast<int>(dirs.size());
+  std::vector<std::array<Direction, 2>> parts;
+  for (const ComplexDirection* d : dirs) parts.push_back({part(*d, 0), part(*d, 1)});
   out.setZero(problem_.size());
-  Vector r;
-  const std::complex<double> unit[3] = {1.0, {0.0, 1.0}, -1.0};
-  for (int i = 0; i < 2; ++i)
-    for (int j = 0; j < 2; ++j) {
-      if (is_zero(pa[static_cast<size_t>(i)]) || is_zero(pb[static_cast<size_t>(j)])) continue;
-      Status st = second(pa[static_cast<size_t>(i)], pb[static_cast<size_t>(j)], r);
-      if (!st.is_ok()) return st;
-      out += unit[i + j] * r.cast<std::complex<double>>();
+  std::vector<Direction> distinct;
+  std::map<std::vector<int>, Vector> cache;
+  const std::complex<double> unit[4] = {1.0, {0.0, 1.0}, -1.0, {0.0, -1.0}};
+  for (int choice = 0; choice < (1 << order); ++choice) {
+    std::vector<int> ids;
+    double sign = 1.0;
+    int imaginary = 0;
+    bool zero = false;
+    for (int i = 0; i < order; ++i) {
+      const int which = (choice >> i) & 1;
+      const Direction& d = parts[static_cast<size_t>(i)][static_cast<size_t>(which)];
+      if (is_zero(d)) {
+        zero = true;
+        break;
+      }
+      double s = 1.0;
+      ids.push_back(distinct_index(distinct, d, s));
+      sign *= s;
+      imaginary += which;
     }
+    if (zero) continue;
+    std::sort(ids.begin(), ids.end());
+    auto it = cache.find(ids);
+    if (it == cache.end()) {
+      Vector r;
+      Status st = order == 2 ? second(distinct[static_cast<size_t>(ids[0])], distinct[static_cast<size_t>(ids[1])], r)
+                             : third(distinct[static_cast<size_t>(ids[0])], distinct[static_cast<size_t>(ids[1])],
+                                     distinct[static_cast<size_t>(ids[2])], r);
+      if (!st.is_ok()) return st;
+      it = cache.emplace(ids, std::move(r)).first;
+    }
+    out += (sign * unit[imaginary]) * it->second.cast<std::complex<double>>();
+  }
   return {};
+}
+
+Status HigherDerivatives::second(const ComplexDirection& a, const ComplexDirection& b, ComplexVector& out) {
+  return expand({&a, &b}, out);
 }
 
 Status HigherDerivatives::third(const ComplexDirection& a, const ComplexDirection& b, const ComplexDirection& c,
                                 ComplexVector& out) {
-  const std::array<Direction, 2> pa{part(a, 0), part(a, 1)}, pb{part(b, 0), part(b, 1)}, pc{part(c, 0), part(c, 1)};
-  out.setZero(problem_.size());
-  Vector r;
-  const std::complex<double> unit[4] = {1.0, {0.0, 1.0}, -1.0, {0.0, -1.0}};
-  for (int i = 0; i < 2; ++i)
-    for (int j = 0; j < 2; ++j)
-      for (int k = 0; k < 2; ++k) {
-        const Direction &x = pa[static_cast<size_t>(i)], &y = pb[static_cast<size_t>(j)],
-                        &z = pc[static_cast<size_t>(k)];
-        if (is_zero(x) || is_zero(y) || is_zero(z)) continue;
-        Status st = third(x, y, z, r);
-        if (!st.is_ok()) return st;
-        out += unit[i + j + k] * r.cast<std::complex<double>>();
-      }
-  return {};
+  return expand({&a, &b, &c}, out);
 }
 
 }  // namespace keller

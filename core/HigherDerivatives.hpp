@@ -20,6 +20,7 @@
 #include <complex>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -70,6 +71,8 @@ class HigherDerivatives {
   long evaluations() const { return evaluations_; }
 
  private:
+  // a complex multilinear derivative from the real ones, each distinct one once
+  Status expand(const std::vector<const ComplexDirection*>& dirs, ComplexVector& out);
   Status f_part(const Direction* const* d, int order, Vector& out);
   Status f_differences(const Direction* const* d, int order, Vector& out);
   Status rate_part(const Direction* const* d, int order, Vector& out);
