@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <functional>
 
 #include <fmt/format.h>
 
@@ -37,19 +38,30 @@ std::vector<double> normal_form_row(const NormalForm& nf) {
   return row;
 }
 
-std::optional<Continuation::SwitchPrediction> switch_prediction(Problem& problem, int parameter, const BranchPoint& bp,
-                                                                SparseLUOptions lu, std::string& note) {
+namespace {
+
+// compute() with the parameter at `value` (restored after); an exception becomes a failed status
+Status at_parameter(Problem& problem, int parameter, double value, const std::function<Status()>& compute) {
   ParameterSet& params = problem.parameters();
   const double before = params.value(parameter);
-  NormalForm nf;
   Status st;
   try {
-    params.set(parameter, bp.lambda);
-    st = NormalForms(lu).branch_point(problem, parameter, bp.u, nullptr, nf);
+    params.set(parameter, value);
+    st = compute();
   } catch (const std::exception& e) {
     st = Status(StatusCode::InvalidState, e.what());
   }
   params.set(parameter, before);
+  return st;
+}
+
+}  // namespace
+
+std::optional<Continuation::SwitchPrediction> switch_prediction(Problem& problem, int parameter, const BranchPoint& bp,
+                                                                SparseLUOptions lu, std::string& note) {
+  NormalForm nf;
+  const Status st = at_parameter(problem, parameter, bp.lambda,
+                                 [&] { return NormalForms(lu).branch_point(problem, parameter, bp.u, nullptr, nf); });
   if (!st.is_ok()) {
     note = "no normal form at the branch point (" + st.message() + "): the switch takes J's null vector";
     return std::nullopt;
@@ -96,28 +108,17 @@ void NormalFormObserver::on_point(const BranchPoint& p) {
     inner_.on_point(p);
     return;
   }
-  ParameterSet& params = problem_.parameters();
-  const double before = params.value(parameter_);
   NormalForm nf;
-  Status st;
-  try {
-    params.set(parameter_, p.lambda);
-    if (p.kind == PointKind::Fold) {
-      st = forms_.fold(problem_, parameter_, p.u, &p.tu, nf);
-    } else if (p.kind == PointKind::BranchPoint) {
-      st = forms_.branch_point(problem_, parameter_, p.u, nullptr, nf);
-    } else {
-      Eigen::VectorXcd guess;
-      if (p.critical_re.size() == p.u.size()) {
-        guess = p.critical_re.cast<std::complex<double>>();
-        if (p.critical_im.size() == p.u.size()) guess += std::complex<double>(0.0, 1.0) * p.critical_im;
-      }
-      st = forms_.hopf(problem_, parameter_, p.u, p.critical_imag, guess.size() ? &guess : nullptr, nf);
+  const Status st = at_parameter(problem_, parameter_, p.lambda, [&]() -> Status {
+    if (p.kind == PointKind::Fold) return forms_.fold(problem_, parameter_, p.u, &p.tu, nf);
+    if (p.kind == PointKind::BranchPoint) return forms_.branch_point(problem_, parameter_, p.u, nullptr, nf);
+    Eigen::VectorXcd guess;
+    if (p.critical_re.size() == p.u.size()) {
+      guess = p.critical_re.cast<std::complex<double>>();
+      if (p.critical_im.size() == p.u.size()) guess += std::complex<double>(0.0, 1.0) * p.critical_im;
     }
-  } catch (const std::exception& e) {
-    st = Status(StatusCode::InvalidState, e.what());
-  }
-  params.set(parameter_, before);
+    return forms_.hopf(problem_, parameter_, p.u, p.critical_imag, guess.size() ? &guess : nullptr, nf);
+  });
   if (!st.is_ok()) {
     inner_.on_point(p);
     inner_.on_note(fmt::format("the normal form at row {} was not computed: {}", p.index, st.message()));

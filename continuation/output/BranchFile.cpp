@@ -62,22 +62,22 @@ std::vector<std::string> branch_table_columns(const std::string& parameter, cons
 
 std::vector<std::string> normal_form_columns(const std::vector<std::string>& observables) {
   std::vector<std::string> columns = {"type",
-                                                   "exact",
-                                                   "a",
-                                                   "b",
-                                                   "c",
-                                                   "curvature",
-                                                   "cubic",
-                                                   "growth_rate_derivative",
-                                                   "omega",
-                                                   "period",
-                                                   "l1",
-                                                   "c1_re",
-                                                   "c1_im",
-                                                   "amplitude_coefficient",
-                                                   "amplitude_entry",
-                                                   "side",
-                                                   "seconds"};
+                                      "exact",
+                                      "a",
+                                      "b",
+                                      "c",
+                                      "curvature",
+                                      "cubic",
+                                      "growth_rate_derivative",
+                                      "omega",
+                                      "period",
+                                      "l1",
+                                      "c1_re",
+                                      "c1_im",
+                                      "amplitude_coefficient",
+                                      "amplitude_entry",
+                                      "side",
+                                      "seconds"};
   for (const std::string& o : observables) columns.push_back("amplitude:" + o);
   return columns;
 }

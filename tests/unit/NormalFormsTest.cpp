@@ -52,23 +52,34 @@ TEST(HyperDual, ThirdDerivativesOfEveryFunctionAgainstClosedForms) {
   EXPECT_NEAR(mixed_part<2>(X2 * X2 * Y2 / (1.0 + Y2)), 2 * x / ((1 + y) * (1 + y)), 1e-14);
 }
 
-// F1 = c2 u1^2 + u2 - lambda, F2 = u2 - d u1^2: on F2 = 0, F1 = (c2 + d) u1^2 - lambda, so the branch
-// is lambda = (c2 + d) eps^2 along phi = (1, 0): a fold at the origin with curvature 2 (c2 + d).
-class ReducedFold final : public Problem {
+// A problem of two unknowns with a full Jacobian pattern and one parameter.
+class TwoUnknowns : public Problem {
  public:
-  ReducedFold() {
-    params_.add("lambda", 0.0, "load");
+  TwoUnknowns(const char* parameter, double value) {
+    params_.add(parameter, value, "the parameter");
     pattern_.resize(2, 2);
     for (int i = 0; i < 2; ++i)
       for (int j = 0; j < 2; ++j) pattern_.insert(i, j) = 0.0;
     pattern_.makeCompressed();
   }
-  static constexpr double c2 = 1.5, d = 0.7;
-  std::string name() const override { return "reduced-fold"; }
   int size() const override { return 2; }
   ParameterSet& parameters() override { return params_; }
   const ParameterSet& parameters() const override { return params_; }
   const SparseMatrix& jacobian_pattern() const override { return pattern_; }
+  Vector initial_guess() override { return Vector::Zero(2); }
+
+ protected:
+  ParameterSet params_;
+  SparseMatrix pattern_;
+};
+
+// F1 = c2 u1^2 + u2 - lambda, F2 = u2 - d u1^2: on F2 = 0, F1 = (c2 + d) u1^2 - lambda, so the branch
+// is lambda = (c2 + d) eps^2 along phi = (1, 0): a fold at the origin with curvature 2 (c2 + d).
+class ReducedFold final : public TwoUnknowns {
+ public:
+  ReducedFold() : TwoUnknowns("lambda", 0.0) {}
+  static constexpr double c2 = 1.5, d = 0.7;
+  std::string name() const override { return "reduced-fold"; }
   Status residual(const Vector& u, Vector& F) override {
     F.resize(2);
     F[0] = c2 * u[0] * u[0] + u[1] - params_.value(0);
@@ -83,11 +94,6 @@ class ReducedFold final : public Problem {
     J.coeffRef(1, 1) = 1.0;
     return {};
   }
-  Vector initial_guess() override { return Vector::Zero(2); }
-
- private:
-  ParameterSet params_;
-  SparseMatrix pattern_;
 };
 
 TEST(NormalForms, FoldCurvatureIsThatOfTheReducedEquation) {
@@ -161,21 +167,11 @@ TEST(NormalForms, BrusselatorHopfAgainstTheClosedForm) {
 // B(y) = I + Dg(y) that depends on the state, as the collapsible channel's moving wall does. Its
 // normal form is the original one (q and p are unchanged at y = 0, and the B'(y)[.] y' terms
 // of D^2 R and D^3 R make up for the curvature), and so are the orbit amplitudes of x.
-class CurvedBrusselator final : public Problem {
+class CurvedBrusselator final : public TwoUnknowns {
  public:
   static constexpr double a = 2.0, g1 = 0.7, g2 = -1.3, g3 = 0.4;
-  CurvedBrusselator() {
-    params_.add("b", 1.0 + a * a, "conversion rate");
-    pattern_.resize(2, 2);
-    for (int i = 0; i < 2; ++i)
-      for (int j = 0; j < 2; ++j) pattern_.insert(i, j) = 0.0;
-    pattern_.makeCompressed();
-  }
+  CurvedBrusselator() : TwoUnknowns("b", 1.0 + a * a) {}
   std::string name() const override { return "curved-brusselator"; }
-  int size() const override { return 2; }
-  ParameterSet& parameters() override { return params_; }
-  const ParameterSet& parameters() const override { return params_; }
-  const SparseMatrix& jacobian_pattern() const override { return pattern_; }
   // x = x0(b) + y + g(y), g = (g1 y0 y1 + g3 y1^2, g2 y0^2)
   Vector x_of(const Vector& y) const {
     const double b = params_.value(0);
@@ -224,11 +220,6 @@ class CurvedBrusselator final : public Problem {
     values = {x[0], x[1]};
     return {};
   }
-  Vector initial_guess() override { return Vector::Zero(2); }
-
- private:
-  ParameterSet params_;
-  SparseMatrix pattern_;
 };
 
 TEST(NormalForms, AStateDependentMassMatrixKeepsTheNormalFormOfTheOriginalCoordinates) {
@@ -324,39 +315,3 @@ TEST(NormalForms, ExactDerivativesOfTheCollapsibleChannelAreTheLimitOfDifference
 }
 
 }  // namespace
-TEST(Scratch, Steps) {
-  CollapsibleOptions o;
-  o.mesh = test::custom_channel_mesh(2, 4, 2, 2, 1);
-  o.Pe = 0.04;
-  o.fluid.model = FluidModel::FeneP;
-  o.fluid.Wi = 0.3;
-  o.fluid.beta = 0.5;
-  o.fluid.constants.b = 20.0;
-  o.fluid.Re = 1.0;
-  o.fluid.inertia = true;
-  o.fluid.profile = ProfileKind::FullyDeveloped;
-  CollapsibleChannelProblem problem(o);
-  Vector u = problem.initial_guess();
-  NewtonSolver newton(problem);
-  ASSERT_TRUE(newton.solve(u).converged());
-  auto along = [&](const char* name, double dv) {
-    const int i = problem.parameters().index(name);
-    const double v = problem.parameters().value(i);
-    Vector w = u;
-    problem.parameters().set(i, v + dv);
-    EXPECT_TRUE(newton.solve(w).converged());
-    problem.parameters().set(i, v);
-    return Vector((w - u) / dv);
-  };
-  Vector a = along("Wi", 0.01), b = along("Re", 0.1), c = along("Pe", 0.004);
-  std::printf("|a| %g %g |b| %g |c| %g\n", a.norm(), a.lpNorm<Eigen::Infinity>(), b.norm(), c.norm());
-  const int p = problem.parameters().index("Wi");
-  HigherDerivatives exact(problem, p, u), diff(problem, p, u, true);
-  Vector e2, d2, e3, d3;
-  exact.second({a}, {b, 0.3}, e2);
-  diff.second({a}, {b, 0.3}, d2);
-  exact.third({a}, {b, 0.3}, {c}, e3);
-  diff.third({a}, {b, 0.3}, {c}, d3);
-  std::printf("D2 %g rel %g  D3 %g rel %g\n", e2.norm(), (e2 - d2).norm() / e2.norm(), e3.norm(),
-              (e3 - d3).norm() / e3.norm());
-}
