@@ -3,7 +3,7 @@
 Locates the Hopf point with `keller trace` (its normal form: l1, the side where the orbits are, and
 each observable's amplitude per sqrt(|lambda - lambda0|), docs/normal_forms.md), then for each
 distance d integrates `keller evolve` at lambda0 + side d from the steady state there (which the
-evolve scene's solve reaches) plus the computed critical eigenvector, and measures the observable's amplitude, (max - min) / 2 over the
+evolve scene's solve reaches) plus the computed critical eigenvector (its largest entry 0.3 of the predicted orbit's), and measures the observable's amplitude, (max - min) / 2 over the
 last periods. For a supercritical point the measured amplitude agrees with the prediction to O(d)
 (the normal form's next order); for a subcritical one the oscillation grows past it.
 
@@ -81,6 +81,7 @@ def main(argv=None):
         sys.exit(f"no observable '{args.observable}'; the normal form has {[c for c in nf if c.startswith('amplitude:')]}")
     g, side, lam0 = nf["growth_rate_derivative"], int(nf["side"]), point.value
     coefficient, period = nf[column], nf["period"]
+    scale = max(float(np.abs(point.solution.u).max()), 1.0) if point.solution is not None else 1.0
     print(f"{nf['type']} at {branch.parameter} = {lam0:.10g}: l1 = {nf['l1']:.6g}, period {period:.6g}, "
           f"{args.observable} amplitude {coefficient:.6g} sqrt(|d|) for {'larger' if side > 0 else 'smaller'} "
           f"{branch.parameter}")
@@ -93,7 +94,8 @@ def main(argv=None):
         sets.update(parse_sets(args.evolve_set))
         sets.update({f"parameters.{branch.parameter}": lam, "evolve.t_end": t_end, "evolve.perturbation": "computed",
                      "evolve.shift_im": 2 * math.pi / period,
-                     "evolve.amplitude": 0.3 * nf["amplitude_coefficient"] * math.sqrt(d)})
+                     # the perturbation's largest entry, which keller evolve takes over max(|u|_inf, 1)
+                     "evolve.amplitude": 0.3 * nf["amplitude_coefficient"] * math.sqrt(d) / scale})
         path = os.path.join(args.work, f"evolve_{d:g}.h5")
         series = keller.open(path) if os.path.exists(path) else keller.evolve(
             args.evolve_scene, path, set=sets, verbose=False)
