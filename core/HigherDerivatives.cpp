@@ -17,6 +17,9 @@ namespace {
 
 // of the state and the parameter, for second and third derivatives (the header says the accuracy)
 constexpr double kRelativeStep[2] = {1e-3, 1e-2};
+// of the time terms' dependence on the state (B(u) udot, linear in udot: first and mixed second
+// differences in u alone, where the optimal steps are eps^(1/3) and eps^(1/4))
+constexpr double kRateStep[2] = {1e-5, 1e-4};
 
 bool is_zero(const HigherDerivatives::Direction& d) {
   return d.lambda == 0.0 && (d.u.size() == 0 || d.u.isZero(0.0)) && (d.rate.size() == 0 || d.rate.isZero(0.0));
@@ -53,12 +56,12 @@ std::string HigherDerivatives::method_name() const {
   return method_ == Method::Exact ? "exact (hyper-dual numbers)" : "central differences of the residual";
 }
 
-double HigherDerivatives::step(const Direction& d, int order) const {
+double HigherDerivatives::step(const Direction& d, int order, bool rate) const {
   const double su = std::max(1.0, u0_.lpNorm<Eigen::Infinity>());
   const double sl = lambda0_ != 0.0 ? std::abs(lambda0_) : 1.0;
   double size = std::abs(d.lambda) / sl;
   if (d.u.size() > 0) size = std::max(size, d.u.lpNorm<Eigen::Infinity>() / su);
-  return size > 0.0 ? kRelativeStep[order == 2 ? 0 : 1] / size : 0.0;
+  return size > 0.0 ? (rate ? kRateStep : kRelativeStep)[order == 2 ? 0 : 1] / size : 0.0;
 }
 
 Status HigherDerivatives::shifted(const Direction* const* d, const double* s, int order, const Vector* rate,
@@ -87,7 +90,7 @@ Status HigherDerivatives::f_differences(const Direction* const* d, int order, Ve
   std::array<double, 3> t{};
   double scale = 1.0;
   for (int i = 0; i < order; ++i) {
-    t[static_cast<size_t>(i)] = step(*d[i], order);
+    t[static_cast<size_t>(i)] = step(*d[i], order, false);
     if (t[static_cast<size_t>(i)] == 0.0) {  // along the rates alone: F does not change
       out.setZero(problem_.size());
       return {};
@@ -147,7 +150,7 @@ Status HigherDerivatives::rate_part(const Direction* const* d, int order, Vector
     double scale = 1.0;
     for (int i = 0; i < n; ++i) {
       moves = moves && moves_state(*others[static_cast<size_t>(i)]);
-      t[static_cast<size_t>(i)] = step(*others[static_cast<size_t>(i)], order);
+      t[static_cast<size_t>(i)] = step(*others[static_cast<size_t>(i)], order, true);
       scale *= 2.0 * t[static_cast<size_t>(i)];
     }
     if (!moves) continue;

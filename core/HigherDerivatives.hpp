@@ -14,7 +14,8 @@
 // channel's residual it swamps D^3 below a relative step of 1e-2 (tests/unit/NormalFormsTest.cpp
 // measures both regimes), which is why a problem of that kind should offer exact derivatives.
 // The part of B's dependence is always central differences of time_residual (linear in
-// the rates, so exact in them), and is skipped where no direction has rates.
+// the rates, so exact in them) at relative steps 1e-5 (first differences) and 1e-4 (mixed second
+// differences), and is skipped where no direction has rates.
 #pragma once
 
 #include <complex>
@@ -78,7 +79,7 @@ class HigherDerivatives {
   Status rate_part(const Direction* const* d, int order, Vector& out);
   // F (or the time terms, with rate) at u0 + sum s_i d_i, lambda0 + sum s_i d_i.lambda
   Status shifted(const Direction* const* d, const double* s, int order, const Vector* rate, Vector& out);
-  double step(const Direction& d, int order) const;
+  double step(const Direction& d, int order, bool rate) const;
 
   Problem& problem_;
   int parameter_;
