@@ -175,7 +175,9 @@ class CurvedBrusselator final : public TwoUnknowns {
   // x = x0(b) + y + g(y), g = (g1 y0 y1 + g3 y1^2, g2 y0^2)
   Vector x_of(const Vector& y) const {
     const double b = params_.value(0);
-    return Vector{{a + y[0] + g1 * y[0] * y[1] + g3 * y[1] * y[1], b / a + y[1] + g2 * y[0] * y[0]}};
+    Vector x(2);
+    x << a + y[0] + g1 * y[0] * y[1] + g3 * y[1] * y[1], b / a + y[1] + g2 * y[0] * y[0];
+    return x;
   }
   Eigen::Matrix2d Dg(const Vector& y) const {
     Eigen::Matrix2d m;
