@@ -88,6 +88,7 @@ class ReducedFold final : public TwoUnknowns {
   }
   Status jacobian(const Vector& u, Vector& F, SparseMatrix& J) override {
     residual(u, F);
+    J = pattern_;
     J.coeffRef(0, 0) = 2 * c2 * u[0];
     J.coeffRef(0, 1) = 1.0;
     J.coeffRef(1, 0) = -2 * d * u[0];
@@ -199,11 +200,13 @@ class CurvedBrusselator final : public TwoUnknowns {
     Eigen::Matrix2d fx;
     fx << -(b + 1) + 2 * x[0] * x[1], x[0] * x[0], b - 2 * x[0] * x[1], -x[0] * x[0];
     const Eigen::Matrix2d m = -fx * Dg(y);
+    J = pattern_;
     for (int i = 0; i < 2; ++i)
       for (int j = 0; j < 2; ++j) J.coeffRef(i, j) = m(i, j);
     return {};
   }
   Status mass_matrix(const Vector& y, SparseMatrix& B) override {
+    B = pattern_;  // callers may pass any matrix (has_time_form an empty one)
     const Eigen::Matrix2d m = Dg(y);
     for (int i = 0; i < 2; ++i)
       for (int j = 0; j < 2; ++j) B.coeffRef(i, j) = m(i, j);
