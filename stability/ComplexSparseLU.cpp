@@ -82,14 +82,13 @@ Status ComplexSparseLU::factorize(const ComplexSparseMatrix& A) {
   return status;
 }
 
-Status ComplexSparseLU::solve(const ComplexVector& b, ComplexVector& x, bool conjugate_transpose) {
+Status ComplexSparseLU::solve(const ComplexVector& b, ComplexVector& x) {
   if (!numeric_) throw std::logic_error("ComplexSparseLU::solve before a successful factorize");
   if (b.size() != n_) throw std::invalid_argument("ComplexSparseLU::solve: size mismatch");
   const Eigen::VectorXd br = b.real(), bi = b.imag();
   Eigen::VectorXd xr(n_), xi(n_);
-  const int st =
-      umfpack_zi_solve(conjugate_transpose ? UMFPACK_At : UMFPACK_A, outer_.data(), inner_.data(), real_.data(),
-                       imag_.data(), xr.data(), xi.data(), br.data(), bi.data(), numeric_, control_, info_);
+  const int st = umfpack_zi_solve(UMFPACK_A, outer_.data(), inner_.data(), real_.data(), imag_.data(), xr.data(),
+                                  xi.data(), br.data(), bi.data(), numeric_, control_, info_);
   Status status = umfpack_status(st, "complex solve");
   if (!status.is_ok()) return status;
   x.resize(n_);

@@ -33,9 +33,8 @@ class ComplexSparseLU {
   // Numeric factorisation of A (compressed, square); analyses first if A's pattern differs from
   // the analysed one.
   Status factorize(const ComplexSparseMatrix& A);
-  // Solves A x = b with the last factorisation (with the options' iterative refinement);
-  // conjugate_transpose: A^H x = b (left eigenvectors).
-  Status solve(const ComplexVector& b, ComplexVector& x, bool conjugate_transpose = false);
+  // Solves A x = b with the last factorisation (with the options' iterative refinement).
+  Status solve(const ComplexVector& b, ComplexVector& x);
   bool factorized() const { return numeric_ != nullptr; }
   long analyses() const { return analyses_; }
   long factorisations() const { return factorisations_; }
