@@ -57,9 +57,7 @@ Status DirichletTerm::parameter_derivative(int item, int p, const double*, doubl
   ParameterSet probe = *params_;
   const double v = probe.value(p);
   const double h = 1e-6 * std::max(1.0, std::abs(v));
-  const Parameter& info = probe.info(p);
-  // one-sided at a bound of the admissible range, central otherwise
-  const double hi = std::min(v + h, info.upper), lo = std::max(v - h, info.lower);
+  const auto [lo, hi] = probe.difference_points(p, h);
   return guarded(name_, [&] {
     probe.set(p, hi);
     const double ghi = values_[item](probe);

@@ -4,6 +4,7 @@
 
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/Range.hpp"
@@ -37,6 +38,13 @@ class ParameterSet {
   void set(const std::string& name, double v) { set(index(name), v); }
   void set(int i, double v);
   bool admissible(int i, double v) const { return params_[i].range().contains(v); }
+  // The points {v - h, v + h} of a central difference in parameter i at its value v, each moved
+  // back to v where it would leave the admissible range: one-sided at a bound or within h of it,
+  // and an open bound (Gamma > 0) is never evaluated.
+  std::pair<double, double> difference_points(int i, double h) const {
+    const double v = values_[i];
+    return {admissible(i, v - h) ? v - h : v, admissible(i, v + h) ? v + h : v};
+  }
   const Parameter& info(int i) const { return params_[i]; }
   const std::vector<Parameter>& list() const { return params_; }
   const double* values() const { return values_.data(); }

@@ -27,8 +27,7 @@ Status Problem::parameter_derivative(int p, const Vector& u, Vector& dF) {
   ParameterSet& ps = parameters();
   const double v = ps.value(p);
   const double h = 1e-6 * std::max(1.0, std::abs(v));
-  const Parameter& info = ps.info(p);
-  const double hi = std::min(v + h, info.upper), lo = std::max(v - h, info.lower);
+  const auto [lo, hi] = ps.difference_points(p, h);
   Vector Fhi, Flo;
   ps.set(p, hi);
   Status st = residual(u, Fhi);

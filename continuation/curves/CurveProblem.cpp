@@ -103,7 +103,7 @@ Status CurveProblem::parameter_difference(int p, const std::function<Status(Vect
                                           Vector& derivative) const {
   ParameterSet& ps = inner_.parameters();
   const double v = ps.value(p), h = kParameterStep * std::max(1.0, std::abs(v));
-  const double hi = std::min(v + h, ps.info(p).upper), lo = std::max(v - h, ps.info(p).lower);
+  const auto [lo, hi] = ps.difference_points(p, h);
   Vector fhi, flo;
   ps.set(p, hi);
   Status st = value(fhi);

@@ -247,3 +247,21 @@ TEST(DirichletTerm, AValueThatDoesNotExistFailsTheEvaluationWithItsReason) {
   bug.add(0, [](const ParameterSet&) -> double { throw std::logic_error("a bug"); });
   EXPECT_THROW(bug.residual(0, &u, &r), std::logic_error);
 }
+
+// dF/dp of a boundary value g = a^2 near the open lower bound of a > 0 (as the wall elasticity's):
+// at a = 4e-7, within the difference step 1e-6 of the bound, the difference is one-sided on the
+// admissible side (it evaluated g at a = 0 before, which ParameterSet refused with an exception
+// that ended a Hopf curve's run as an internal error), to its truncation error h = 1e-6;
+// centrally, to rounding, away from the bound.
+TEST(DirichletTerm, ParameterDerivativeStaysInsideTheAdmissibleRange) {
+  ParameterSet params;
+  const int a = params.add("a", 4e-7, "a parameter", Range{0.0, INFINITY, true, false});
+  DirichletTerm d("wall", params);
+  d.add(0, [a](const ParameterSet& p) { return p.value(a) * p.value(a); });
+  double u = 0.0, dr = 0.0;
+  ASSERT_TRUE(d.parameter_derivative(0, a, &u, &dr).is_ok());
+  EXPECT_NEAR(dr, -2.0 * 4e-7, 1.01e-6);  // one-sided: -(2a + h)
+  params.set(a, 0.5);
+  ASSERT_TRUE(d.parameter_derivative(0, a, &u, &dr).is_ok());
+  EXPECT_NEAR(dr, -1.0, 1e-9);
+}

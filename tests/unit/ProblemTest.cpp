@@ -205,3 +205,20 @@ TEST(ProblemRegistry, AProgramRegistersItsOwnTypes) {
   EXPECT_NE(refusal(no_build).find("needs both declare and build"), std::string::npos);
   EXPECT_EQ(problem_types().size(), before + 1);
 }
+
+// The points of a parameter's central difference stay admissible: both sides inside the range,
+// the side that would reach an open bound or cross a closed one moved back to the value itself
+// (one-sided), an exact closed bound kept.
+TEST(ParameterSet, DifferencePointsStayInsideTheAdmissibleRange) {
+  ParameterSet ps;
+  const int open = ps.add("Gamma", 4e-7, "open at zero", Range{0.0, INFINITY, true, false});
+  const int closed = ps.add("t", 1.0, "closed on [0, 1]", 0.0, 1.0);
+  const int free = ps.add("x", 0.5, "unbounded");
+  EXPECT_EQ(ps.difference_points(open, 1e-6), std::make_pair(4e-7, 4e-7 + 1e-6));
+  EXPECT_EQ(ps.difference_points(closed, 1e-6), std::make_pair(1.0 - 1e-6, 1.0));
+  EXPECT_EQ(ps.difference_points(free, 0.25), std::make_pair(0.25, 0.75));
+  ps.set(open, 1e-6);  // exactly h above an open bound: v - h = 0 is refused
+  EXPECT_EQ(ps.difference_points(open, 1e-6).first, 1e-6);
+  ps.set(closed, 1e-6);  // exactly h above a closed bound: v - h = 0 is admissible
+  EXPECT_EQ(ps.difference_points(closed, 1e-6).first, 0.0);
+}
