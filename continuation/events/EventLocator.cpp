@@ -164,6 +164,17 @@ std::optional<BranchPoint> EventLocator::locate_root(const BranchPoint& a, const
   BranchPoint pa = a, pb = b;
   int side = 0, solves = 0;
   double t_before = NAN;
+  // a monitor's sign change through a pole (a test function 1 / (c^T J^-1 b) whose borders make the
+  // denominator pass through zero) is no zero: there |g| grows on both sides as the bracket narrows,
+  // past the larger of the ends' values on the way, past the smaller by the end
+  const double smaller_end = std::min(std::abs(ga), std::abs(gb)), larger_end = std::max(std::abs(ga), std::abs(gb));
+  auto pole = [&](const BranchPoint& x, const BranchPoint& y, double bound) {
+    const double least = std::min(std::abs(target.of(x)), std::abs(target.of(y)));
+    if (target.kind != EventTarget::Monitor || !(least > bound)) return false;
+    note += fmt::format("the monitor changes sign through a pole, not a zero (|g| grows from {:.3g} to {:.3g})",
+                        smaller_end, least);
+    return true;
+  };
   double last_lambda = NAN;
   for (int it = 0; it < options_.events.max_location_iterations; ++it) {
     const bool secant = !sign_only && (!by_count || (std::isfinite(ga) && std::isfinite(gb) && ga * gb < 0));
@@ -224,6 +235,7 @@ std::optional<BranchPoint> EventLocator::locate_root(const BranchPoint& a, const
           "or a different one is nearest the axis on each side (a larger stability.count keeps them)";
       return std::nullopt;
     }
+    if (pole(pa, pb, (settled || width <= options_.events.tolerance) ? smaller_end : larger_end)) return std::nullopt;
     if (settled) {
       pc.iterations = solves;
       return pc;

@@ -116,3 +116,31 @@ TEST(EventLocator, AFold) {
   std::cout << "fold: lambda - 2 = " << p->lambda - 2 << ", u + 1 = " << p->u[0] + 1 << ", t_lambda " << p->tlambda
             << "\n";
 }
+
+// A monitor with a pole, 1 / (u - 1/2), changes sign between u = 0.7 and 0.3 without a zero (as the
+// minimally augmented test function 1 / (c^T J^-1 b) does when c^T J^-1 b passes through zero):
+// the locator narrows the bracket onto u = 1/2, sees |g| grow past the ends' values, and reports no
+// point, saying why; the same segment with the monitor u - 1/2 has its zero located.
+TEST(EventLocator, APoleOfAMonitorIsNoZero) {
+  FunctionProblem problem(
+      "cubic with a pole", 1, {{"lambda", 0.0}},
+      [](const Vector& u, const Vector& p) { return Vector::Constant(1, u[0] * u[0] * u[0] - 3 * u[0] - p[0]); },
+      [](const Vector& u, const Vector&) { return Eigen::MatrixXd::Constant(1, 1, 3 * u[0] * u[0] - 3); },
+      [](int, const Vector&, const Vector&) { return Vector::Constant(1, -1.0); });
+  problem.set_monitors({"pole", "zero"}, [](const Vector& u) {
+    return std::vector<double>{1.0 / (u[0] - 0.5), u[0] - 0.5};
+  });
+  EngineParts parts(problem, locator_options());
+  auto [a, b] = segment(parts.norm, 0.7, 0.3);
+  a.monitors = {1.0 / (0.7 - 0.5), 0.7 - 0.5};
+  b.monitors = {1.0 / (0.3 - 0.5), 0.3 - 0.5};
+  std::string note;
+  EXPECT_FALSE(
+      parts.locator.locate_root(a, b, Target{EventTarget::Monitor, 0, 0.0}, a.monitors[0], b.monitors[0], note));
+  EXPECT_NE(note.find("pole"), std::string::npos) << note;
+  note.clear();
+  const std::optional<BranchPoint> zero =
+      parts.locator.locate_root(a, b, Target{EventTarget::Monitor, 1, 0.0}, a.monitors[1], b.monitors[1], note);
+  ASSERT_TRUE(zero) << note;
+  EXPECT_NEAR(zero->u[0], 0.5, 1e-10);
+}
