@@ -9,6 +9,7 @@
 #include "continuation/curves/FoldCurveProblem.hpp"
 #include "continuation/curves/HopfCurveProblem.hpp"
 #include "runs/CommandFailure.hpp"
+#include "runs/NormalFormObserver.hpp"
 
 namespace keller {
 
@@ -110,6 +111,7 @@ TraceStart start_hopf_curve(Problem& problem, const TraceSettings& settings, con
                     "of a branch traced with [stability] has one)",
                     from.file, hopf.index));
   auto curve = std::make_unique<HopfCurveProblem>(problem, stored.table.parameter, settings.lu);
+  curve->set_lyapunov_coefficient(unit_mode_lyapunov_coefficient(settings.lu));
   Vector U = curve->state(hopf.u, hopf.lambda, std::abs(critical->sigma_im));
   // the mode of i omega, omega > 0: that of a stored -i omega conjugated
   const double side = critical->sigma_im < 0 ? -1.0 : 1.0;

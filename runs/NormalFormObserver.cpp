@@ -98,6 +98,15 @@ std::optional<Continuation::SwitchPrediction> switch_prediction(Problem& problem
   return p;
 }
 
+HopfCurveProblem::LyapunovCoefficient unit_mode_lyapunov_coefficient(SparseLUOptions lu) {
+  return [lu](Problem& inner, int p1, const Vector& u, double omega, const ComplexVector& mode, double& l1) {
+    NormalForm nf;
+    const Status st = NormalForms(lu).hopf(inner, p1, u, omega, &mode, nf);
+    if (st.is_ok()) l1 = nf.l1 / nf.q.squaredNorm();
+    return st;
+  };
+}
+
 NormalFormObserver::NormalFormObserver(BranchObserver& inner, Problem& problem, int parameter, SparseLUOptions lu)
     : inner_(inner), problem_(problem), parameter_(parameter), forms_(lu), has_time_form_(has_time_form(problem)) {}
 

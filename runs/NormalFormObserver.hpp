@@ -7,6 +7,7 @@
 #include <string>
 
 #include "continuation/Continuation.hpp"
+#include "continuation/curves/HopfCurveProblem.hpp"
 #include "core/Problem.hpp"
 #include "core/SparseLU.hpp"
 #include "stability/NormalForms.hpp"
@@ -40,6 +41,12 @@ class NormalFormObserver final : public BranchObserver {
 // J's null vector.
 std::optional<Continuation::SwitchPrediction> switch_prediction(Problem& problem, int parameter, const BranchPoint& bp,
                                                                 SparseLUOptions lu, std::string& note);
+
+// The first Lyapunov coefficient a Hopf curve monitors for Bautin points (HopfCurveProblem's
+// "bautin" column): l1 of the normal form at the point with the eigenvector q scaled to unit
+// 2-norm, l1 / |q|^2 of the branch file's max-normalised q. Its sign is l1's; unlike the
+// max-normalised value it does not jump where q's largest entry moves to another unknown.
+HopfCurveProblem::LyapunovCoefficient unit_mode_lyapunov_coefficient(SparseLUOptions lu);
 
 // The numbers of a normal form in the order of normal_form_columns().
 std::vector<double> normal_form_row(const NormalForm& nf);

@@ -32,6 +32,7 @@ Status FoldTestFunction::evaluate(const SparseMatrix& J) {
   if (!st.is_ok()) return st;
   v_ = x.head(n_);
   g_ = x[n_];
+  det_sign_ = lu_.determinant_sign();
   st = lu_.solve(rhs, x, true);
   if (!st.is_ok()) return st;
   w_ = x.head(n_);

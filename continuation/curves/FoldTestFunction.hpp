@@ -25,11 +25,16 @@ class FoldTestFunction {
   const Vector& v() const { return v_; }
   const Vector& w() const { return w_; }
   double g() const { return g_; }
+  // g times the sign of det [J b; c^T 0]: the sign of det J whatever the borders (g's own sign flips
+  // with det [J b; c^T 0] when the borders move), for a sign change counted between two points
+  // evaluated with different borders.
+  double signed_g() const { return g_ * det_sign_; }
 
  private:
   int n_;
   Vector b_, c_, v_, w_;
   double g_ = 0.0;
+  int det_sign_ = 0;
   SparseLU lu_;
 };
 

@@ -238,6 +238,7 @@ std::vector<std::string> HopfCurveProblem::monitor_names() const {
   std::vector<std::string> names = inner_.monitor_names();
   names.push_back("bogdanov-takens");
   names.push_back("fold-hopf");
+  if (l1_) names.push_back("bautin");
   return names;
 }
 
@@ -248,7 +249,14 @@ Status HopfCurveProblem::monitors(const Vector& U, std::vector<double>& values) 
   if (st.is_ok()) st = fold_.evaluate(J_);
   if (!st.is_ok()) return st;
   values.push_back(U[n_ + 1]);
-  values.push_back(fold_.g());
+  values.push_back(fold_.signed_g());
+  if (l1_) {
+    double l1 = NAN;
+    // the normal form moves p1 and restores it: the analysis at U stays valid. Where it cannot be
+    // computed (omega near zero at a Bogdanov-Takens point) the column is NaN and no zero is sought.
+    if (!l1_(inner_, p1(), U.head(n_), U[n_ + 1], v_, l1).is_ok()) l1 = NAN;
+    values.push_back(l1);
+  }
   return {};
 }
 

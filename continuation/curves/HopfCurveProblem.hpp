@@ -10,6 +10,7 @@
 #pragma once
 
 #include <complex>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -35,7 +36,10 @@ using ComplexVector = Eigen::VectorXcd;
 // Observables: the inner problem's, then p1 and omega. Monitors: the inner problem's, then the
 // codimension-two test functions "bogdanov-takens" (omega itself: the pair meets at zero, where the
 // Hopf curve ends on a fold curve) and "fold-hopf" (the fold test function of J, whose zero is a
-// real eigenvalue through zero while the pair sits on the imaginary axis).
+// real eigenvalue through zero while the pair sits on the imaginary axis), and, where a first
+// Lyapunov coefficient is given (set_lyapunov_coefficient), "bautin": l1 at the point, whose zero
+// is a Bautin (generalised Hopf) point, where the Hopf bifurcation turns from super- to
+// subcritical.
 class HopfCurveProblem final : public CurveProblem {
  public:
   // inner at the Hopf point's parameter values; hopf_parameter: p1, the parameter of the branch the
@@ -70,6 +74,16 @@ class HopfCurveProblem final : public CurveProblem {
   // Forwards every point to another observer and moves the borders to each accepted point.
   using BorderUpdate = CurveBorderUpdate<HopfCurveProblem>;
 
+  // The first Lyapunov coefficient of the inner problem at a Hopf point: (inner at the point's
+  // parameter values, p1's index, u, omega, an approximation of the critical eigenvector) -> l1.
+  // It is computed outside continuation/ (the normal forms): the curve only monitors its sign. The
+  // value should be smooth along the curve (l1 of an eigenvector of fixed norm, not of its
+  // largest entry), so that the zero is located by the secant steps of any monitor.
+  using LyapunovCoefficient = std::function<Status(Problem& inner, int p1, const Vector& u, double omega,
+                                                   const ComplexVector& mode, double& l1)>;
+  // Adds the monitor "bautin" (after "fold-hopf"); an empty function removes it.
+  void set_lyapunov_coefficient(LyapunovCoefficient l1) { l1_ = std::move(l1); }
+
  private:
   Status equations_parameter_derivative(int p, const Vector& U, Vector& d) override;
   // F, J, B, v, w and g at U, computed once per state and parameter values.
@@ -80,6 +94,7 @@ class HopfCurveProblem final : public CurveProblem {
   Status parameter_term(int p, const Vector& u, double omega, std::complex<double>& gp);
 
   ComplexVector b_, c_;
+  LyapunovCoefficient l1_;
   SparseLU lu_;
   FoldTestFunction fold_;
   Status analysed_status_;  // of the analysis at CurveProblem::analysed_at

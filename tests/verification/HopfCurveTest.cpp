@@ -11,6 +11,7 @@
 #include "continuation/Continuation.hpp"
 #include "continuation/curves/HopfCurveProblem.hpp"
 #include "problems/analytic/Brusselator1DProblem.hpp"
+#include "runs/NormalFormObserver.hpp"
 #include "support/TestProblems.hpp"
 #include "support/TestSupport.hpp"
 
@@ -66,6 +67,47 @@ test::FunctionProblem fold_hopf(double beta1, double beta2) {
       },
       [](int k, const Vector& u, const Vector&) {
         return Vector(k == 0 ? Eigen::Vector3d(-1.0, 0.0, 0.0) : Eigen::Vector3d(0.0, -u[1], -u[2]));
+      });
+}
+
+// A Bautin problem with a known first Lyapunov coefficient. In Z = x + i y and a third unknown w:
+//   Z' = (mu - nu^2 + i omega0) Z + (nu + i b) Z |Z|^2 + gamma Z w + delta conj(Z) w,
+//   w' = -kappa w + |Z|^2 + Re Z^2     (F = -rhs, B = I).
+// The origin is an equilibrium; its pair mu - nu^2 +- i omega0 crosses the axis on the Hopf curve
+// mu = nu^2, omega = omega0. On the centre manifold w = |Z|^2 / kappa + Re(alpha Z^2) with
+// alpha = 1 / (kappa + 2 i omega0) (the h11 and h20 terms), so the resonant cubic coefficient is
+// C = nu + i b + gamma / kappa + delta alpha / 2. With the eigenvector q = (1, -i, 0) (Z = 2 z),
+// c1 = 4 C, and with q of unit norm (|q|^2 = 2) l1 = 2 Re C / omega0: zero at the Bautin point
+// nu_B = -gamma / kappa - delta kappa / (2 (kappa^2 + 4 omega0^2)).
+struct BautinConstants {
+  double omega0 = 1.5, b = 0.3, gamma = 0.6, delta = 1.0, kappa = 2.0;
+  double re_c(double nu) const {
+    return nu + gamma / kappa + delta * kappa / (2.0 * (kappa * kappa + 4.0 * omega0 * omega0));
+  }
+  double unit_l1(double nu) const { return 2.0 * re_c(nu) / omega0; }
+};
+test::FunctionProblem bautin(double mu, double nu, const BautinConstants& k = {}) {
+  auto rhs = [k](const Vector& u, const Vector& p) {
+    const double x = u[0], y = u[1], w = u[2], r2 = x * x + y * y, m = p[0] - p[1] * p[1];
+    return Eigen::Vector3d(m * x - k.omega0 * y + (p[1] * x - k.b * y) * r2 + (k.gamma + k.delta) * x * w,
+                           k.omega0 * x + m * y + (k.b * x + p[1] * y) * r2 + (k.gamma - k.delta) * y * w,
+                           -k.kappa * w + r2 + x * x - y * y);
+  };
+  return test::FunctionProblem(
+      "bautin", 3, {{"mu", mu}, {"nu", nu}}, [rhs](const Vector& u, const Vector& p) { return Vector(-rhs(u, p)); },
+      [k](const Vector& u, const Vector& p) {
+        const double x = u[0], y = u[1], w = u[2], r2 = x * x + y * y, m = p[0] - p[1] * p[1], c = p[1];
+        const double gp = k.gamma + k.delta, gm = k.gamma - k.delta;
+        Eigen::Matrix3d A;
+        A << m + c * r2 + 2.0 * x * (c * x - k.b * y) + gp * w, -k.omega0 - k.b * r2 + 2.0 * y * (c * x - k.b * y),
+            gp * x, k.omega0 + k.b * r2 + 2.0 * x * (k.b * x + c * y),
+            m + c * r2 + 2.0 * y * (k.b * x + c * y) + gm * w, gm * y, 4.0 * x, 0.0, -k.kappa;
+        return Eigen::MatrixXd(-A);
+      },
+      [](int j, const Vector& u, const Vector& p) {
+        const double x = u[0], y = u[1], r2 = x * x + y * y;
+        if (j == 0) return Vector(-Eigen::Vector3d(x, y, 0.0));
+        return Vector(-Eigen::Vector3d(-2.0 * p[1] * x + x * r2, -2.0 * p[1] * y + y * r2, 0.0));
       });
 }
 
@@ -235,4 +277,37 @@ TEST(HopfCurve, FoldHopfWhereDetJChangesSign) {
   EXPECT_NEAR(zh[0]->u[3], 0.0, 1e-10);
   EXPECT_NEAR(zh[0]->u[4], kOmega0, 1e-10);
   EXPECT_TRUE(labelled(rec, PointKind::Event, "bogdanov-takens").empty());
+}
+
+// The Bautin problem's Hopf curve mu = nu^2 continued in nu from -1 to 0.5 with the first Lyapunov
+// coefficient of keller trace's curves (runs/NormalFormObserver: the normal form at every point,
+// q of unit norm): the "bautin" column equals 2 Re C / omega0 at every point, and the point located
+// where it changes sign is nu_B of the closed form, with mu = nu_B^2 and omega = omega0. The
+// problem is cubic, so the difference derivatives are exact but for rounding (relative 1e-9 at
+// the D^3 step 1e-2): the values to 1e-7, the point to the locator's 1e-8.
+TEST(HopfCurve, BautinPointWhereTheFirstLyapunovCoefficientChangesSign) {
+  const BautinConstants k;
+  test::FunctionProblem p = bautin(1.0, -1.0, k);
+  HopfCurveProblem curve(p, "mu");
+  curve.set_lyapunov_coefficient(unit_mode_lyapunov_coefficient({}));
+  ASSERT_EQ(curve.monitor_names().back(), "bautin");
+  Vector U = curve.state(Eigen::Vector3d(1e-3, -1e-3, 1e-3), 1.0 + 1e-3, k.omega0 + 1e-3);
+  ASSERT_TRUE(curve.start(U, ComplexVector(), tight()).is_ok());
+  const auto [r, rec] = trace(curve, U, curve_options("nu", -1.0, 0.5));
+  ASSERT_EQ(r.code, StopCode::UpperBound) << r.reason;
+  for (const BranchPoint& q : rec.points) {
+    const double nu = q.lambda;
+    EXPECT_NEAR(q.u[3], nu * nu, 1e-10) << "nu = " << nu;
+    EXPECT_NEAR(q.u[4], k.omega0, 1e-10) << "nu = " << nu;
+    EXPECT_NEAR(q.monitors.back(), k.unit_l1(nu), 1e-7) << "nu = " << nu;
+  }
+  const auto gh = labelled(rec, PointKind::Event, "bautin");
+  ASSERT_EQ(gh.size(), 1u) << r.reason;
+  const double nu_b = -k.gamma / k.kappa - k.delta * k.kappa / (2.0 * (k.kappa * k.kappa + 4.0 * k.omega0 * k.omega0));
+  std::cout << std::setprecision(10) << "Bautin at nu = " << gh[0]->lambda << " (closed form " << nu_b << ")\n";
+  EXPECT_NEAR(gh[0]->lambda, nu_b, 1e-8);
+  EXPECT_NEAR(gh[0]->u[3], nu_b * nu_b, 1e-8);
+  EXPECT_NEAR(gh[0]->u[4], k.omega0, 1e-10);
+  EXPECT_TRUE(labelled(rec, PointKind::Event, "bogdanov-takens").empty());
+  EXPECT_TRUE(labelled(rec, PointKind::Event, "fold-hopf").empty());
 }
