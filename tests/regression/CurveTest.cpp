@@ -184,9 +184,9 @@ TEST(CurveCommand, LimitingWiCurveOfTheCollapsibleChannelMatchesWiBranches) {
 
 // The Hopf curve of the Brusselator through the driver: from the Hopf point located (with its
 // eigenvector) on the b branch of runs/scenes/brusselator1d_hopf.toml at a = 2, continued in a from
-// 1.5 to 3: every row on b = 1 + a^2, omega = a to 1e-8 (exact on the grid; Newton to 1e-12), the
-// stop a = 2.5 hit; a row that is not a Hopf point is refused, naming the Hopf rows; killed after
-// its third point, the same command finishes the same curve.
+// 1.5 to 3: every row on b = 1 + a^2, omega = a to 1e-8 (exact on the grid; Newton to 1e-12), its
+// first Lyapunov coefficient (the bautin column) the closed form's, the stop a = 2.5 hit; a row that is not a Hopf
+// point is refused, naming the Hopf rows; killed after its third point, the same command finishes the same curve.
 TEST(CurveCommand, AHopfCurveFromAStoredHopfPointIsBEqualsOnePlusASquared) {
   const std::string dir = test::scratch_dir("curve_hopf");
   const std::string scene =
@@ -206,11 +206,16 @@ TEST(CurveCommand, AHopfCurveFromAStoredHopfPointIsBEqualsOnePlusASquared) {
   r = test::run_keller("trace " + scene + " --from " + dir + "/branch.h5:" + std::to_string(hopf[0]) + curve_args);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const BranchTable t = read_branch_table(dir + "/curve.h5");
-  const int a = t.column("a"), b = t.column("b"), omega = t.column("omega");
+  const int a = t.column("a"), b = t.column("b"), omega = t.column("omega"), l1 = t.column("monitor:bautin");
   ASSERT_GT(t.rows.rows(), 4);
   for (long i = 0; i < t.rows.rows(); ++i) {
-    EXPECT_NEAR(t.rows(i, b), 1.0 + t.rows(i, a) * t.rows(i, a), 1e-8) << "a = " << t.rows(i, a);
-    EXPECT_NEAR(t.rows(i, omega), t.rows(i, a), 1e-8) << "a = " << t.rows(i, a);
+    const double ai = t.rows(i, a);
+    EXPECT_NEAR(t.rows(i, b), 1.0 + ai * ai, 1e-8) << "a = " << ai;
+    EXPECT_NEAR(t.rows(i, omega), ai, 1e-8) << "a = " << ai;
+    // l1 of the uniform mode q = (q_u, 1) at each of the 33 nodes, |q_u|^2 = a^2 / (a^2 + 1) (the ODE's
+    // l1 with q_v = 1, NormalFormsTest), divided by |q|^2 = 33 (2 a^2 + 1) / (a^2 + 1); measured to 1e-9
+    const double unit_l1 = -(ai * ai + 2) / (2 * ai * 33.0 * (2 * ai * ai + 1));
+    EXPECT_NEAR(t.rows(i, l1), unit_l1, 1e-6 * std::abs(unit_l1)) << "a = " << ai;
   }
   EXPECT_EQ(rows_of_kind(t, PointKind::Requested).size(), 1u);
 
