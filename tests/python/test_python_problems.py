@@ -151,6 +151,8 @@ def test_a_python_problems_monitor_is_an_event_and_a_stored_point_restarts_it(tm
     events = branch.points("event")
     assert len(events) == 1  # u_mid grows along the branch, through 1 before the fold (u_mid = 1.19 there)
     assert abs(events[0]["u_mid"] - 1.0) < 1e-10
+    assert events[0].monitor == "u_mid_minus_1"  # the monitor whose zero it is, read from the file
+    assert branch.point("fold1").monitor is None
     assert events[0].row < branch.point("fold1").row
     # a restart from the event continues along the stored tangent, through the fold, to the same end
     restarted = keller.trace({"continuation": CONTINUATION}, tmp_path / "r.h5", problem=Bratu1DWithMonitor(64),

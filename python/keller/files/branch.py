@@ -103,8 +103,9 @@ class StoredSolution(State):
 class Point:
     """A row of a branch table: its `index` in the table, `row` number, `kind`, `label` (None for
     a regular point), `value` of the parameter, `values` ({column: value}), the stored
-    `solution` at this row (None where none is stored) and its `normal_form` (a located fold,
-    branch point or Hopf point: Branch.normal_form_at; else None)."""
+    `solution` at this row (None where none is stored), its `normal_form` (a located fold,
+    branch point or Hopf point: Branch.normal_form_at; else None) and the `monitor` whose zero it
+    is (an event: "bautin", "fold-hopf", "cusp", a problem's monitor; else None)."""
 
     def __init__(self, branch, index, label):
         self.index, self.label = index, label
@@ -114,6 +115,7 @@ class Point:
         self.values = branch.table.row(index)
         self.solution = branch.solution_at(self.row)
         self.normal_form = branch.normal_form_at(self.row)
+        self.monitor = branch._event_monitors.get(self.row)
 
     def __getitem__(self, column):
         return self.values[column]
@@ -142,6 +144,12 @@ class Branch(TableView, RunFile):
         self.monitors = names(b.attrs.get("monitors", ""))
         self.kinds = np.array([KINDS[int(k)] for k in self.table["kind"]], dtype=object)
         self.labels = point_labels(self.kinds, self.table["row"])
+        # the monitor whose zero each located event (or threshold end) is, by row
+        self._event_monitors = {}
+        if "events" in b:
+            for row, _kind, _value, monitor in read_rows(b["events"]):
+                if 0 <= monitor < len(self.monitors):
+                    self._event_monitors[int(row)] = self.monitors[int(monitor)]
         self._solutions = self._read_solutions(f)
         self.normal_forms, self._normal_form_types = Table.from_rows(["row", "kind"], []), []
         if "normal_forms" in b:
