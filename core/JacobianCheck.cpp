@@ -65,8 +65,7 @@ Status check_at(Problem& problem, const Vector& u, const JacobianCheckOptions& o
     double best = INFINITY;
     for (double step : kSteps) {
       const double h = step * std::max(1.0, std::abs(value));
-      const double hi = ps.admissible(p, value + h) ? value + h : value;
-      const double lo = ps.admissible(p, value - h) ? value - h : value;
+      const auto [lo, hi] = ps.difference_points(p, h);
       if (hi == lo) continue;  // a parameter without room on either side: not checked
       ps.set(p, hi);
       Status st = problem.residual(u, Fp);

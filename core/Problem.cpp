@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 
+#include <fmt/format.h>
+
 namespace keller {
 
 Status Problem::jacobian(const Vector& u, Vector& F, SparseMatrix& J) {
@@ -28,6 +30,9 @@ Status Problem::parameter_derivative(int p, const Vector& u, Vector& dF) {
   const double v = ps.value(p);
   const double h = 1e-6 * std::max(1.0, std::abs(v));
   const auto [lo, hi] = ps.difference_points(p, h);
+  if (hi == lo)
+    return {StatusCode::InvalidState,
+            fmt::format("dF/d{}: no room for a difference inside its admissible range", ps.info(p).name)};
   Vector Fhi, Flo;
   ps.set(p, hi);
   Status st = residual(u, Fhi);

@@ -101,7 +101,9 @@ std::optional<Continuation::SwitchPrediction> switch_prediction(Problem& problem
 HopfCurveProblem::LyapunovCoefficient unit_mode_lyapunov_coefficient(SparseLUOptions lu) {
   return [lu](Problem& inner, int p1, const Vector& u, double omega, const ComplexVector& mode, double& l1) {
     NormalForm nf;
-    const Status st = NormalForms(lu).hopf(inner, p1, u, omega, &mode, nf);
+    // (an exception of the problem at a difference step fails the value, as at_parameter does)
+    const Status st = at_parameter(inner, p1, inner.parameters().value(p1),
+                                   [&] { return NormalForms(lu).hopf(inner, p1, u, omega, &mode, nf); });
     if (st.is_ok()) l1 = nf.l1 / nf.q.squaredNorm();
     return st;
   };

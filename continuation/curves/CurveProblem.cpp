@@ -104,6 +104,9 @@ Status CurveProblem::parameter_difference(int p, const std::function<Status(Vect
   ParameterSet& ps = inner_.parameters();
   const double v = ps.value(p), h = kParameterStep * std::max(1.0, std::abs(v));
   const auto [lo, hi] = ps.difference_points(p, h);
+  if (hi == lo)
+    return {StatusCode::InvalidState,
+            fmt::format("d/d{}: no room for a difference inside its admissible range", ps.info(p).name)};
   Vector fhi, flo;
   ps.set(p, hi);
   Status st = value(fhi);

@@ -81,7 +81,8 @@ class HopfCurveProblem final : public CurveProblem {
   // largest entry), so that the zero is located by the secant steps of any monitor.
   using LyapunovCoefficient = std::function<Status(Problem& inner, int p1, const Vector& u, double omega,
                                                    const ComplexVector& mode, double& l1)>;
-  // Adds the monitor "bautin" (after "fold-hopf"); an empty function removes it.
+  // Adds the monitor "bautin" (after "fold-hopf"); an empty function removes it. It changes
+  // monitor_names(): call it before the curve is given to a Continuation.
   void set_lyapunov_coefficient(LyapunovCoefficient l1) { l1_ = std::move(l1); }
 
  private:

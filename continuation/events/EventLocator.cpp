@@ -166,13 +166,16 @@ std::optional<BranchPoint> EventLocator::locate_root(const BranchPoint& a, const
   double t_before = NAN;
   // a monitor's sign change through a pole (a test function 1 / (c^T J^-1 b) whose borders make the
   // denominator pass through zero) is no zero: there |g| grows on both sides as the bracket narrows,
-  // past the larger of the ends' values on the way, past the smaller by the end
-  const double smaller_end = std::min(std::abs(ga), std::abs(gb)), larger_end = std::max(std::abs(ga), std::abs(gb));
-  auto pole = [&](const BranchPoint& x, const BranchPoint& y, double bound) {
-    const double least = std::min(std::abs(target.of(x)), std::abs(target.of(y)));
-    if (target.kind != EventTarget::Monitor || !(least > bound)) return false;
+  // past the larger of the ends' values (a zero next to an end whose |g| is rounding keeps |g| near
+  // that end's, which a bound by the smaller end would take for a pole)
+  const double larger_end = std::max(std::abs(ga), std::abs(gb));
+  auto pole = [&](const BranchPoint& x, const BranchPoint& y) {
+    const double gx = std::abs(target.of(x)), gy = std::abs(target.of(y));
+    if (target.kind != EventTarget::Monitor || !std::isfinite(gx) || !std::isfinite(gy) ||
+        !(std::min(gx, gy) > larger_end))
+      return false;
     note += fmt::format("the monitor changes sign through a pole, not a zero (|g| grows from {:.3g} to {:.3g})",
-                        smaller_end, least);
+                        larger_end, std::min(gx, gy));
     return true;
   };
   double last_lambda = NAN;
@@ -235,7 +238,7 @@ std::optional<BranchPoint> EventLocator::locate_root(const BranchPoint& a, const
           "or a different one is nearest the axis on each side (a larger stability.count keeps them)";
       return std::nullopt;
     }
-    if (pole(pa, pb, (settled || width <= options_.events.tolerance) ? smaller_end : larger_end)) return std::nullopt;
+    if (pole(pa, pb)) return std::nullopt;
     if (settled) {
       pc.iterations = solves;
       return pc;

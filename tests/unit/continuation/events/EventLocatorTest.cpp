@@ -120,7 +120,8 @@ TEST(EventLocator, AFold) {
 // A monitor with a pole, 1 / (u - 1/2), changes sign between u = 0.7 and 0.3 without a zero (as the
 // minimally augmented test function 1 / (c^T J^-1 b) does when c^T J^-1 b passes through zero):
 // the locator narrows the bracket onto u = 1/2, sees |g| grow past the ends' values, and reports no
-// point, saying why; the same segment with the monitor u - 1/2 has its zero located.
+// point, saying why; the same segment with the monitor u - 1/2 has its zero located, and so has a
+// segment that starts 1e-14 from it.
 TEST(EventLocator, APoleOfAMonitorIsNoZero) {
   FunctionProblem problem(
       "cubic with a pole", 1, {{"lambda", 0.0}},
@@ -143,4 +144,13 @@ TEST(EventLocator, APoleOfAMonitorIsNoZero) {
       parts.locator.locate_root(a, b, Target{EventTarget::Monitor, 1, 0.0}, a.monitors[1], b.monitors[1], note);
   ASSERT_TRUE(zero) << note;
   EXPECT_NEAR(zero->u[0], 0.5, 1e-10);
+  // a zero next to an end whose value is rounding (a restart from a located event) is a zero
+  note.clear();
+  auto [c, d] = segment(parts.norm, 0.5 + 1e-14, 0.3);
+  c.monitors = {1.0 / 1e-14, 1e-14};
+  d.monitors = {1.0 / (0.3 - 0.5), 0.3 - 0.5};
+  const std::optional<BranchPoint> near =
+      parts.locator.locate_root(c, d, Target{EventTarget::Monitor, 1, 0.0}, c.monitors[1], d.monitors[1], note);
+  ASSERT_TRUE(near) << note;
+  EXPECT_NEAR(near->u[0], 0.5, 1e-10);
 }
