@@ -58,12 +58,15 @@ Status DirichletTerm::parameter_derivative(int item, int p, const double*, doubl
   const double v = probe.value(p);
   const double h = 1e-6 * std::max(1.0, std::abs(v));
   const auto [lo, hi] = probe.difference_points(p, h);
+  if (hi == lo)  // as Problem::parameter_derivative: no derivative rather than a zero one
+    return {StatusCode::InvalidState,
+            name_ + ": d/d" + probe.info(p).name + ": no room for a difference inside its admissible range"};
   return guarded(name_, [&] {
     probe.set(p, hi);
     const double ghi = values_[item](probe);
     probe.set(p, lo);
     const double glo = values_[item](probe);
-    dr[0] = hi > lo ? -(ghi - glo) / (hi - lo) : 0.0;
+    dr[0] = -(ghi - glo) / (hi - lo);
   });
 }
 

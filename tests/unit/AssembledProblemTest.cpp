@@ -264,4 +264,11 @@ TEST(DirichletTerm, ParameterDerivativeStaysInsideTheAdmissibleRange) {
   params.set(a, 0.5);
   ASSERT_TRUE(d.parameter_derivative(0, a, &u, &dr).is_ok());
   EXPECT_NEAR(dr, -1.0, 1e-9);
+  // a range narrower than the step leaves no room on either side: a failed evaluation, not dr = 0
+  const int narrow = params.add("n", 5e-8, "a narrow parameter", 0.0, 1e-7);
+  DirichletTerm e("wall", params);
+  e.add(0, [narrow](const ParameterSet& p) { return p.value(narrow); });
+  const Status st = e.parameter_derivative(0, narrow, &u, &dr);
+  EXPECT_EQ(st.code(), StatusCode::InvalidState);
+  EXPECT_NE(st.message().find("no room"), std::string::npos) << st.message();
 }
