@@ -31,9 +31,10 @@ Vector random_direction(const Vector& u, std::mt19937& rng) {
   return v;
 }
 
-// The largest error of J v over the directions at u; the errors of dF/dp folded into perr.
+// The largest error of J v over the directions at u; the errors of dF/dp folded into perr, the
+// parameters without room for a difference marked in checked.
 Status check_at(Problem& problem, const Vector& u, const JacobianCheckOptions& o, std::mt19937& rng, double& error,
-                std::vector<double>& perr) {
+                std::vector<double>& perr, std::vector<bool>& checked) {
   Vector F, Fp, Fm;
   SparseMatrix J;
   if (Status st = problem.jacobian(u, F, J); !st.is_ok()) return st;
@@ -56,9 +57,15 @@ Status check_at(Problem& problem, const Vector& u, const JacobianCheckOptions& o
   }
   ParameterSet& ps = problem.parameters();
   for (int p = 0; p < ps.size(); ++p) {
+    const double value = ps.value(p);
+    // a parameter without room for Problem::parameter_derivative's difference (Re = 0 of a Stokes
+    // run, whose range is [0, 0]) has no derivative to check
+    if (const auto [lo, hi] = ps.difference_points(p, 1e-6 * std::max(1.0, std::abs(value))); hi == lo) {
+      checked[static_cast<size_t>(p)] = false;
+      continue;
+    }
     Vector dF;
     if (Status st = problem.parameter_derivative(p, u, dF); !st.is_ok()) return st;
-    const double value = ps.value(p);
     // a derivative in p below 1e-6 of F's in the unknowns (per the same relative move) hardly moves
     // F: its errors count against that scale (dF/dbeta of a fluid at rest is rounding)
     const double floor = 1e-6 * moves / std::max(1.0, std::abs(value));
@@ -66,7 +73,7 @@ Status check_at(Problem& problem, const Vector& u, const JacobianCheckOptions& o
     for (double step : kSteps) {
       const double h = step * std::max(1.0, std::abs(value));
       const auto [lo, hi] = ps.difference_points(p, h);
-      if (hi == lo) continue;  // a parameter without room on either side: not checked
+      if (hi == lo) continue;  // no room for this step
       ps.set(p, hi);
       Status st = problem.residual(u, Fp);
       if (st.is_ok()) {
@@ -97,7 +104,9 @@ std::string JacobianCheckResult::describe() const {
     out += fmt::format("  J v at {}: relative error {:.2e} (largest over the random directions)\n", states[i],
                        state_errors[i]);
   for (size_t p = 0; p < parameters.size(); ++p)
-    out += fmt::format("  dF/d{}: relative error {:.2e}\n", parameters[p], parameter_errors[p]);
+    out += parameter_checked[p]
+               ? fmt::format("  dF/d{}: relative error {:.2e}\n", parameters[p], parameter_errors[p])
+               : fmt::format("  dF/d{}: not checked (no room for a difference inside its range)\n", parameters[p]);
   if (!status.is_ok()) out += "  failed to evaluate: " + status.describe() + "\n";
   return out;
 }
@@ -108,8 +117,9 @@ JacobianCheckResult check_jacobian(Problem& problem, const Vector& u, const Jaco
   const ParameterSet& ps = problem.parameters();
   for (int p = 0; p < ps.size(); ++p) r.parameters.push_back(ps.info(p).name);
   r.parameter_errors.assign(r.parameters.size(), 0.0);
+  r.parameter_checked.assign(r.parameters.size(), true);
   double error = 0.0;
-  r.status = check_at(problem, u, o, rng, error, r.parameter_errors);
+  r.status = check_at(problem, u, o, rng, error, r.parameter_errors, r.parameter_checked);
   if (!r.status.is_ok()) return r;
   r.states.push_back("the state");
   r.state_errors.push_back(error);
@@ -117,7 +127,7 @@ JacobianCheckResult check_jacobian(Problem& problem, const Vector& u, const Jaco
   const Vector dir = random_direction(u, rng);
   for (double size = o.perturbation; size >= 1e-4 * o.perturbation; size *= 0.1) {
     const Vector near = u + size * dir;
-    const Status st = check_at(problem, near, o, rng, error, r.parameter_errors);
+    const Status st = check_at(problem, near, o, rng, error, r.parameter_errors, r.parameter_checked);
     if (st.code() == StatusCode::InvalidState) continue;
     r.status = st;
     if (st.is_ok()) {

@@ -36,6 +36,8 @@ struct JacobianCheckResult {
   std::vector<double> state_errors;      // per state: the largest error over the directions
   std::vector<std::string> parameters;   // the parameters' names
   std::vector<double> parameter_errors;  // per parameter: the largest error of dF/dp over the states
+  std::vector<bool> parameter_checked;   // false for a parameter without room for a difference in
+                                         // its range (Re = 0 of a Stokes run): no dF/dp, error 0
   bool passed(double tolerance) const;   // status ok and every error at most tolerance
   std::string describe() const;          // a few lines for the terminal
 };

@@ -17,6 +17,7 @@ class Cubic final : public Problem {
   explicit Cubic(Mistake mistake, double bound = INFINITY) : mistake_(mistake), bound_(bound) {
     params_.add("lambda", 3.0, "coefficient of u - u^3");
     params_.add("mu", 0.0, "source", 0.0, 1.0);  // at its lower end: dF/dmu one-sided
+    params_.add("kappa", 0.0, "fixed at 0: no room for a difference", 0.0, 0.0);
     std::vector<Eigen::Triplet<double, int>> t;
     for (int i = 0; i < kN; ++i)
       for (int j = std::max(0, i - 1); j <= std::min(kN - 1, i + 1); ++j) t.emplace_back(i, j, 0.0);
@@ -53,6 +54,7 @@ class Cubic final : public Problem {
   Status parameter_derivative(int p, const Vector& u, Vector& dF) override {
     if (p == 0) dF = -(u.array() - u.array().cube()).matrix();
     if (p == 1) dF = Vector::Constant(kN, mistake_ == Mistake::ParameterSign ? -1.0 : 1.0);
+    if (p == 2) return Problem::parameter_derivative(p, u, dF);  // fails: no room
     return {};
   }
 
@@ -74,8 +76,11 @@ TEST(JacobianCheck, AnExactJacobianPasses) {
   ASSERT_TRUE(r.status.is_ok());
   ASSERT_EQ(r.state_errors.size(), 2u);
   for (double e : r.state_errors) EXPECT_LT(e, 1e-8);
-  ASSERT_EQ(r.parameter_errors.size(), 2u);
+  ASSERT_EQ(r.parameter_errors.size(), 3u);
   for (double e : r.parameter_errors) EXPECT_LT(e, 1e-8);
+  // a parameter fixed by its range ([0, 0]) has no derivative: left out and said so, not failed
+  EXPECT_EQ(r.parameter_checked, (std::vector<bool>{true, true, false}));
+  EXPECT_NE(r.describe().find("dF/dkappa: not checked"), std::string::npos) << r.describe();
   EXPECT_TRUE(r.passed(1e-6));
   EXPECT_EQ(p.parameters().value(0), 3.0);  // the parameters as they were
   EXPECT_EQ(p.parameters().value(1), 0.0);
