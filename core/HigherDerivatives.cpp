@@ -176,10 +176,10 @@ Status HigherDerivatives::second(const Direction& a, const Direction& b, Vector&
     return {};
   }
   const Direction* d[2] = {&a, &b};
-  Status st = f_part(d, 2, out);
+  Status st = timed([&] { return f_part(d, 2, out); });
   if (!st.is_ok() || (!has_rate(a) && !has_rate(b))) return st;
   Vector time;
-  st = rate_part(d, 2, time);
+  st = timed([&] { return rate_part(d, 2, time); });
   out += time;
   return st;
 }
@@ -190,10 +190,10 @@ Status HigherDerivatives::third(const Direction& a, const Direction& b, const Di
     return {};
   }
   const Direction* d[3] = {&a, &b, &c};
-  Status st = f_part(d, 3, out);
+  Status st = timed([&] { return f_part(d, 3, out); });
   if (!st.is_ok() || (!has_rate(a) && !has_rate(b) && !has_rate(c))) return st;
   Vector time;
-  st = rate_part(d, 3, time);
+  st = timed([&] { return rate_part(d, 3, time); });
   out += time;
   return st;
 }

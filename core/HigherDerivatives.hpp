@@ -18,6 +18,8 @@
 // differences), and is skipped where no direction has rates.
 #pragma once
 
+#include <chrono>
+
 #include <complex>
 #include <string>
 #include <utility>
@@ -70,6 +72,8 @@ class HigherDerivatives {
   Status third(const ComplexDirection& a, const ComplexDirection& b, const ComplexDirection& c, ComplexVector& out);
   // Evaluations of F or of its exact derivatives, and of the time terms, so far.
   long evaluations() const { return evaluations_; }
+  // Seconds spent in them.
+  double seconds() const { return seconds_; }
 
  private:
   // a complex multilinear derivative from the real ones, each distinct one once
@@ -80,6 +84,13 @@ class HigherDerivatives {
   // F (or the time terms, with rate) at u0 + sum s_i d_i, lambda0 + sum s_i d_i.lambda
   Status shifted(const Direction* const* d, const double* s, int order, const Vector* rate, Vector& out);
   double step(const Direction& d, int order, bool rate) const;
+  template <class Evaluate>
+  Status timed(const Evaluate& evaluate) {
+    const auto t0 = std::chrono::steady_clock::now();
+    Status st = evaluate();
+    seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return st;
+  }
 
   Problem& problem_;
   int parameter_;
@@ -89,6 +100,7 @@ class HigherDerivatives {
   Method method_;
   bool has_time_form_;
   long evaluations_ = 0;
+  double seconds_ = 0;
 };
 
 }  // namespace keller

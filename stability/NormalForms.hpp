@@ -67,7 +67,9 @@ struct NormalForm {
   bool exact_derivatives = false;
   std::string derivatives;  // how the derivatives were taken
   long factorisations = 0, derivative_evaluations = 0;
-  double seconds = 0;
+  long gmres_iterations = 0;  // Hopf: of the solves on the factorisation at omega (NormalForms.cpp)
+  // all; (Hopf) in factorisations; in the derivatives (HigherDerivatives::seconds)
+  double seconds = 0, factor_seconds = 0, derivative_seconds = 0;
   // One line for people: the type and the numbers that say what happens beyond the point.
   std::string summary() const;
 };
@@ -75,8 +77,11 @@ struct NormalForm {
 class NormalForms {
  public:
   // force_differences: central differences even where the problem offers exact derivatives.
-  explicit NormalForms(SparseLUOptions lu = {}, bool force_differences = false)
-      : lu_(lu), force_differences_(force_differences) {}
+  // krylov_iterations: at a Hopf point, the solve with J + 2 i omega B by GMRES on the
+  // factorisation of J + i omega B, at most this many iterations before it gets a factorisation of
+  // its own; 0: by a factorisation of its own.
+  explicit NormalForms(SparseLUOptions lu = {}, bool force_differences = false, int krylov_iterations = 60)
+      : lu_(lu), force_differences_(force_differences), krylov_iterations_(krylov_iterations) {}
 
   // At a located point u, the parameters at the point's values; `parameter` is lambda's index.
   // guess: a vector close to phi (a fold's tangent, J's null vector at a branch point; null:
@@ -90,6 +95,7 @@ class NormalForms {
  private:
   SparseLUOptions lu_;
   bool force_differences_;
+  int krylov_iterations_;
 };
 
 }  // namespace keller

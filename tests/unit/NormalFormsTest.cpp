@@ -9,6 +9,7 @@
 #include <cmath>
 #include <numbers>
 #include <random>
+#include <vector>
 
 #include "core/HigherDerivatives.hpp"
 #include "core/HyperDual.hpp"
@@ -241,6 +242,43 @@ TEST(NormalForms, AStateDependentMassMatrixKeepsTheNormalFormOfTheOriginalCoordi
   EXPECT_NEAR(nf.l1, l1, 2e-3 * std::abs(l1)) << nf.summary();
   ASSERT_EQ(nf.observable_amplitudes.size(), 2u);
   EXPECT_NEAR(nf.observable_amplitudes[1], v_amplitude, 2e-3 * v_amplitude);
+}
+
+// At a Hopf point the solve with J + 2 i omega B (h20) runs by GMRES on the factorisation of J +
+// i omega B that q and p need, deflated of the critical mode (NormalForms.cpp:
+// DeflatedShiftSolver): two factorisations (that and J's) instead of three, and the same
+// coefficients as with a factorisation of its own (GMRES's residual 1e-12, the direct solves'
+// rounding: agreement to 1e-9 relative). A GMRES that does not converge in its allowance (here one
+// iteration, where the right-hand side is no eigenvector of the preconditioned operator) hands the
+// solve to a factorisation: the same numbers again. On the Brusselator in 1D (many modes, the
+// uniform one critical) and on its curved form (a state-dependent B).
+TEST(NormalForms, HopfSolvesOnTheFactorisationAtOmegaAgreeWithFactorisationsOfTheirOwn) {
+  Brusselator1DOptions o;
+  o.intervals = 40;
+  o.a = 2.0;
+  o.b = 5.0;
+  Brusselator1DProblem brusselator(o);
+  CurvedBrusselator curved;
+  for (Problem* problem : std::vector<Problem*>{&brusselator, &curved}) {
+    const Vector u = problem == &curved ? Vector::Zero(2) : brusselator.initial_guess();
+    const int b = problem->parameters().index("b");
+    NormalForm krylov, direct, fallback;
+    ASSERT_TRUE(NormalForms().hopf(*problem, b, u, 2.02, nullptr, krylov).is_ok());
+    ASSERT_TRUE(NormalForms({}, false, 0).hopf(*problem, b, u, 2.02, nullptr, direct).is_ok());
+    ASSERT_TRUE(NormalForms({}, false, 1).hopf(*problem, b, u, 2.02, nullptr, fallback).is_ok());
+    EXPECT_EQ(krylov.factorisations, 2) << problem->name();
+    EXPECT_GE(krylov.gmres_iterations, 2) << problem->name();
+    EXPECT_EQ(direct.factorisations, 3) << problem->name();
+    EXPECT_EQ(direct.gmres_iterations, 0) << problem->name();
+    EXPECT_EQ(fallback.factorisations, 3) << problem->name();
+    for (const NormalForm* nf : {&krylov, &fallback}) {
+      EXPECT_NEAR(nf->l1, direct.l1, 1e-9 * std::abs(direct.l1)) << problem->name();
+      EXPECT_NEAR(nf->growth_rate_derivative, direct.growth_rate_derivative,
+                  1e-9 * std::abs(direct.growth_rate_derivative))
+          << problem->name();
+      EXPECT_NEAR(std::abs(nf->c1 - direct.c1), 0.0, 1e-9 * std::abs(direct.c1)) << problem->name();
+    }
+  }
 }
 
 // The collapsible channel's kernels (flow with inertia and shape derivatives, FENE-P conformation,
