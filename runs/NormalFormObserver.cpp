@@ -16,15 +16,15 @@ std::vector<double> normal_form_row(const NormalForm& nf) {
   const auto it = std::find(types.begin(), types.end(), nf.type);
   const double type = it == types.end() ? NAN : static_cast<double>(it - types.begin());
   const bool hopf = nf.kind == NormalForm::Kind::Hopf, fold = nf.kind == NormalForm::Kind::Fold;
-  const bool pitchfork = nf.type.rfind("pitchfork", 0) == 0;
+  const bool cusp = nf.kind == NormalForm::Kind::Cusp, pitchfork = nf.type.rfind("pitchfork", 0) == 0;
   std::vector<double> row = {type,
                              nf.exact_derivatives ? 1.0 : 0.0,
                              hopf ? NAN : nf.a,
                              hopf ? NAN : nf.b,
                              hopf || fold ? NAN : nf.c,
-                             fold ? nf.curvature : NAN,
-                             pitchfork ? nf.cubic : NAN,
-                             fold ? NAN : nf.growth_rate_derivative,
+                             fold || cusp ? nf.curvature : NAN,
+                             pitchfork || cusp ? nf.cubic : NAN,
+                             fold || cusp ? NAN : nf.growth_rate_derivative,
                              hopf ? nf.omega : NAN,
                              hopf ? nf.period : NAN,
                              hopf ? nf.l1 : NAN,
@@ -112,14 +112,50 @@ HopfCurveProblem::LyapunovCoefficient unit_mode_lyapunov_coefficient(SparseLUOpt
 NormalFormObserver::NormalFormObserver(BranchObserver& inner, Problem& problem, int parameter, SparseLUOptions lu)
     : inner_(inner), problem_(problem), parameter_(parameter), forms_(lu), has_time_form_(has_time_form(problem)) {}
 
+NormalFormObserver NormalFormObserver::for_fold_curve(BranchObserver& inner, Problem& problem, int p1, int p2,
+                                                      size_t observables, SparseLUOptions lu) {
+  NormalFormObserver o(inner, problem, p1, lu);
+  o.curve_p2_ = p2;
+  o.curve_observables_ = observables;
+  return o;
+}
+
+void NormalFormObserver::pass_on(const BranchPoint& p, const Status& st, const NormalForm& nf, size_t observables) {
+  if (!st.is_ok()) {
+    inner_.on_point(p);
+    inner_.on_note(fmt::format("the normal form at row {} was not computed: {}", p.index, st.message()));
+    return;
+  }
+  BranchPoint with = p;
+  with.normal_form = normal_form_row(nf);
+  with.normal_form.resize(with.normal_form.size() + observables - nf.observable_amplitudes.size(), NAN);
+  inner_.on_point(with);
+  inner_.on_note(fmt::format("{} ({} derivatives, {:.2f} s)", nf.summary(),
+                             nf.exact_derivatives ? "exact" : "difference", nf.seconds));
+}
+
 void NormalFormObserver::on_point(const BranchPoint& p) {
+  NormalForm nf;
+  if (curve_p2_ >= 0) {  // a fold curve: its cusps
+    const long n = problem_.size();
+    if (p.kind != PointKind::Event || p.label != "cusp" || p.u.size() <= n) {
+      inner_.on_point(p);
+      return;
+    }
+    const Vector u = p.u.head(n);
+    const Status st = at_parameter(problem_, curve_p2_, p.lambda, [&] {
+      return at_parameter(problem_, parameter_, p.u[n],
+                          [&] { return forms_.cusp(problem_, parameter_, u, nullptr, nf); });
+    });
+    pass_on(p, st, nf, curve_observables_);
+    return;
+  }
   const bool wanted =
       p.kind == PointKind::Fold || p.kind == PointKind::BranchPoint || (p.kind == PointKind::Hopf && has_time_form_);
   if (!wanted) {
     inner_.on_point(p);
     return;
   }
-  NormalForm nf;
   const Status st = at_parameter(problem_, parameter_, p.lambda, [&]() -> Status {
     if (p.kind == PointKind::Fold) return forms_.fold(problem_, parameter_, p.u, &p.tu, nf);
     if (p.kind == PointKind::BranchPoint) return forms_.branch_point(problem_, parameter_, p.u, nullptr, nf);
@@ -130,18 +166,7 @@ void NormalFormObserver::on_point(const BranchPoint& p) {
     }
     return forms_.hopf(problem_, parameter_, p.u, p.critical_imag, guess.size() ? &guess : nullptr, nf);
   });
-  if (!st.is_ok()) {
-    inner_.on_point(p);
-    inner_.on_note(fmt::format("the normal form at row {} was not computed: {}", p.index, st.message()));
-    return;
-  }
-  BranchPoint with = p;
-  with.normal_form = normal_form_row(nf);
-  with.normal_form.resize(
-      with.normal_form.size() + problem_.observable_names().size() - nf.observable_amplitudes.size(), NAN);
-  inner_.on_point(with);
-  inner_.on_note(fmt::format("{} ({} derivatives, {:.2f} s)", nf.summary(),
-                             nf.exact_derivatives ? "exact" : "difference", nf.seconds));
+  pass_on(p, st, nf, problem_.observable_names().size());
 }
 
 }  // namespace keller

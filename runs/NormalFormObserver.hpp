@@ -18,6 +18,11 @@ class NormalFormObserver final : public BranchObserver {
  public:
   // parameter: the traced parameter's index in the problem's ParameterSet.
   NormalFormObserver(BranchObserver& inner, Problem& problem, int parameter, SparseLUOptions lu);
+  // On a fold curve of `problem` (unknowns U = (u, p1), continued in p2): the normal form of every
+  // located cusp (the `cusp` monitor's zero), NormalForms::cusp at (u, p1, p2) with lambda = p1.
+  // observables: the curve's observables' count (the branch file's amplitude columns, NaN there).
+  static NormalFormObserver for_fold_curve(BranchObserver& inner, Problem& problem, int p1, int p2, size_t observables,
+                                           SparseLUOptions lu);
   void on_start(const std::vector<std::string>& o, const std::vector<std::string>& m) override {
     inner_.on_start(o, m);
   }
@@ -27,11 +32,16 @@ class NormalFormObserver final : public BranchObserver {
   void on_finish(const std::string& r, const BranchPoint& last) override { inner_.on_finish(r, last); }
 
  private:
+  // the row and the note of a computed normal form (or why it was not)
+  void pass_on(const BranchPoint& p, const Status& st, const NormalForm& nf, size_t observables);
+
   BranchObserver& inner_;
   Problem& problem_;
   int parameter_;
   NormalForms forms_;
   bool has_time_form_;
+  int curve_p2_ = -1;  // a fold curve's p2 (for_fold_curve), else -1
+  size_t curve_observables_ = 0;
 };
 
 // The prediction `keller trace --switch` starts a new branch with at the branch point bp: the

@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "continuation/Continuation.hpp"
+#include "continuation/curves/FoldCurveProblem.hpp"
 #include "continuation/output/BranchFile.hpp"
 #include "continuation/output/ContinuedBranch.hpp"
 #include "continuation/output/ProgressPrinter.hpp"
@@ -157,7 +158,8 @@ struct ForwardedInterrupts {
 // (continuing an unfinished run) is numbered after its rows, then goes to the file and the terminal
 // (a curve's table shows its other parameter first).
 ContinuationResult trace_branch(Continuation& stepper, TraceStart& start, const TraceSettings& settings,
-                                BranchFile& file, Problem* plain) {
+                                BranchFile& file, Problem& scene_problem) {
+  Problem* plain = start.curve ? nullptr : &scene_problem;
   ProgressPrinter printer(settings.continuation.parameter, 3,
                           start.curve ? std::vector<std::string>{start.curve->p1_name()} : std::vector<std::string>{});
   const std::unique_ptr<BranchObserver> hook = branch_hook(settings.continuation.parameter);
@@ -173,6 +175,11 @@ ContinuationResult trace_branch(Continuation& stepper, TraceStart& start, const 
   if (plain && start.begin != TraceStart::Begin::EventCurve)
     observer = &normal_forms.emplace(*observer, *plain, plain->parameters().index(settings.continuation.parameter),
                                      settings.lu);
+  // the cusps of a fold curve
+  if (dynamic_cast<FoldCurveProblem*>(start.curve.get()))
+    observer = &normal_forms.emplace(NormalFormObserver::for_fold_curve(
+        *observer, scene_problem, start.curve->p1(), scene_problem.parameters().index(settings.continuation.parameter),
+        start.curve->observable_names().size(), settings.lu));
   const ForwardedInterrupts forwarded(&stepper);
   switch (start.begin) {
     case TraceStart::Begin::State: return stepper.run(start.state, *observer, std::move(start.factorisation));
@@ -235,7 +242,7 @@ int run_trace(const TraceArguments& args, RunSummary* out_summary) {
                                               stepper->analysis_columns(), start.seed ? &*start.seed : nullptr);
         },
         [&](BranchFile& file) {
-          result = trace_branch(*stepper, start, settings, file, &traced == &problem ? &problem : nullptr);
+          result = trace_branch(*stepper, start, settings, file, problem);
           return RunEnd{result.code == StopCode::Interrupted, is_failure(result.code)};
         });
     if (stability)

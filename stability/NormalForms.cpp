@@ -191,12 +191,12 @@ int gmres(const Apply& A, const Precondition& P, const ComplexVector& b, Complex
 // exact on q ((J + i s B) q = i (s - omega) B q) and, on another mode of J phi = sigma B phi,
 // (J + i s B) P = (sigma + i s) / (sigma + i omega): near 1 but for the modes within a few omega
 // of the pair, GMRES's outliers. h20 (s = 2 omega) costs solves on lu1 instead of a factorisation
-// of its own: on the channel's M2 Hopf point 28 iterations, 0.44 s against 0.76 s. (Solves with J,
-// s = 0, took 32 iterations each there, 0.5 s, more than J's real factorisation, 0.21 s, and its
-// two solves: they are not done this way.) GMRES's residual estimate
-// below 1e-12 |b|, the residual of the result checked below 1e-10 |b|; a solve that does not get
-// there in max_iterations (NormalForms' krylov_iterations) reports -1 and its caller factorises
-// instead.
+// of its own: at the Hopf point of docs/normal_forms.md's cost table 28 iterations, 0.44 s against
+// 0.76 s. (Solves with J, s = 0, took 32 iterations each there, 0.5 s, more than J's real
+// factorisation, 0.21 s, and its two solves: they are not done this way.) GMRES's residual
+// estimate below 1e-12 |b|, the residual of the result checked below 1e-10 |b|; a solve that does
+// not get there in max_iterations (NormalForms' krylov_iterations) reports -1 and its caller
+// factorises instead.
 class DeflatedShiftSolver {
  public:
   DeflatedShiftSolver(const SparseMatrix& J, const SparseMatrix& B, ShiftedLU& lu1, const ComplexVector& q,
@@ -288,6 +288,9 @@ std::string NormalForm::summary() const {
     case Kind::Fold:
       return fmt::format("fold: curvature {:.6g} (a {:.6g}, b {:.6g}), a {} of the parameter", curvature, a, b,
                          curvature < 0 ? "maximum" : "minimum");
+    case Kind::Cusp:
+      return fmt::format("cusp: c {:.6g}, lambda - lambda0 = {:.6g} eps^3 through it (a {:.3g}, b {:.6g})", c, cubic, a,
+                         b);
     case Kind::BranchPoint:
       if (type.rfind("pitchfork", 0) == 0)
         return fmt::format("{}: cubic {:.6g}, branches toward {} parameter (a {:.3g}, b {:.6g}, c {:.6g})", type, cubic,
@@ -300,13 +303,11 @@ std::string NormalForm::summary() const {
   return type;
 }
 
-Status NormalForms::fold(Problem& problem, int parameter, const Vector& u, const Vector* guess, NormalForm& out) {
-  const auto t0 = std::chrono::steady_clock::now();
-  out = {};
-  out.kind = NormalForm::Kind::Fold;
-  out.type = "fold";
-  HigherDerivatives d(problem, parameter, u, force_differences_);
-  SparseLU lu(lu_);
+namespace {
+
+// A fold's phi, psi, a and b (NormalForms::fold), J factorised in lu.
+Status fold_parts(Problem& problem, int parameter, const Vector& u, const Vector* guess, HigherDerivatives& d,
+                  SparseLU& lu, NormalForm& out) {
   Status st = factorised_null_vector(problem, u, guess, lu, out);
   if (!st.is_ok()) return st;
   Vector Fl;
@@ -323,6 +324,48 @@ Status NormalForms::fold(Problem& problem, int parameter, const Vector& u, const
   if (st = d.second({out.phi}, {out.phi}, D2); !st.is_ok()) return st;
   out.a = out.psi.dot(D2);
   out.curvature = -out.a / out.b;
+  return {};
+}
+
+}  // namespace
+
+Status NormalForms::fold(Problem& problem, int parameter, const Vector& u, const Vector* guess, NormalForm& out) {
+  const auto t0 = std::chrono::steady_clock::now();
+  out = {};
+  out.kind = NormalForm::Kind::Fold;
+  out.type = "fold";
+  HigherDerivatives d(problem, parameter, u, force_differences_);
+  SparseLU lu(lu_);
+  if (Status st = fold_parts(problem, parameter, u, guess, d, lu, out); !st.is_ok()) return st;
+  record(d, out);
+  out.seconds = seconds_since(t0);
+  return {};
+}
+
+Status NormalForms::cusp(Problem& problem, int parameter, const Vector& u, const Vector* guess, NormalForm& out) {
+  const auto t0 = std::chrono::steady_clock::now();
+  out = {};
+  out.kind = NormalForm::Kind::Cusp;
+  out.type = "cusp";
+  HigherDerivatives d(problem, parameter, u, force_differences_);
+  SparseLU lu(lu_);
+  Status st = fold_parts(problem, parameter, u, guess, d, lu, out);
+  if (!st.is_ok()) return st;
+  if (!guess) {  // c is odd in phi: phi's entry of largest magnitude positive
+    Eigen::Index k = 0;
+    out.phi.cwiseAbs().maxCoeff(&k);
+    if (out.phi[k] < 0) out.phi = -out.phi;
+  }
+  // u = u0 + eps phi + eps^2 h2 / 2 + ..., J h2 = -F_uu[phi, phi] (solvable where a = 0; h2
+  // orthogonal to phi); the eps^3 term of the reduced equation is c / 6
+  const Direction P{out.phi};
+  Vector D2, h2, D3;
+  if (st = d.second(P, P, D2); !st.is_ok()) return st;
+  if (st = solve_bordered(lu, out.phi, out.psi, -D2, h2); !st.is_ok()) return st;
+  if (st = d.second(P, {h2}, D2); !st.is_ok()) return st;
+  if (st = d.third(P, P, P, D3); !st.is_ok()) return st;
+  out.c = out.psi.dot(D3) + 3.0 * out.psi.dot(D2);
+  out.cubic = -out.c / (6.0 * out.b);
   record(d, out);
   out.seconds = seconds_since(t0);
   return {};
@@ -465,8 +508,8 @@ Status NormalForms::hopf(Problem& problem, int parameter, const Vector& u, doubl
   out.amplitude_entry = static_cast<int>(k);
 
   const ComplexDirection Q{q, 0.0, I * omega * q}, Qbar{q.conjugate(), 0.0, -I * omega * q.conjugate()};
-  // solves with J on a factorisation of its own (the deflated GMRES needs 30 iterations on the
-  // channel, more than a real factorisation costs); with J + 2 i omega B by GMRES on lu1, or where
+  // solves with J on a factorisation of its own (the deflated GMRES needed 30 iterations on the
+  // cost table's point, more than a real factorisation costs); with J + 2 i omega B by GMRES on lu1, or where
   // that fails on a factorisation of its own
   const DeflatedShiftSolver shifted(J, B, lu1, q, p, omega, krylov_iterations_);
   SparseLU lu(lu_);

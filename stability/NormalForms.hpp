@@ -8,6 +8,10 @@
 // - Fold: along u = u0 + eps phi + O(eps^2), lambda = lambda0 + curvature eps^2 / 2, curvature =
 //   -a / b with a = <psi, F_uu[phi, phi]> and b = <psi, F_lambda> (psi's sign makes b > 0): a fold
 //   with curvature < 0 is a maximum of lambda along the branch, > 0 a minimum.
+// - Cusp (a fold whose a vanishes, located on a fold curve): the reduced equation b (lambda -
+//   lambda0) + a eps^2 / 2 + c eps^3 / 6 = 0 with c = <psi, F_uuu[phi, phi, phi] + 3 F_uu[phi, h2]>,
+//   J h2 = -F_uu[phi, phi] (h2 orthogonal to phi): the branch through the cusp at fixed second
+//   parameter has lambda = lambda0 + cubic eps^3, cubic = -c / (6 b), an inflection in lambda.
 // - Simple branch point: the algebraic bifurcation equation a al^2 + 2 b al be + c be^2 = 0 in the
 //   tangents al phi + be (v, 1) (J v = -F_lambda, v orthogonal to phi, (v, 1) scaled to unit
 //   length), a, b, c = <psi, D^2 F> on (phi, 0) and (v, 1); two real roots (b^2 > a c):
@@ -38,12 +42,12 @@
 namespace keller {
 
 struct NormalForm {
-  enum class Kind { Fold, BranchPoint, Hopf };
+  enum class Kind { Fold, BranchPoint, Hopf, Cusp };
   Kind kind = Kind::Fold;
   std::string type;            // "fold", "transcritical", "pitchfork (supercritical)", "Hopf (subcritical)", ...
-  double a = 0, b = 0, c = 0;  // fold: a, b; branch point: the bifurcation equation's
-  double curvature = 0;        // fold
-  double cubic = 0;            // pitchfork: lambda - lambda0 = cubic eps^2 on the branch along phi
+  double a = 0, b = 0, c = 0;  // fold: a, b; branch point: the bifurcation equation's; cusp: all three
+  double curvature = 0;        // fold, cusp
+  double cubic = 0;            // pitchfork: lambda - lambda0 = cubic eps^2 on the branch along phi; cusp: cubic eps^3
   // branch point: the two branches' unit tangents (state, parameter): the pitchfork's bifurcating
   // branch first
   Vector tangent_u[2];
@@ -88,6 +92,10 @@ class NormalForms {
   // none). Numerical failures come back as a Status.
   Status fold(Problem& problem, int parameter, const Vector& u, const Vector* guess, NormalForm& out);
   Status branch_point(Problem& problem, int parameter, const Vector& u, const Vector* guess, NormalForm& out);
+  // A cusp: a fold whose a vanishes (located on a fold curve); the fold's numbers and the cubic
+  // coefficient c (odd in phi: phi's sign from the guess as fold's, or with no guess its entry of
+  // largest magnitude positive).
+  Status cusp(Problem& problem, int parameter, const Vector& u, const Vector* guess, NormalForm& out);
   // omega: |Im sigma| of the critical pair; guess: its eigenvector (either of the pair; null: none).
   Status hopf(Problem& problem, int parameter, const Vector& u, double omega, const Eigen::VectorXcd* guess,
               NormalForm& out);

@@ -85,7 +85,7 @@ std::vector<std::string> normal_form_columns(const std::vector<std::string>& obs
 const std::vector<std::string>& normal_form_types() {
   static const std::vector<std::string> types = {
       "fold",           "transcritical",        "pitchfork (supercritical)", "pitchfork (subcritical)",
-      "isolated point", "Hopf (supercritical)", "Hopf (subcritical)"};
+      "isolated point", "Hopf (supercritical)", "Hopf (subcritical)",        "cusp"};
   return types;
 }
 
@@ -175,7 +175,7 @@ void BranchFile::on_point(const BranchPoint& p) {
     run_.h5().append_rows("/branch/events", event_record(p, monitors_).data(), 1);
     const bool critical = p.kind == PointKind::Fold || p.kind == PointKind::BranchPoint || p.kind == PointKind::Hopf;
     if (n_analysis_ && critical) save_mode(p);
-    if (critical && p.normal_form.size() == n_normal_form_) {
+    if (p.normal_form.size() == n_normal_form_) {  // a critical point's, or a curve's event's (a cusp)
       std::vector<double> nf = {static_cast<double>(p.index), static_cast<double>(p.kind)};
       nf.insert(nf.end(), p.normal_form.begin(), p.normal_form.end());
       run_.h5().append_rows("/branch/normal_forms", nf.data(), 1);

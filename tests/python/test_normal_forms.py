@@ -48,6 +48,10 @@ def test_the_brusselators_hopf_point_in_cpp_and_in_python(tmp_path):
     assert nf["omega"] == pytest.approx(A, rel=1e-9)
     assert nf["amplitude:v_mean"] == pytest.approx(V_AMPLITUDE, rel=1e-6)
     assert nf["amplitude:u_mean"] == pytest.approx(V_AMPLITUDE * A / math.sqrt(A * A + 1), rel=1e-6)
+    # l1 normalised by an observable: v_mean moves by q_v = 1 along q (the closed form's own
+    # normalisation), u_mean by |q_u| = a / sqrt(a^2 + 1)
+    assert nf["l1:v_mean"] == pytest.approx(L1, rel=1e-6)
+    assert nf["l1:u_mean"] == pytest.approx(L1 * (A * A + 1) / (A * A), rel=1e-6)
     # the same point of a problem written in Python (its own diffusivities: the uniform mode's
     # normal form does not see them)
     scene = {"continuation": {"parameter": "b", "lower": 3.0, "upper": 6.0, "stops": [5.5], "initial_step": 0.2,

@@ -9,7 +9,9 @@
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
+#include <numbers>
 #include <string>
+#include <vector>
 
 #include "continuation/engine/BranchPoint.hpp"
 #include "continuation/output/BranchFile.hpp"
@@ -270,4 +272,63 @@ TEST(CurveCommand, LimitingWiAgainstGiesekusMobilityMeetsOldroydBAtZero) {
   for (long i = 0; i <= last; ++i) EXPECT_NEAR(curve.rows(i, m1), 0.0, 1e-9) << "row " << i;
   std::cout << std::setprecision(12) << "limiting Wi: Giesekus alpha = 0.1 " << wi_giesekus << ", curve at alpha = 0 "
             << curve.rows(last, wi) << ", Oldroyd-B branch " << wi_oldroyd_b << "\n";
+}
+
+// A fold curve through a cusp, by the real driver: the imperfect pitchfork -u'' - lambda u + u^3 -
+// eps = 0 (runs/scenes/pitchfork1d_trivial.toml, 16 intervals) traced in eps at lambda = 12 from u = 0
+// meets a fold at eps = 1.11; continued in lambda (--curve fold --free lambda), it runs down into the cusp at
+// u = 0, eps = 0, lambda = lambda_1, where the curve turns. There the cusp's normal form
+// (NormalForms::cusp, /branch/normal_forms, type "cusp") has the grid's closed form: phi = the
+// discrete sine mode v (unit 2-norm, positive), psi = -v (b = <psi, F_eps> = sum v > 0), h2 = 0
+// (F_uu = 6 u phi^2 = 0 at u = 0), c = <psi, F_uuu[v, v, v]> = -6 sum v^4 = -9 / n, and the branch
+// through it at lambda_1 is eps = cubic A^3 with cubic = -c / (6 b) = sum v^4 / sum v (projecting
+// F(A v) = 0 on v). sum v = cot(pi / 2n) / sqrt(n / 2). Third derivatives by differences (1e-6
+// relative) and the cusp located to 1e-10 in lambda (u ~ 1e-5): agreement to 1e-5 relative.
+TEST(CurveCommand, ACuspOfTheImperfectPitchforkHasTheGridsCubicCoefficient) {
+  const std::string dir = test::scratch_dir("curve_cusp");
+  const std::string scene = test::source_path("runs/scenes/pitchfork1d_trivial.toml") +
+                            " --set pitchfork.intervals=16 --set parameters.lambda=12.0 --set stability.enabled=false";
+  auto r = test::run_keller("trace " + scene +
+                            " --set continuation.parameter=\"eps\" --set continuation.lower=-3.0 "
+                            "--set continuation.upper=3.0 --set continuation.initial_step=0.01 "
+                            "--set continuation.max_step=0.05 -o " +
+                            dir + "/eps.h5");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto folds = rows_of_kind(read_branch_table(dir + "/eps.h5"), PointKind::Fold);
+  ASSERT_EQ(folds.size(), 1u);
+  r = test::run_keller("trace " + scene + " --from " + dir + "/eps.h5:fold1 --curve fold --free lambda " +
+                       "--set continuation.parameter=\"lambda\" --set continuation.lower=5.0 " +
+                       "--set continuation.upper=14.0 --set continuation.direction=\"decrease\" -o " + dir +
+                       "/curve.h5");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("cusp: c "), std::string::npos) << r.out;
+
+  const BranchTable t = read_branch_table(dir + "/curve.h5");
+  H5File f(dir + "/curve.h5", H5File::Mode::Read);
+  long rows = 0, cols = 0;
+  const std::vector<double> nf = f.read_matrix("/branch/normal_forms", &rows, &cols);
+  const std::string columns = f.read_string_attribute("/branch/normal_forms", "columns");
+  auto column = [&](const std::string& name) {  // index in "row,kind,type,exact,a,b,c,curvature,cubic,..."
+    int k = 0;
+    size_t at = 0;
+    while (true) {
+      const size_t end = columns.find(',', at);
+      if (columns.substr(at, end - at) == name) return k;
+      if (end == std::string::npos) return -1;
+      at = end + 1;
+      ++k;
+    }
+  };
+  ASSERT_EQ(rows, 1);  // the cusp; the curve's turn in lambda is no fold of a branch
+  const auto at = [&](const std::string& name) { return nf[static_cast<size_t>(column(name))]; };
+  const long row = static_cast<long>(at("row"));
+  EXPECT_EQ(t.rows(row, t.column("kind")), static_cast<double>(PointKind::Event));
+  EXPECT_EQ(normal_form_types()[static_cast<size_t>(at("type"))], "cusp");
+  const double n = 16, lambda1 = 4 * n * n * std::pow(std::sin(std::numbers::pi / (2 * n)), 2);
+  EXPECT_NEAR(t.rows(row, t.column("lambda")), lambda1, 1e-8);
+  const double c = -9.0 / n, b = 1.0 / std::tan(std::numbers::pi / (2 * n)) / std::sqrt(n / 2);
+  EXPECT_NEAR(at("b"), b, 1e-8 * b);
+  EXPECT_NEAR(at("c"), c, 1e-5 * std::abs(c));
+  EXPECT_NEAR(at("cubic"), -c / (6 * b), 1e-5 * std::abs(c / (6 * b)));
+  EXPECT_NEAR(at("a"), 0.0, 1e-4);  // 6 u at the located cusp, u ~ 1e-5
 }

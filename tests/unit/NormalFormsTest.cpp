@@ -111,6 +111,47 @@ TEST(NormalForms, FoldCurvatureIsThatOfTheReducedEquation) {
   EXPECT_NE(nf.summary().find("minimum"), std::string::npos) << nf.summary();
 }
 
+// F1 = k u1 u2 + g u1^3 + mu u1 - lambda, F2 = u2 - d u1^2: on F2 = 0, F1 = (g + k d) u1^3 + mu u1 -
+// lambda, a cusp at u = 0, mu = lambda = 0 whose branch at mu = 0 is lambda = (g + k d) eps^3 along
+// phi = (1, 0): cubic = -c / (6 b) = g + k d with b = 1 (psi = (-1, 0): F_lambda = (-1, 0)). Both the third
+// derivative (g) and the second through h2 = (0, 2 d) (k d) enter; k d alone would be missed by a
+// formula without the h2 term.
+class ReducedCusp final : public TwoUnknowns {
+ public:
+  ReducedCusp() : TwoUnknowns("lambda", 0.0) {}
+  static constexpr double k = 1.5, d = 0.7, g = -0.4, mu = 0.0;
+  std::string name() const override { return "reduced-cusp"; }
+  Status residual(const Vector& u, Vector& F) override {
+    F.resize(2);
+    F[0] = k * u[0] * u[1] + g * u[0] * u[0] * u[0] + mu * u[0] - params_.value(0);
+    F[1] = u[1] - d * u[0] * u[0];
+    return {};
+  }
+  Status jacobian(const Vector& u, Vector& F, SparseMatrix& J) override {
+    residual(u, F);
+    J = pattern_;
+    J.coeffRef(0, 0) = k * u[1] + 3 * g * u[0] * u[0] + mu;
+    J.coeffRef(0, 1) = k * u[0];
+    J.coeffRef(1, 0) = -2 * d * u[0];
+    J.coeffRef(1, 1) = 1.0;
+    return {};
+  }
+};
+
+TEST(NormalForms, CuspCubicCoefficientIsThatOfTheReducedEquation) {
+  ReducedCusp problem;
+  NormalForm nf;
+  ASSERT_TRUE(NormalForms().cusp(problem, 0, Vector::Zero(2), nullptr, nf).is_ok());
+  const double cubic = ReducedCusp::g + ReducedCusp::k * ReducedCusp::d;  // 0.65
+  // differences of a cubic: third differences at the 1e-2 step exact up to rounding, 1e-7
+  EXPECT_EQ(nf.type, "cusp");
+  EXPECT_NEAR(nf.b, 1.0, 1e-12);
+  EXPECT_NEAR(nf.a, 0.0, 1e-7);
+  EXPECT_NEAR(nf.phi[0], 1.0, 1e-12);     // largest entry positive
+  EXPECT_NEAR(nf.c, -6.0 * cubic, 1e-6);  // psi = (-1, 0)
+  EXPECT_NEAR(nf.cubic, cubic, 1e-7);
+}
+
 // The discrete pitchfork at its first branch point lambda_1 = (4 / h^2) sin^2(pi h / 2): u = eps phi
 // with phi the grid's sine mode (unit 2-norm), so lambda - lambda_1 = (sum phi_i^4) eps^2 and
 // sum_i sin^4(pi i / n) / (sum_i sin^2(pi i / n))^2 = (3 n / 8) / (n / 2)^2 = 3 / (2 n): in the

@@ -159,14 +159,21 @@ class Branch(TableView, RunFile):
 
     def normal_form_at(self, row):
         """The normal form of a located row as {column: value} with `type` its name ("fold",
-        "pitchfork (supercritical)", "Hopf (subcritical)", ...) and `exact` a bool; None where the
-        row has none."""
+        "pitchfork (supercritical)", "Hopf (subcritical)", "cusp", ...) and `exact` a bool; None where
+        the row has none. A Hopf point's also has `l1:NAME` for each observable: l1 with the
+        eigenvector scaled so that the observable's derivative along it has modulus 1,
+        l1 (amplitude_coefficient / amplitude:NAME)^2, which unlike l1 (max-normalised) compares
+        between meshes (docs/normal_forms.md, Conventions)."""
         hits = np.flatnonzero(self.normal_forms["row"] == row)
         if len(hits) == 0:
             return None
         out = self.normal_forms.row(int(hits[-1]))
         out["type"] = self._normal_form_types[int(out["type"])]
         out["exact"] = bool(out["exact"])
+        if out["type"].startswith("Hopf"):
+            for name in [k[len("amplitude:"):] for k in out if k.startswith("amplitude:")]:
+                a = out["amplitude:" + name]
+                out["l1:" + name] = out["l1"] * (out["amplitude_coefficient"] / a) ** 2 if a > 0 else float("nan")
         return out
 
     def _read_solutions(self, f):
