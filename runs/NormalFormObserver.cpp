@@ -17,14 +17,15 @@ std::vector<double> normal_form_row(const NormalForm& nf) {
   const double type = it == types.end() ? NAN : static_cast<double>(it - types.begin());
   const bool hopf = nf.kind == NormalForm::Kind::Hopf, fold = nf.kind == NormalForm::Kind::Fold;
   const bool cusp = nf.kind == NormalForm::Kind::Cusp, pitchfork = nf.type.rfind("pitchfork", 0) == 0;
+  const bool bt = nf.kind == NormalForm::Kind::BogdanovTakens;
   std::vector<double> row = {type,
                              nf.exact_derivatives ? 1.0 : 0.0,
                              hopf ? NAN : nf.a,
                              hopf ? NAN : nf.b,
-                             hopf || fold ? NAN : nf.c,
+                             hopf || fold || bt ? NAN : nf.c,
                              fold || cusp ? nf.curvature : NAN,
                              pitchfork || cusp ? nf.cubic : NAN,
-                             fold || cusp ? NAN : nf.growth_rate_derivative,
+                             fold || cusp || bt ? NAN : nf.growth_rate_derivative,
                              hopf ? nf.omega : NAN,
                              hopf ? nf.period : NAN,
                              hopf ? nf.l1 : NAN,
@@ -112,8 +113,8 @@ HopfCurveProblem::LyapunovCoefficient unit_mode_lyapunov_coefficient(SparseLUOpt
 NormalFormObserver::NormalFormObserver(BranchObserver& inner, Problem& problem, int parameter, SparseLUOptions lu)
     : inner_(inner), problem_(problem), parameter_(parameter), forms_(lu), has_time_form_(has_time_form(problem)) {}
 
-NormalFormObserver NormalFormObserver::for_fold_curve(BranchObserver& inner, Problem& problem, int p1, int p2,
-                                                      size_t observables, SparseLUOptions lu) {
+NormalFormObserver NormalFormObserver::for_curve(BranchObserver& inner, Problem& problem, int p1, int p2,
+                                                 size_t observables, SparseLUOptions lu) {
   NormalFormObserver o(inner, problem, p1, lu);
   o.curve_p2_ = p2;
   o.curve_observables_ = observables;
@@ -136,16 +137,19 @@ void NormalFormObserver::pass_on(const BranchPoint& p, const Status& st, const N
 
 void NormalFormObserver::on_point(const BranchPoint& p) {
   NormalForm nf;
-  if (curve_p2_ >= 0) {  // a fold curve: its cusps
+  if (curve_p2_ >= 0) {  // a curve: its cusps and Bogdanov-Takens points
     const long n = problem_.size();
-    if (p.kind != PointKind::Event || p.label != "cusp" || p.u.size() <= n) {
+    const bool cusp = p.label == "cusp", bt = p.label == "bogdanov-takens";
+    if (p.kind != PointKind::Event || !(cusp || bt) || p.u.size() <= n) {
       inner_.on_point(p);
       return;
     }
     const Vector u = p.u.head(n);
     const Status st = at_parameter(problem_, curve_p2_, p.lambda, [&] {
-      return at_parameter(problem_, parameter_, p.u[n],
-                          [&] { return forms_.cusp(problem_, parameter_, u, nullptr, nf); });
+      return at_parameter(problem_, parameter_, p.u[n], [&] {
+        return cusp ? forms_.cusp(problem_, parameter_, u, nullptr, nf)
+                    : forms_.bogdanov_takens(problem_, parameter_, u, nf);
+      });
     });
     pass_on(p, st, nf, curve_observables_);
     return;

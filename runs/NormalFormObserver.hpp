@@ -18,11 +18,12 @@ class NormalFormObserver final : public BranchObserver {
  public:
   // parameter: the traced parameter's index in the problem's ParameterSet.
   NormalFormObserver(BranchObserver& inner, Problem& problem, int parameter, SparseLUOptions lu);
-  // On a fold curve of `problem` (unknowns U = (u, p1), continued in p2): the normal form of every
-  // located cusp (the `cusp` monitor's zero), NormalForms::cusp at (u, p1, p2) with lambda = p1.
+  // On a fold or Hopf curve of `problem` (unknowns U = (u, p1, ...), continued in p2): the normal
+  // form of every located cusp and Bogdanov-Takens point (the zeros of the monitors `cusp` and
+  // `bogdanov-takens`), NormalForms::cusp or bogdanov_takens at (u, p1, p2) with lambda = p1.
   // observables: the curve's observables' count (the branch file's amplitude columns, NaN there).
-  static NormalFormObserver for_fold_curve(BranchObserver& inner, Problem& problem, int p1, int p2, size_t observables,
-                                           SparseLUOptions lu);
+  static NormalFormObserver for_curve(BranchObserver& inner, Problem& problem, int p1, int p2, size_t observables,
+                                      SparseLUOptions lu);
   void on_start(const std::vector<std::string>& o, const std::vector<std::string>& m) override {
     inner_.on_start(o, m);
   }
@@ -40,7 +41,7 @@ class NormalFormObserver final : public BranchObserver {
   int parameter_;
   NormalForms forms_;
   bool has_time_form_;
-  int curve_p2_ = -1;  // a fold curve's p2 (for_fold_curve), else -1
+  int curve_p2_ = -1;  // a curve's p2 (for_curve), else -1
   size_t curve_observables_ = 0;
 };
 

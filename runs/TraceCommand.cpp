@@ -7,6 +7,7 @@
 
 #include "continuation/Continuation.hpp"
 #include "continuation/curves/FoldCurveProblem.hpp"
+#include "continuation/curves/HopfCurveProblem.hpp"
 #include "continuation/output/BranchFile.hpp"
 #include "continuation/output/ContinuedBranch.hpp"
 #include "continuation/output/ProgressPrinter.hpp"
@@ -175,9 +176,9 @@ ContinuationResult trace_branch(Continuation& stepper, TraceStart& start, const 
   if (plain && start.begin != TraceStart::Begin::EventCurve)
     observer = &normal_forms.emplace(*observer, *plain, plain->parameters().index(settings.continuation.parameter),
                                      settings.lu);
-  // the cusps of a fold curve
-  if (dynamic_cast<FoldCurveProblem*>(start.curve.get()))
-    observer = &normal_forms.emplace(NormalFormObserver::for_fold_curve(
+  // the cusps and Bogdanov-Takens points of a fold or Hopf curve
+  if (dynamic_cast<FoldCurveProblem*>(start.curve.get()) || dynamic_cast<HopfCurveProblem*>(start.curve.get()))
+    observer = &normal_forms.emplace(NormalFormObserver::for_curve(
         *observer, scene_problem, start.curve->p1(), scene_problem.parameters().index(settings.continuation.parameter),
         start.curve->observable_names().size(), settings.lu));
   const ForwardedInterrupts forwarded(&stepper);

@@ -70,6 +70,26 @@ Status null_vector(SparseLU& lu, Vector start, bool transpose, Vector& out) {
   return {};
 }
 
+// J's right (transpose: left) singular vector of its smallest singular value, by inverse iteration
+// on J^T J (J J^T) from `start`: unlike inverse iteration on J it converges where the eigenvalues
+// nearest zero are a complex pair or a Jordan block (a Bogdanov-Takens point, located where they
+// are +-i omega with omega -> 0).
+Status smallest_singular_vector(SparseLU& lu, Vector start, bool transpose, Vector& out) {
+  out = start.normalized();
+  Vector x, y;
+  for (int k = 0; k < kInverseIterations; ++k) {
+    Status st = lu.solve(out, y, !transpose);
+    if (st.is_ok()) st = lu.solve(y, x, transpose);
+    if (!st.is_ok()) return st;
+    x.normalize();
+    if (x.dot(out) < 0) x = -x;
+    const double change = (x - out).norm();
+    out = x;
+    if (change < kInverseTolerance) break;
+  }
+  return {};
+}
+
 // out := J^-1 rhs, with rhs first made orthogonal to psi (J's range) and the result to phi.
 Status solve_bordered(SparseLU& lu, const Vector& phi, const Vector& psi, Vector rhs, Vector& out) {
   rhs -= psi.dot(rhs) * psi;
@@ -288,6 +308,9 @@ std::string NormalForm::summary() const {
     case Kind::Fold:
       return fmt::format("fold: curvature {:.6g} (a {:.6g}, b {:.6g}), a {} of the parameter", curvature, a, b,
                          curvature < 0 ? "maximum" : "minimum");
+    case Kind::BogdanovTakens:
+      return fmt::format("Bogdanov-Takens: a {:.6g}, b {:.6g} (w0' = w1, w1' = beta1 + beta2 w1 + a w0^2 + b w0 w1)", a,
+                         b);
     case Kind::Cusp:
       return fmt::format("cusp: c {:.6g}, lambda - lambda0 = {:.6g} eps^3 through it (a {:.3g}, b {:.6g})", c, cubic, a,
                          b);
@@ -366,6 +389,80 @@ Status NormalForms::cusp(Problem& problem, int parameter, const Vector& u, const
   if (st = d.third(P, P, P, D3); !st.is_ok()) return st;
   out.c = out.psi.dot(D3) + 3.0 * out.psi.dot(D2);
   out.cubic = -out.c / (6.0 * out.b);
+  record(d, out);
+  out.seconds = seconds_since(t0);
+  return {};
+}
+
+Status NormalForms::bogdanov_takens(Problem& problem, int parameter, const Vector& u, NormalForm& out) {
+  const auto t0 = std::chrono::steady_clock::now();
+  out = {};
+  out.kind = NormalForm::Kind::BogdanovTakens;
+  out.type = "Bogdanov-Takens";
+  const int n = static_cast<int>(u.size());
+  HigherDerivatives d(problem, parameter, u, force_differences_);
+  SparseMatrix J, B;
+  Status st = jacobian(problem, u, J);
+  if (!st.is_ok()) return st;
+  if (has_time_form(problem)) {
+    B = problem.jacobian_pattern();
+    if (st = problem.mass_matrix(u, B); !st.is_ok()) return st;
+  } else {
+    B.resize(n, n);
+    B.setIdentity();
+  }
+  SparseLU lu(lu_);
+  if (st = factorise(lu, J, out.factorisations); !st.is_ok()) return st;
+  // the Jordan chain of A = -B^-1 J at the double zero: J q0 = 0, -J q1 = B q0; and on the left,
+  // with p = B^T psi (p^T f for f = -B^-1 F is -psi^T F): J^T psi1 = 0, -J^T psi0 = B^T psi1
+  Vector q0, q1, psi0, psi1;
+  if (st = smallest_singular_vector(lu, generic_start(n), false, q0); !st.is_ok()) return st;
+  Eigen::Index k = 0;
+  q0.cwiseAbs().maxCoeff(&k);
+  if (q0[k] < 0) q0 = -q0;  // a and b are odd in q0
+  if (st = smallest_singular_vector(lu, generic_start(n), true, psi1); !st.is_ok()) return st;
+  // psi1 is orthogonal to q0 (the zero is defective), so J's range and null space are no
+  // complements and a projected solve with J fails; the bordered matrix [J psi1; q0^T 0] is
+  // regular there (psi1 outside J's range, q0 outside J^T's): q1 from it (q1 orthogonal to q0),
+  // psi0 from its transpose (psi0 orthogonal to psi1)
+  SparseMatrix M(n + 1, n + 1);
+  {
+    std::vector<Eigen::Triplet<double>> t;
+    t.reserve(static_cast<size_t>(J.nonZeros() + 2 * n));
+    for (int col = 0; col < J.outerSize(); ++col)
+      for (SparseMatrix::InnerIterator it(J, col); it; ++it) t.emplace_back(it.row(), it.col(), it.value());
+    for (int i = 0; i < n; ++i) {
+      t.emplace_back(i, n, psi1[i]);
+      t.emplace_back(n, i, q0[i]);
+    }
+    M.setFromTriplets(t.begin(), t.end());
+    M.makeCompressed();
+  }
+  SparseLU bordered(lu_);
+  if (st = factorise(bordered, M, out.factorisations); !st.is_ok()) return st;
+  Vector rhs = Vector::Zero(n + 1), x;
+  rhs.head(n) = -(B * q0);
+  if (st = bordered.solve(rhs, x); !st.is_ok()) return st;
+  q1 = x.head(n);
+  rhs.head(n) = -(B.transpose() * psi1);
+  if (st = bordered.solve(rhs, x, true); !st.is_ok()) return st;
+  psi0 = x.head(n);
+  // <p1, q1> = psi1^T B q1 = 1 (then <p0, q0> = 1 too), <p0, q1> = 0 by q1 += alpha q0
+  const double scale = psi1.dot(B * q1);
+  if (!(std::abs(scale) > 0))
+    return {StatusCode::InvalidState, "no Jordan chain at the Bogdanov-Takens point (psi1^T B q1 = 0)"};
+  psi1 /= scale;
+  psi0 /= scale;
+  q1 -= psi0.dot(B * q1) / psi0.dot(B * q0) * q0;
+  // f_uu[x, y] = -B^-1 D^2 R[(x, A x), (y, A y)] with R = B(u) udot + F(u): A q0 = 0, A q1 = q0
+  const Direction Q0{q0}, Q1{q1, 0.0, q0};
+  Vector D00, D01;
+  if (st = d.second(Q0, Q0, D00); !st.is_ok()) return st;
+  if (st = d.second(Q0, Q1, D01); !st.is_ok()) return st;
+  out.a = -0.5 * psi1.dot(D00);
+  out.b = -psi0.dot(D00) - psi1.dot(D01);
+  out.phi = q0;
+  out.psi = psi1;
   record(d, out);
   out.seconds = seconds_since(t0);
   return {};

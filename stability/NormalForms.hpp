@@ -12,6 +12,12 @@
 //   lambda0) + a eps^2 / 2 + c eps^3 / 6 = 0 with c = <psi, F_uuu[phi, phi, phi] + 3 F_uu[phi, h2]>,
 //   J h2 = -F_uu[phi, phi] (h2 orthogonal to phi): the branch through the cusp at fixed second
 //   parameter has lambda = lambda0 + cubic eps^3, cubic = -c / (6 b), an inflection in lambda.
+// - Bogdanov-Takens (a double zero eigenvalue of A = -B^-1 J with a Jordan block, where a Hopf
+//   curve's omega vanishes): Kuznetsov's w0' = w1, w1' = beta1 + beta2 w1 + a w0^2 + b w0 w1 with
+//   A q0 = 0, A q1 = q0, p1^T A = 0, p0^T A = p1^T, <p0, q0> = <p1, q1> = 1, <p0, q1> = <p1, q0> =
+//   0, |q0|_2 = 1 with its largest entry positive (a, b scale with q0): a = <p1, f_uu[q0, q0]> / 2,
+//   b = <p0, f_uu[q0, q0]> + <p1, f_uu[q0, q1]>, for f = -B(u)^-1 F(u) (the B' terms through D^2 R
+//   with rates A q).
 // - Simple branch point: the algebraic bifurcation equation a al^2 + 2 b al be + c be^2 = 0 in the
 //   tangents al phi + be (v, 1) (J v = -F_lambda, v orthogonal to phi, (v, 1) scaled to unit
 //   length), a, b, c = <psi, D^2 F> on (phi, 0) and (v, 1); two real roots (b^2 > a c):
@@ -42,12 +48,13 @@
 namespace keller {
 
 struct NormalForm {
-  enum class Kind { Fold, BranchPoint, Hopf, Cusp };
+  enum class Kind { Fold, BranchPoint, Hopf, Cusp, BogdanovTakens };
   Kind kind = Kind::Fold;
-  std::string type;            // "fold", "transcritical", "pitchfork (supercritical)", "Hopf (subcritical)", ...
-  double a = 0, b = 0, c = 0;  // fold: a, b; branch point: the bifurcation equation's; cusp: all three
-  double curvature = 0;        // fold, cusp
-  double cubic = 0;            // pitchfork: lambda - lambda0 = cubic eps^2 on the branch along phi; cusp: cubic eps^3
+  std::string type;  // "fold", "transcritical", "pitchfork (supercritical)", "Hopf (subcritical)", ...
+  // fold: a, b; branch point: the bifurcation equation's; cusp: all three; Bogdanov-Takens: a, b
+  double a = 0, b = 0, c = 0;
+  double curvature = 0;  // fold, cusp
+  double cubic = 0;      // pitchfork: lambda - lambda0 = cubic eps^2 on the branch along phi; cusp: cubic eps^3
   // branch point: the two branches' unit tangents (state, parameter): the pitchfork's bifurcating
   // branch first
   Vector tangent_u[2];
@@ -67,7 +74,7 @@ struct NormalForm {
   // Hopf: the amplitude of each of the problem's observables on the orbit, max_t |o - o0| =
   // observable_amplitudes[i] sqrt(|lambda - lambda0|) (2 |z| |D o[q]|, D o by central differences)
   std::vector<double> observable_amplitudes;
-  Vector phi, psi;  // fold, branch point
+  Vector phi, psi;  // fold, branch point, cusp; Bogdanov-Takens: q0 and psi1
   bool exact_derivatives = false;
   std::string derivatives;  // how the derivatives were taken
   long factorisations = 0, derivative_evaluations = 0;
@@ -96,6 +103,9 @@ class NormalForms {
   // coefficient c (odd in phi: phi's sign from the guess as fold's, or with no guess its entry of
   // largest magnitude positive).
   Status cusp(Problem& problem, int parameter, const Vector& u, const Vector* guess, NormalForm& out);
+  // A Bogdanov-Takens point: J has a double zero eigenvalue with one eigenvector (located on a Hopf
+  // curve where omega vanishes, or on a fold curve); a and b of the normal form.
+  Status bogdanov_takens(Problem& problem, int parameter, const Vector& u, NormalForm& out);
   // omega: |Im sigma| of the critical pair; guess: its eigenvector (either of the pair; null: none).
   Status hopf(Problem& problem, int parameter, const Vector& u, double omega, const Eigen::VectorXcd* guess,
               NormalForm& out);

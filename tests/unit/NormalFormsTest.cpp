@@ -152,6 +152,80 @@ TEST(NormalForms, CuspCubicCoefficientIsThatOfTheReducedEquation) {
   EXPECT_NEAR(nf.cubic, cubic, 1e-7);
 }
 
+// Kuznetsov's Bogdanov-Takens normal form x1' = x2, x2' = beta1 + beta2 x2 + a0 x1^2 + b0 x1 x2 + k x3
+// with a third variable tau x3' = -x3 + x1^2 (B = diag(1, 1, tau)): on the centre manifold x3 =
+// x1^2 - 2 tau x1 x2 + ..., so the planar normal form has a = a0 + k and b = b0 - 2 k tau, with
+// q0 = (1, 0, 0) (unit, positive). Both the coupling through the third variable and the mass matrix
+// enter b; a formula without B would give b0 - 2 k.
+class ReducedBogdanovTakens final : public Problem {
+ public:
+  static constexpr double a0 = 1.3, b0 = -0.6, k = 0.7, tau = 0.5;
+  ReducedBogdanovTakens() {
+    params_.add("beta1", 0.0, "unfolding");
+    params_.add("beta2", 0.0, "unfolding");
+    std::vector<Eigen::Triplet<double>> t;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) t.emplace_back(i, j, 0.0);
+    pattern_.resize(3, 3);
+    pattern_.setFromTriplets(t.begin(), t.end());
+    pattern_.makeCompressed();
+  }
+  std::string name() const override { return "reduced-bogdanov-takens"; }
+  int size() const override { return 3; }
+  ParameterSet& parameters() override { return params_; }
+  const ParameterSet& parameters() const override { return params_; }
+  const SparseMatrix& jacobian_pattern() const override { return pattern_; }
+  Vector initial_guess() override { return Vector::Zero(3); }
+  Status residual(const Vector& x, Vector& F) override {  // B x' = -F
+    const double beta1 = params_.value(0), beta2 = params_.value(1);
+    F.resize(3);
+    F[0] = -x[1];
+    F[1] = -(beta1 + beta2 * x[1] + a0 * x[0] * x[0] + b0 * x[0] * x[1] + k * x[2]);
+    F[2] = x[2] - x[0] * x[0];
+    return {};
+  }
+  Status jacobian(const Vector& x, Vector& F, SparseMatrix& J) override {
+    residual(x, F);
+    const double beta2 = params_.value(1);
+    J = pattern_;
+    J.coeffRef(0, 1) = -1.0;
+    J.coeffRef(1, 0) = -(2 * a0 * x[0] + b0 * x[1]);
+    J.coeffRef(1, 1) = -(beta2 + b0 * x[0]);
+    J.coeffRef(1, 2) = -k;
+    J.coeffRef(2, 0) = -2 * x[0];
+    J.coeffRef(2, 2) = 1.0;
+    return {};
+  }
+  Status mass_matrix(const Vector&, SparseMatrix& B) override {
+    B = pattern_;
+    B.coeffRef(0, 0) = 1.0;
+    B.coeffRef(1, 1) = 1.0;
+    B.coeffRef(2, 2) = tau;
+    return {};
+  }
+  Status time_residual(const Vector&, const Vector& xdot, Vector& R) override {
+    R = xdot;
+    R[2] *= tau;
+    return {};
+  }
+
+ private:
+  ParameterSet params_;
+  SparseMatrix pattern_;
+};
+
+TEST(NormalForms, BogdanovTakensCoefficientsAreThoseOfTheReducedEquation) {
+  ReducedBogdanovTakens problem;
+  NormalForm nf;
+  ASSERT_TRUE(NormalForms().bogdanov_takens(problem, 0, Vector::Zero(3), nf).is_ok());
+  using P = ReducedBogdanovTakens;
+  // second differences of a quadratic: exact up to rounding at the 1e-3 steps
+  EXPECT_EQ(nf.type, "Bogdanov-Takens");
+  EXPECT_NEAR(nf.a, P::a0 + P::k, 1e-8) << nf.summary();
+  EXPECT_NEAR(nf.b, P::b0 - 2 * P::k * P::tau, 1e-8) << nf.summary();
+  EXPECT_NEAR(nf.phi[0], 1.0, 1e-12);
+}
+
 // The discrete pitchfork at its first branch point lambda_1 = (4 / h^2) sin^2(pi h / 2): u = eps phi
 // with phi the grid's sine mode (unit 2-norm), so lambda - lambda_1 = (sum phi_i^4) eps^2 and
 // sum_i sin^4(pi i / n) / (sum_i sin^2(pi i / n))^2 = (3 n / 8) / (n / 2)^2 = 3 / (2 n): in the

@@ -4,12 +4,14 @@
 // meets a fold curve (Bogdanov-Takens, fold-Hopf) on normal forms whose points are known exactly.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <iomanip>
 #include <iostream>
 
 #include "continuation/Continuation.hpp"
 #include "continuation/curves/HopfCurveProblem.hpp"
+#include "continuation/output/BranchFile.hpp"
 #include "problems/analytic/Brusselator1DProblem.hpp"
 #include "runs/NormalFormObserver.hpp"
 #include "support/TestProblems.hpp"
@@ -223,14 +225,22 @@ TEST(HopfCurve, AugmentedJacobianMatchesDifferencesOfItsResidual) {
 // beta2 from -1 up to the Bogdanov-Takens point, where omega passes through zero and the curve
 // turns back in beta2 (omega < 0 is the same curve). Every point on beta1 = 0 and
 // omega^2 = -beta2 to 1e-10; the point located where omega changes sign at beta2 = 0 to 1e-8
-// (beta2 = -omega^2 there, so omega to 1e-4, the square root), beta1 = 0.
+// (beta2 = -omega^2 there, so omega to 1e-4, the square root), beta1 = 0. Its normal form
+// (NormalFormObserver::for_curve, as keller trace attaches it): the quadratic terms x^2 - x y
+// give a = 1, b = -1 with q0 = (1, 0), to 1e-6 (J at the located point has the pair +-i omega,
+// |omega| below 1e-4, not yet the Jordan block).
 TEST(HopfCurve, BogdanovTakensWhereOmegaVanishes) {
   test::FunctionProblem p = bogdanov_takens(0.0, -1.0);
   HopfCurveProblem curve(p, "beta1");
   Vector U = curve.state(Eigen::Vector2d(1e-3, -1e-3), 1e-3, 1.0 + 1e-3);
   ASSERT_TRUE(curve.start(U, ComplexVector(), tight()).is_ok());
   EXPECT_NEAR(U[3], 1.0, 1e-10);
-  const auto [r, rec] = trace(curve, U, curve_options("beta2", -1.0, 0.5));
+  Continuation cont(curve, curve_options("beta2", -1.0, 0.5), tight());
+  test::RecordingObserver rec;
+  NormalFormObserver forms = NormalFormObserver::for_curve(
+      rec, p, p.parameters().index("beta1"), p.parameters().index("beta2"), curve.observable_names().size(), {});
+  HopfCurveProblem::BorderUpdate borders(curve, forms);
+  const ContinuationResult r = cont.run(U, borders);
   ASSERT_EQ(r.code, StopCode::LowerBound) << r.reason;
   for (const BranchPoint& q : rec.points) {
     EXPECT_NEAR(q.u[2], 0.0, 1e-10) << "beta2 = " << q.lambda;
@@ -243,6 +253,14 @@ TEST(HopfCurve, BogdanovTakensWhereOmegaVanishes) {
   EXPECT_NEAR(bt[0]->lambda, 0.0, 1e-8);
   EXPECT_NEAR(bt[0]->u[2], 0.0, 1e-10);
   EXPECT_NEAR(bt[0]->u[3], 0.0, 1e-4);
+  const std::vector<std::string> columns = normal_form_columns(p.observable_names());
+  ASSERT_EQ(bt[0]->normal_form.size(), columns.size() + 2);  // the curve's observables add beta1 and omega
+  auto column = [&](const char* name) {
+    return bt[0]->normal_form[static_cast<size_t>(std::find(columns.begin(), columns.end(), name) - columns.begin())];
+  };
+  EXPECT_EQ(normal_form_types()[static_cast<size_t>(column("type"))], "Bogdanov-Takens");
+  EXPECT_NEAR(column("a"), 1.0, 1e-6);
+  EXPECT_NEAR(column("b"), -1.0, 1e-6);
   // the curve turns in beta2 there, and comes back on the side omega < 0
   const auto turns = rec.of_kind(PointKind::Fold);
   ASSERT_EQ(turns.size(), 1u);
