@@ -17,7 +17,7 @@ std::vector<double> normal_form_row(const NormalForm& nf) {
   const double type = it == types.end() ? NAN : static_cast<double>(it - types.begin());
   const bool hopf = nf.kind == NormalForm::Kind::Hopf, fold = nf.kind == NormalForm::Kind::Fold;
   const bool cusp = nf.kind == NormalForm::Kind::Cusp, pitchfork = nf.type.rfind("pitchfork", 0) == 0;
-  const bool bt = nf.kind == NormalForm::Kind::BogdanovTakens;
+  const bool bt = nf.kind == NormalForm::Kind::BogdanovTakens, zh = nf.kind == NormalForm::Kind::FoldHopf;
   std::vector<double> row = {type,
                              nf.exact_derivatives ? 1.0 : 0.0,
                              hopf ? NAN : nf.a,
@@ -25,12 +25,12 @@ std::vector<double> normal_form_row(const NormalForm& nf) {
                              hopf || fold || bt ? NAN : nf.c,
                              fold || cusp ? nf.curvature : NAN,
                              pitchfork || cusp ? nf.cubic : NAN,
-                             fold || cusp || bt ? NAN : nf.growth_rate_derivative,
-                             hopf ? nf.omega : NAN,
-                             hopf ? nf.period : NAN,
+                             fold || cusp || bt || zh ? NAN : nf.growth_rate_derivative,
+                             hopf || zh ? nf.omega : NAN,
+                             hopf || zh ? nf.period : NAN,
                              hopf ? nf.l1 : NAN,
-                             hopf ? nf.c1.real() : NAN,
-                             hopf ? nf.c1.imag() : NAN,
+                             hopf || zh ? nf.c1.real() : NAN,
+                             hopf || zh ? nf.c1.imag() : NAN,
                              hopf ? nf.amplitude_coefficient : NAN,
                              hopf ? static_cast<double>(nf.amplitude_entry) : NAN,
                              hopf || pitchfork ? static_cast<double>(nf.side) : NAN,
@@ -139,16 +139,17 @@ void NormalFormObserver::on_point(const BranchPoint& p) {
   NormalForm nf;
   if (curve_p2_ >= 0) {  // a curve: its cusps and Bogdanov-Takens points
     const long n = problem_.size();
-    const bool cusp = p.label == "cusp", bt = p.label == "bogdanov-takens";
-    if (p.kind != PointKind::Event || !(cusp || bt) || p.u.size() <= n) {
+    const bool cusp = p.label == "cusp", bt = p.label == "bogdanov-takens", zh = p.label == "fold-hopf";
+    if (p.kind != PointKind::Event || !(cusp || bt || zh) || p.u.size() <= n + (zh ? 1 : 0)) {
       inner_.on_point(p);
       return;
     }
     const Vector u = p.u.head(n);
     const Status st = at_parameter(problem_, curve_p2_, p.lambda, [&] {
       return at_parameter(problem_, parameter_, p.u[n], [&] {
-        return cusp ? forms_.cusp(problem_, parameter_, u, nullptr, nf)
-                    : forms_.bogdanov_takens(problem_, parameter_, u, nf);
+        if (cusp) return forms_.cusp(problem_, parameter_, u, nullptr, nf);
+        if (bt) return forms_.bogdanov_takens(problem_, parameter_, u, nf);
+        return forms_.fold_hopf(problem_, parameter_, u, p.u[n + 1], nf);  // U = (u, p1, omega)
       });
     });
     pass_on(p, st, nf, curve_observables_);

@@ -19,8 +19,9 @@ class NormalFormObserver final : public BranchObserver {
   // parameter: the traced parameter's index in the problem's ParameterSet.
   NormalFormObserver(BranchObserver& inner, Problem& problem, int parameter, SparseLUOptions lu);
   // On a fold or Hopf curve of `problem` (unknowns U = (u, p1, ...), continued in p2): the normal
-  // form of every located cusp and Bogdanov-Takens point (the zeros of the monitors `cusp` and
-  // `bogdanov-takens`), NormalForms::cusp or bogdanov_takens at (u, p1, p2) with lambda = p1.
+  // form of every located cusp, Bogdanov-Takens and fold-Hopf point (the zeros of the monitors
+  // `cusp`, `bogdanov-takens` and `fold-hopf`), NormalForms::cusp, bogdanov_takens or fold_hopf
+  // (omega = U's after p1) at (u, p1, p2) with lambda = p1.
   // observables: the curve's observables' count (the branch file's amplitude columns, NaN there).
   static NormalFormObserver for_curve(BranchObserver& inner, Problem& problem, int p1, int p2, size_t observables,
                                       SparseLUOptions lu);

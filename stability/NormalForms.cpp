@@ -105,6 +105,27 @@ Status jacobian(Problem& problem, const Vector& u, SparseMatrix& J) {
   return problem.jacobian(u, F, J);
 }
 
+// J and B at u, B = I for a problem without a time-dependent form
+Status jacobian_and_mass(Problem& problem, const Vector& u, SparseMatrix& J, SparseMatrix& B) {
+  if (Status st = jacobian(problem, u, J); !st.is_ok()) return st;
+  if (!has_time_form(problem)) {
+    B.resize(u.size(), u.size());
+    B.setIdentity();
+    return {};
+  }
+  B = problem.jacobian_pattern();
+  return problem.mass_matrix(u, B);
+}
+
+// A normal form of `kind` begun: out emptied and named, J and B at u
+Status begin(Problem& problem, const Vector& u, NormalForm::Kind kind, const char* type, NormalForm& out,
+             SparseMatrix& J, SparseMatrix& B) {
+  out = {};
+  out.kind = kind;
+  out.type = type;
+  return jacobian_and_mass(problem, u, J, B);
+}
+
 // <psi, B phi>, with B = I for a problem without a time-dependent form
 Status weighted(Problem& problem, const Vector& u, const Vector& psi, const Vector& phi, double& out) {
   if (!has_time_form(problem)) {
@@ -261,6 +282,48 @@ class DeflatedShiftSolver {
   int max_iterations_;
 };
 
+// The critical pair at a Hopf point on lu1, the factorisation of J + i omega B: q with (J + i
+// omega B) q = 0 by inverse iteration from the guess (whichever of the pair it is: the one J + i
+// omega B nearly annuls) or a generic start, p with (J + i omega B)^H p = 0, both of unit norm;
+// omega refined by the Rayleigh quotient sigma = p^H J q / p^H B q = -i omega.
+Status critical_pair(const SparseMatrix& J, const SparseMatrix& B, ShiftedLU& lu1, const Eigen::VectorXcd* guess,
+                     double& omega, ComplexVector& q, ComplexVector& p) {
+  const auto times = &DeflatedShiftSolver::times;
+  const Complex I(0.0, 1.0);
+  const int n = static_cast<int>(J.rows());
+  q = generic_start(n).cast<Complex>();
+  if (guess && guess->size() == n && guess->norm() > 0) {
+    const ComplexVector g = guess->normalized(), gc = g.conjugate();
+    const double rg = (times(J, g) + I * omega * times(B, g)).norm(),
+                 rc = (times(J, gc) + I * omega * times(B, gc)).norm();
+    q = rg <= rc ? g : gc;
+  }
+  ComplexVector x;
+  // (the phase of each iterate is fixed by its inner product with the last)
+  auto iterate = [&](ComplexVector& v, bool adjoint) -> Status {
+    for (int k = 0; k < kHopfIterations; ++k) {
+      Status s = lu1.solve(adjoint ? v : times(B, v), x, adjoint);
+      if (!s.is_ok()) return s;
+      x.normalize();
+      const Complex overlap = v.dot(x);
+      if (std::abs(overlap) > 0) x *= std::conj(overlap) / std::abs(overlap);
+      const double change = (x - v).norm();
+      v = x;
+      if (change < kInverseTolerance) break;
+    }
+    return {};
+  };
+  if (Status st = iterate(q, false); !st.is_ok()) return st;
+  p = times(B, q).normalized();
+  if (Status st = iterate(p, true); !st.is_ok()) return st;
+  const Complex sigma = p.dot(times(J, q)) / p.dot(times(B, q));
+  omega = -sigma.imag();
+  if (!(omega > 0.0))
+    return {StatusCode::InvalidState,
+            fmt::format("no complex pair near the Hopf point (sigma = {:.6g}{:+.6g}i)", sigma.real(), sigma.imag())};
+  return {};
+}
+
 // J at u factorised, and J's null vector from the guess (or a generic start)
 Status factorised_null_vector(Problem& problem, const Vector& u, const Vector* guess, SparseLU& lu, NormalForm& out) {
   SparseMatrix J;
@@ -308,6 +371,10 @@ std::string NormalForm::summary() const {
     case Kind::Fold:
       return fmt::format("fold: curvature {:.6g} (a {:.6g}, b {:.6g}), a {} of the parameter", curvature, a, b,
                          curvature < 0 ? "maximum" : "minimum");
+    case Kind::FoldHopf:
+      return fmt::format(
+          "fold-Hopf: g200 {:.6g}, g011 {:.6g}, g110 {:.6g}{:+.6g}i, omega {:.6g}; s = {}, theta = {:.6g}", a, b,
+          c1.real(), c1.imag(), omega, a * b > 0 ? 1 : (a * b < 0 ? -1 : 0), c);
     case Kind::BogdanovTakens:
       return fmt::format("Bogdanov-Takens: a {:.6g}, b {:.6g} (w0' = w1, w1' = beta1 + beta2 w1 + a w0^2 + b w0 w1)", a,
                          b);
@@ -396,21 +463,11 @@ Status NormalForms::cusp(Problem& problem, int parameter, const Vector& u, const
 
 Status NormalForms::bogdanov_takens(Problem& problem, int parameter, const Vector& u, NormalForm& out) {
   const auto t0 = std::chrono::steady_clock::now();
-  out = {};
-  out.kind = NormalForm::Kind::BogdanovTakens;
-  out.type = "Bogdanov-Takens";
+  SparseMatrix J, B;
+  Status st = begin(problem, u, NormalForm::Kind::BogdanovTakens, "Bogdanov-Takens", out, J, B);
+  if (!st.is_ok()) return st;
   const int n = static_cast<int>(u.size());
   HigherDerivatives d(problem, parameter, u, force_differences_);
-  SparseMatrix J, B;
-  Status st = jacobian(problem, u, J);
-  if (!st.is_ok()) return st;
-  if (has_time_form(problem)) {
-    B = problem.jacobian_pattern();
-    if (st = problem.mass_matrix(u, B); !st.is_ok()) return st;
-  } else {
-    B.resize(n, n);
-    B.setIdentity();
-  }
   SparseLU lu(lu_);
   if (st = factorise(lu, J, out.factorisations); !st.is_ok()) return st;
   // the Jordan chain of A = -B^-1 J at the double zero: J q0 = 0, -J q1 = B q0; and on the left,
@@ -463,6 +520,59 @@ Status NormalForms::bogdanov_takens(Problem& problem, int parameter, const Vecto
   out.b = -psi0.dot(D00) - psi1.dot(D01);
   out.phi = q0;
   out.psi = psi1;
+  record(d, out);
+  out.seconds = seconds_since(t0);
+  return {};
+}
+
+Status NormalForms::fold_hopf(Problem& problem, int parameter, const Vector& u, double omega, NormalForm& out) {
+  const auto t0 = std::chrono::steady_clock::now();
+  SparseMatrix J, B;
+  Status st = begin(problem, u, NormalForm::Kind::FoldHopf, "fold-Hopf", out, J, B);
+  if (!st.is_ok()) return st;
+  const int n = static_cast<int>(u.size());
+  HigherDerivatives d(problem, parameter, u, force_differences_);
+  // the zero eigenvalue: J q0 = 0, J^T psi0 = 0, psi0^T B q0 = 1 (<p0, q0> = 1 for p0 = B^T psi0)
+  SparseLU lu(lu_);
+  Vector q0, psi0;
+  if (st = factorise(lu, J, out.factorisations); !st.is_ok()) return st;
+  if (st = null_vector(lu, generic_start(n), false, q0); !st.is_ok()) return st;
+  Eigen::Index k = 0;
+  q0.cwiseAbs().maxCoeff(&k);
+  if (q0[k] < 0) q0 = -q0;  // g200, g011, g110 are odd in q0
+  if (st = null_vector(lu, generic_start(n), true, psi0); !st.is_ok()) return st;
+  const double psi_b_q = psi0.dot(B * q0);
+  if (!(std::abs(psi_b_q) > 1e-12 * psi0.norm() * (B * q0).norm()))
+    return {StatusCode::InvalidState, "the zero eigenvalue is not simple (psi0^T B q0 = 0): a Bogdanov-Takens point?"};
+  psi0 /= psi_b_q;
+  // the pair +-i omega: (J + i omega B) q1 = 0, |q1|_2 = 1 with its largest entry real and positive;
+  // (J + i omega B)^H p1 = 0, p1^H B q1 = 1
+  ShiftedLU lu1(lu_);
+  ++out.factorisations;
+  omega = std::abs(omega);
+  if (st = lu1.factorize(J, B, omega); !st.is_ok()) return st;
+  ComplexVector q1, p1;
+  if (st = critical_pair(J, B, lu1, nullptr, omega, q1, p1); !st.is_ok()) return st;
+  q1.cwiseAbs().maxCoeff(&k);
+  q1 *= std::conj(q1[k]) / std::abs(q1[k]);
+  p1 /= std::conj(p1.dot(DeflatedShiftSolver::times(B, q1)));
+  // <p, f_uu[x, y]> = -psi^H D^2 R[(x, A x), (y, A y)]: A q0 = 0, A q1 = i omega q1
+  const Complex I(0.0, 1.0);
+  const ComplexDirection Q0{q0.cast<Complex>(), 0.0, {}}, Q1{q1, 0.0, I * omega * q1},
+      Q1bar{q1.conjugate(), 0.0, -I * omega * q1.conjugate()};
+  ComplexVector D;
+  if (st = d.second(Q0, Q0, D); !st.is_ok()) return st;
+  out.a = -psi0.dot(D.real());  // g200
+  if (st = d.second(Q1, Q1bar, D); !st.is_ok()) return st;
+  out.b = -psi0.dot(D.real());  // g011
+  if (st = d.second(Q0, Q1, D); !st.is_ok()) return st;
+  out.c1 = -p1.dot(D);                                 // g110
+  out.c = out.a != 0.0 ? out.c1.real() / out.a : NAN;  // theta
+  out.omega = omega;
+  out.period = 2.0 * std::numbers::pi / omega;
+  out.phi = q0;
+  out.psi = psi0;
+  out.q = q1;
   record(d, out);
   out.seconds = seconds_since(t0);
   return {};
@@ -543,13 +653,10 @@ Status NormalForms::hopf(Problem& problem, int parameter, const Vector& u, doubl
   const auto t0 = std::chrono::steady_clock::now();
   out = {};
   out.kind = NormalForm::Kind::Hopf;
-  const int n = static_cast<int>(u.size());
   HigherDerivatives d(problem, parameter, u, force_differences_);
   SparseMatrix J, B;
-  Status st = jacobian(problem, u, J);
+  Status st = jacobian_and_mass(problem, u, J, B);
   if (!st.is_ok()) return st;
-  B = problem.jacobian_pattern();
-  if (st = problem.mass_matrix(u, B); !st.is_ok()) return st;
   omega = std::abs(omega);
   const Complex I(0.0, 1.0);
   // the only factorisation where GMRES does its work (DeflatedShiftSolver)
@@ -563,38 +670,8 @@ Status NormalForms::hopf(Problem& problem, int parameter, const Vector& u, doubl
   ++out.factorisations;
   if (st = timed([&] { return lu1.factorize(J, B, omega); }); !st.is_ok()) return st;
   const auto times = &DeflatedShiftSolver::times;
-  // q: (J + i omega B) q = 0, by inverse iteration from the guess (whichever of the pair it is:
-  // the one (J + i omega B) nearly annuls) or a generic start; p: (J + i omega B)^H p = 0
-  ComplexVector q = generic_start(n).cast<Complex>(), p, x;
-  if (guess && guess->size() == n && guess->norm() > 0) {
-    const ComplexVector g = guess->normalized(), gc = g.conjugate();
-    const double rg = (times(J, g) + I * omega * times(B, g)).norm(),
-                 rc = (times(J, gc) + I * omega * times(B, gc)).norm();
-    q = rg <= rc ? g : gc;
-  }
-  // (the phase of each iterate is fixed by its inner product with the last)
-  auto iterate = [&](ComplexVector& v, bool adjoint) -> Status {
-    for (int k = 0; k < kHopfIterations; ++k) {
-      Status s = lu1.solve(adjoint ? v : times(B, v), x, adjoint);
-      if (!s.is_ok()) return s;
-      x.normalize();
-      const Complex overlap = v.dot(x);
-      if (std::abs(overlap) > 0) x *= std::conj(overlap) / std::abs(overlap);
-      const double change = (x - v).norm();
-      v = x;
-      if (change < kInverseTolerance) break;
-    }
-    return {};
-  };
-  if (st = iterate(q, false); !st.is_ok()) return st;
-  p = times(B, q).normalized();
-  if (st = iterate(p, true); !st.is_ok()) return st;
-  // the frequency from the Rayleigh quotient sigma = p^H J q / p^H B q = -i omega
-  const Complex sigma = p.dot(times(J, q)) / p.dot(times(B, q));
-  omega = -sigma.imag();
-  if (!(omega > 0.0))
-    return {StatusCode::InvalidState,
-            fmt::format("no complex pair near the Hopf point (sigma = {:.6g}{:+.6g}i)", sigma.real(), sigma.imag())};
+  ComplexVector q, p;
+  if (st = critical_pair(J, B, lu1, guess, omega, q, p); !st.is_ok()) return st;
   Eigen::Index k = 0;
   q.cwiseAbs().maxCoeff(&k);
   q *= std::conj(q[k]) / std::norm(q[k]);  // q_k = 1

@@ -18,6 +18,12 @@
 //   0, |q0|_2 = 1 with its largest entry positive (a, b scale with q0): a = <p1, f_uu[q0, q0]> / 2,
 //   b = <p0, f_uu[q0, q0]> + <p1, f_uu[q0, q1]>, for f = -B(u)^-1 F(u) (the B' terms through D^2 R
 //   with rates A q).
+// - Fold-Hopf (a simple zero and a pair +-i omega of A): Kuznetsov's w0' = beta1 + g200 w0^2 / 2 +
+//   g011 |w1|^2 + ..., w1' = (beta2 + i omega) w1 + g110 w0 w1 + ..., with A q0 = 0, A q1 = i omega
+//   q1, p0^T A = 0, p1^H A = i omega p1^H, <p0, q0> = <p1, q1> = 1, |q0|_2 = |q1|_2 = 1 (q0's
+//   largest entry positive, q1's real and positive): g200 = <p0, f_uu[q0, q0]>, g011 = <p0,
+//   f_uu[q1, conj q1]>, g110 = <p1, f_uu[q0, q1]>. The unfolding's type is s = sign(g200 g011)
+//   and theta = Re g110 / g200 (Kuznetsov, Lemma 8.10); the third-order E is not computed.
 // - Simple branch point: the algebraic bifurcation equation a al^2 + 2 b al be + c be^2 = 0 in the
 //   tangents al phi + be (v, 1) (J v = -F_lambda, v orthogonal to phi, (v, 1) scaled to unit
 //   length), a, b, c = <psi, D^2 F> on (phi, 0) and (v, 1); two real roots (b^2 > a c):
@@ -48,10 +54,11 @@
 namespace keller {
 
 struct NormalForm {
-  enum class Kind { Fold, BranchPoint, Hopf, Cusp, BogdanovTakens };
+  enum class Kind { Fold, BranchPoint, Hopf, Cusp, BogdanovTakens, FoldHopf };
   Kind kind = Kind::Fold;
   std::string type;  // "fold", "transcritical", "pitchfork (supercritical)", "Hopf (subcritical)", ...
-  // fold: a, b; branch point: the bifurcation equation's; cusp: all three; Bogdanov-Takens: a, b
+  // fold: a, b; branch point: the bifurcation equation's; cusp: all three; Bogdanov-Takens: a, b;
+  // fold-Hopf: a = g200, b = g011, c = theta = Re g110 / g200 (g110 in c1, the pair's in omega)
   double a = 0, b = 0, c = 0;
   double curvature = 0;  // fold, cusp
   double cubic = 0;      // pitchfork: lambda - lambda0 = cubic eps^2 on the branch along phi; cusp: cubic eps^3
@@ -106,6 +113,9 @@ class NormalForms {
   // A Bogdanov-Takens point: J has a double zero eigenvalue with one eigenvector (located on a Hopf
   // curve where omega vanishes, or on a fold curve); a and b of the normal form.
   Status bogdanov_takens(Problem& problem, int parameter, const Vector& u, NormalForm& out);
+  // A fold-Hopf point: J has a simple zero eigenvalue and a pair +-i omega (located on a Hopf
+  // curve where det J changes sign); the second-order coefficients g200, g011, g110.
+  Status fold_hopf(Problem& problem, int parameter, const Vector& u, double omega, NormalForm& out);
   // omega: |Im sigma| of the critical pair; guess: its eigenvector (either of the pair; null: none).
   Status hopf(Problem& problem, int parameter, const Vector& u, double omega, const Eigen::VectorXcd* guess,
               NormalForm& out);

@@ -83,10 +83,16 @@ std::vector<std::string> normal_form_columns(const std::vector<std::string>& obs
 }
 
 const std::vector<std::string>& normal_form_types() {
-  static const std::vector<std::string> types = {
-      "fold",           "transcritical",        "pitchfork (supercritical)", "pitchfork (subcritical)",
-      "isolated point", "Hopf (supercritical)", "Hopf (subcritical)",        "cusp",
-      "Bogdanov-Takens"};
+  static const std::vector<std::string> types = {"fold",
+                                                 "transcritical",
+                                                 "pitchfork (supercritical)",
+                                                 "pitchfork (subcritical)",
+                                                 "isolated point",
+                                                 "Hopf (supercritical)",
+                                                 "Hopf (subcritical)",
+                                                 "cusp",
+                                                 "Bogdanov-Takens",
+                                                 "fold-Hopf"};
   return types;
 }
 

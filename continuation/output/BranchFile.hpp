@@ -8,7 +8,7 @@
 //   /branch/solutions   the stored solutions (one row each), /branch/tangents their tangents
 //   /branch/events      located points that are not regular: row, kind, parameter, monitor
 //   /branch/normal_forms the normal forms of located folds, branch points and Hopf points (and of
-//                       a curve's cusps and Bogdanov-Takens points): row,
+//                       a curve's cusps, Bogdanov-Takens and fold-Hopf points): row,
 //                       kind, then normal_form_columns() (attribute `columns`; `types` names the
 //                       type codes)
 //   /branch/status      "running" while running, then why the branch ended
@@ -51,7 +51,7 @@ BranchSeed read_branch_seed(const std::string& path);
 std::vector<std::string> normal_form_columns(const std::vector<std::string>& observables);
 // The type codes: 0 fold, 1 transcritical, 2 pitchfork (supercritical), 3 pitchfork
 // (subcritical), 4 isolated point, 5 Hopf (supercritical), 6 Hopf (subcritical), 7 cusp, 8
-// Bogdanov-Takens.
+// Bogdanov-Takens, 9 fold-Hopf.
 const std::vector<std::string>& normal_form_types();
 
 // The columns of a branch table: row, kind, s, the parameter, the observables, monitor:NAME for

@@ -152,15 +152,11 @@ TEST(NormalForms, CuspCubicCoefficientIsThatOfTheReducedEquation) {
   EXPECT_NEAR(nf.cubic, cubic, 1e-7);
 }
 
-// Kuznetsov's Bogdanov-Takens normal form x1' = x2, x2' = beta1 + beta2 x2 + a0 x1^2 + b0 x1 x2 + k x3
-// with a third variable tau x3' = -x3 + x1^2 (B = diag(1, 1, tau)): on the centre manifold x3 =
-// x1^2 - 2 tau x1 x2 + ..., so the planar normal form has a = a0 + k and b = b0 - 2 k tau, with
-// q0 = (1, 0, 0) (unit, positive). Both the coupling through the third variable and the mass matrix
-// enter b; a formula without B would give b0 - 2 k.
-class ReducedBogdanovTakens final : public Problem {
+// A problem of three unknowns with a full Jacobian pattern and the parameters beta1, beta2 (zero),
+// B = I unless a subclass says otherwise.
+class ThreeUnknowns : public Problem {
  public:
-  static constexpr double a0 = 1.3, b0 = -0.6, k = 0.7, tau = 0.5;
-  ReducedBogdanovTakens() {
+  ThreeUnknowns() {
     params_.add("beta1", 0.0, "unfolding");
     params_.add("beta2", 0.0, "unfolding");
     std::vector<Eigen::Triplet<double>> t;
@@ -170,12 +166,36 @@ class ReducedBogdanovTakens final : public Problem {
     pattern_.setFromTriplets(t.begin(), t.end());
     pattern_.makeCompressed();
   }
-  std::string name() const override { return "reduced-bogdanov-takens"; }
   int size() const override { return 3; }
   ParameterSet& parameters() override { return params_; }
   const ParameterSet& parameters() const override { return params_; }
   const SparseMatrix& jacobian_pattern() const override { return pattern_; }
   Vector initial_guess() override { return Vector::Zero(3); }
+  Status mass_matrix(const Vector&, SparseMatrix& B) override {
+    B = pattern_;
+    for (int i = 0; i < 3; ++i) B.coeffRef(i, i) = weights()[i];
+    return {};
+  }
+  Status time_residual(const Vector&, const Vector& udot, Vector& R) override {
+    R = udot.cwiseProduct(weights());
+    return {};
+  }
+
+ protected:
+  virtual Vector weights() const { return Vector::Ones(3); }  // B's diagonal
+  ParameterSet params_;
+  SparseMatrix pattern_;
+};
+
+// Kuznetsov's Bogdanov-Takens normal form x1' = x2, x2' = beta1 + beta2 x2 + a0 x1^2 + b0 x1 x2 + k x3
+// with a third variable tau x3' = -x3 + x1^2 (B = diag(1, 1, tau)): on the centre manifold x3 =
+// x1^2 - 2 tau x1 x2 + ..., so the planar normal form has a = a0 + k and b = b0 - 2 k tau, with
+// q0 = (1, 0, 0) (unit, positive). Both the coupling through the third variable and the mass matrix
+// enter b; a formula without B would give b0 - 2 k.
+class ReducedBogdanovTakens final : public ThreeUnknowns {
+ public:
+  static constexpr double a0 = 1.3, b0 = -0.6, k = 0.7, tau = 0.5;
+  std::string name() const override { return "reduced-bogdanov-takens"; }
   Status residual(const Vector& x, Vector& F) override {  // B x' = -F
     const double beta1 = params_.value(0), beta2 = params_.value(1);
     F.resize(3);
@@ -196,22 +216,9 @@ class ReducedBogdanovTakens final : public Problem {
     J.coeffRef(2, 2) = 1.0;
     return {};
   }
-  Status mass_matrix(const Vector&, SparseMatrix& B) override {
-    B = pattern_;
-    B.coeffRef(0, 0) = 1.0;
-    B.coeffRef(1, 1) = 1.0;
-    B.coeffRef(2, 2) = tau;
-    return {};
-  }
-  Status time_residual(const Vector&, const Vector& xdot, Vector& R) override {
-    R = xdot;
-    R[2] *= tau;
-    return {};
-  }
 
- private:
-  ParameterSet params_;
-  SparseMatrix pattern_;
+ protected:
+  Vector weights() const override { return Eigen::Vector3d(1.0, 1.0, tau); }
 };
 
 TEST(NormalForms, BogdanovTakensCoefficientsAreThoseOfTheReducedEquation) {
@@ -224,6 +231,55 @@ TEST(NormalForms, BogdanovTakensCoefficientsAreThoseOfTheReducedEquation) {
   EXPECT_NEAR(nf.a, P::a0 + P::k, 1e-8) << nf.summary();
   EXPECT_NEAR(nf.b, P::b0 - 2 * P::k * P::tau, 1e-8) << nf.summary();
   EXPECT_NEAR(nf.phi[0], 1.0, 1e-12);
+}
+
+// Kuznetsov's fold-Hopf normal form itself: x' = beta1 + b x^2 + c (y^2 + z^2), and for zeta = y + i z,
+// zeta' = (beta2 + i omega) zeta + d x zeta (F = -rhs, B = I). With q0 = (1, 0, 0) and q1 = (0, 1,
+// -i) / sqrt 2 (unit, first entry real and positive), zeta = sqrt 2 w1, so g200 = 2 b, g011 = 2 c
+// and g110 = d.
+class ReducedFoldHopf final : public ThreeUnknowns {
+ public:
+  static constexpr double b = 0.8, c = -0.5, dr = 0.3, di = 0.7, omega = 2.0;
+  std::string name() const override { return "reduced-fold-hopf"; }
+  Status residual(const Vector& u, Vector& F) override {
+    const double x = u[0], y = u[1], z = u[2], beta1 = params_.value(0), beta2 = params_.value(1);
+    F.resize(3);
+    F[0] = -(beta1 + b * x * x + c * (y * y + z * z));
+    F[1] = -(beta2 * y - omega * z + x * (dr * y - di * z));
+    F[2] = -(omega * y + beta2 * z + x * (di * y + dr * z));
+    return {};
+  }
+  Status jacobian(const Vector& u, Vector& F, SparseMatrix& J) override {
+    residual(u, F);
+    const double x = u[0], y = u[1], z = u[2], beta2 = params_.value(1);
+    J = pattern_;
+    J.coeffRef(0, 0) = -2 * b * x;
+    J.coeffRef(0, 1) = -2 * c * y;
+    J.coeffRef(0, 2) = -2 * c * z;
+    J.coeffRef(1, 0) = -(dr * y - di * z);
+    J.coeffRef(1, 1) = -(beta2 + dr * x);
+    J.coeffRef(1, 2) = -(-omega - di * x);
+    J.coeffRef(2, 0) = -(di * y + dr * z);
+    J.coeffRef(2, 1) = -(omega + di * x);
+    J.coeffRef(2, 2) = -(beta2 + dr * x);
+    return {};
+  }
+};
+
+TEST(NormalForms, FoldHopfCoefficientsAreThoseOfTheNormalForm) {
+  ReducedFoldHopf problem;
+  NormalForm nf;
+  ASSERT_TRUE(NormalForms().fold_hopf(problem, 0, Vector::Zero(3), 1.9, nf).is_ok());
+  using P = ReducedFoldHopf;
+  // second differences of a quadratic: exact up to rounding at the 1e-3 steps
+  EXPECT_EQ(nf.type, "fold-Hopf");
+  EXPECT_NEAR(nf.omega, P::omega, 1e-10);
+  EXPECT_NEAR(nf.a, 2 * P::b, 1e-8) << nf.summary();
+  EXPECT_NEAR(nf.b, 2 * P::c, 1e-8) << nf.summary();
+  EXPECT_NEAR(nf.c1.real(), P::dr, 1e-8) << nf.summary();
+  EXPECT_NEAR(nf.c1.imag(), P::di, 1e-8) << nf.summary();
+  EXPECT_NEAR(nf.c, P::dr / (2 * P::b), 1e-8);  // theta
+  EXPECT_NE(nf.summary().find("s = -1"), std::string::npos) << nf.summary();
 }
 
 // The discrete pitchfork at its first branch point lambda_1 = (4 / h^2) sin^2(pi h / 2): u = eps phi

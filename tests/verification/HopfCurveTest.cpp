@@ -279,7 +279,12 @@ TEST(HopfCurve, FoldHopfWhereDetJChangesSign) {
   HopfCurveProblem curve(p, "beta1");
   Vector U = curve.state(Eigen::Vector3d(0.5 + 1e-3, 1e-3, -1e-3), -0.25 + 1e-3, kOmega0 + 1e-3);
   ASSERT_TRUE(curve.start(U, ComplexVector(), tight()).is_ok());
-  const auto [r, rec] = trace(curve, U, curve_options("beta2", -0.5, 0.5));
+  Continuation cont(curve, curve_options("beta2", -0.5, 0.5), tight());
+  test::RecordingObserver rec;
+  NormalFormObserver forms = NormalFormObserver::for_curve(
+      rec, p, p.parameters().index("beta1"), p.parameters().index("beta2"), curve.observable_names().size(), {});
+  HopfCurveProblem::BorderUpdate borders(curve, forms);
+  const ContinuationResult r = cont.run(U, borders);
   ASSERT_EQ(r.code, StopCode::UpperBound) << r.reason;
   for (const BranchPoint& q : rec.points) {
     const double b2 = q.lambda;
@@ -295,6 +300,19 @@ TEST(HopfCurve, FoldHopfWhereDetJChangesSign) {
   EXPECT_NEAR(zh[0]->u[3], 0.0, 1e-10);
   EXPECT_NEAR(zh[0]->u[4], kOmega0, 1e-10);
   EXPECT_TRUE(labelled(rec, PointKind::Event, "bogdanov-takens").empty());
+  // its normal form, as keller trace attaches it: x^2 and the pair's (beta2 + x) give g200 = 2,
+  // g011 = 0, g110 = 1 (q1 = (0, 1, -i) / sqrt 2); at the located point x = -beta2 ~ 1e-8
+  const std::vector<std::string> columns = normal_form_columns(p.observable_names());
+  ASSERT_EQ(zh[0]->normal_form.size(), columns.size() + 2);  // the curve's observables add beta1 and omega
+  auto column = [&](const char* name) {
+    return zh[0]->normal_form[static_cast<size_t>(std::find(columns.begin(), columns.end(), name) - columns.begin())];
+  };
+  EXPECT_EQ(normal_form_types()[static_cast<size_t>(column("type"))], "fold-Hopf");
+  EXPECT_NEAR(column("a"), 2.0, 1e-6);
+  EXPECT_NEAR(column("b"), 0.0, 1e-6);
+  EXPECT_NEAR(column("c1_re"), 1.0, 1e-6);
+  EXPECT_NEAR(column("c1_im"), 0.0, 1e-6);
+  EXPECT_NEAR(column("omega"), kOmega0, 1e-10);
 }
 
 // The Bautin problem's Hopf curve mu = nu^2 continued in nu from -1 to 0.5 with the first Lyapunov
