@@ -187,3 +187,55 @@ def test_switching_along_the_normal_form_at_a_pitchfork_and_a_transcritical_poin
         pass
     out = capfd.readouterr().out
     assert rejected_first_steps(out) >= 10
+
+
+class BogdanovTakens(keller.Problem):
+    """x' = y, y' = beta1 + beta2 x + x^2 - x y (Kuznetsov's normal form with a = 1, b = -1) and four
+    decoupled stable unknowns w' = -3 w (the spectrum needs more than two unknowns). On the branch
+    through x = 0 a Hopf point sits at beta1 = 0 for beta2 < 0; its Hopf curve in beta2 ends at the
+    Bogdanov-Takens point beta2 = 0."""
+    name = "bogdanov-takens-python"
+    parameters = {"beta1": -0.5, "beta2": -1.0}
+    observable_names = ["x"]
+
+    def __init__(self):
+        import scipy.sparse as sp
+        self.np, self.sp = np, sp
+
+    def initial_guess(self, p):
+        b1, b2 = p["beta1"], p["beta2"]
+        return self.np.concatenate([[(-b2 - (b2 * b2 - 4 * b1) ** 0.5) / 2, 0.0], self.np.zeros(4)])
+
+    def residual(self, u, p):
+        x, y = u[0], u[1]
+        return -self.np.concatenate([[y, p["beta1"] + p["beta2"] * x + x * x - x * y], -3 * u[2:]])
+
+    def jacobian(self, u, p):
+        x, y = u[0], u[1]
+        top = self.np.array([[0.0, 1.0], [p["beta2"] + 2 * x - y, -x]])
+        return -self.sp.block_diag([top, -3 * self.np.identity(4)], format="csc")
+
+    def mass_matrix(self, u, p):
+        return self.sp.identity(6, format="csc")
+
+    def observables(self, u, p):
+        return [u[0]]
+
+
+def test_the_bogdanov_takens_point_of_a_hopf_curve_has_its_normal_form(tmp_path):
+    """keller trace --curve hopf attaches the Bogdanov-Takens point's normal form to its event (a
+    problem written in Python: derivatives by differences, 1e-6)."""
+    scene = {"continuation": {"parameter": "beta1", "upper": 0.2, "initial_step": 0.05, "max_step": 0.1,
+                              "event_tolerance": 1e-10},
+             "stability": {"enabled": True, "count": 2}}
+    branch = keller.trace(scene, tmp_path / "b.h5", problem=BogdanovTakens(), verbose=False)
+    assert branch.point("hopf1").value == pytest.approx(0.0, abs=1e-8)
+    curve_scene = {"continuation": {"parameter": "beta2", "lower": -1.5, "upper": 0.5, "initial_step": 0.05,
+                                    "max_step": 0.1, "event_tolerance": 1e-10}}
+    curve = keller.trace(curve_scene, tmp_path / "c.h5", problem=BogdanovTakens(), curve="hopf",
+                         curve_from=(branch, "hopf1"), free="beta2", verbose=False)
+    (bt,) = [p for p in curve.points("event") if p.monitor == "bogdanov-takens"]
+    assert bt.value == pytest.approx(0.0, abs=1e-7)
+    nf = bt.normal_form
+    assert nf["type"] == "Bogdanov-Takens"
+    assert nf["a"] == pytest.approx(1.0, rel=1e-5) and nf["b"] == pytest.approx(-1.0, rel=1e-5)
