@@ -137,7 +137,7 @@ void NormalFormObserver::pass_on(const BranchPoint& p, const Status& st, const N
 
 void NormalFormObserver::on_point(const BranchPoint& p) {
   NormalForm nf;
-  if (curve_p2_ >= 0) {  // a curve: its cusps and Bogdanov-Takens points
+  if (curve_p2_ >= 0) {  // a curve: its cusps, Bogdanov-Takens and fold-Hopf points
     const long n = problem_.size();
     const bool cusp = p.label == "cusp", bt = p.label == "bogdanov-takens", zh = p.label == "fold-hopf";
     if (p.kind != PointKind::Event || !(cusp || bt || zh) || p.u.size() <= n + (zh ? 1 : 0)) {

@@ -176,7 +176,7 @@ ContinuationResult trace_branch(Continuation& stepper, TraceStart& start, const 
   if (plain && start.begin != TraceStart::Begin::EventCurve)
     observer = &normal_forms.emplace(*observer, *plain, plain->parameters().index(settings.continuation.parameter),
                                      settings.lu);
-  // the cusps and Bogdanov-Takens points of a fold or Hopf curve
+  // the cusps, Bogdanov-Takens and fold-Hopf points of a fold or Hopf curve
   if (dynamic_cast<FoldCurveProblem*>(start.curve.get()) || dynamic_cast<HopfCurveProblem*>(start.curve.get()))
     observer = &normal_forms.emplace(NormalFormObserver::for_curve(
         *observer, scene_problem, start.curve->p1(), scene_problem.parameters().index(settings.continuation.parameter),

@@ -26,6 +26,9 @@ constexpr int kInverseIterations = 100;
 constexpr double kInverseTolerance = 1e-10;
 // at a Hopf point, from the stored eigenvector (accurate to the spectrum's tolerance): a few
 constexpr int kHopfIterations = 20;
+// |psi1^T B q0| above this share of |B q0|: the zero is simple, no Bogdanov-Takens point (the
+// located points on a Hopf curve have omega below 1e-4, and psi1^T B q0 of its order)
+constexpr double kNotBogdanovTakens = 1e-3;
 // a bifurcation-equation coefficient this small against the others is zero (a pitchfork's a)
 constexpr double kZeroCoefficient = 1e-6;
 
@@ -191,7 +194,7 @@ class ShiftedLU {
   int n_ = 0;
 };
 
-// GMRES for A x = b with right preconditioner P (x = P y), complex, from x = 0: modified
+// GMRES for A x = b with a fixed, linear right preconditioner P (x = P y), complex, from x = 0: modified
 // Gram-Schmidt applied twice (the Krylov basis stays orthogonal to rounding where the space nearly
 // closes), the small least-squares problem solved by QR at each step. Returns the iterations
 // taken once the residual estimate is below tol |b|, or -1 after max_iterations.
@@ -201,11 +204,10 @@ int gmres(const Apply& A, const Precondition& P, const ComplexVector& b, Complex
   const double beta = b.norm();
   x = ComplexVector::Zero(b.size());
   if (beta == 0.0) return 0;
-  std::vector<ComplexVector> V{b / beta}, Z;
+  std::vector<ComplexVector> V{b / beta};
   Eigen::MatrixXcd H = Eigen::MatrixXcd::Zero(max_iterations + 1, max_iterations);
   for (int k = 0; k < max_iterations; ++k) {
-    Z.push_back(P(V[static_cast<size_t>(k)]));
-    ComplexVector w = A(Z.back());
+    ComplexVector w = A(P(V[static_cast<size_t>(k)]));
     for (int pass = 0; pass < 2; ++pass)
       for (int i = 0; i <= k; ++i) {
         const Complex c = V[static_cast<size_t>(i)].dot(w);
@@ -218,7 +220,9 @@ int gmres(const Apply& A, const Precondition& P, const ComplexVector& b, Complex
     const Eigen::MatrixXcd Hk = H.topLeftCorner(k + 2, k + 1);
     const ComplexVector y = Hk.householderQr().solve(e);
     if ((e - Hk * y).norm() <= tol * beta || H(k + 1, k).real() == 0.0) {
-      for (int i = 0; i <= k; ++i) x += y[i] * Z[static_cast<size_t>(i)];
+      ComplexVector v = ComplexVector::Zero(b.size());  // x = P (V y): P is linear, V alone is kept
+      for (int i = 0; i <= k; ++i) v += y[i] * V[static_cast<size_t>(i)];
+      x = P(v);
       return k + 1;
     }
     V.push_back(w / H(k + 1, k).real());
@@ -299,10 +303,14 @@ Status critical_pair(const SparseMatrix& J, const SparseMatrix& B, ShiftedLU& lu
     q = rg <= rc ? g : gc;
   }
   ComplexVector x;
-  // (the phase of each iterate is fixed by its inner product with the last)
+  // inverse iteration of the pencil: x = (J + i s B)^-1 B v, and for the left vector x = (J + i s
+  // B)^-H B^T v (without B^T it would converge to an eigenvector of (J + i s B)^H itself, which is
+  // the pencil's left vector only where s is omega exactly); the phase of each iterate is fixed by
+  // its inner product with the last
+  const SparseMatrix Bt = B.transpose();
   auto iterate = [&](ComplexVector& v, bool adjoint) -> Status {
     for (int k = 0; k < kHopfIterations; ++k) {
-      Status s = lu1.solve(adjoint ? v : times(B, v), x, adjoint);
+      Status s = lu1.solve(adjoint ? times(Bt, v) : times(B, v), x, adjoint);
       if (!s.is_ok()) return s;
       x.normalize();
       const Complex overlap = v.dot(x);
@@ -501,12 +509,19 @@ Status NormalForms::bogdanov_takens(Problem& problem, int parameter, const Vecto
   rhs.head(n) = -(B * q0);
   if (st = bordered.solve(rhs, x); !st.is_ok()) return st;
   q1 = x.head(n);
+  // the border's multiplier is psi1^T B q0 (up to |psi1| = 1): zero at a Bogdanov-Takens point,
+  // of the order of omega at one located on a Hopf curve; a large one means the zero is simple
+  const double size = (B * q0).norm();
+  if (!(std::abs(x[n]) <= kNotBogdanovTakens * size))
+    return {StatusCode::InvalidState,
+            fmt::format("not a Bogdanov-Takens point: the zero eigenvalue is simple (psi1^T B q0 = {:.3g} of |B q0|)",
+                        std::abs(x[n]) / size)};
   rhs.head(n) = -(B.transpose() * psi1);
   if (st = bordered.solve(rhs, x, true); !st.is_ok()) return st;
   psi0 = x.head(n);
   // <p1, q1> = psi1^T B q1 = 1 (then <p0, q0> = 1 too), <p0, q1> = 0 by q1 += alpha q0
   const double scale = psi1.dot(B * q1);
-  if (!(std::abs(scale) > 0))
+  if (!(std::abs(scale) > 1e-12 * (B * q1).norm()))
     return {StatusCode::InvalidState, "no Jordan chain at the Bogdanov-Takens point (psi1^T B q1 = 0)"};
   psi1 /= scale;
   psi0 /= scale;
@@ -659,13 +674,14 @@ Status NormalForms::hopf(Problem& problem, int parameter, const Vector& u, doubl
   if (!st.is_ok()) return st;
   omega = std::abs(omega);
   const Complex I(0.0, 1.0);
-  // the only factorisation where GMRES does its work (DeflatedShiftSolver)
+  // the factorisations' time
   auto timed = [&out](auto&& factorise_it) {
     const auto t = std::chrono::steady_clock::now();
     Status s = factorise_it();
     out.factor_seconds += seconds_since(t);
     return s;
   };
+  // the factorisation q and p need, on which GMRES finds h20 (DeflatedShiftSolver)
   ShiftedLU lu1(lu_);
   ++out.factorisations;
   if (st = timed([&] { return lu1.factorize(J, B, omega); }); !st.is_ok()) return st;
@@ -699,10 +715,10 @@ Status NormalForms::hopf(Problem& problem, int parameter, const Vector& u, doubl
   if (const int it = shifted.solve(2.0 * omega, -r, h20); it >= 0) {
     out.gmres_iterations += it;
   } else {
-    ShiftedLU lu2(lu_);  // lu1 stays for the solves with J below
+    // lu1's last use: refactorised on its own analysis (one complex factorisation in memory)
     ++out.factorisations;
-    if (st = timed([&] { return lu2.factorize(J, B, 2.0 * omega); }); !st.is_ok()) return st;
-    if (st = lu2.solve(-r, h20); !st.is_ok()) return st;
+    if (st = timed([&] { return lu1.factorize(J, B, 2.0 * omega); }); !st.is_ok()) return st;
+    if (st = lu1.solve(-r, h20); !st.is_ok()) return st;
   }
   const ComplexDirection H20{h20, 0.0, 2.0 * I * omega * h20}, H11{h11.cast<Complex>(), 0.0, {}};
   ComplexVector sum, t;

@@ -111,7 +111,7 @@ class NormalForms {
   // largest magnitude positive).
   Status cusp(Problem& problem, int parameter, const Vector& u, const Vector* guess, NormalForm& out);
   // A Bogdanov-Takens point: J has a double zero eigenvalue with one eigenvector (located on a Hopf
-  // curve where omega vanishes, or on a fold curve); a and b of the normal form.
+  // curve where omega vanishes); a and b of the normal form. A simple zero fails (InvalidState).
   Status bogdanov_takens(Problem& problem, int parameter, const Vector& u, NormalForm& out);
   // A fold-Hopf point: J has a simple zero eigenvalue and a pair +-i omega (located on a Hopf
   // curve where det J changes sign); the second-order coefficients g200, g011, g110.

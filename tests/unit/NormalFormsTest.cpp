@@ -6,7 +6,9 @@
 // central differences of its residual.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
+#include <complex>
 #include <numbers>
 #include <random>
 #include <vector>
@@ -280,6 +282,111 @@ TEST(NormalForms, FoldHopfCoefficientsAreThoseOfTheNormalForm) {
   EXPECT_NEAR(nf.c1.imag(), P::di, 1e-8) << nf.summary();
   EXPECT_NEAR(nf.c, P::dr / (2 * P::b), 1e-8);  // theta
   EXPECT_NE(nf.summary().find("s = -1"), std::string::npos) << nf.summary();
+  // its zero is simple: no Bogdanov-Takens point, and bogdanov_takens says so instead of numbers
+  const Status bt = NormalForms().bogdanov_takens(problem, 0, Vector::Zero(3), nf);
+  EXPECT_EQ(bt.code(), StatusCode::InvalidState);
+  EXPECT_NE(bt.message().find("not a Bogdanov-Takens point"), std::string::npos) << bt.message();
+}
+
+// B u' = L u + Q(u, u) (F = -(L u + Q(u, u)) - beta1 e1) with a constant, non-symmetric B and A =
+// B^-1 L = S Lambda S^-1 in a non-orthogonal basis S: Lambda the Jordan block [0 1; 0 0] and -1
+// (Bogdanov-Takens), or 0 and the rotation [0 -omega; omega 0] (fold-Hopf). Kuznetsov's vectors are
+// then S's columns and S^-1's rows (scaled to keller's normalisation), and f_uu[x, y] = 2 B^-1 Q(x,
+// y): a reference in A's coordinates, independent of the adjoint, transposed, bordered and shifted
+// solves with J = -L and B that NormalForms makes. A left vector taken with B for B^T, or a wrong
+// conjugate, changes the numbers (B and S have no symmetry).
+class QuadraticSystem final : public ThreeUnknowns {
+ public:
+  QuadraticSystem(const Eigen::Matrix3d& lambda) {
+    S_ << 1.0, 0.4, -0.3, 0.2, 1.0, 0.5, -0.1, 0.3, 1.0;
+    B_ << 1.0, 0.3, 0.0, -0.2, 0.8, 0.1, 0.0, 0.25, 1.2;
+    L_ = B_ * S_ * lambda * S_.inverse();
+    Q_[0] << 0.7, -0.2, 0.3, -0.2, 0.5, 0.1, 0.3, 0.1, -0.4;
+    Q_[1] << -0.3, 0.6, 0.2, 0.6, 0.1, -0.5, 0.2, -0.5, 0.8;
+    Q_[2] << 0.4, 0.1, -0.6, 0.1, -0.7, 0.2, -0.6, 0.2, 0.3;
+  }
+  std::string name() const override { return "quadratic-system"; }
+  Status residual(const Vector& u, Vector& F) override {
+    F = -(L_ * u + quadratic(u, u).real());
+    F[0] -= params_.value(0);
+    return {};
+  }
+  Status jacobian(const Vector& u, Vector& F, SparseMatrix& J) override {
+    residual(u, F);
+    J = pattern_;
+    Eigen::Matrix3d M = -L_;
+    for (int i = 0; i < 3; ++i) M.row(i) -= 2.0 * (Q_[i] * u).transpose();
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) J.coeffRef(i, j) = M(i, j);
+    return {};
+  }
+  Status mass_matrix(const Vector&, SparseMatrix& B) override {
+    B = pattern_;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) B.coeffRef(i, j) = B_(i, j);
+    return {};
+  }
+  Status time_residual(const Vector&, const Vector& udot, Vector& R) override {
+    R = B_ * udot;
+    return {};
+  }
+  // Q(x, y)_i = x^T Q_i y, bilinear (no conjugate)
+  Eigen::Vector3cd quadratic(const Eigen::Vector3cd& x, const Eigen::Vector3cd& y) const {
+    Eigen::Vector3cd r;
+    for (int i = 0; i < 3; ++i) r[i] = x.transpose() * Q_[i].cast<std::complex<double>>() * y;
+    return r;
+  }
+  Eigen::Vector3cd f_uu(const Eigen::Vector3cd& x, const Eigen::Vector3cd& y) const {
+    return 2.0 * B_.inverse().cast<std::complex<double>>() * quadratic(x, y);
+  }
+  Eigen::Matrix3d S_, B_, L_;
+  std::array<Eigen::Matrix3d, 3> Q_;
+};
+
+TEST(NormalForms, BogdanovTakensAndFoldHopfAgainstADenseReferenceWithANonSymmetricMassMatrix) {
+  using C = std::complex<double>;
+  using V = Eigen::Vector3cd;
+  {
+    Eigen::Matrix3d jordan;
+    jordan << 0, 1, 0, 0, 0, 0, 0, 0, -1;
+    QuadraticSystem problem(jordan);
+    NormalForm nf;
+    ASSERT_TRUE(NormalForms().bogdanov_takens(problem, 0, Vector::Zero(3), nf).is_ok());
+    // q0 = S e1 / s, q1 = S e2 / s, p0 = s (S^-1)_1, p1 = s (S^-1)_2 with s = |S e1| (its largest entry > 0)
+    const Eigen::Matrix3d W = problem.S_.inverse();
+    const double scale = problem.S_.col(0).norm();
+    const V q0 = (problem.S_.col(0) / scale).cast<C>(), q1 = (problem.S_.col(1) / scale).cast<C>();
+    const V p0 = (W.row(0).transpose() * scale).cast<C>(), p1 = (W.row(1).transpose() * scale).cast<C>();
+    const C a = 0.5 * p1.dot(problem.f_uu(q0, q0)), b = p0.dot(problem.f_uu(q0, q0)) + p1.dot(problem.f_uu(q0, q1));
+    EXPECT_NEAR(nf.a, a.real(), 1e-8 * std::abs(a)) << nf.summary();
+    EXPECT_NEAR(nf.b, b.real(), 1e-8 * std::abs(b)) << nf.summary();
+  }
+  {
+    const double omega = 1.7;
+    Eigen::Matrix3d rotation;
+    rotation << 0, 0, 0, 0, 0, -omega, 0, omega, 0;
+    QuadraticSystem problem(rotation);
+    NormalForm nf;
+    ASSERT_TRUE(NormalForms().fold_hopf(problem, 0, Vector::Zero(3), 1.6, nf).is_ok());
+    const Eigen::Matrix3d W = problem.S_.inverse();
+    const Eigen::Matrix3cd Sc = problem.S_.cast<C>(), Wc = W.cast<C>();
+    // A q1 = i omega q1: q1 = S (e2 - i e3); p1^H A = i omega p1^H: p1^H = (S^-1)_2 + i (S^-1)_3
+    V q0 = Sc.col(0), q1 = Sc.col(1) - C(0, 1) * Sc.col(2);
+    Eigen::Index k = 0;
+    q0.cwiseAbs().maxCoeff(&k);
+    q0 /= q0.norm() * (q0[k].real() > 0 ? 1.0 : -1.0);
+    q1.cwiseAbs().maxCoeff(&k);
+    q1 *= std::conj(q1[k]) / std::abs(q1[k]) / q1.norm();
+    V p0 = Wc.row(0).transpose(), p1 = (Wc.row(1) + C(0, 1) * Wc.row(2)).adjoint();
+    p0 /= p0.dot(q0);             // p0 real: <p0, q0> = 1
+    p1 /= std::conj(p1.dot(q1));  // <p1, q1> = p1^H q1 = 1
+    const C g200 = p0.dot(problem.f_uu(q0, q0)), g011 = p0.dot(problem.f_uu(q1, q1.conjugate())),
+            g110 = p1.dot(problem.f_uu(q0, q1));
+    EXPECT_NEAR(nf.omega, omega, 1e-10);
+    EXPECT_NEAR(nf.a, g200.real(), 1e-8 * std::abs(g200)) << nf.summary();
+    EXPECT_NEAR(nf.b, g011.real(), 1e-8 * std::abs(g011)) << nf.summary();
+    EXPECT_NEAR(std::abs(nf.c1 - g110), 0.0, 1e-8 * std::abs(g110)) << nf.summary();
+  }
 }
 
 // The discrete pitchfork at its first branch point lambda_1 = (4 / h^2) sin^2(pi h / 2): u = eps phi
