@@ -85,7 +85,7 @@ struct NormalForm {
   bool exact_derivatives = false;
   std::string derivatives;  // how the derivatives were taken
   long factorisations = 0, derivative_evaluations = 0;
-  long gmres_iterations = 0;  // Hopf: of the solves on the factorisation at omega (NormalForms.cpp)
+  long gmres_iterations = 0;  // Hopf: of the solves on the factorisation at omega (NormalFormSolvers.hpp)
   // all; (Hopf) in factorisations; in the derivatives (HigherDerivatives::seconds)
   double seconds = 0, factor_seconds = 0, derivative_seconds = 0;
   // One line for people: the type and the numbers that say what happens beyond the point.

@@ -523,7 +523,7 @@ TEST(NormalForms, AStateDependentMassMatrixKeepsTheNormalFormOfTheOriginalCoordi
 }
 
 // At a Hopf point the solve with J + 2 i omega B (h20) runs by GMRES on the factorisation of J +
-// i omega B that q and p need, deflated of the critical mode (NormalForms.cpp:
+// i omega B that q and p need, deflated of the critical mode (NormalFormSolvers.hpp:
 // DeflatedShiftSolver): two factorisations (that and J's) instead of three, and the same
 // coefficients as with a factorisation of its own (GMRES's residual 1e-12, the direct solves'
 // rounding: agreement to 1e-9 relative). A GMRES that does not converge in its allowance (here one

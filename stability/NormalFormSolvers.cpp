@@ -1,0 +1,216 @@
+#include "stability/NormalFormSolvers.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+#include <vector>
+
+#include <fmt/format.h>
+#include <Eigen/QR>
+
+namespace keller::normal_forms {
+
+namespace {
+
+// inverse iteration: until the direction changes by less than 1e-10, at most 100 solves on one
+// factorisation
+constexpr int kInverseIterations = 100;
+constexpr double kInverseTolerance = 1e-10;
+// at a Hopf point, from the stored eigenvector (accurate to the spectrum's tolerance): a few
+constexpr int kHopfIterations = 20;
+
+// GMRES for A x = b with a fixed, linear right preconditioner P (x = P y), complex, from x = 0: modified
+// Gram-Schmidt applied twice (the Krylov basis stays orthogonal to rounding where the space nearly
+// closes), the small least-squares problem solved by QR at each step. Returns the iterations
+// taken once the residual estimate is below tol |b|, or -1 after max_iterations.
+template <class Apply, class Precondition>
+int gmres(const Apply& A, const Precondition& P, const ComplexVector& b, ComplexVector& x, double tol,
+          int max_iterations) {
+  const double beta = b.norm();
+  x = ComplexVector::Zero(b.size());
+  if (beta == 0.0) return 0;
+  std::vector<ComplexVector> V{b / beta};
+  Eigen::MatrixXcd H = Eigen::MatrixXcd::Zero(max_iterations + 1, max_iterations);
+  for (int k = 0; k < max_iterations; ++k) {
+    ComplexVector w = A(P(V[static_cast<size_t>(k)]));
+    for (int pass = 0; pass < 2; ++pass)
+      for (int i = 0; i <= k; ++i) {
+        const Complex c = V[static_cast<size_t>(i)].dot(w);
+        H(i, k) += c;
+        w -= c * V[static_cast<size_t>(i)];
+      }
+    H(k + 1, k) = w.norm();
+    ComplexVector e = ComplexVector::Zero(k + 2);
+    e[0] = beta;
+    const Eigen::MatrixXcd Hk = H.topLeftCorner(k + 2, k + 1);
+    const ComplexVector y = Hk.householderQr().solve(e);
+    if ((e - Hk * y).norm() <= tol * beta || H(k + 1, k).real() == 0.0) {
+      ComplexVector v = ComplexVector::Zero(b.size());  // x = P (V y): P is linear, V alone is kept
+      for (int i = 0; i <= k; ++i) v += y[i] * V[static_cast<size_t>(i)];
+      x = P(v);
+      return k + 1;
+    }
+    V.push_back(w / H(k + 1, k).real());
+  }
+  return -1;
+}
+
+// out <- step(out), normalised, its sign kept (a negative eigenvalue flips it at every step),
+// until the direction changes by less than kInverseTolerance
+template <class Step>
+Status inverse_iteration(Vector start, Vector& out, const Step& step) {
+  out = start.normalized();
+  Vector x;
+  for (int k = 0; k < kInverseIterations; ++k) {
+    if (Status st = step(out, x); !st.is_ok()) return st;
+    x.normalize();
+    if (x.dot(out) < 0) x = -x;
+    const double change = (x - out).norm();
+    out = x;
+    if (change < kInverseTolerance) break;
+  }
+  return {};
+}
+
+}  // namespace
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+Vector generic_start(int n) {
+  Vector v(n);
+  for (int i = 0; i < n; ++i) v[i] = 1.0 + 0.5 * std::sin(1.7 * i + 0.3);
+  return v.normalized();
+}
+
+Status factorise(SparseLU& lu, const SparseMatrix& J, long& count) {
+  ++count;
+  Status st = lu.factorize(J);
+  if (st.code() != StatusCode::SingularMatrix) return st;
+  SparseMatrix shifted = J;
+  const double scale = std::max(1.0, J.coeffs().cwiseAbs().maxCoeff());
+  for (int i = 0; i < J.rows(); ++i) shifted.coeffRef(i, i) += 1e-12 * scale;
+  ++count;
+  return lu.factorize(shifted);
+}
+
+Status null_vector(SparseLU& lu, Vector start, bool transpose, Vector& out) {
+  return inverse_iteration(std::move(start), out,
+                           [&](const Vector& v, Vector& x) { return lu.solve(v, x, transpose); });
+}
+
+Status smallest_singular_vector(SparseLU& lu, Vector start, bool transpose, Vector& out) {
+  Vector y;
+  return inverse_iteration(std::move(start), out, [&](const Vector& v, Vector& x) {
+    Status st = lu.solve(v, y, !transpose);
+    return st.is_ok() ? lu.solve(y, x, transpose) : st;
+  });
+}
+
+Status solve_bordered(SparseLU& lu, const Vector& phi, const Vector& psi, Vector rhs, Vector& out) {
+  rhs -= psi.dot(rhs) * psi;
+  Status st = lu.solve(rhs, out);
+  if (!st.is_ok()) return st;
+  out -= phi.dot(out) * phi;
+  return {};
+}
+
+Status jacobian(Problem& problem, const Vector& u, SparseMatrix& J) {
+  Vector F;
+  J = problem.jacobian_pattern();
+  return problem.jacobian(u, F, J);
+}
+
+Status jacobian_and_mass(Problem& problem, const Vector& u, SparseMatrix& J, SparseMatrix& B) {
+  if (Status st = jacobian(problem, u, J); !st.is_ok()) return st;
+  if (!has_time_form(problem)) {
+    B.resize(u.size(), u.size());
+    B.setIdentity();
+    return {};
+  }
+  B = problem.jacobian_pattern();
+  return problem.mass_matrix(u, B);
+}
+
+Status begin(Problem& problem, const Vector& u, NormalForm::Kind kind, const char* type, NormalForm& out,
+             SparseMatrix& J, SparseMatrix& B) {
+  out = {};
+  out.kind = kind;
+  out.type = type;
+  return jacobian_and_mass(problem, u, J, B);
+}
+
+void record(const HigherDerivatives& d, NormalForm& out) {
+  out.exact_derivatives = d.method() == HigherDerivatives::Method::Exact;
+  out.derivatives = d.method_name();
+  out.derivative_evaluations = d.evaluations();
+  out.derivative_seconds = d.seconds();
+}
+
+ComplexVector times(const SparseMatrix& M, const ComplexVector& v) {
+  return ComplexVector(M * v.real().eval() + Complex(0.0, 1.0) * (M * v.imag().eval()).cast<Complex>());
+}
+
+int DeflatedShiftSolver::solve(double s, const ComplexVector& b, ComplexVector& x) const {
+  if (max_iterations_ <= 0) return -1;
+  const Complex shift(0.0, s), on_q(0.0, s - omega_);
+  auto A = [&](const ComplexVector& v) { return ComplexVector(times(J_, v) + shift * times(B_, v)); };
+  Status failed;
+  auto P = [&](const ComplexVector& v) {
+    const Complex c = p_.dot(v);
+    ComplexVector y;
+    if (Status st = lu1_.solve(v - c * Bq_, y, false, 0); !st.is_ok()) {
+      failed = st;
+      return ComplexVector(ComplexVector::Zero(v.size()));
+    }
+    y -= Btp_.dot(y) * q_;
+    return ComplexVector(y + (c / on_q) * q_);
+  };
+  const int iterations = gmres(A, P, b, x, kTolerance, max_iterations_);
+  if (iterations < 0 || !failed.is_ok() || !((A(x) - b).norm() <= kCheck * b.norm())) return -1;
+  return iterations;
+}
+
+Status critical_pair(const SparseMatrix& J, const SparseMatrix& B, ShiftedLU& lu1, const Eigen::VectorXcd* guess,
+                     double& omega, ComplexVector& q, ComplexVector& p) {
+  const Complex I(0.0, 1.0);
+  const int n = static_cast<int>(J.rows());
+  q = generic_start(n).cast<Complex>();
+  if (guess && guess->size() == n && guess->norm() > 0) {
+    const ComplexVector g = guess->normalized(), gc = g.conjugate();
+    const double rg = (times(J, g) + I * omega * times(B, g)).norm(),
+                 rc = (times(J, gc) + I * omega * times(B, gc)).norm();
+    q = rg <= rc ? g : gc;
+  }
+  ComplexVector x;
+  // inverse iteration of the pencil: x = (J + i s B)^-1 B v, and for the left vector x = (J + i s
+  // B)^-H B^T v (without B^T it would converge to an eigenvector of (J + i s B)^H itself, which is
+  // the pencil's left vector only where s is omega exactly); the phase of each iterate is fixed by
+  // its inner product with the last
+  const SparseMatrix Bt = B.transpose();
+  auto iterate = [&](ComplexVector& v, bool adjoint) -> Status {
+    for (int k = 0; k < kHopfIterations; ++k) {
+      Status s = lu1.solve(adjoint ? times(Bt, v) : times(B, v), x, adjoint);
+      if (!s.is_ok()) return s;
+      x.normalize();
+      const Complex overlap = v.dot(x);
+      if (std::abs(overlap) > 0) x *= std::conj(overlap) / std::abs(overlap);
+      const double change = (x - v).norm();
+      v = x;
+      if (change < kInverseTolerance) break;
+    }
+    return {};
+  };
+  if (Status st = iterate(q, false); !st.is_ok()) return st;
+  p = times(B, q).normalized();
+  if (Status st = iterate(p, true); !st.is_ok()) return st;
+  const Complex sigma = p.dot(times(J, q)) / p.dot(times(B, q));
+  omega = -sigma.imag();
+  if (!(omega > 0.0))
+    return {StatusCode::InvalidState,
+            fmt::format("no complex pair near the Hopf point (sigma = {:.6g}{:+.6g}i)", sigma.real(), sigma.imag())};
+  return {};
+}
+
+}  // namespace keller::normal_forms
