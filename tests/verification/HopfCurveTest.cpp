@@ -8,6 +8,8 @@
 #include <cmath>
 #include <iomanip>
 #include <iostream>
+#include <optional>
+#include <string>
 
 #include "continuation/Continuation.hpp"
 #include "continuation/curves/HopfCurveProblem.hpp"
@@ -123,17 +125,35 @@ Brusselator1DOptions brusselator(int intervals, double a, double b, double D_v =
   return o;
 }
 
-// A Hopf curve traced from U (start() done) in o.parameter, with its borders following it.
+// A Hopf curve traced from U (start() done) in o.parameter, with its borders following it; with
+// `inner` (the curve's problem, its p1 beta1), the normal forms of its codimension-two points
+// attached as keller trace does (NormalFormObserver::for_curve).
 struct Traced {
   ContinuationResult result;
   test::RecordingObserver rec;
 };
-Traced trace(HopfCurveProblem& curve, const Vector& U, const ContinuationOptions& o) {
+Traced trace(HopfCurveProblem& curve, const Vector& U, const ContinuationOptions& o, Problem* inner = nullptr) {
   Continuation cont(curve, o, tight());
   Traced t;
-  HopfCurveProblem::BorderUpdate borders(curve, t.rec);
+  std::optional<NormalFormObserver> forms;
+  if (inner)
+    forms.emplace(NormalFormObserver::for_curve(t.rec, *inner, inner->parameters().index("beta1"),
+                                                inner->parameters().index(o.parameter), curve.observable_names().size(),
+                                                {}));
+  HopfCurveProblem::BorderUpdate borders(curve, forms ? static_cast<BranchObserver&>(*forms) : t.rec);
   t.result = cont.run(U, borders);
   return t;
+}
+
+// A column of the normal form attached to a point of a Hopf curve of `inner`, whose observables add
+// p1 and omega to the inner problem's.
+double normal_form_column(const BranchPoint& point, const Problem& inner, const std::string& name) {
+  const std::vector<std::string> columns = normal_form_columns(inner.observable_names());
+  EXPECT_EQ(point.normal_form.size(), columns.size() + 2);
+  const auto it = std::find(columns.begin(), columns.end(), name);
+  return it == columns.end() || point.normal_form.size() != columns.size() + 2
+             ? NAN
+             : point.normal_form[static_cast<size_t>(it - columns.begin())];
 }
 
 // Options for a curve in `parameter` from `lower` to `upper` with short steps (a few points between
@@ -235,12 +255,7 @@ TEST(HopfCurve, BogdanovTakensWhereOmegaVanishes) {
   Vector U = curve.state(Eigen::Vector2d(1e-3, -1e-3), 1e-3, 1.0 + 1e-3);
   ASSERT_TRUE(curve.start(U, ComplexVector(), tight()).is_ok());
   EXPECT_NEAR(U[3], 1.0, 1e-10);
-  Continuation cont(curve, curve_options("beta2", -1.0, 0.5), tight());
-  test::RecordingObserver rec;
-  NormalFormObserver forms = NormalFormObserver::for_curve(
-      rec, p, p.parameters().index("beta1"), p.parameters().index("beta2"), curve.observable_names().size(), {});
-  HopfCurveProblem::BorderUpdate borders(curve, forms);
-  const ContinuationResult r = cont.run(U, borders);
+  const auto [r, rec] = trace(curve, U, curve_options("beta2", -1.0, 0.5), &p);
   ASSERT_EQ(r.code, StopCode::LowerBound) << r.reason;
   for (const BranchPoint& q : rec.points) {
     EXPECT_NEAR(q.u[2], 0.0, 1e-10) << "beta2 = " << q.lambda;
@@ -253,11 +268,7 @@ TEST(HopfCurve, BogdanovTakensWhereOmegaVanishes) {
   EXPECT_NEAR(bt[0]->lambda, 0.0, 1e-8);
   EXPECT_NEAR(bt[0]->u[2], 0.0, 1e-10);
   EXPECT_NEAR(bt[0]->u[3], 0.0, 1e-4);
-  const std::vector<std::string> columns = normal_form_columns(p.observable_names());
-  ASSERT_EQ(bt[0]->normal_form.size(), columns.size() + 2);  // the curve's observables add beta1 and omega
-  auto column = [&](const char* name) {
-    return bt[0]->normal_form[static_cast<size_t>(std::find(columns.begin(), columns.end(), name) - columns.begin())];
-  };
+  auto column = [&](const char* name) { return normal_form_column(*bt[0], p, name); };
   EXPECT_EQ(normal_form_types()[static_cast<size_t>(column("type"))], "Bogdanov-Takens");
   EXPECT_NEAR(column("a"), 1.0, 1e-6);
   EXPECT_NEAR(column("b"), -1.0, 1e-6);
@@ -279,12 +290,7 @@ TEST(HopfCurve, FoldHopfWhereDetJChangesSign) {
   HopfCurveProblem curve(p, "beta1");
   Vector U = curve.state(Eigen::Vector3d(0.5 + 1e-3, 1e-3, -1e-3), -0.25 + 1e-3, kOmega0 + 1e-3);
   ASSERT_TRUE(curve.start(U, ComplexVector(), tight()).is_ok());
-  Continuation cont(curve, curve_options("beta2", -0.5, 0.5), tight());
-  test::RecordingObserver rec;
-  NormalFormObserver forms = NormalFormObserver::for_curve(
-      rec, p, p.parameters().index("beta1"), p.parameters().index("beta2"), curve.observable_names().size(), {});
-  HopfCurveProblem::BorderUpdate borders(curve, forms);
-  const ContinuationResult r = cont.run(U, borders);
+  const auto [r, rec] = trace(curve, U, curve_options("beta2", -0.5, 0.5), &p);
   ASSERT_EQ(r.code, StopCode::UpperBound) << r.reason;
   for (const BranchPoint& q : rec.points) {
     const double b2 = q.lambda;
@@ -302,11 +308,7 @@ TEST(HopfCurve, FoldHopfWhereDetJChangesSign) {
   EXPECT_TRUE(labelled(rec, PointKind::Event, "bogdanov-takens").empty());
   // its normal form, as keller trace attaches it: x^2 and the pair's (beta2 + x) give g200 = 2,
   // g011 = 0, g110 = 1 (q1 = (0, 1, -i) / sqrt 2); at the located point x = -beta2 ~ 1e-8
-  const std::vector<std::string> columns = normal_form_columns(p.observable_names());
-  ASSERT_EQ(zh[0]->normal_form.size(), columns.size() + 2);  // the curve's observables add beta1 and omega
-  auto column = [&](const char* name) {
-    return zh[0]->normal_form[static_cast<size_t>(std::find(columns.begin(), columns.end(), name) - columns.begin())];
-  };
+  auto column = [&](const char* name) { return normal_form_column(*zh[0], p, name); };
   EXPECT_EQ(normal_form_types()[static_cast<size_t>(column("type"))], "fold-Hopf");
   EXPECT_NEAR(column("a"), 2.0, 1e-6);
   EXPECT_NEAR(column("b"), 0.0, 1e-6);
