@@ -18,6 +18,10 @@ constexpr int kInverseIterations = 100;
 constexpr double kInverseTolerance = 1e-10;
 // at a Hopf point, from the stored eigenvector (accurate to the spectrum's tolerance): a few
 constexpr int kHopfIterations = 20;
+// on J's real factorisation: rounds of the bordered systems and the Rayleigh quotient until omega
+// changes by less than this share of itself (the second round from a spectrum's eigenvector)
+constexpr int kHopfRounds = 4;
+constexpr double kHopfRoundTolerance = 1e-12;
 
 // GMRES for A x = b with a fixed, linear right preconditioner P (x = P y), complex, from x = 0: modified
 // Gram-Schmidt applied twice (the Krylov basis stays orthogonal to rounding where the space nearly
@@ -70,6 +74,18 @@ Status inverse_iteration(Vector start, Vector& out, const Step& step) {
     if (change < kInverseTolerance) break;
   }
   return {};
+}
+
+// The start for q at a Hopf point: the guess or its conjugate, whichever J + i omega B nearly
+// annuls, or a generic start
+ComplexVector pick_guess(const SparseMatrix& J, const SparseMatrix& B, const Eigen::VectorXcd* guess, double omega) {
+  const Complex I(0.0, 1.0);
+  const int n = static_cast<int>(J.rows());
+  if (!guess || guess->size() != n || !(guess->norm() > 0)) return generic_start(n).cast<Complex>();
+  const ComplexVector g = guess->normalized(), gc = g.conjugate();
+  const double rg = (times(J, g) + I * omega * times(B, g)).norm(),
+               rc = (times(J, gc) + I * omega * times(B, gc)).norm();
+  return rg <= rc ? g : gc;
 }
 
 }  // namespace
@@ -172,17 +188,106 @@ int DeflatedShiftSolver::solve(double s, const ComplexVector& b, ComplexVector& 
   return iterations;
 }
 
+ComplexVector RealLUShiftSolver::apply(double s, const ComplexVector& v, bool adjoint) const {
+  const Complex shift(0.0, adjoint ? -s : s);
+  return adjoint ? ComplexVector(times(Jt_, v) + shift * times(Bt_, v))
+                 : ComplexVector(times(J_, v) + shift * times(B_, v));
+}
+
+ComplexVector RealLUShiftSolver::precondition(const ComplexVector& v, bool adjoint) const {
+  Vector re, im;
+  Status st = lu_.solve(v.real(), re, adjoint, 0);
+  if (st.is_ok()) st = lu_.solve(v.imag(), im, adjoint, 0);
+  if (!st.is_ok()) {
+    failed_ = st;
+    return ComplexVector::Zero(v.size());
+  }
+  return re.cast<Complex>() + Complex(0.0, 1.0) * im.cast<Complex>();
+}
+
+int RealLUShiftSolver::solve(double s, const ComplexVector& b, ComplexVector& x, bool adjoint) const {
+  if (max_iterations_ <= 0) return -1;
+  failed_ = {};
+  auto A = [&](const ComplexVector& v) { return apply(s, v, adjoint); };
+  auto P = [&](const ComplexVector& v) { return precondition(v, adjoint); };
+  const int iterations = gmres(A, P, b, x, kTolerance, max_iterations_);
+  if (iterations < 0 || !failed_.is_ok() || !((A(x) - b).norm() <= kCheck * b.norm())) return -1;
+  return iterations;
+}
+
+int RealLUShiftSolver::null_vector(double s, const ComplexVector& border, const ComplexVector& c, ComplexVector& x,
+                                   bool adjoint) const {
+  if (max_iterations_ <= 0) return -1;
+  failed_ = {};
+  const Eigen::Index n = J_.rows();
+  // the bordered J's inverse: y1 = J^-1 f, mu = (c^H y1 - g) / (c^H J^-1 border), x = y1 - mu J^-1 border
+  const ComplexVector y2 = precondition(border, adjoint);
+  const Complex cy2 = c.dot(y2);
+  if (!failed_.is_ok() || std::abs(cy2) == 0.0) return -1;
+  auto A = [&](const ComplexVector& z) {
+    ComplexVector out(n + 1);
+    out.head(n) = apply(s, z.head(n), adjoint) + z[n] * border;
+    out[n] = c.dot(z.head(n));
+    return out;
+  };
+  auto P = [&](const ComplexVector& z) {
+    const ComplexVector y1 = precondition(z.head(n), adjoint);
+    const Complex mu = (c.dot(y1) - z[n]) / cy2;
+    ComplexVector out(n + 1);
+    out.head(n) = y1 - mu * y2;
+    out[n] = mu;
+    return out;
+  };
+  ComplexVector rhs = ComplexVector::Zero(n + 1), z;
+  rhs[n] = 1.0;
+  const int iterations = gmres(A, P, rhs, z, kTolerance, max_iterations_);
+  if (iterations < 0 || !failed_.is_ok()) return -1;
+  x = z.head(n);
+  // the residual against the rounding of A x, eps |A| |x| (A x itself is small: x is nearly A's
+  // null vector)
+  const double scale = (norm_J_ + s * norm_B_) * x.norm() + std::abs(z[n]) * border.norm();
+  if (!((apply(s, x, adjoint) + z[n] * border).norm() <= kCheck * scale) || !(std::abs(c.dot(x) - 1.0) <= kCheck))
+    return -1;
+  return iterations;
+}
+
+Status critical_pair_on_real_lu(const RealLUShiftSolver& solver, const SparseMatrix& J, const SparseMatrix& B,
+                                const Eigen::VectorXcd* guess, double& omega, ComplexVector& q, ComplexVector& p,
+                                int& iterations) {
+  iterations = 0;
+  ComplexVector start = pick_guess(J, B, guess, omega);
+  for (int round = 0; round < kHopfRounds; ++round) {
+    const ComplexVector c = start.normalized();
+    const int it = solver.null_vector(omega, times(B, c), c, q, false);
+    if (it < 0) {
+      iterations = -1;
+      return {};
+    }
+    q.normalize();
+    // A^H's null vector: the border q is off A^H's range (q's orthogonal complement), and B q is
+    // not orthogonal to p (p^H B q != 0 at a simple eigenvalue)
+    const int ita = solver.null_vector(omega, q, times(B, q), p, true);
+    if (ita < 0) {
+      iterations = -1;
+      return {};
+    }
+    iterations += it + ita;
+    p.normalize();
+    const Complex sigma = p.dot(times(J, q)) / p.dot(times(B, q));
+    const double change = std::abs(-sigma.imag() - omega);
+    omega = -sigma.imag();
+    if (!(omega > 0.0))
+      return {StatusCode::InvalidState,
+              fmt::format("no complex pair near the Hopf point (sigma = {:.6g}{:+.6g}i)", sigma.real(), sigma.imag())};
+    if (change <= kHopfRoundTolerance * omega) break;
+    start = q;
+  }
+  return {};
+}
+
 Status critical_pair(const SparseMatrix& J, const SparseMatrix& B, ShiftedLU& lu1, const Eigen::VectorXcd* guess,
                      double& omega, ComplexVector& q, ComplexVector& p) {
-  const Complex I(0.0, 1.0);
-  const int n = static_cast<int>(J.rows());
-  q = generic_start(n).cast<Complex>();
-  if (guess && guess->size() == n && guess->norm() > 0) {
-    const ComplexVector g = guess->normalized(), gc = g.conjugate();
-    const double rg = (times(J, g) + I * omega * times(B, g)).norm(),
-                 rc = (times(J, gc) + I * omega * times(B, gc)).norm();
-    q = rg <= rc ? g : gc;
-  }
+  q = pick_guess(J, B, guess, omega);
   ComplexVector x;
   // inverse iteration of the pencil: x = (J + i s B)^-1 B v, and for the left vector x = (J + i s
   // B)^-H B^T v (without B^T it would converge to an eigenvector of (J + i s B)^H itself, which is

@@ -137,6 +137,58 @@ class DeflatedShiftSolver {
   int max_iterations_;
 };
 
+// Solves with J + i s B (adjoint: its conjugate transpose J^T - i s B^T) by GMRES right-
+// preconditioned by J's real factorisation, the real and imaginary parts by plain solves. On a
+// mode J phi = -mu B phi (growth rate mu) the preconditioned operator is 1 - i s / mu: 1 on B's
+// null space and near 1 on the modes much faster than s; each mode within a few s of 0 costs
+// about an iteration. At the collapsible channel's M2 Hopf point (docs/normal_forms.md's cost
+// table), 40 eigenvalues lie within 2.6 omega of 0: p took 33 iterations and h20 53, 9 ms each (two
+// plain solves), against a complex factorisation at 5 to 10 times J's. A solve that does not
+// converge within max_iterations reports -1, and the caller factorises J + i omega B.
+class RealLUShiftSolver {
+ public:
+  RealLUShiftSolver(const SparseMatrix& J, const SparseMatrix& B, SparseLU& lu, int max_iterations)
+      : J_(J),
+        B_(B),
+        Jt_(J.transpose()),
+        Bt_(B.transpose()),
+        lu_(lu),
+        max_iterations_(max_iterations),
+        norm_J_(J.norm()),
+        norm_B_(B.norm()) {}
+  // (J + i s B) x = b or (J + i s B)^H x = b: the iterations, -1 where not solved (GMRES's
+  // residual estimate below 1e-12 |b|, the computed one checked below 1e-10 |b|)
+  int solve(double s, const ComplexVector& b, ComplexVector& x, bool adjoint = false) const;
+  // The null vector of A = J + i s B (adjoint: of A^H) with c^H x = 1, from the bordered system
+  // [A, border; c^H, 0] [x; mu] = [0; 1], preconditioned by the bordered J (two solves with J per
+  // step): regular where c is not orthogonal to the null vector and `border` not in A's range.
+  // Where s is off the eigenvalue by delta, mu is of delta's order and x is the nearest mode's.
+  int null_vector(double s, const ComplexVector& border, const ComplexVector& c, ComplexVector& x, bool adjoint) const;
+
+ private:
+  static constexpr double kTolerance = 1e-12;
+  static constexpr double kCheck = 1e-10;
+  ComplexVector apply(double s, const ComplexVector& v, bool adjoint) const;  // A v or A^H v
+  // J^-1 v or J^-T v, plain solves; an error is kept in failed_ and gives zero
+  ComplexVector precondition(const ComplexVector& v, bool adjoint) const;
+  const SparseMatrix& J_;
+  const SparseMatrix& B_;
+  SparseMatrix Jt_, Bt_;
+  SparseLU& lu_;
+  int max_iterations_;
+  double norm_J_, norm_B_;  // Frobenius norms
+  mutable Status failed_;
+};
+
+// The critical pair at a Hopf point on J's real factorisation (RealLUShiftSolver): q and p by the
+// bordered systems at omega, omega then refined by the Rayleigh quotient p^H J q / p^H B q, until
+// it changes by less than 1e-12 of itself (two rounds from a spectrum's eigenvector), at most 4.
+// iterations: GMRES's in all, -1 where a solve did not converge (q, p undefined: the caller takes
+// critical_pair on a complex factorisation).
+Status critical_pair_on_real_lu(const RealLUShiftSolver& solver, const SparseMatrix& J, const SparseMatrix& B,
+                                const Eigen::VectorXcd* guess, double& omega, ComplexVector& q, ComplexVector& p,
+                                int& iterations);
+
 // The critical pair at a Hopf point on lu1, the factorisation of J + i omega B: q with (J + i
 // omega B) q = 0 by inverse iteration from the guess (whichever of the pair it is: the one J + i
 // omega B nearly annuls) or a generic start, p with (J + i omega B)^H p = 0, both of unit norm;

@@ -85,7 +85,7 @@ struct NormalForm {
   bool exact_derivatives = false;
   std::string derivatives;  // how the derivatives were taken
   long factorisations = 0, derivative_evaluations = 0;
-  long gmres_iterations = 0;  // Hopf: of the solves on the factorisation at omega (NormalFormSolvers.hpp)
+  long gmres_iterations = 0;  // Hopf: of the solves by GMRES (NormalFormSolvers.hpp)
   // all; (Hopf) in factorisations; in the derivatives (HigherDerivatives::seconds)
   double seconds = 0, factor_seconds = 0, derivative_seconds = 0;
   // One line for people: the type and the numbers that say what happens beyond the point.
@@ -95,9 +95,10 @@ struct NormalForm {
 class NormalForms {
  public:
   // force_differences: central differences even where the problem offers exact derivatives.
-  // krylov_iterations: at a Hopf point, the solve with J + 2 i omega B by GMRES on the
-  // factorisation of J + i omega B, at most this many iterations before it gets a factorisation of
-  // its own; 0: by a factorisation of its own.
+  // krylov_iterations: at a Hopf point, the solves with J + i s B (q, p, h20) by GMRES on J's real
+  // factorisation, or where that takes more, q and p on the factorisation of J + i omega B and h20
+  // by GMRES on it: at most this many iterations per solve before it gets a factorisation of its
+  // own (NormalFormSolvers.hpp); 0: every solve on a factorisation of its own.
   explicit NormalForms(SparseLUOptions lu = {}, bool force_differences = false, int krylov_iterations = 60)
       : lu_(lu), force_differences_(force_differences), krylov_iterations_(krylov_iterations) {}
 

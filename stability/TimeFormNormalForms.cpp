@@ -2,6 +2,7 @@
 #include <chrono>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <vector>
 
 #include <fmt/format.h>
@@ -64,12 +65,26 @@ Status NormalForms::hopf(Problem& problem, int parameter, const Vector& u, doubl
     out.factor_seconds += seconds_since(t);
     return s;
   };
-  // the factorisation q and p need, on which GMRES finds h20 (DeflatedShiftSolver)
-  ShiftedLU lu1(lu_);
-  ++out.factorisations;
-  if (st = timed([&] { return lu1.factorize(J, B, omega); }); !st.is_ok()) return st;
+  // J's factorisation, for h11 and the transversality, and where GMRES converges on it
+  // (RealLUShiftSolver) for q, p and h20 too
+  SparseLU lu(lu_);
+  if (st = timed([&] { return factorise(lu, J, out.factorisations); }); !st.is_ok()) return st;
+  const RealLUShiftSolver on_j(J, B, lu, krylov_iterations_);
   ComplexVector q, p;
-  if (st = critical_pair(J, B, lu1, guess, omega, q, p); !st.is_ok()) return st;
+  int iterations = -1;
+  if (krylov_iterations_ > 0)
+    if (st = critical_pair_on_real_lu(on_j, J, B, guess, omega, q, p, iterations); !st.is_ok()) return st;
+  // otherwise on the factorisation of J + i omega B, on which GMRES then finds h20
+  // (DeflatedShiftSolver)
+  std::optional<ShiftedLU> lu1;
+  if (iterations >= 0) {
+    out.gmres_iterations += iterations;
+  } else {
+    lu1.emplace(lu_);
+    ++out.factorisations;
+    if (st = timed([&] { return lu1->factorize(J, B, omega); }); !st.is_ok()) return st;
+    if (st = critical_pair(J, B, *lu1, guess, omega, q, p); !st.is_ok()) return st;
+  }
   Eigen::Index k = 0;
   q.cwiseAbs().maxCoeff(&k);
   q *= std::conj(q[k]) / std::norm(q[k]);  // q_k = 1
@@ -80,27 +95,25 @@ Status NormalForms::hopf(Problem& problem, int parameter, const Vector& u, doubl
   out.amplitude_entry = static_cast<int>(k);
 
   const ComplexDirection Q{q, 0.0, I * omega * q}, Qbar{q.conjugate(), 0.0, -I * omega * q.conjugate()};
-  // solves with J on a factorisation of its own (the deflated GMRES needed 30 iterations on the
-  // cost table's point, more than a real factorisation costs); with J + 2 i omega B by GMRES on lu1, or where
-  // that fails on a factorisation of its own
-  const DeflatedShiftSolver shifted(J, B, lu1, q, p, omega, krylov_iterations_);
-  SparseLU lu(lu_);
-  if (st = timed([&] { return factorise(lu, J, out.factorisations); }); !st.is_ok()) return st;
   ComplexVector r;
   // h11: J h11 = -D2R[Q, Qbar] (real)
   if (st = d.second(Q, Qbar, r); !st.is_ok()) return st;
   Vector h11;
   if (st = lu.solve(-Vector(r.real()), h11); !st.is_ok()) return st;
-  // h20: (J + 2 i omega B) h20 = -D2R[Q, Q]
+  // h20: (J + 2 i omega B) h20 = -D2R[Q, Q], by GMRES on J's factorisation or on lu1, where that
+  // fails on a factorisation of its own
   if (st = d.second(Q, Q, r); !st.is_ok()) return st;
   ComplexVector h20;
-  if (const int it = shifted.solve(2.0 * omega, -r, h20); it >= 0) {
+  int it = lu1 ? DeflatedShiftSolver(J, B, *lu1, q, p, omega, krylov_iterations_).solve(2.0 * omega, -r, h20)
+               : on_j.solve(2.0 * omega, -r, h20);
+  if (it >= 0) {
     out.gmres_iterations += it;
   } else {
     // lu1's last use: refactorised on its own analysis (one complex factorisation in memory)
+    if (!lu1) lu1.emplace(lu_);
     ++out.factorisations;
-    if (st = timed([&] { return lu1.factorize(J, B, 2.0 * omega); }); !st.is_ok()) return st;
-    if (st = lu1.solve(-r, h20); !st.is_ok()) return st;
+    if (st = timed([&] { return lu1->factorize(J, B, 2.0 * omega); }); !st.is_ok()) return st;
+    if (st = lu1->solve(-r, h20); !st.is_ok()) return st;
   }
   const ComplexDirection H20{h20, 0.0, 2.0 * I * omega * h20}, H11{h11.cast<Complex>(), 0.0, {}};
   ComplexVector sum, t;
