@@ -138,34 +138,43 @@ Status HigherDerivatives::f_part(const Direction* const* d, int order, Vector& o
 Status HigherDerivatives::rate_part(const Direction* const* d, int order, Vector& out) {
   out.setZero(problem_.size());
   if (!has_time_form_) return {};
-  Vector r;
+  Vector term;
   for (int k = 0; k < order; ++k) {
     if (!has_rate(*d[k])) continue;
     std::array<const Direction*, 2> others{};
     int n = 0;
     for (int i = 0; i < order; ++i)
       if (i != k) others[static_cast<size_t>(n++)] = d[i];
-    bool moves = true;
-    std::array<double, 2> t{};
-    double scale = 1.0;
+    if (Status st = rate_term(d[k]->rate, others.data(), order, term); !st.is_ok()) return st;
+    out += term;
+  }
+  return {};
+}
+
+// D^(order-1)_u (B(u) rate)[others]: central differences of time_residual; zero where one of the
+// others does not move the state.
+Status HigherDerivatives::rate_term(const Vector& rate, const Direction* const* others, int order, Vector& out) {
+  const int n = order - 1;
+  out.setZero(problem_.size());
+  std::array<double, 2> t{};
+  double scale = 1.0;
+  for (int i = 0; i < n; ++i) {
+    if (!moves_state(*others[i])) return {};
+    t[static_cast<size_t>(i)] = step(*others[i], order, true);
+    scale *= 2.0 * t[static_cast<size_t>(i)];
+  }
+  Vector r;
+  for (int signs = 0; signs < (1 << n); ++signs) {
+    std::array<double, 2> s{};
+    double sign = 1.0;
     for (int i = 0; i < n; ++i) {
-      moves = moves && moves_state(*others[static_cast<size_t>(i)]);
-      t[static_cast<size_t>(i)] = step(*others[static_cast<size_t>(i)], order, true);
-      scale *= 2.0 * t[static_cast<size_t>(i)];
+      const bool minus = (signs >> i) & 1;
+      s[static_cast<size_t>(i)] = minus ? -t[static_cast<size_t>(i)] : t[static_cast<size_t>(i)];
+      if (minus) sign = -sign;
     }
-    if (!moves) continue;
-    for (int signs = 0; signs < (1 << n); ++signs) {
-      std::array<double, 2> s{};
-      double sign = 1.0;
-      for (int i = 0; i < n; ++i) {
-        const bool minus = (signs >> i) & 1;
-        s[static_cast<size_t>(i)] = minus ? -t[static_cast<size_t>(i)] : t[static_cast<size_t>(i)];
-        if (minus) sign = -sign;
-      }
-      Status st = shifted(others.data(), s.data(), n, &d[k]->rate, r);
-      if (!st.is_ok()) return st;
-      out += (sign / scale) * r;
-    }
+    Status st = shifted(others, s.data(), n, &rate, r);
+    if (!st.is_ok()) return st;
+    out += (sign / scale) * r;
   }
   return {};
 }
@@ -200,7 +209,9 @@ Status HigherDerivatives::third(const Direction& a, const Direction& b, const Di
 
 // Multilinear in complex directions: the sum over choosing the real or the imaginary part of each,
 // times i^(number of imaginary parts). Parts that are equal or opposite (q and conj q share them)
-// are evaluated once per multiset: D^3 R[Q, Q, conj Q] takes 4 real derivatives instead of 8.
+// are evaluated once per multiset, and kept for the later derivatives of this object: D^3 R[Q, Q,
+// conj Q] takes 4 real derivatives instead of 8, and D^2 R[Q, Q] none after D^2 R[Q, conj Q]. So
+// are the time terms' parts D^k (B(u) r)[...], which several multisets share.
 namespace {
 
 bool same(const Vector& a, const Vector& b, double sign) {
@@ -229,9 +240,8 @@ Status HigherDerivatives::expand(const std::vector<const ComplexDirection*>& dir
   std::vector<std::array<Direction, 2>> parts;
   for (const ComplexDirection* d : dirs) parts.push_back({part(*d, 0), part(*d, 1)});
   out.setZero(problem_.size());
-  std::vector<Direction> distinct;
-  std::map<std::vector<int>, Vector> cache;
   const std::complex<double> unit[4] = {1.0, {0.0, 1.0}, -1.0, {0.0, -1.0}};
+  Vector r;
   for (int choice = 0; choice < (1 << order); ++choice) {
     std::vector<int> ids;
     double sign = 1.0;
@@ -245,22 +255,49 @@ Status HigherDerivatives::expand(const std::vector<const ComplexDirection*>& dir
         break;
       }
       double s = 1.0;
-      ids.push_back(distinct_index(distinct, d, s));
+      ids.push_back(distinct_index(distinct_, d, s));
       sign *= s;
       imaginary += which;
     }
     if (zero) continue;
     std::sort(ids.begin(), ids.end());
-    auto it = cache.find(ids);
-    if (it == cache.end()) {
-      Vector r;
-      Status st = order == 2 ? second(distinct[static_cast<size_t>(ids[0])], distinct[static_cast<size_t>(ids[1])], r)
-                             : third(distinct[static_cast<size_t>(ids[0])], distinct[static_cast<size_t>(ids[1])],
-                                     distinct[static_cast<size_t>(ids[2])], r);
-      if (!st.is_ok()) return st;
-      it = cache.emplace(ids, std::move(r)).first;
+    if (Status st = cached(ids, r); !st.is_ok()) return st;
+    out += (sign * unit[imaginary]) * r.cast<std::complex<double>>();
+  }
+  return {};
+}
+
+Status HigherDerivatives::cached(const std::vector<int>& ids, Vector& out) {
+  const int order = static_cast<int>(ids.size());
+  std::array<const Direction*, 3> d{};
+  for (int i = 0; i < order; ++i)
+    d[static_cast<size_t>(i)] = &distinct_[static_cast<size_t>(ids[static_cast<size_t>(i)])];
+  auto f = f_cache_.find(ids);
+  if (f == f_cache_.end()) {
+    Vector v;
+    if (Status st = timed([&] { return f_part(d.data(), order, v); }); !st.is_ok()) return st;
+    f = f_cache_.emplace(ids, std::move(v)).first;
+  }
+  out = f->second;
+  if (!has_time_form_) return {};
+  for (int k = 0; k < order; ++k) {
+    if (!has_rate(*d[static_cast<size_t>(k)])) continue;
+    // key: the direction whose rate, then the others (sorted, as ids are)
+    std::vector<int> key{ids[static_cast<size_t>(k)]};
+    std::array<const Direction*, 2> others{};
+    for (int i = 0; i < order; ++i)
+      if (i != k) {
+        others[key.size() - 1] = d[static_cast<size_t>(i)];
+        key.push_back(ids[static_cast<size_t>(i)]);
+      }
+    auto t = rate_cache_.find(key);
+    if (t == rate_cache_.end()) {
+      Vector v;
+      const Vector& rate = d[static_cast<size_t>(k)]->rate;
+      if (Status st = timed([&] { return rate_term(rate, others.data(), order, v); }); !st.is_ok()) return st;
+      t = rate_cache_.emplace(std::move(key), std::move(v)).first;
     }
-    out += (sign * unit[imaginary]) * it->second.cast<std::complex<double>>();
+    out += t->second;
   }
   return {};
 }

@@ -21,6 +21,7 @@
 #include <chrono>
 
 #include <complex>
+#include <map>
 #include <string>
 #include <utility>
 #include <vector>
@@ -81,6 +82,9 @@ class HigherDerivatives {
   Status f_part(const Direction* const* d, int order, Vector& out);
   Status f_differences(const Direction* const* d, int order, Vector& out);
   Status rate_part(const Direction* const* d, int order, Vector& out);
+  Status rate_term(const Vector& rate, const Direction* const* others, int order, Vector& out);
+  // the real derivative along distinct_[ids] (sorted), from the caches or evaluated into them
+  Status cached(const std::vector<int>& ids, Vector& out);
   // F (or the time terms, with rate) at u0 + sum s_i d_i, lambda0 + sum s_i d_i.lambda
   Status shifted(const Direction* const* d, const double* s, int order, const Vector* rate, Vector& out);
   double step(const Direction& d, int order, bool rate) const;
@@ -101,6 +105,11 @@ class HigherDerivatives {
   bool has_time_form_;
   long evaluations_ = 0;
   double seconds_ = 0;
+  // the complex derivatives' real parts, each once (expand): the distinct real directions (up to
+  // sign), F's part by the multiset of their indices, the time terms' by the index of the one whose
+  // rate and the others'
+  std::vector<Direction> distinct_;
+  std::map<std::vector<int>, Vector> f_cache_, rate_cache_;
 };
 
 }  // namespace keller

@@ -287,6 +287,38 @@ TEST(NormalForms, AStateDependentMassMatrixKeepsTheNormalFormOfTheOriginalCoordi
   EXPECT_NEAR(nf.observable_amplitudes[1], v_amplitude, 2e-3 * v_amplitude);
 }
 
+// Complex derivatives are expanded in real ones, each distinct one evaluated once per
+// HigherDerivatives object: D^2 R[Q, conj Q] with Q = (q, i omega q) on the curved Brusselator (by
+// differences, B depends on the state) has the real directions a = Re Q and b = Im Q: F's part on
+// the multisets {a,a}, {a,b}, {b,b} (4 residuals each) and the time terms' B'[x] r for r, x in {a,
+// b} (2 each): 20 evaluations, where a sum over the multisets would take 24; D^2 R[Q, Q] after it
+// takes none, and equals what a fresh object computes and the real expansion D^2[a,a] - D^2[b,b] +
+// 2i D^2[a,b] (the same differences summed in another order: 1e-12).
+TEST(HigherDerivatives, ComplexDerivativesEvaluateEachRealPartOnce) {
+  CurvedBrusselator problem;
+  const double omega = 2.0;
+  Eigen::VectorXcd q(2);
+  q << 1.0, std::complex<double>(0.3, 0.7);
+  const std::complex<double> I(0.0, 1.0);
+  using CD = HigherDerivatives::ComplexDirection;
+  const CD Q{q, 0.0, I * omega * q}, Qbar{q.conjugate(), 0.0, -I * omega * q.conjugate()};
+  HigherDerivatives d(problem, 0, Vector::Zero(2));
+  Eigen::VectorXcd mixed, square, fresh_square;
+  ASSERT_TRUE(d.second(Q, Qbar, mixed).is_ok());
+  EXPECT_EQ(d.evaluations(), 20);
+  ASSERT_TRUE(d.second(Q, Q, square).is_ok());
+  EXPECT_EQ(d.evaluations(), 20);
+  HigherDerivatives fresh(problem, 0, Vector::Zero(2));
+  ASSERT_TRUE(fresh.second(Q, Q, fresh_square).is_ok());
+  EXPECT_NEAR((square - fresh_square).norm(), 0.0, 1e-14 * square.norm());
+  const HigherDerivatives::Direction a{q.real(), 0.0, (I * omega * q).real()}, b{q.imag(), 0.0, (I * omega * q).imag()};
+  Vector aa, bb, ab;
+  ASSERT_TRUE(fresh.second(a, a, aa).is_ok() && fresh.second(b, b, bb).is_ok() && fresh.second(a, b, ab).is_ok());
+  const Eigen::VectorXcd expected = (aa - bb).cast<std::complex<double>>() + 2.0 * I * ab.cast<std::complex<double>>();
+  EXPECT_NEAR((square - expected).norm(), 0.0, 1e-12 * expected.norm());
+  EXPECT_NEAR((mixed - (aa + bb).cast<std::complex<double>>()).norm(), 0.0, 1e-12 * mixed.norm());
+}
+
 // A Hopf point's solves with J + i s B, three ways (NormalFormSolvers.hpp):
 // - by default, GMRES preconditioned by J's real factorisation (RealLUShiftSolver): q and p from
 //   bordered systems, omega by rounds of the Rayleigh quotient, h20 by GMRES: one factorisation;
