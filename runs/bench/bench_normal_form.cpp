@@ -10,7 +10,9 @@
 //   their times; and with every solve on a factorisation of its own (NormalForms'
 //   krylov_iterations = 0), whose l1 the first must reproduce.
 //
-// Usage: bench_normal_form SCENE.toml BRANCH.h5:LABEL [--repeat N] [--set section.key=value]...
+// Usage: bench_normal_form SCENE.toml BRANCH.h5:LABEL [--repeat N] [--eigenvalues N] [--set section.key=value]...
+//   --eigenvalues N also prints how many of the N eigenvalues nearest 0 lie within 1, 2 and 3
+//   omega: the modes that GMRES on J's factorisation pays for.
 //   The M2 Hopf point of docs/normal_forms.md:
 //   bench_normal_form runs/scenes/stability_collapsible_newtonian_re.toml re_M2.h5:hopf1
 //       --set parameters.Gamma=4.95e-5 --set 'mesh.name="M2"'
@@ -32,6 +34,7 @@
 #include "runs/StoredStart.hpp"
 #include "runs/TraceCommand.hpp"
 #include "runs/TraceStart.hpp"
+#include "stability/EigenSolver.hpp"
 #include "stability/NormalForms.hpp"
 #include "stability/StabilityAnalysis.hpp"
 
@@ -62,8 +65,36 @@ void print_machine() {
 }
 
 int usage() {
-  fmt::print(stderr, "usage: bench_normal_form SCENE.toml BRANCH.h5:LABEL [--repeat N] [--set section.key=value]...\n");
+  fmt::print(stderr,
+             "usage: bench_normal_form SCENE.toml BRANCH.h5:LABEL [--repeat N] [--eigenvalues N] "
+             "[--set section.key=value]...\n");
   return 2;
+}
+
+// The `count` eigenvalues nearest 0 against omega: each costs GMRES on J's factorisation about an
+// iteration where |sigma| is within a few omega (NormalFormSolvers.hpp, RealLUShiftSolver).
+void print_eigenvalues_near_zero(Problem& problem, const Vector& u, const SparseLUOptions& lu, int count,
+                                 double omega) {
+  SparseMatrix J = problem.jacobian_pattern(), B = problem.jacobian_pattern();
+  Vector F;
+  if (!problem.jacobian(u, F, J).is_ok() || !problem.mass_matrix(u, B).is_ok())
+    throw std::runtime_error("J or B failed at the point");
+  EigenOptions options;
+  options.count = count;
+  EigenResult result;
+  if (Status st = EigenSolver(lu).solve(J, B, options, result); !st.is_ok())
+    throw std::runtime_error("the eigenvalues near 0 failed: " + st.message());
+  std::vector<double> ratios;
+  for (const EigenPair& pair : result.pairs) ratios.push_back(std::abs(pair.value) / omega);
+  std::sort(ratios.begin(), ratios.end());
+  int within[3] = {0, 0, 0};
+  for (double r : ratios)
+    for (int k = 0; k < 3; ++k) within[k] += r <= k + 1 + 1e-9;
+  fmt::print(
+      "the {} eigenvalues nearest 0: {} within omega, {} within 2 omega, {} within 3 omega; |sigma| / omega {:.3g} to "
+      "{:.3g}\n",
+      ratios.size(), within[0], within[1], within[2], ratios.empty() ? 0.0 : ratios.front(),
+      ratios.empty() ? 0.0 : ratios.back());
 }
 
 }  // namespace
@@ -71,12 +102,14 @@ int usage() {
 int main(int argc, char** argv) {
   if (argc < 3) return usage();
   const std::string scene_path = argv[1], spec = argv[2];
-  int repeat = 3;
+  int repeat = 3, eigenvalues = 0;
   std::vector<std::string> overrides;
   for (int i = 3; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--repeat" && i + 1 < argc)
       repeat = std::max(1, std::atoi(argv[++i]));
+    else if (a == "--eigenvalues" && i + 1 < argc)
+      eigenvalues = std::max(1, std::atoi(argv[++i]));
     else if (a == "--set" && i + 1 < argc)
       overrides.emplace_back(argv[++i]);
     else
@@ -108,6 +141,7 @@ int main(int argc, char** argv) {
     fmt::print("{} unknowns, {} = {:.10g}, omega = {:.6g}; spectrum: {} eigenvalues\n", problem->size(), parameter,
                stored.point.lambda, omega, settings.stability.count);
 
+    if (eigenvalues > 0) print_eigenvalues_near_zero(*problem, u, settings.lu, eigenvalues, omega);
     std::vector<double> spectrum_s, factor_s, form_s, form_factor_s, form_derivative_s, direct_s;
     NormalForm direct;
     NormalForm nf;
