@@ -29,6 +29,15 @@ class LUBackend {
   // x = A^-1 b (A^-T b) with the factors of A, the matrix last factorised; refinement_steps at
   // most, stopping where the backward error reaches rounding.
   virtual Status solve(const CscView& A, const double* b, double* x, bool transpose, int refinement_steps) = 0;
+  // The plain solves (no refinement) of `count` right-hand sides stored one after another, n
+  // entries each: by default one solve each; MUMPS takes them in one pass over its factors.
+  virtual Status solve_several(const CscView& A, const double* b, double* x, int count, bool transpose) {
+    for (int k = 0; k < count; ++k) {
+      const long offset = static_cast<long>(k) * A.n;
+      if (Status st = solve(A, b + offset, x + offset, transpose, 0); !st.is_ok()) return st;
+    }
+    return {};
+  }
   virtual bool factorized() const = 0;
   // Sign (+1, -1; 0 where unknown) and log|det| of the last factorised matrix.
   virtual void determinant(int& sign, double& log_abs) const = 0;

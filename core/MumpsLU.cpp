@@ -184,6 +184,21 @@ class MumpsLU final : public LUBackend {
     return call(kJobSolve, "solve");
   }
 
+  Status solve_several(const CscView& A, const double* b, double* x, int count, bool transpose) override {
+    std::copy(b, b + static_cast<long>(count) * A.n, x);
+    id_->a = const_cast<double*>(A.values);
+    id_->rhs = x;
+    id_->nrhs = count;
+    id_->lrhs = A.n;
+    icntl(9) = transpose ? 2 : 1;
+    icntl(10) = 0;
+    icntl(20) = 0;
+    icntl(21) = 0;
+    Status st = call(kJobSolve, "solve");
+    id_->nrhs = 1;
+    return st;
+  }
+
   bool factorized() const override { return factorized_; }
 
   void determinant(int& sign, double& log_abs) const override {

@@ -234,4 +234,18 @@ Status SparseLU::solve(const Vector& b, Vector& x, bool transpose, int refinemen
   return status;
 }
 
+Status SparseLU::solve_columns(const Eigen::MatrixXd& b, Eigen::MatrixXd& x, bool transpose) {
+  if (!factorized()) throw std::logic_error("SparseLU::solve_columns before a successful factorize");
+  if (b.rows() != stats_.n) throw std::invalid_argument("SparseLU::solve_columns: size mismatch");
+  x.resize(b.rows(), b.cols());
+  if (b.cols() == 0) return {};
+  const double t0 = now_seconds();
+  const Status status = backend_->solve_several({stats_.n, outer_.data(), inner_.data(), values_.data()}, b.data(),
+                                                x.data(), static_cast<int>(b.cols()), transpose);
+  stats_.solve_seconds += now_seconds() - t0;
+  stats_.solves += b.cols();
+  if (status.is_ok() && !x.allFinite()) return {StatusCode::NotFinite, "solve: solution is not finite"};
+  return status;
+}
+
 }  // namespace keller

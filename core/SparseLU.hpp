@@ -88,6 +88,9 @@ class SparseLU {
   // refinement as in the options, 0: a plain solve (for callers that refine a larger system
   // themselves).
   Status solve(const Vector& b, Vector& x, bool transpose = false, int refinement_steps = -1);
+  // Plain solves (no refinement) of the columns of b at once, as iterative methods that correct
+  // their own errors want: MUMPS reads its factors once for all of them, UMFPACK solves each.
+  Status solve_columns(const Eigen::MatrixXd& b, Eigen::MatrixXd& x, bool transpose = false);
   bool factorized() const;
   // Sign (+1, -1) and log|det| of the last factorised matrix.
   int determinant_sign() const { return det_sign_; }

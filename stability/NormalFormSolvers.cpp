@@ -195,14 +195,14 @@ ComplexVector RealLUShiftSolver::apply(double s, const ComplexVector& v, bool ad
 }
 
 ComplexVector RealLUShiftSolver::precondition(const ComplexVector& v, bool adjoint) const {
-  Vector re, im;
-  Status st = lu_.solve(v.real(), re, adjoint, 0);
-  if (st.is_ok()) st = lu_.solve(v.imag(), im, adjoint, 0);
-  if (!st.is_ok()) {
+  Eigen::MatrixXd b(v.size(), 2), x;
+  b.col(0) = v.real();
+  b.col(1) = v.imag();
+  if (Status st = lu_.solve_columns(b, x, adjoint); !st.is_ok()) {
     failed_ = st;
     return ComplexVector::Zero(v.size());
   }
-  return re.cast<Complex>() + Complex(0.0, 1.0) * im.cast<Complex>();
+  return x.col(0).cast<Complex>() + Complex(0.0, 1.0) * x.col(1).cast<Complex>();
 }
 
 int RealLUShiftSolver::solve(double s, const ComplexVector& b, ComplexVector& x, bool adjoint) const {

@@ -142,8 +142,9 @@ class DeflatedShiftSolver {
 // mode J phi = -mu B phi (growth rate mu) the preconditioned operator is 1 - i s / mu: 1 on B's
 // null space and near 1 on the modes much faster than s; each mode within a few s of 0 costs
 // about an iteration. At the Hopf point of docs/normal_forms.md's cost table (16,264 unknowns),
-// 40 eigenvalues lie within 2.6 omega of 0: p took 33 iterations and h20 53, 9 ms each (two
-// plain solves), against a complex factorisation at 5 to 10 times J's. A solve that does not
+// 40 eigenvalues lie within 2.6 omega of 0: p took 33 iterations and h20 53, 8 ms each (5.4 ms
+// of it the solve of both parts at once, SparseLU::solve_columns; two solves one after the other
+// took 9 ms), against a complex factorisation at 5 to 10 times J's. A solve that does not
 // converge within max_iterations reports -1, and the caller factorises J + i omega B.
 class RealLUShiftSolver {
  public:
