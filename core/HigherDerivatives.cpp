@@ -133,24 +133,6 @@ Status HigherDerivatives::f_part(const Direction* const* d, int order, Vector& o
   return exact_->directional_derivative(u0_, dirs, out);
 }
 
-// The time terms' part: B(u, lambda) is differentiated along the directions that move the state,
-// at the rate of the one that has rates (R is linear in the rates: one of them at a time).
-Status HigherDerivatives::rate_part(const Direction* const* d, int order, Vector& out) {
-  out.setZero(problem_.size());
-  if (!has_time_form_) return {};
-  Vector term;
-  for (int k = 0; k < order; ++k) {
-    if (!has_rate(*d[k])) continue;
-    std::array<const Direction*, 2> others{};
-    int n = 0;
-    for (int i = 0; i < order; ++i)
-      if (i != k) others[static_cast<size_t>(n++)] = d[i];
-    if (Status st = rate_term(d[k]->rate, others.data(), order, term); !st.is_ok()) return st;
-    out += term;
-  }
-  return {};
-}
-
 // D^(order-1)_u (B(u) rate)[others]: central differences of time_residual; zero where one of the
 // others does not move the state.
 Status HigherDerivatives::rate_term(const Vector& rate, const Direction* const* others, int order, Vector& out) {
@@ -179,37 +161,10 @@ Status HigherDerivatives::rate_term(const Vector& rate, const Direction* const* 
   return {};
 }
 
-Status HigherDerivatives::second(const Direction& a, const Direction& b, Vector& out) {
-  if (is_zero(a) || is_zero(b)) {
-    out.setZero(problem_.size());
-    return {};
-  }
-  const Direction* d[2] = {&a, &b};
-  Status st = timed([&] { return f_part(d, 2, out); });
-  if (!st.is_ok() || (!has_rate(a) && !has_rate(b))) return st;
-  Vector time;
-  st = timed([&] { return rate_part(d, 2, time); });
-  out += time;
-  return st;
-}
-
-Status HigherDerivatives::third(const Direction& a, const Direction& b, const Direction& c, Vector& out) {
-  if (is_zero(a) || is_zero(b) || is_zero(c)) {
-    out.setZero(problem_.size());
-    return {};
-  }
-  const Direction* d[3] = {&a, &b, &c};
-  Status st = timed([&] { return f_part(d, 3, out); });
-  if (!st.is_ok() || (!has_rate(a) && !has_rate(b) && !has_rate(c))) return st;
-  Vector time;
-  st = timed([&] { return rate_part(d, 3, time); });
-  out += time;
-  return st;
-}
-
-// Multilinear in complex directions: the sum over choosing the real or the imaginary part of each,
-// times i^(number of imaginary parts). Parts that are equal or opposite (q and conj q share them)
-// are evaluated once per multiset, and kept for the later derivatives of this object: D^3 R[Q, Q,
+// Every derivative, real or complex, is evaluated once per multiset of distinct real directions
+// (equal up to sign) and kept for the later derivatives of this object. Complex ones are
+// multilinear: the sum over choosing the real or the imaginary part of each, times i^(number of
+// imaginary parts); q and conj q share their parts: D^3 R[Q, Q,
 // conj Q] takes 4 real derivatives instead of 8, and D^2 R[Q, Q] none after D^2 R[Q, conj Q]. So
 // are the time terms' parts D^k (B(u) r)[...], which several multisets share.
 namespace {
@@ -235,6 +190,31 @@ int distinct_index(std::vector<HigherDerivatives::Direction>& distinct, const Hi
 
 }  // namespace
 
+// A real derivative: its directions among the distinct ones (up to sign), from the caches.
+Status HigherDerivatives::real(const std::vector<const Direction*>& dirs, Vector& out) {
+  std::vector<int> ids;
+  double sign = 1.0;
+  for (const Direction* d : dirs) {
+    if (is_zero(*d)) {
+      out.setZero(problem_.size());
+      return {};
+    }
+    double s = 1.0;
+    ids.push_back(distinct_index(distinct_, *d, s));
+    sign *= s;
+  }
+  std::sort(ids.begin(), ids.end());
+  Status st = cached(ids, out);
+  if (sign < 0) out = -out;
+  return st;
+}
+
+Status HigherDerivatives::second(const Direction& a, const Direction& b, Vector& out) { return real({&a, &b}, out); }
+
+Status HigherDerivatives::third(const Direction& a, const Direction& b, const Direction& c, Vector& out) {
+  return real({&a, &b, &c}, out);
+}
+
 Status HigherDerivatives::expand(const std::vector<const ComplexDirection*>& dirs, ComplexVector& out) {
   const int order = static_cast<int>(dirs.size());
   std::vector<std::array<Direction, 2>> parts;
@@ -243,26 +223,15 @@ Status HigherDerivatives::expand(const std::vector<const ComplexDirection*>& dir
   const std::complex<double> unit[4] = {1.0, {0.0, 1.0}, -1.0, {0.0, -1.0}};
   Vector r;
   for (int choice = 0; choice < (1 << order); ++choice) {
-    std::vector<int> ids;
-    double sign = 1.0;
+    std::vector<const Direction*> chosen;
     int imaginary = 0;
-    bool zero = false;
     for (int i = 0; i < order; ++i) {
       const int which = (choice >> i) & 1;
-      const Direction& d = parts[static_cast<size_t>(i)][static_cast<size_t>(which)];
-      if (is_zero(d)) {
-        zero = true;
-        break;
-      }
-      double s = 1.0;
-      ids.push_back(distinct_index(distinct_, d, s));
-      sign *= s;
+      chosen.push_back(&parts[static_cast<size_t>(i)][static_cast<size_t>(which)]);
       imaginary += which;
     }
-    if (zero) continue;
-    std::sort(ids.begin(), ids.end());
-    if (Status st = cached(ids, r); !st.is_ok()) return st;
-    out += (sign * unit[imaginary]) * r.cast<std::complex<double>>();
+    if (Status st = real(chosen, r); !st.is_ok()) return st;
+    out += unit[imaginary] * r.cast<std::complex<double>>();
   }
   return {};
 }

@@ -15,7 +15,8 @@
 // measures both regimes), which is why a problem of that kind should offer exact derivatives.
 // The part of B's dependence is always central differences of time_residual (linear in
 // the rates, so exact in them) at relative steps 1e-5 (first differences) and 1e-4 (mixed second
-// differences), and is skipped where no direction has rates.
+// differences), and is skipped where no direction has rates. Each derivative is evaluated once per
+// object: the parts along the same directions (equal up to sign) are kept and reused.
 #pragma once
 
 #include <chrono>
@@ -81,7 +82,7 @@ class HigherDerivatives {
   Status expand(const std::vector<const ComplexDirection*>& dirs, ComplexVector& out);
   Status f_part(const Direction* const* d, int order, Vector& out);
   Status f_differences(const Direction* const* d, int order, Vector& out);
-  Status rate_part(const Direction* const* d, int order, Vector& out);
+  Status real(const std::vector<const Direction*>& dirs, Vector& out);
   Status rate_term(const Vector& rate, const Direction* const* others, int order, Vector& out);
   // the real derivative along distinct_[ids] (sorted), from the caches or evaluated into them
   Status cached(const std::vector<int>& ids, Vector& out);
@@ -105,9 +106,8 @@ class HigherDerivatives {
   bool has_time_form_;
   long evaluations_ = 0;
   double seconds_ = 0;
-  // the complex derivatives' real parts, each once (expand): the distinct real directions (up to
-  // sign), F's part by the multiset of their indices, the time terms' by the index of the one whose
-  // rate and the others'
+  // every derivative's real parts, each once: the distinct real directions (up to sign), F's part by the multiset of
+  // their indices, the time terms' by the index of the one whose rate and the others'
   std::vector<Direction> distinct_;
   std::map<std::vector<int>, Vector> f_cache_, rate_cache_;
 };

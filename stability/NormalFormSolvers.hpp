@@ -1,8 +1,9 @@
 // The linear algebra of the normal forms (stability/NormalForms.hpp), shared by the steady points'
 // (NormalForms.cpp: folds, cusps, branch points) and those that need the time-dependent form
 // (TimeFormNormalForms.cpp: Hopf, fold-Hopf and Bogdanov-Takens points): null and singular vectors
-// by inverse iteration, J + i s B factorised in its real block form, and GMRES on that
-// factorisation deflated of a Hopf point's critical mode. Internal to keller_stability.
+// by inverse iteration, GMRES on J's real factorisation for J + i s B (the first choice at a Hopf
+// point), J + i s B factorised in its real block form, and GMRES on that factorisation deflated of
+// a Hopf point's critical mode. Internal to keller_stability.
 #pragma once
 
 #include <chrono>
@@ -108,10 +109,10 @@ class ShiftedLU {
 //   P v = (I - q p^H B) lu1^-1 (v - B q p^H v) + q p^H v / (i (s - omega)),
 // exact on q ((J + i s B) q = i (s - omega) B q) and, on another mode of J phi = sigma B phi,
 // (J + i s B) P = (sigma + i s) / (sigma + i omega): near 1 but for the modes within a few omega
-// of the pair, GMRES's outliers. h20 (s = 2 omega) costs solves on lu1 instead of a factorisation
-// of its own: at the Hopf point of docs/normal_forms.md's cost table 28 iterations, 0.44 s against
-// 0.76 s. (Solves with J, s = 0, took 32 iterations each there, 0.5 s, more than J's real
-// factorisation, 0.21 s, and its two solves: they are not done this way.) GMRES's residual
+// of the pair, GMRES's outliers. Used where RealLUShiftSolver (below) did not converge and lu1 was
+// made: h20 (s = 2 omega) then costs solves on lu1 instead of a factorisation of its own (at the
+// Hopf point of docs/normal_forms.md's cost table, measured when lu1 was always made: 28
+// iterations, 0.44 s against 0.76 s). GMRES's residual
 // estimate below 1e-12 |b|, the residual of the result checked below 1e-10 |b|; a solve that does
 // not get there in max_iterations (NormalForms' krylov_iterations) reports -1 and its caller
 // factorises instead.
@@ -142,7 +143,7 @@ class DeflatedShiftSolver {
 // mode J phi = -mu B phi (growth rate mu) the preconditioned operator is 1 - i s / mu: 1 on B's
 // null space and near 1 on the modes much faster than s; each mode within a few s of 0 costs
 // about an iteration. At the Hopf point of docs/normal_forms.md's cost table (16,264 unknowns),
-// 40 eigenvalues lie within 2.6 omega of 0: p took 33 iterations and h20 53, 8 ms each (5.4 ms
+// 41 eigenvalues lie within 2.6 omega of 0: p took 33 iterations and h20 53, 8 ms each (5.4 ms
 // of it the solve of both parts at once, SparseLU::solve_columns; two solves one after the other
 // took 9 ms), against a complex factorisation at 5 to 10 times J's. A solve that does not
 // converge within max_iterations reports -1, and the caller factorises J + i omega B.
