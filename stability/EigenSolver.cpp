@@ -426,4 +426,52 @@ Status EigenSolver::solve(const SparseMatrix& J, const SparseMatrix& B, const Ei
   return iteration.is_ok() ? finished : iteration;
 }
 
+Status largest_eigenvalues(int n, const std::function<Status(const Vector&, Vector&)>& op, const EigenOptions& o,
+                           EigenResult& out) {
+  const double t0 = now_seconds();
+  out = EigenResult{};
+  out.requested = o.count;
+  if (o.count < 1 || o.count > n - 2)
+    return invalid(fmt::format("count = {} is outside [1, n - 2] = [1, {}]", o.count, n - 2));
+  const int ncv = o.ncv > 0 ? o.ncv : std::min(std::max(2 * o.count + 1, 20), n);
+  if (ncv < o.count + 2 || ncv > n)
+    return invalid(fmt::format("ncv = {} is outside [count + 2, n] = [{}, {}]", ncv, o.count + 2, n));
+  auto counted = [&](const Vector& x, Vector& y) {
+    ++out.solves;
+    return op(x, y);
+  };
+  std::vector<RitzPair> ritz;
+  const Status iteration = real_arnoldi(n, o.count, ncv, o, start_vector(n, o, true).real(), counted, ritz, out);
+  if (!iteration.is_ok() && ritz.empty()) {
+    out.seconds = now_seconds() - t0;
+    return iteration;
+  }
+  Status checked;
+  for (RitzPair& r : ritz) {
+    EigenPair p;
+    p.value = r.nu;
+    const double norm = r.x.norm();
+    if (norm > 0) r.x /= norm;
+    if (o.vectors) {
+      Vector yr, yi;
+      Status st = counted(r.x.real(), yr);
+      if (st.is_ok()) st = counted(r.x.imag(), yi);
+      if (!st.is_ok()) return st;
+      ComplexVector y(n);
+      y.real() = yr;
+      y.imag() = yi;
+      p.residual = (y - r.nu * r.x).norm() / std::max(std::abs(r.nu), 1e-300);
+      p.vector = r.x;
+    }
+    out.pairs.push_back(std::move(p));
+  }
+  std::stable_sort(out.pairs.begin(), out.pairs.end(), [](const EigenPair& a, const EigenPair& b) {
+    const double ma = std::abs(a.value), mb = std::abs(b.value);
+    if (ma != mb) return ma > mb;
+    return a.value.imag() > b.value.imag();
+  });
+  out.seconds = now_seconds() - t0;
+  return iteration;
+}
+
 }  // namespace keller

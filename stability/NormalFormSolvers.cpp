@@ -8,6 +8,8 @@
 #include <fmt/format.h>
 #include <Eigen/QR>
 
+#include "core/Gmres.hpp"
+
 namespace keller::normal_forms {
 
 namespace {
@@ -23,40 +25,12 @@ constexpr int kHopfIterations = 20;
 constexpr int kHopfRounds = 4;
 constexpr double kHopfRoundTolerance = 1e-12;
 
-// GMRES for A x = b with a fixed, linear right preconditioner P (x = P y), complex, from x = 0: modified
-// Gram-Schmidt applied twice (the Krylov basis stays orthogonal to rounding where the space nearly
-// closes), the small least-squares problem solved by QR at each step. Returns the iterations
-// taken once the residual estimate is below tol |b|, or -1 after max_iterations.
+// GMRES (core/Gmres.hpp): the iterations taken to converge, or -1
 template <class Apply, class Precondition>
 int gmres(const Apply& A, const Precondition& P, const ComplexVector& b, ComplexVector& x, double tol,
           int max_iterations) {
-  const double beta = b.norm();
-  x = ComplexVector::Zero(b.size());
-  if (beta == 0.0) return 0;
-  std::vector<ComplexVector> V{b / beta};
-  Eigen::MatrixXcd H = Eigen::MatrixXcd::Zero(max_iterations + 1, max_iterations);
-  for (int k = 0; k < max_iterations; ++k) {
-    ComplexVector w = A(P(V[static_cast<size_t>(k)]));
-    for (int pass = 0; pass < 2; ++pass)
-      for (int i = 0; i <= k; ++i) {
-        const Complex c = V[static_cast<size_t>(i)].dot(w);
-        H(i, k) += c;
-        w -= c * V[static_cast<size_t>(i)];
-      }
-    H(k + 1, k) = w.norm();
-    ComplexVector e = ComplexVector::Zero(k + 2);
-    e[0] = beta;
-    const Eigen::MatrixXcd Hk = H.topLeftCorner(k + 2, k + 1);
-    const ComplexVector y = Hk.householderQr().solve(e);
-    if ((e - Hk * y).norm() <= tol * beta || H(k + 1, k).real() == 0.0) {
-      ComplexVector v = ComplexVector::Zero(b.size());  // x = P (V y): P is linear, V alone is kept
-      for (int i = 0; i <= k; ++i) v += y[i] * V[static_cast<size_t>(i)];
-      x = P(v);
-      return k + 1;
-    }
-    V.push_back(w / H(k + 1, k).real());
-  }
-  return -1;
+  const GmresResult r = keller::gmres(A, P, b, x, tol, max_iterations);
+  return r.converged ? r.iterations : -1;
 }
 
 // out <- step(out), normalised, its sign kept (a negative eigenvalue flips it at every step),

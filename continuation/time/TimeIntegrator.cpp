@@ -27,6 +27,10 @@ constexpr double kLandingSlack = 0.1;
 void TimeOptions::declare(SceneSchema& s) {
   const TimeOptions d;
   s.section("evolve", "time integration of B du/dt = -F (keller evolve); every key in docs/dynamics.md");
+  s.string("evolve.method", "bdf2",
+           "bdf2 (one solve per step, second order) or sdirk4 (five solves per step, fourth order: fewer steps at "
+           "tight tolerances)",
+           {"bdf2", "sdirk4"});
   s.real("evolve.t_end", d.t_end, "the run ends at this time (from the start at t = 0)", Range::positive());
   s.real("evolve.initial_step", d.initial_step,
          "the first step (the two backward Euler half steps of the start span it); 0: 1e-6 t_end",
@@ -47,6 +51,7 @@ void TimeOptions::declare(SceneSchema& s) {
 
 TimeOptions TimeOptions::from_scene(const Scene& scene) {
   TimeOptions o;
+  o.method = scene.string("evolve.method") == "sdirk4" ? Method::Sdirk4 : Method::Bdf2;
   o.t_end = scene.real("evolve.t_end");
   o.initial_step = scene.real("evolve.initial_step");
   o.min_step = scene.real("evolve.min_step");
@@ -81,6 +86,11 @@ class TimeIntegrator::StepProblem final : public Problem {
     coefficient_ = c[0] / h;
     w_ = (c[1] / h) * u_n;
     if (u_prev && c[2] != 0.0) w_ += (c[2] / h) * (*u_prev);
+  }
+  // G(u) = B(u) (coefficient u + w) + F(u) (an SDIRK stage: coefficient 1 / (h gamma))
+  void set_affine(double coefficient, Vector w) {
+    coefficient_ = coefficient;
+    w_ = std::move(w);
   }
   double coefficient() const { return coefficient_; }
 
@@ -174,6 +184,34 @@ bool TimeIntegrator::solve_step(const std::array<double, 3>& c, double h, const 
   return r.converged();
 }
 
+bool TimeIntegrator::sdirk_step(double h, const Vector& u_n, Vector& k_guess, Vector& u, Vector& error,
+                                Attempt& attempt, std::vector<Vector>* stages) {
+  const SdirkTableau& t = sdirk4();
+  const double hg = h * t.gamma;
+  std::array<Vector, SdirkTableau::kStages> K;
+  if (stages) stages->clear();
+  for (int i = 0; i < SdirkTableau::kStages; ++i) {
+    Vector sum = u_n;  // u_n + h sum_(j < i) a_ij K_j
+    for (int j = 0; j < i; ++j) sum += (h * t.a[i][j]) * K[j];
+    const Vector& guess_rate = i > 0 ? K[i - 1] : k_guess;
+    u = guess_rate.size() == u_n.size() ? Vector(sum + hg * guess_rate) : sum;
+    step_problem_->set_affine(1.0 / hg, -sum / hg);  // K_i = (U_i - sum) / (h gamma)
+    const bool kept = keeps_factorisation(step_problem_->coefficient(), factorised_coefficient_);
+    const NewtonResult r = newton_->solve(u, {}, kept);
+    attempt.iterations += r.iterations;
+    attempt.factorisations += r.factorisations;
+    if (r.factorisations > 0) factorised_coefficient_ = step_problem_->coefficient();
+    attempt.status = r.status;
+    if (!r.converged()) return false;
+    K[i] = (u - sum) / hg;
+    if (stages) stages->push_back(u);
+  }
+  error = Vector::Zero(u_n.size());
+  for (int j = 0; j < SdirkTableau::kStages; ++j) error += (h * (t.b[j] - t.b_hat[j])) * K[j];
+  k_guess = K[SdirkTableau::kStages - 1];
+  return true;
+}
+
 TimeResult TimeIntegrator::run(const Vector& u0, double t0, TimeObserver& observer, const std::function<bool()>& stop) {
   if (u0.size() != problem_.size())
     throw std::invalid_argument(
@@ -187,6 +225,80 @@ TimeResult TimeIntegrator::run(const Vector& u0, double t0, TimeObserver& observ
   h.back = {start};
   h.next_step = start.next_step;
   return integrate(std::move(h), observer, stop);
+}
+
+TimeResult TimeIntegrator::run_on_grid(const Vector& u0, double t0, const std::vector<double>& times,
+                                       TimeObserver& observer, const std::function<bool()>& stop, bool stages) {
+  if (u0.size() != problem_.size())
+    throw std::invalid_argument(
+        fmt::format("time integration: the start has {} unknowns, the problem {}", u0.size(), problem_.size()));
+  for (size_t k = 0; k < times.size(); ++k)
+    if (!(times[k] > (k == 0 ? t0 : times[k - 1])))
+      throw std::invalid_argument(
+          fmt::format("time integration: grid time {} ({}) does not follow the one before", k, times[k]));
+  const auto t_start = Clock::now();
+  TimeResult result;
+  factorised_coefficient_ = 0.0;
+  std::vector<TimePoint> back(1);  // the last accepted states, the newest first
+  Vector k_guess;                  // SDIRK4: the last stage rate of the step before
+  back[0].t = t0;
+  back[0].u = u0;
+  observer.on_step(back[0]);
+  for (size_t k = 0; k < times.size(); ++k) {
+    const TimePoint& now = back.front();
+    if (stop && stop()) {
+      result.code = TimeStop::Interrupted;
+      result.reason = fmt::format("interrupted at t = {:.10g}", now.t);
+      break;
+    }
+    const double h = times[k] - now.t;
+    const bool sdirk = options_.method == TimeOptions::Method::Sdirk4;
+    const int order = sdirk ? 4 : k < 2 ? 1 : 2;
+    Attempt attempt;
+    Vector u;
+    std::vector<Vector> stage_states;
+    bool ok = false;
+    if (sdirk) {
+      Vector error;
+      ok = sdirk_step(h, now.u, k_guess, u, error, attempt, stages ? &stage_states : nullptr);
+    } else {
+      const double h1 = back.size() > 1 ? now.t - back[1].t : h;
+      std::array<double, 3> x{1.0, 0.0, 0.0};  // the predictor: constant at the start, else quadratic
+      if (order == 2) x = extrapolation_weights(3, h, h1, back[1].t - back[2].t);
+      u = x[0] * now.u;
+      for (size_t j = 1; j < back.size(); ++j) u += x[j] * back[j].u;
+      ok = solve_step(bdf_coefficients(order, h, h1), h, now.u, order == 2 ? &back[1].u : nullptr, u, attempt);
+    }
+    result.factorisations += attempt.factorisations;
+    result.newton_iterations += attempt.iterations;
+    if (!ok) {
+      result.code = TimeStop::GridStepFailed;
+      result.reason = fmt::format("the step to t = {:.10g} (step {} of the grid) failed: Newton: {}", times[k], k + 1,
+                                  attempt.status.describe());
+      break;
+    }
+    TimePoint p;
+    p.step = now.step + 1;
+    p.t = times[k];
+    p.h = h;
+    p.next_step = k + 1 < times.size() ? times[k + 1] - times[k] : h;
+    p.order = order;
+    p.iterations = attempt.iterations;
+    p.factorisations = attempt.factorisations;
+    p.seconds = std::chrono::duration<double>(Clock::now() - t_start).count();
+    p.u = std::move(u);
+    p.stages = std::move(stage_states);
+    back.insert(back.begin(), std::move(p));
+    if (back.size() > 3) back.pop_back();
+    ++result.steps;
+    observer.on_step(back.front());
+    back.front().stages.clear();
+  }
+  if (result.reason.empty()) result.reason = "reached the end of the grid";
+  result.t = back.front().t;
+  result.seconds = std::chrono::duration<double>(Clock::now() - t_start).count();
+  observer.on_finish(result.reason, back.front());
+  return result;
 }
 
 TimeResult TimeIntegrator::resume(const TimeHistory& history, TimeObserver& observer,
@@ -223,6 +335,7 @@ TimeResult TimeIntegrator::integrate(TimeHistory history, TimeObserver& observer
   };
   double h = options_.fixed_step ? options_.initial_step : std::clamp(history.next_step, floor, options_.max_step);
   int rejected = 0, factorisations = 0;  // of the step under way
+  Vector k_guess;                        // SDIRK4: the last stage rate of the last accepted step
   factorised_coefficient_ = 0.0;         // a resumed run starts on a factorisation of its own
   auto finish = [&](TimeStop code, const std::string& reason) {
     result.code = code;
@@ -306,6 +419,17 @@ TimeResult TimeIntegrator::integrate(TimeHistory history, TimeObserver& observer
     }
     const double t_next = lands ? options_.t_end : now.t + h;
     Attempt attempt;
+
+    if (options_.method == TimeOptions::Method::Sdirk4) {
+      Vector u, e;
+      if (!tried(sdirk_step(h, now.u, k_guess, u, e, attempt, nullptr), attempt, t_next, h)) continue;
+      double error = 0.0;
+      const std::optional<double> next = judged(e, now.u, u, 3, t_next, h, error);
+      if (!next) continue;
+      accept(point(t_next, t_next - now.t, *next, error, 4, attempt.iterations, std::move(u)));
+      h = *next;
+      continue;
+    }
 
     if (back.size() < 3) {
       // the start: two backward Euler half steps, and (adaptive) one full step to estimate their error

@@ -24,6 +24,11 @@
 namespace keller {
 
 struct TimeOptions {
+  // BDF2 (the default: one solve per step) or SDIRK4 (continuation/time/TimeStepControl: five
+  // solves per step, order 4: fewer, longer steps at tight tolerances, and a one-step map for
+  // periodic orbits)
+  enum class Method { Bdf2, Sdirk4 };
+  Method method = Method::Bdf2;
   double t_end = 1.0;       // the run ends here (the last step lands on it)
   double initial_step = 0;  // the first step (the two half steps of the start span it); 0: 1e-6 t_end
   double min_step = 0;      // a step that fails below this ends the run; 0: 1e-12 t_end
@@ -49,12 +54,13 @@ struct TimePoint {
   double h = 0.0;                                           // the step that led here (0 at the start)
   double next_step = 0.0;                                   // the step proposed next
   double error = std::numeric_limits<double>::quiet_NaN();  // the error estimate (1: the tolerance)
-  int order = 0;                                            // 1: backward Euler (the start), 2: BDF2
+  int order = 0;                                            // 1: backward Euler (the start), 2: BDF2, 4: SDIRK4
   int iterations = 0;                                       // Newton iterations of the step
   int factorisations = 0;                                   // factorisations of the step, its rejected tries included
   int rejected = 0;                                         // tries rejected before it was accepted
   double seconds = 0.0;                                     // wall time since the run (or its resumption) began
   Vector u;
+  std::vector<Vector> stages;  // SDIRK4: the stage states U_1..U_5 of the step (run_on_grid with stages only)
 };
 
 class TimeObserver {
@@ -72,7 +78,8 @@ struct TimeHistory {
   double next_step = 0.0;
 };
 
-enum class TimeStop { End, MaxSteps, StepFloor, Interrupted };
+// GridStepFailed: a step of run_on_grid did not converge (a given grid has no shorter step to try).
+enum class TimeStop { End, MaxSteps, StepFloor, Interrupted, GridStepFailed };
 
 struct TimeResult {
   TimeStop code = TimeStop::End;
@@ -92,6 +99,16 @@ class TimeIntegrator {
   // Integrates from u0 at time t0 to options.t_end; the start is reported as step 0. `stop` is asked
   // between steps (a signal): the run then ends with TimeStop::Interrupted after its last step.
   TimeResult run(const Vector& u0, double t0, TimeObserver& observer, const std::function<bool()>& stop = {});
+  // Integrates from u0 at time t0 through the given times (increasing, after t0) with no error
+  // control: the first two steps by backward Euler (the start of run), the others by BDF2 from the
+  // quadratic predictor, each a Newton solve on the kept factorisation as in run. The steps of a
+  // grid recorded from an adaptive run (periodic orbits, continuation/orbits) reproduce its states
+  // to the Newton tolerance. A step whose Newton fails ends the run (TimeStop::GridStepFailed, the
+  // reason naming the step); t_end, the step bounds and max_steps are not consulted.
+  // With SDIRK4 every step is an SDIRK4 step, and with `stages` each reported point carries its
+  // step's stage states.
+  TimeResult run_on_grid(const Vector& u0, double t0, const std::vector<double>& times, TimeObserver& observer,
+                         const std::function<bool()>& stop = {}, bool stages = false);
   // Continues a run from its history (the last state is not reported again).
   TimeResult resume(const TimeHistory& history, TimeObserver& observer, const std::function<bool()>& stop = {});
 
@@ -119,6 +136,11 @@ class TimeIntegrator {
   // One solve of G(u) = 0 from `u` (the predictor) for the coefficients c over step h.
   bool solve_step(const std::array<double, 3>& c, double h, const Vector& u_n, const Vector* u_prev, Vector& u,
                   Attempt& attempt);
+  // One SDIRK4 step of h from u_n: u (in: ignored; out: u_(n+1)), the embedded error estimate, the
+  // stage states where `stages` is given; k_guess is the last stage rate of the step before (the
+  // stages' predictor; empty: none), and is set to this step's.
+  bool sdirk_step(double h, const Vector& u_n, Vector& k_guess, Vector& u, Vector& error, Attempt& attempt,
+                  std::vector<Vector>* stages);
 
   Problem& problem_;
   TimeOptions options_;

@@ -6,6 +6,23 @@
 
 namespace keller {
 
+const SdirkTableau& sdirk4() {
+  static const SdirkTableau t = [] {
+    SdirkTableau s;
+    s.gamma = 0.25;
+    s.a = {{{0.25, 0.0, 0.0, 0.0, 0.0},
+            {0.5, 0.25, 0.0, 0.0, 0.0},
+            {17.0 / 50.0, -1.0 / 25.0, 0.25, 0.0, 0.0},
+            {371.0 / 1360.0, -137.0 / 2720.0, 15.0 / 544.0, 0.25, 0.0},
+            {25.0 / 24.0, -49.0 / 48.0, 125.0 / 16.0, -85.0 / 12.0, 0.25}}};
+    s.b = s.a[4];
+    s.b_hat = {59.0 / 48.0, -17.0 / 96.0, 225.0 / 32.0, -85.0 / 12.0, 0.0};
+    s.c = {0.25, 0.75, 11.0 / 20.0, 0.5, 1.0};
+    return s;
+  }();
+  return t;
+}
+
 std::array<double, 3> bdf_coefficients(int order, double h, double h_prev) {
   if (order == 1) return {1.0, -1.0, 0.0};
   if (order != 2) throw std::invalid_argument("bdf_coefficients: order 1 or 2");

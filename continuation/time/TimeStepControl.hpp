@@ -9,6 +9,20 @@
 
 namespace keller {
 
+// The 5-stage SDIRK method of order 4 of Hairer and Wanner (Solving ODEs II, Table IV.6.5): L-stable
+// and stiffly accurate, with an embedded method of order 3. Stage i solves B(U_i) K_i + F(U_i) = 0
+// for U_i = u_n + h sum_(j <= i) a_ij K_j (a_ii = gamma: every stage's matrix is (1 / (h gamma)) B +
+// J), u_(n+1) = U_5 (b is the last row of a), and the local error of the embedded method is
+// h sum_j (b_j - b_hat_j) K_j, O(h^4). A one-step method: no start procedure, and a periodic orbit
+// is a fixed point of the map of its steps alone (continuation/orbits).
+struct SdirkTableau {
+  static constexpr int kStages = 5;
+  double gamma = 0.0;
+  std::array<std::array<double, kStages>, kStages> a{};
+  std::array<double, kStages> b{}, b_hat{}, c{};
+};
+const SdirkTableau& sdirk4();
+
 // Variable-step BDF2 is zero-stable for step ratios h_n / h_(n-1) below 1 + sqrt(2) (Grigorieff
 // 1983); the controller never grows a step by more than this, which leaves a margin.
 inline constexpr double kMaxStepGrowth = 2.0;

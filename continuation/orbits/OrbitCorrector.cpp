@@ -1,0 +1,118 @@
+#include "continuation/orbits/OrbitCorrector.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "core/Gmres.hpp"
+
+namespace keller {
+
+namespace {
+// Eisenstat-Walker choice 2: eta_k = gamma (|R_k| / |R_(k-1)|)^2, within [kEtaMin, kEtaMax]
+constexpr double kEtaMax = 1e-2, kEtaMin = 1e-12, kEtaGamma = 0.9;
+// a Newton step that raises the residual above this multiple of the first one: diverged
+constexpr double kDivergence = 1e4;
+}  // namespace
+
+OrbitCorrection OrbitCorrector::correct(Vector& u0, double& T, double& lambda, bool free_lambda, const OrbitGrid& grid,
+                                        const Vector& u_ref, const Vector& n, const OrbitRow& row) {
+  Problem& problem = map_.problem();
+  const int p = map_.parameter();
+  if (free_lambda && p < 0) throw std::logic_error("orbit corrector: lambda is free but the map has no parameter");
+  const long N = u0.size();
+  if (n.size() != N || u_ref.size() != N) throw std::invalid_argument("orbit corrector: phase vectors of wrong size");
+  OrbitCorrection out;
+  if (!free_lambda && p >= 0) lambda = problem.parameters().value(p);
+  const double nn = n.norm();
+  if (!(nn > 0.0)) throw std::invalid_argument("orbit corrector: the phase normal is zero");
+  const Vector normal = n / nn;
+  const int extra = free_lambda ? 2 : 1;  // T (scaled by T: relative change) [and lambda]
+  auto row_value = [&](const Vector& u, double t, double l) {
+    double v = row.a_T * (t - row.z_T) + row.a_lambda * (l - row.z_lambda);
+    if (row.a_u.size() == N) v += row.a_u.dot(row.z_u.size() == N ? Vector(u - row.z_u) : u);
+    return v;
+  };
+  double eta = kEtaMax, previous = 0.0, first = 0.0;
+  bool small_update = false;  // the last Newton update was below the tolerance
+  for (int it = 0;; ++it) {
+    if (free_lambda) problem.parameters().set(p, lambda);
+    Status st = map_.integrate(u0, T, grid);
+    if (!st.is_ok()) {
+      out.status = st;
+      return out;
+    }
+    Vector R(N + extra);
+    R.head(N) = map_.end() - u0;
+    R[N] = normal.dot(u0 - u_ref);
+    if (free_lambda) R[N + 1] = row_value(u0, T, lambda);
+    const double scale = std::max(u0.lpNorm<Eigen::Infinity>(), 1.0);
+    out.residual = R.head(N).lpNorm<Eigen::Infinity>();
+    const double norm = R.norm();
+    if (it > 0 && small_update && out.residual <= options_.tolerance * scale) return out;  // converged
+    if (it == 0) first = norm;
+    if (it > 0) {
+      if (norm > kDivergence * std::max(first, 1e-300)) {
+        out.status = {StatusCode::NotConverged,
+                      fmt::format("orbit corrector: diverged (|R| {:.3e} from {:.3e})", norm, first)};
+        return out;
+      }
+      eta = std::clamp(kEtaGamma * (norm / previous) * (norm / previous), kEtaMin, kEtaMax);
+    }
+    previous = norm;
+    if (it >= options_.max_iterations) {
+      out.status = {StatusCode::NotConverged,
+                    fmt::format("orbit corrector: {} iterations, |Phi - u0| = {:.3e}", it, out.residual)};
+      return out;
+    }
+    // the columns of T (per unit relative change of T) and lambda
+    Vector colT, colL;
+    st = map_.linearised(Vector::Zero(N), T, 0.0, colT);
+    if (st.is_ok() && free_lambda) st = map_.linearised(Vector::Zero(N), 0.0, 1.0, colL);
+    if (!st.is_ok()) {
+      out.status = st;
+      return out;
+    }
+    Status failed;
+    auto A = [&](const Vector& z) {
+      Vector y(N + extra), Mv;
+      Status s = map_.linearised(z.head(N), 0.0, 0.0, Mv);
+      if (!s.is_ok()) {
+        failed = s;
+        Mv = Vector::Zero(N);
+      }
+      y.head(N) = Mv - z.head(N) + z[N] * colT;
+      y[N] = normal.dot(z.head(N));
+      if (free_lambda) {
+        y.head(N) += z[N + 1] * colL;
+        y[N + 1] = row.a_T * T * z[N] + row.a_lambda * z[N + 1];
+        if (row.a_u.size() == N) y[N + 1] += row.a_u.dot(z.head(N));
+      }
+      return y;
+    };
+    auto identity = [](const Vector& z) { return z; };
+    Vector dz;
+    const GmresResult g = gmres(A, identity, Vector(-R), dz, eta, options_.krylov_iterations);
+    out.krylov_iterations += g.iterations;
+    if (!failed.is_ok()) {
+      out.status = failed;
+      return out;
+    }
+    if (!g.converged && !(g.residual <= 0.5 * norm)) {
+      out.status = {StatusCode::NotConverged,
+                    fmt::format("orbit corrector: GMRES did not converge in {} iterations", g.iterations)};
+      return out;
+    }
+    u0 += dz.head(N);
+    const double dT = T * dz[N];
+    T += dT;
+    if (free_lambda) lambda += dz[N + 1];
+    out.iterations = it + 1;
+    small_update =
+        dz.head(N).lpNorm<Eigen::Infinity>() <= options_.tolerance * scale && std::abs(dT) <= options_.tolerance * T;
+  }
+}
+
+}  // namespace keller

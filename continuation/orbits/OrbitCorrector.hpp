@@ -1,0 +1,62 @@
+// Newton-Krylov shooting for a periodic orbit of B(u) du/dt = -F(u, lambda): the unknowns are a
+// point u0 of the orbit, its period T and (on a branch) lambda; the equations
+//   Phi(u0, T, lambda) - u0 = 0                 (periodicity, ShootingMap on a frozen grid)
+//   <u0 - u_ref, n> = 0                          (phase: u0 on the hyperplane through u_ref normal to n)
+//   <a_u, u0 - z_u> + a_T (T - z_T) + a_l (lambda - z_l) = 0   (a row fixing lambda or the arclength)
+// The Newton matrix [M - I, Phi_T, Phi_l; n^T, 0, 0; a_u^T, a_T, a_l] is never formed: its columns
+// for T and lambda cost one linearised pass each per iteration, and GMRES (core/Gmres.hpp, no
+// preconditioner) applies M by one pass per iteration. M's eigenvalues are the Floquet multipliers:
+// those of strongly damped modes are near 0, so M - I clusters them at -1 and GMRES pays about one
+// iteration per multiplier away from 0 (Sanchez, Net, Garcia-Archilla and Simo 2004 for
+// Navier-Stokes). The forcing term follows Eisenstat and Walker (1996, choice 2).
+#pragma once
+
+#include <string>
+
+#include "continuation/orbits/ShootingMap.hpp"
+#include "core/Status.hpp"
+#include "core/Types.hpp"
+
+namespace keller {
+
+struct OrbitCorrectorOptions {
+  int max_iterations = 12;  // Newton iterations
+  // Converged when |Phi - u0|_inf <= tolerance max(|u0|_inf, 1) and the last update moved u0 by at
+  // most that and T by at most tolerance T.
+  double tolerance = 1e-9;
+  int krylov_iterations = 60;  // GMRES iterations per Newton step
+};
+
+// The linear row that closes the system: lambda fixed (a_u = 0, a_T = 0, a_l = 1), or the
+// pseudo-arclength condition of a continuation step. Empty a_u: zero.
+struct OrbitRow {
+  Vector a_u;
+  double a_T = 0.0, a_lambda = 1.0;
+  Vector z_u;  // the point the row is measured from (empty: zero)
+  double z_T = 0.0, z_lambda = 0.0;
+};
+
+struct OrbitCorrection {
+  Status status;
+  int iterations = 0;          // Newton iterations
+  long krylov_iterations = 0;  // GMRES iterations, each a linearised pass
+  double residual = 0.0;       // |Phi - u0|_inf at the end
+};
+
+class OrbitCorrector {
+ public:
+  explicit OrbitCorrector(ShootingMap& map, OrbitCorrectorOptions options = {}) : map_(map), options_(options) {}
+
+  // Corrects (u0, T) in place on the grid, with the phase hyperplane through u_ref normal to n; with
+  // free_lambda also lambda (the map's parameter, which must exist), closed by `row`; without it
+  // lambda stays at the problem's present value and the row is not used. On return the map holds
+  // the integration of the final (u0, T, lambda), and the problem's parameter is lambda.
+  OrbitCorrection correct(Vector& u0, double& T, double& lambda, bool free_lambda, const OrbitGrid& grid,
+                          const Vector& u_ref, const Vector& n, const OrbitRow& row = {});
+
+ private:
+  ShootingMap& map_;
+  OrbitCorrectorOptions options_;
+};
+
+}  // namespace keller

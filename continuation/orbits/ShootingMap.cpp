@@ -1,0 +1,332 @@
+#include "continuation/orbits/ShootingMap.hpp"
+
+#include <fmt/format.h>
+
+#include <Eigen/LU>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <optional>
+#include <stdexcept>
+
+#include "continuation/time/TimeIntegrator.hpp"
+#include "continuation/time/TimeStepControl.hpp"
+
+namespace keller {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+// B'(u)[v] r by central differences of the time terms (linear in r, so only u is differenced), at
+// a step 1e-7 of the state's size: O(h^2) truncation, rounding eps / h relative (1e-9)
+constexpr double kMassDifferenceStep = 1e-7;
+// the iteration for B'[v] r on a step (A_k without that term as the preconditioner): until the
+// update is below this share of v, at most this many solves
+constexpr double kMassIterationTolerance = 1e-13;
+constexpr int kMassIterations = 30;
+
+bool same_values(const SparseMatrix& a, const SparseMatrix& b) {
+  if (a.nonZeros() != b.nonZeros() || a.rows() != b.rows() || a.cols() != b.cols()) return false;
+  return std::equal(a.valuePtr(), a.valuePtr() + a.nonZeros(), b.valuePtr()) &&
+         std::equal(a.innerIndexPtr(), a.innerIndexPtr() + a.nonZeros(), b.innerIndexPtr());
+}
+}  // namespace
+
+OrbitGrid OrbitGrid::from_times(double t0, const std::vector<double>& times, TimeOptions::Method method) {
+  const size_t least = method == TimeOptions::Method::Bdf2 ? 3 : 1;
+  if (times.size() < least)
+    throw std::invalid_argument(fmt::format("orbit grid: {} steps (at least {})", times.size(), least));
+  const double period = times.back() - t0;
+  OrbitGrid g;
+  g.method = method;
+  double before = t0;
+  for (double t : times) {
+    if (!(t > before)) throw std::invalid_argument("orbit grid: the times do not increase");
+    g.fractions.push_back((t - t0) / period);
+    before = t;
+  }
+  g.fractions.back() = 1.0;
+  return g;
+}
+
+OrbitGrid record_grid(Problem& problem, const Vector& u0, double period, const TimeOptions& options,
+                      const NewtonOptions& newton, const SparseLUOptions& lu) {
+  class Times final : public TimeObserver {
+   public:
+    void on_step(const TimePoint& p) override {
+      if (p.step > 0) times.push_back(p.t);
+    }
+    std::vector<double> times;
+  };
+  TimeOptions o = options;
+  o.t_end = period;
+  SparseLUOptions small = lu;
+  small.backend = ShootingOptions::backend_for(lu.backend, problem.size());
+  TimeIntegrator integrator(problem, o, newton, small);
+  Times times;
+  const TimeResult r = integrator.run(u0, 0.0, times);
+  if (r.code != TimeStop::End) throw std::runtime_error("orbit grid: the run over one period ended early: " + r.reason);
+  return OrbitGrid::from_times(0.0, times.times, options.method);
+}
+
+NewtonOptions ShootingOptions::tight_newton() {
+  NewtonOptions o;
+  o.residual_tolerance = 1e-13;
+  o.update_tolerance = 1e-14;
+  o.max_iterations = 30;
+  return o;
+}
+
+// One implicit solve of the period (a BDF2 step or an SDIRK4 stage): B(U) R + F(U) = 0 with
+// R = coefficient U + (the rest); its matrix A = coefficient B(U) + J(U) and, where kept, A's
+// factorisation.
+struct ShootingMap::Solve {
+  int step = 0;               // 0-based index of its step
+  int stage = 0;              // SDIRK4: 0-based stage; BDF2: 0
+  double coefficient = 0.0;   // dR/dU: c0 / h (BDF2), 1 / (h gamma) (SDIRK4)
+  std::array<double, 3> c{};  // BDF2's coefficients
+  Vector U;                   // the state solved for
+  Vector rate;                // R at U
+  SparseMatrix B;             // B(U) (only where B varies)
+  SparseMatrix A;
+  std::optional<Eigen::PartialPivLU<Eigen::MatrixXd>> dense;
+  std::unique_ptr<SparseLU> sparse;
+};
+
+namespace {
+class StageRecorder final : public TimeObserver {
+ public:
+  StageRecorder(std::vector<Vector>& states, std::vector<std::vector<Vector>>& stages)
+      : states_(states), stages_(stages) {}
+  void on_step(const TimePoint& p) override {
+    states_.push_back(p.u);
+    if (p.step > 0) stages_.push_back(p.stages);
+  }
+
+ private:
+  std::vector<Vector>& states_;
+  std::vector<std::vector<Vector>>& stages_;
+};
+}  // namespace
+
+SparseLUOptions::Backend ShootingOptions::backend_for(SparseLUOptions::Backend asked, int n) {
+  return asked == SparseLUOptions::Backend::Auto && n <= kUmfpackSize ? SparseLUOptions::Backend::Umfpack : asked;
+}
+
+ShootingMap::ShootingMap(Problem& problem, int parameter, ShootingOptions options)
+    : problem_(problem), parameter_(parameter), options_(std::move(options)) {
+  options_.lu.backend = ShootingOptions::backend_for(options_.lu.backend, problem_.size());
+  SparseMatrix B;
+  (void)problem_.mass_matrix(problem_.initial_guess(), B);  // throws NoTimeForm for a problem without one
+}
+
+ShootingMap::~ShootingMap() = default;
+
+const SparseMatrix& ShootingMap::mass(const Solve& s) const { return mass_varies_ ? s.B : mass_; }
+
+Status ShootingMap::assemble(Solve& s) {
+  Vector F;
+  SparseMatrix J;
+  Status st = problem_.jacobian(s.U, F, J);
+  if (st.is_ok() && mass_varies_) st = problem_.mass_matrix(s.U, s.B);
+  if (!st.is_ok()) return st;
+  s.A = J + s.coefficient * mass(s);
+  return {};
+}
+
+Status ShootingMap::integrate(const Vector& u0, double period, const OrbitGrid& grid) {
+  const bool sdirk = grid.method == TimeOptions::Method::Sdirk4;
+  if (grid.steps() < (sdirk ? 1 : 3)) throw std::invalid_argument("shooting: the grid has too few steps");
+  if (!(period > 0.0)) throw std::invalid_argument("shooting: the period must be > 0");
+  const auto t0 = Clock::now();
+  period_ = period;
+  method_ = grid.method;
+  states_.clear();
+  solves_.clear();
+  steps_.clear();
+  stored_bytes_ = 0.0;
+  std::vector<double> times(grid.fractions.size());
+  for (size_t k = 0; k < times.size(); ++k) times[k] = grid.fractions[k] * period;
+  TimeOptions time;
+  time.method = grid.method;
+  time.t_end = period;
+  TimeIntegrator integrator(problem_, time, options_.newton, options_.lu);
+  std::vector<std::vector<Vector>> stages;
+  StageRecorder recorder(states_, stages);
+  const TimeResult r = integrator.run_on_grid(u0, 0.0, times, recorder, {}, sdirk);
+  counts_.steps += r.steps;
+  counts_.newton_iterations += r.newton_iterations;
+  counts_.factorisations += r.factorisations;
+  if (r.code != TimeStop::End) {
+    counts_.forward_seconds += since(t0);
+    return {StatusCode::NotConverged, "shooting: " + r.reason};
+  }
+
+  const int m = grid.steps();
+  Status st = problem_.mass_matrix(states_[0], mass_);
+  if (!st.is_ok()) return st;
+  {
+    SparseMatrix Bmid;
+    st = problem_.mass_matrix(states_[static_cast<size_t>(m / 2 + 1)], Bmid);
+    if (!st.is_ok()) return st;
+    mass_varies_ = !same_values(mass_, Bmid);
+  }
+  const SdirkTableau& t = sdirk4();
+  double h_prev = 0.0;
+  for (int k = 0; k < m; ++k) {
+    const double h = times[static_cast<size_t>(k)] - (k > 0 ? times[static_cast<size_t>(k - 1)] : 0.0);
+    steps_.push_back(h);
+    const auto K = static_cast<size_t>(k);
+    if (!sdirk) {
+      Solve s;
+      s.step = k;
+      s.c = bdf_coefficients(k < 2 ? 1 : 2, h, k > 0 ? h_prev : h);
+      s.coefficient = s.c[0] / h;
+      s.U = states_[K + 1];
+      s.rate = (s.c[0] * states_[K + 1] + s.c[1] * states_[K]) / h;
+      if (s.c[2] != 0.0) s.rate += (s.c[2] / h) * states_[K - 1];
+      solves_.push_back(std::move(s));
+    } else {
+      std::array<Vector, SdirkTableau::kStages> rates;
+      for (int i = 0; i < SdirkTableau::kStages; ++i) {
+        Solve s;
+        s.step = k;
+        s.stage = i;
+        s.coefficient = 1.0 / (h * t.gamma);
+        s.U = stages[K][static_cast<size_t>(i)];
+        Vector sum = states_[K];
+        for (int j = 0; j < i; ++j) sum += (h * t.a[i][j]) * rates[static_cast<size_t>(j)];
+        s.rate = (s.U - sum) * s.coefficient;
+        rates[static_cast<size_t>(i)] = s.rate;
+        solves_.push_back(std::move(s));
+      }
+    }
+    h_prev = h;
+  }
+  for (Solve& s : solves_) {
+    st = assemble(s);
+    if (!st.is_ok()) return st;
+  }
+  counts_.forward_seconds += since(t0);
+  return {};
+}
+
+Vector ShootingMap::end_rate() const {
+  if (solves_.empty()) throw std::logic_error("shooting: end_rate before integrate");
+  return solves_.back().rate;
+}
+
+Status ShootingMap::factorise(Solve& s) {
+  const int n = problem_.size();
+  if (n <= kDenseSize) {
+    s.dense.emplace(Eigen::MatrixXd(s.A));
+    ++counts_.factorisations;
+    return {};
+  }
+  const bool keep = stored_bytes_ < options_.memory_budget;
+  SparseLU* lu = nullptr;
+  if (keep) {
+    s.sparse = std::make_unique<SparseLU>(options_.lu);
+    lu = s.sparse.get();
+  } else {
+    if (!shared_lu_) shared_lu_ = std::make_unique<SparseLU>(options_.lu);
+    lu = shared_lu_.get();
+  }
+  Status st = lu->factorize(s.A);
+  ++counts_.factorisations;
+  if (!st.is_ok()) {
+    s.sparse.reset();
+    return st;
+  }
+  if (keep) stored_bytes_ += lu->statistics().numeric_bytes;
+  return {};
+}
+
+Status ShootingMap::solve_linearised(Solve& s, const Vector& rhs, Vector& v) {
+  if (!s.dense && !s.sparse) {  // not factorised yet, or not kept: (re)factorised now
+    Status st = factorise(s);
+    if (!st.is_ok()) return st;
+  }
+  SparseLU* lu = s.sparse ? s.sparse.get() : shared_lu_.get();
+  auto plain = [&](const Vector& b, Vector& x) -> Status {
+    if (s.dense) {
+      x = s.dense->solve(b);
+      return {};
+    }
+    return lu->solve(b, x);
+  };
+  Status st = plain(rhs, v);
+  if (!st.is_ok() || !mass_varies_) return st;
+  // A v + B'[v] R = rhs: v <- A^-1 (rhs - B'[v] R) until it settles
+  Vector Rp, Rm, next;
+  for (int it = 0; it < kMassIterations; ++it) {
+    const double vn = v.lpNorm<Eigen::Infinity>();
+    if (vn == 0.0) return {};
+    const double eps = kMassDifferenceStep * std::max(s.U.lpNorm<Eigen::Infinity>(), 1.0) / vn;
+    st = problem_.time_residual(s.U + eps * v, s.rate, Rp);
+    if (st.is_ok()) st = problem_.time_residual(s.U - eps * v, s.rate, Rm);
+    if (st.is_ok()) st = plain(rhs - (Rp - Rm) / (2.0 * eps), next);
+    if (!st.is_ok()) return st;
+    const double change = (next - v).lpNorm<Eigen::Infinity>();
+    v = next;
+    if (change <= kMassIterationTolerance * vn) return {};
+  }
+  return {StatusCode::NotConverged, "shooting: the linearised step with B'(u) did not settle"};
+}
+
+Status ShootingMap::parameter_term(const Solve& s, double dlambda, Vector& rhs) {
+  if (dlambda == 0.0) return {};
+  Vector dF;
+  Status st = problem_.parameter_derivative(parameter_, s.U, dF);
+  if (st.is_ok()) rhs -= dlambda * dF;
+  return st;
+}
+
+Status ShootingMap::linearised(const Vector& v0, double dT, double dlambda, Vector& out) {
+  if (solves_.empty()) throw std::logic_error("shooting: linearised before integrate");
+  if (dlambda != 0.0 && parameter_ < 0) throw std::logic_error("shooting: no parameter to differentiate in");
+  const auto t0 = Clock::now();
+  const double s_T = dT / period_;  // dh / h of every step
+  Vector rhs, v;
+  Status st;
+  if (method_ == TimeOptions::Method::Bdf2) {
+    Vector before = v0, last = v0;  // v_(k-2), v_(k-1)
+    for (Solve& s : solves_) {
+      const double h = steps_[static_cast<size_t>(s.step)];
+      Vector w = s.c[1] * last;
+      if (s.c[2] != 0.0) w += s.c[2] * before;
+      // B (c0 dU + w) / h - B R s_T + J dU + ... = 0
+      rhs = mass(s) * (s_T * s.rate - w / h);
+      if (!(st = parameter_term(s, dlambda, rhs)).is_ok() || !(st = solve_linearised(s, rhs, v)).is_ok()) return st;
+      before = std::move(last);
+      last = v;
+    }
+    out = std::move(last);
+  } else {
+    const SdirkTableau& t = sdirk4();
+    Vector un = v0;  // du_n
+    std::array<Vector, SdirkTableau::kStages> dK;
+    for (size_t first = 0; first < solves_.size(); first += SdirkTableau::kStages) {
+      const double h = steps_[static_cast<size_t>(solves_[first].step)];
+      const Vector& u_n = states_[static_cast<size_t>(solves_[first].step)];
+      for (int i = 0; i < SdirkTableau::kStages; ++i) {
+        Solve& s = solves_[first + static_cast<size_t>(i)];
+        // h gamma dK_i = dU_i - w_i - s_T (U_i - u_n), w_i = du_n + h sum_(j<i) a_ij dK_j
+        Vector w = un;
+        for (int j = 0; j < i; ++j) w += (h * t.a[i][j]) * dK[static_cast<size_t>(j)];
+        const Vector shift = w + s_T * (s.U - u_n);
+        rhs = mass(s) * (s.coefficient * shift);
+        if (!(st = parameter_term(s, dlambda, rhs)).is_ok() || !(st = solve_linearised(s, rhs, v)).is_ok()) return st;
+        dK[static_cast<size_t>(i)] = s.coefficient * (v - shift);
+      }
+      un = v;
+    }
+    out = std::move(un);
+  }
+  ++counts_.passes;
+  counts_.linearised_seconds += since(t0);
+  return {};
+}
+
+}  // namespace keller

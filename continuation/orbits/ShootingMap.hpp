@@ -1,0 +1,124 @@
+// The period map of B(u) du/dt = -F(u, lambda) on a frozen time grid, for shooting: Phi(u0, T,
+// lambda) is the state after time T from u0 by keller's integrator (continuation/time: BDF2 with its
+// backward Euler start, or SDIRK4) at the times s_k T of a fixed grid of fractions s_k, recorded from
+// an adaptive run at the run's tolerance. With the grid frozen, Phi is a smooth function of (u0, T,
+// lambda) and its derivatives are those of the discrete steps, exactly. Every implicit solve of a
+// step (BDF2: one, SDIRK4: one per stage) reads B(U) R + F(U) = 0 with the rate R affine in U,
+//   BDF2:   R = (c0 U + c1 u_(k-1) + c2 u_(k-2)) / h,   SDIRK4: R = K_i = (U_i - u_n - h sum_(j<i) a_ij K_j) / (h
+//   gamma),
+// with h = T (s_k - s_(k-1)); linearised it is A dU = B(U) (d of the rest) + (dT / T) (terms of h) - F_lambda dlambda
+// with A = (dR/dU) B(U) + J(U) + B'(U)[.] R (the last term by iteration, and only where B depends
+// on u). The monodromy matrix M = dPhi/du0 is applied to a vector by one such pass; its
+// eigenvalues are the Floquet multipliers of the discrete orbit (the trivial one is 1 up to the
+// integrator's error: O(h^2) with BDF2, O(h^4) with SDIRK4).
+#pragma once
+
+#include <array>
+#include <memory>
+#include <vector>
+
+#include "continuation/time/TimeIntegrator.hpp"
+#include "core/Newton.hpp"
+#include "core/Problem.hpp"
+#include "core/SparseLU.hpp"
+#include "core/Status.hpp"
+#include "core/Types.hpp"
+
+namespace keller {
+
+// The steps of one period as fractions of it: 0 < s_1 < ... < s_m = 1, the step k ending at s_k T,
+// and the method: BDF2 (the first two steps the integrator's backward Euler start) or SDIRK4.
+struct OrbitGrid {
+  std::vector<double> fractions;
+  TimeOptions::Method method = TimeOptions::Method::Bdf2;
+  // From the accepted times t_1 < ... < t_m of a run started at t0 (t_m - t0 is the period).
+  // Throws std::invalid_argument where they do not increase or are too few (BDF2: three).
+  static OrbitGrid from_times(double t0, const std::vector<double>& times,
+                              TimeOptions::Method method = TimeOptions::Method::Bdf2);
+  int steps() const { return static_cast<int>(fractions.size()); }
+};
+
+// The grid of an adaptive run (continuation/time, the method and error control of `options`) from
+// u0 over one period: the steps evolve would take there, frozen for shooting. Throws std::runtime_error with
+// the integrator's reason where the run does not reach the period.
+OrbitGrid record_grid(Problem& problem, const Vector& u0, double period, const TimeOptions& options,
+                      const NewtonOptions& newton = {}, const SparseLUOptions& lu = {});
+
+struct ShootingOptions {
+  // Each step's Newton solve: the map is only as smooth as its steps are converged, so tighter
+  // than a time integration's (the residual relative to the problem's residual scale).
+  NewtonOptions newton = tight_newton();
+  SparseLUOptions lu;
+  // The linearised passes keep the factorisations of the steps' matrices while they take at most
+  // this many bytes together (SparseLU's numeric size; dense LUs for problems of up to
+  // kDenseSize unknowns); a step beyond it is refactorised in every pass.
+  double memory_budget = 2e9;
+  static NewtonOptions tight_newton();
+  // The sparse LU of a problem of n unknowns: UMFPACK where `asked` is Auto and n <= kUmfpackSize,
+  // else `asked`. A period takes thousands of solves of small matrices, and a MUMPS call has a
+  // fixed cost of tens of microseconds (its Fortran interface), more than a small solve itself.
+  static constexpr int kUmfpackSize = 2000;
+  static SparseLUOptions::Backend backend_for(SparseLUOptions::Backend asked, int n);
+};
+
+class ShootingMap {
+ public:
+  // Problems of up to this many unknowns factorise their step matrices dense.
+  static constexpr int kDenseSize = 64;
+
+  // parameter: the index of lambda in problem.parameters() (-1: no parameter derivative). Throws
+  // NoTimeForm where the problem has no mass matrix.
+  ShootingMap(Problem& problem, int parameter, ShootingOptions options = {});
+  ~ShootingMap();
+  ShootingMap(const ShootingMap&) = delete;
+  ShootingMap& operator=(const ShootingMap&) = delete;
+
+  Problem& problem() { return problem_; }
+  int parameter() const { return parameter_; }
+  // Phi(u0, period) at the parameters' present values: integrates on the grid, keeps the states
+  // and assembles the steps' matrices for the linearised passes. A failed step is a status.
+  Status integrate(const Vector& u0, double period, const OrbitGrid& grid);
+  // u_0 ... u_m of the last integrate (u_m = Phi).
+  const std::vector<Vector>& states() const { return states_; }
+  const Vector& end() const { return states_.back(); }
+  double period() const { return period_; }
+  // du/dt at the end of the period: the last solve's rate (BDF2: r_m; SDIRK4: K_5 of the last step).
+  Vector end_rate() const;
+  // dPhi = M v0 + (dPhi/dT) dT + (dPhi/dlambda) dlambda at the last integrate's (u0, T, lambda).
+  Status linearised(const Vector& v0, double dT, double dlambda, Vector& out);
+
+  struct Counts {
+    long steps = 0;              // forward steps integrated
+    long newton_iterations = 0;  // of the forward steps
+    long factorisations = 0;     // forward (the integrator's) and linearised (the steps' own)
+    long passes = 0;             // linearised passes
+    double forward_seconds = 0, linearised_seconds = 0;
+  };
+  const Counts& counts() const { return counts_; }
+
+ private:
+  struct Solve;
+  Status assemble(Solve& solve);
+  Status factorise(Solve& solve);
+  // dU = A^-1 rhs for a solve (with the B' term where B varies)
+  Status solve_linearised(Solve& solve, const Vector& rhs, Vector& dU);
+  // the right-hand side's parameter term: -F_lambda(U) dlambda
+  Status parameter_term(const Solve& solve, double dlambda, Vector& rhs);
+  const SparseMatrix& mass(const Solve& solve) const;
+
+  Problem& problem_;
+  int parameter_;
+  ShootingOptions options_;
+  double period_ = 0.0;
+  TimeOptions::Method method_ = TimeOptions::Method::Bdf2;
+  bool mass_varies_ = false;  // B depends on u (then B'[v] R enters every linearised solve)
+  SparseMatrix mass_;         // B where it is constant
+  std::vector<Vector> states_;
+  std::vector<Solve> solves_;  // in order: one per BDF2 step, kStages per SDIRK4 step
+  std::vector<double> steps_;  // the step lengths h_k
+  double stored_bytes_ = 0.0;
+  std::unique_ptr<SparseLU> shared_lu_;  // for the solves whose factorisations are not kept
+  Counts counts_;
+};
+
+}  // namespace keller

@@ -1,0 +1,43 @@
+// The Floquet multipliers of a periodic orbit: the eigenvalues of largest magnitude of its
+// monodromy matrix M, given by its action on a vector (one linearised integration over a period,
+// continuation/orbits/ShootingMap), by ARPACK on the operator, or from M formed column by column
+// where the problem is smaller than the Arnoldi basis would be. The trivial multiplier (1 for an
+// autonomous flow, along the flow direction) is named, and the orbit's stability counted without it.
+#pragma once
+
+#include <complex>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "core/Status.hpp"
+#include "core/Types.hpp"
+
+namespace keller {
+
+struct FloquetOptions {
+  int count = 8;             // multipliers wanted, those of largest magnitude
+  double tolerance = 1e-10;  // ARPACK's relative accuracy of the Ritz values
+};
+
+struct FloquetResult {
+  std::vector<std::complex<double>> multipliers;  // by |mu| descending, a conjugate pair together
+  int trivial = -1;                               // index of the trivial multiplier (the one nearest 1)
+  int unstable = 0;                               // multipliers with |mu| > 1, the trivial one left out
+  long applications = 0;                          // of M (linearised passes)
+  double seconds = 0.0;
+  bool dense = false;  // M was formed column by column
+  // "stable", or "unstable (k)" with the count
+  std::string stability() const;
+};
+
+// The multipliers of the n x n monodromy matrix applied by `monodromy(v, Mv)`. A failed
+// application is returned as its status.
+Status floquet_multipliers(int n, const std::function<Status(const Vector&, Vector&)>& monodromy,
+                           const FloquetOptions& options, FloquetResult& out);
+
+// Which multiplier is trivial, and how many of the others lie outside the unit circle (the
+// classification alone, on given multipliers: for tests and for stored values).
+void classify_multipliers(FloquetResult& result);
+
+}  // namespace keller

@@ -1,0 +1,206 @@
+// Periodic orbits by shooting (continuation/orbits) and their Floquet multipliers
+// (stability/FloquetMultipliers) on the Brusselator ODE, whose orbits are known to 10 digits from
+// an independent integration (RK4 with 2e5 to 8e5 steps per period and the variational equations,
+// converged to the digits given; docs/periodic_orbits.md), and the Floquet solver on matrices
+// with known eigenvalues.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <complex>
+
+#include <fmt/format.h>
+
+#include "continuation/orbits/OrbitCorrector.hpp"
+#include "continuation/orbits/ShootingMap.hpp"
+#include "stability/FloquetMultipliers.hpp"
+#include "support/TestProblems.hpp"
+
+using namespace keller;
+using keller::test::FunctionProblem;
+
+namespace {
+
+FunctionProblem brusselator(double a, double b) {
+  return FunctionProblem(
+      "brusselator", 2, {{"a", a}, {"b", b}},
+      [](const Vector& u, const Vector& p) {
+        Vector F(2);
+        F << -(p[0] - (p[1] + 1.0) * u[0] + u[0] * u[0] * u[1]), -(p[1] * u[0] - u[0] * u[0] * u[1]);
+        return F;
+      },
+      [](const Vector& u, const Vector& p) {
+        Eigen::MatrixXd J(2, 2);
+        J << (p[1] + 1.0) - 2.0 * u[0] * u[1], -u[0] * u[0], -p[1] + 2.0 * u[0] * u[1], u[0] * u[0];
+        return J;
+      },
+      [](int k, const Vector& u, const Vector&) {
+        Vector d(2);
+        if (k == 0)
+          d << -1.0, 0.0;
+        else
+          d << u[0], -u[0];
+        return d;
+      });
+}
+
+class Last final : public TimeObserver {
+ public:
+  void on_step(const TimePoint& p) override { u = p.u; }
+  Vector u;
+};
+
+struct Orbit {
+  double period = 0.0;
+  FloquetResult floquet;
+  OrbitCorrection correction;
+  int steps = 0;
+};
+
+// The orbit at (a, b) from a state integrated for 60 time units towards it, with the period
+// guessed 2% off, on the grid of an adaptive run at relative tolerance rtol.
+Orbit orbit(double a, double b, double rtol, TimeOptions::Method method) {
+  FunctionProblem p = brusselator(a, b);
+  TimeOptions o;
+  o.t_end = 60.0;
+  o.relative_tolerance = 1e-6;
+  Last last;
+  Vector u0(2);
+  u0 << a + 0.2, b / a;
+  SparseLUOptions umfpack;
+  umfpack.backend = SparseLUOptions::Backend::Umfpack;
+  TimeIntegrator(p, o, {}, umfpack).run(u0, 0.0, last);
+  Vector u = last.u, F;
+  double T = 1.02 * 7.156919921;
+  o.relative_tolerance = rtol;
+  o.absolute_tolerance = 1e-3 * rtol;
+  o.method = method;
+  const OrbitGrid grid = record_grid(p, u, T, o, ShootingOptions::tight_newton());
+  ShootingMap map(p, 1);
+  (void)p.residual(u, F);
+  const Vector ref = u;
+  double lambda = 0.0;
+  Orbit out;
+  out.steps = grid.steps();
+  out.correction = OrbitCorrector(map).correct(u, T, lambda, false, grid, ref, F);
+  out.period = T;
+  auto M = [&](const Vector& v, Vector& Mv) { return map.linearised(v, 0.0, 0.0, Mv); };
+  EXPECT_TRUE(floquet_multipliers(2, M, {}, out.floquet).is_ok());
+  return out;
+}
+
+}  // namespace
+
+// The Brusselator's orbit at a = 1, b = 3 from the independent values T = 7.156919921 and nontrivial
+// multiplier 2.51638e-4 (their last digits: 7e-11 and 2e-6 relative). With SDIRK4 at rtol 1e-10
+// the discrete orbit's period errs by 3e-11 and its trivial multiplier by 1e-9 (measured; 1e-7 and
+// 1e-8 at 1e-8 and 1e-9: the error falls about tenfold per decade of the tolerance), so the bounds
+// below hold with a margin of 3 to 10.
+TEST(PeriodicOrbit, BrusselatorPeriodAndMultipliersAgreeWithAnIndependentIntegration) {
+  const Orbit o = orbit(1.0, 3.0, 1e-10, TimeOptions::Method::Sdirk4);
+  ASSERT_TRUE(o.correction.status.is_ok()) << o.correction.status.describe();
+  EXPECT_LE(o.correction.iterations, 5);  // Newton on the frozen grid: quadratic from 2% off
+  EXPECT_NEAR(o.period / 7.156919921, 1.0, 2e-10);
+  ASSERT_EQ(o.floquet.multipliers.size(), 2u);
+  ASSERT_EQ(o.floquet.trivial, 0);
+  EXPECT_NEAR(o.floquet.multipliers[0].real(), 1.0, 1e-8);
+  EXPECT_NEAR(o.floquet.multipliers[1].real(), 2.51638e-4, 1e-9);
+  EXPECT_EQ(o.floquet.multipliers[1].imag(), 0.0);
+  EXPECT_EQ(o.floquet.stability(), "stable");
+}
+
+// The trivial multiplier's error is the integrator's, and falls as the tolerance tightens: from rtol
+// 1e-6 to 1e-8, BDF2's from 5.4e-4 to 2.3e-5 (602 to 2753 steps; O(tol^(2/3)), a factor 22) and
+// SDIRK4's from 8.4e-6 to 9.6e-8 (132 to 383 steps; a factor 88), measured.
+TEST(PeriodicOrbit, TheTrivialMultiplierConvergesToOneWithTheTolerance) {
+  for (auto method : {TimeOptions::Method::Bdf2, TimeOptions::Method::Sdirk4}) {
+    const bool bdf = method == TimeOptions::Method::Bdf2;
+    double before = 0.0;
+    for (double rtol : {1e-6, 1e-8}) {
+      const Orbit o = orbit(1.0, 3.0, rtol, method);
+      ASSERT_TRUE(o.correction.status.is_ok()) << o.correction.status.describe();
+      const double e = std::abs(o.floquet.multipliers[static_cast<size_t>(o.floquet.trivial)] - 1.0);
+      if (before > 0.0) {
+        EXPECT_LT(e, (bdf ? 0.1 : 0.02) * before) << rtol;
+      }
+      before = e;
+    }
+  }
+}
+
+namespace {
+
+// A real n x n matrix with the given eigenvalues (complex ones with their conjugates next to them),
+// in a fixed random basis.
+Eigen::MatrixXd with_eigenvalues(const std::vector<std::complex<double>>& values, int n) {
+  Eigen::MatrixXd D = Eigen::MatrixXd::Zero(n, n);
+  int i = 0;
+  for (size_t k = 0; k < values.size(); ++k) {
+    const auto v = values[k];
+    if (v.imag() == 0.0) {
+      D(i, i) = v.real();
+      ++i;
+    } else {
+      D(i, i) = D(i + 1, i + 1) = v.real();
+      D(i, i + 1) = v.imag();
+      D(i + 1, i) = -v.imag();
+      i += 2;
+      ++k;  // the conjugate
+    }
+  }
+  for (; i < n; ++i) D(i, i) = 1e-3 * std::pow(0.9, i);  // the strongly damped rest
+  std::srand(3);
+  const Eigen::MatrixXd S = Eigen::MatrixXd::Identity(n, n) + 0.3 * Eigen::MatrixXd::Random(n, n);
+  return S * D * S.inverse();
+}
+
+}  // namespace
+
+// Both paths (M formed and eigenvalues dense for n <= 20 here; ARPACK on the operator above) find a
+// known set: a trivial 1, a pair outside the unit circle (a Neimark-Sacker side), -1.5 (a period
+// doubling side) and damped ones; the pair comes with its conjugate, by |mu| descending.
+TEST(FloquetMultipliers, KnownEigenvaluesByBothPaths) {
+  const std::complex<double> pair(0.6, 1.0);
+  const std::vector<std::complex<double>> values{1.0, pair, std::conj(pair), -1.5, 0.5};
+  for (int n : {12, 80}) {
+    const Eigen::MatrixXd M = with_eigenvalues(values, n);
+    auto op = [&](const Vector& v, Vector& y) {
+      y = M * v;
+      return Status{};
+    };
+    FloquetOptions o;
+    o.count = 5;
+    FloquetResult r;
+    ASSERT_TRUE(floquet_multipliers(n, op, o, r).is_ok());
+    EXPECT_EQ(r.dense, n <= 20);
+    ASSERT_GE(r.multipliers.size(), 5u);
+    EXPECT_NEAR(std::abs(r.multipliers[0] - (-1.5)), 0.0, 1e-9) << n;
+    EXPECT_NEAR(std::abs(r.multipliers[1] - pair), 0.0, 1e-9) << n;  // |pair| = 1.17
+    EXPECT_NEAR(std::abs(r.multipliers[2] - std::conj(pair)), 0.0, 1e-9) << n;
+    EXPECT_NEAR(std::abs(r.multipliers[3] - 1.0), 0.0, 1e-9) << n;
+    EXPECT_NEAR(std::abs(r.multipliers[4] - 0.5), 0.0, 1e-9) << n;
+    EXPECT_EQ(r.trivial, 3);
+    EXPECT_EQ(r.unstable, 3);
+    EXPECT_EQ(r.stability(), "unstable (3)");
+    if (n > 20) {
+      EXPECT_LT(r.applications, n);
+    }
+  }
+}
+
+// The classification alone: the trivial multiplier is the one nearest 1, whatever its place, and
+// only the others count towards instability (a multiplier at 1 + 1e-9 is the trivial one, not an
+// unstable one).
+TEST(FloquetMultipliers, TheTrivialOneIsNearestOneAndNotCounted) {
+  FloquetResult r;
+  r.multipliers = {{-2.0, 0.0}, {1.0 + 1e-9, 0.0}, {0.99, 0.0}, {0.2, 0.1}, {0.2, -0.1}};
+  classify_multipliers(r);
+  EXPECT_EQ(r.trivial, 1);
+  EXPECT_EQ(r.unstable, 1);
+  r.multipliers = {{1.2, 0.0}, {0.9999999, 0.0}};
+  classify_multipliers(r);
+  EXPECT_EQ(r.trivial, 1);
+  EXPECT_EQ(r.unstable, 1);
+  r.multipliers = {{0.5, 0.0}};
+  classify_multipliers(r);
+  EXPECT_EQ(r.stability(), "stable");
+}

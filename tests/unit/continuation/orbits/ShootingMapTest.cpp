@@ -1,0 +1,159 @@
+// The shooting map of periodic orbits (continuation/orbits/ShootingMap): the integrator on a given
+// grid reproduces the adaptive run the grid came from, and the linearised passes (the monodromy
+// matrix and the derivatives in the period and the parameter) agree with central differences of
+// the map itself, for BDF2 and SDIRK4, with B constant and with B depending on u (the B'[v] R term).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "continuation/orbits/ShootingMap.hpp"
+#include "support/TestProblems.hpp"
+
+using namespace keller;
+using keller::test::FunctionProblem;
+
+namespace {
+
+// The Brusselator ODE x' = a - (b + 1) x + x^2 y, y' = b x - x^2 y as B du/dt = -F, B = I.
+FunctionProblem brusselator(double a, double b) {
+  return FunctionProblem(
+      "brusselator", 2, {{"a", a}, {"b", b}},
+      [](const Vector& u, const Vector& p) {
+        Vector F(2);
+        F << -(p[0] - (p[1] + 1.0) * u[0] + u[0] * u[0] * u[1]), -(p[1] * u[0] - u[0] * u[0] * u[1]);
+        return F;
+      },
+      [](const Vector& u, const Vector& p) {
+        Eigen::MatrixXd J(2, 2);
+        J << (p[1] + 1.0) - 2.0 * u[0] * u[1], -u[0] * u[0], -p[1] + 2.0 * u[0] * u[1], u[0] * u[0];
+        return J;
+      },
+      [](int k, const Vector& u, const Vector&) {
+        Vector d(2);
+        if (k == 0)
+          d << -1.0, 0.0;
+        else
+          d << u[0], -u[0];
+        return d;
+      });
+}
+
+// The same equations with a state-dependent mass matrix B(u) = diag(1 + x^2 / 2, 1 + y^2 / 4)
+// (a moving mesh's kind of time term).
+class CurvedMass final : public Problem {
+ public:
+  explicit CurvedMass(FunctionProblem inner) : inner_(std::move(inner)) {}
+  std::string name() const override { return "curved-mass"; }
+  int size() const override { return 2; }
+  ParameterSet& parameters() override { return inner_.parameters(); }
+  const ParameterSet& parameters() const override { return inner_.parameters(); }
+  const SparseMatrix& jacobian_pattern() const override { return inner_.jacobian_pattern(); }
+  Status residual(const Vector& u, Vector& F) override { return inner_.residual(u, F); }
+  Status jacobian(const Vector& u, Vector& F, SparseMatrix& J) override { return inner_.jacobian(u, F, J); }
+  Status parameter_derivative(int p, const Vector& u, Vector& dF) override {
+    return inner_.parameter_derivative(p, u, dF);
+  }
+  Status mass_matrix(const Vector& u, SparseMatrix& B) override {
+    B = inner_.jacobian_pattern();
+    B.coeffRef(0, 0) = 1.0 + 0.5 * u[0] * u[0];
+    B.coeffRef(1, 1) = 1.0 + 0.25 * u[1] * u[1];
+    return {};
+  }
+  Vector initial_guess() override { return Vector::Zero(2); }
+
+ private:
+  FunctionProblem inner_;
+};
+
+class States final : public TimeObserver {
+ public:
+  void on_step(const TimePoint& p) override {
+    if (p.step > 0) times.push_back(p.t);
+    states.push_back(p.u);
+  }
+  std::vector<double> times;
+  std::vector<Vector> states;
+};
+
+Vector start() {
+  Vector u(2);
+  u << 1.5, 2.0;
+  return u;
+}
+
+}  // namespace
+
+TEST(ShootingMap, TheGridReproducesTheAdaptiveRunItCameFrom) {
+  FunctionProblem p = brusselator(1.0, 3.0);
+  TimeOptions o;
+  o.t_end = 5.0;
+  o.relative_tolerance = 1e-6;
+  o.absolute_tolerance = 1e-10;
+  States adaptive, fixed;
+  ASSERT_EQ(TimeIntegrator(p, o, ShootingOptions::tight_newton()).run(start(), 0.0, adaptive).code, TimeStop::End);
+  ASSERT_GT(adaptive.times.size(), 20u);
+  const TimeResult r =
+      TimeIntegrator(p, o, ShootingOptions::tight_newton()).run_on_grid(start(), 0.0, adaptive.times, fixed);
+  ASSERT_EQ(r.code, TimeStop::End) << r.reason;
+  ASSERT_EQ(fixed.states.size(), adaptive.states.size());
+  // the same steps from the same states: equal to the steps' Newton tolerance (1e-13)
+  for (size_t k = 0; k < fixed.states.size(); ++k)
+    EXPECT_LT((fixed.states[k] - adaptive.states[k]).lpNorm<Eigen::Infinity>(), 1e-11) << "state " << k;
+}
+
+TEST(ShootingMap, AGridStepThatFailsEndsTheRunWithAReason) {
+  FunctionProblem p = brusselator(1.0, 3.0);
+  NewtonOptions newton = ShootingOptions::tight_newton();
+  newton.max_iterations = 1;  // no step converges in one iteration from the predictor
+  States s;
+  const TimeResult r = TimeIntegrator(p, TimeOptions{}, newton).run_on_grid(start(), 0.0, {0.5, 1.0, 1.5}, s);
+  EXPECT_EQ(r.code, TimeStop::GridStepFailed);
+  EXPECT_NE(r.reason.find("step 1 of the grid"), std::string::npos) << r.reason;
+  EXPECT_THROW(TimeIntegrator(p, TimeOptions{}).run_on_grid(start(), 0.0, {0.5, 0.4}, s), std::invalid_argument);
+}
+
+namespace {
+
+// |linearised - central difference| / |linearised| for the direction (v, dT, dlambda).
+double linearisation_error(Problem& p, const Vector& v, double dT, double dl, TimeOptions::Method method) {
+  const double T = 3.0, eps = 1e-5;
+  TimeOptions o;
+  o.method = method;
+  o.relative_tolerance = 1e-5;
+  const OrbitGrid grid = record_grid(p, start(), T, o, ShootingOptions::tight_newton());
+  EXPECT_GT(grid.steps(), method == TimeOptions::Method::Bdf2 ? 20 : 5);
+  ShootingMap map(p, 1, {});
+  const double b = p.parameters().value(1);
+  EXPECT_TRUE(map.integrate(start(), T, grid).is_ok());
+  Vector exact;
+  EXPECT_TRUE(map.linearised(v, dT, dl, exact).is_ok());
+  auto phi = [&](double s) {
+    p.parameters().set(1, b + s * dl);
+    EXPECT_TRUE(map.integrate(start() + s * v, T + s * dT, grid).is_ok());
+    p.parameters().set(1, b);
+    return map.end();
+  };
+  const Vector fd = (phi(eps) - phi(-eps)) / (2.0 * eps);
+  return (fd - exact).norm() / exact.norm();
+}
+
+}  // namespace
+
+// Central differences at 1e-5 err by O(eps^2) times the map's third derivative (about 1e-10 here)
+// and by the steps' Newton tolerance over eps (1e-13 / 1e-5 = 1e-8): 1e-7 bounds both.
+TEST(ShootingMap, LinearisedPassesAgreeWithDifferencesOfTheMap) {
+  Vector v(2);
+  v << 0.3, -0.7;
+  for (auto method : {TimeOptions::Method::Bdf2, TimeOptions::Method::Sdirk4})
+    for (int constant = 1; constant >= 0; --constant) {
+      FunctionProblem f = brusselator(1.0, 3.0);
+      CurvedMass curved(brusselator(1.0, 3.0));
+      Problem& p = constant ? static_cast<Problem&>(f) : static_cast<Problem&>(curved);
+      SCOPED_TRACE(p.name() + (method == TimeOptions::Method::Bdf2 ? " BDF2" : " SDIRK4"));
+      EXPECT_LT(linearisation_error(p, v, 0.0, 0.0, method), 1e-7) << "M v";
+      EXPECT_LT(linearisation_error(p, Vector::Zero(2), 1.0, 0.0, method), 1e-7) << "dPhi/dT";
+      EXPECT_LT(linearisation_error(p, Vector::Zero(2), 0.0, 1.0, method), 1e-7) << "dPhi/db";
+      EXPECT_LT(linearisation_error(p, v, 0.4, -0.2, method), 1e-7) << "all three";
+    }
+}
