@@ -47,28 +47,36 @@ Status floquet_multipliers(int n, const std::function<Status(const Vector&, Vect
       M.col(j) = column;
       e[j] = 0.0;
     }
-    const Eigen::EigenSolver<Eigen::MatrixXd> es(M, false);
+    const Eigen::EigenSolver<Eigen::MatrixXd> es(M, options.vectors);
     if (es.info() != Eigen::Success) return {StatusCode::NotConverged, "Floquet: the dense eigenvalue solve failed"};
-    for (int i = 0; i < n; ++i) out.multipliers.push_back(es.eigenvalues()[i]);
-    std::stable_sort(out.multipliers.begin(), out.multipliers.end(), [](auto a, auto b) {
-      const double ma = std::abs(a), mb = std::abs(b);
-      return ma != mb ? ma > mb : a.imag() > b.imag();
+    std::vector<int> order(static_cast<size_t>(n));
+    for (int i = 0; i < n; ++i) order[static_cast<size_t>(i)] = i;
+    const auto& values = es.eigenvalues();
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+      const double ma = std::abs(values[a]), mb = std::abs(values[b]);
+      return ma != mb ? ma > mb : values[a].imag() > values[b].imag();
     });
-    if (static_cast<int>(out.multipliers.size()) > options.count) {
-      int keep = options.count;  // a conjugate pair is not cut in half
-      if (out.multipliers[static_cast<size_t>(keep - 1)].imag() > 0.0) ++keep;
-      out.multipliers.resize(static_cast<size_t>(keep));
+    int keep = std::min(n, options.count);
+    if (keep < n && values[order[static_cast<size_t>(keep - 1)]].imag() > 0.0) ++keep;  // a pair stays whole
+    for (int k = 0; k < keep; ++k) {
+      const int i = order[static_cast<size_t>(k)];
+      out.multipliers.push_back(values[i]);
+      if (options.vectors) out.vectors.push_back(es.eigenvectors().col(i).normalized());
     }
     out.dense = true;
   } else {
     EigenOptions o;
     o.count = options.count;
     o.tolerance = options.tolerance;
+    o.vectors = options.vectors;
     EigenResult r;
     Status st = largest_eigenvalues(n, monodromy, o, r);
     out.applications = r.solves;
     if (!st.is_ok() && r.pairs.empty()) return st;
-    for (const EigenPair& p : r.pairs) out.multipliers.push_back(p.value);
+    for (const EigenPair& p : r.pairs) {
+      out.multipliers.push_back(p.value);
+      if (options.vectors) out.vectors.push_back(p.vector);
+    }
     if (!st.is_ok()) {
       classify_multipliers(out);
       return st;

@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "core/Status.hpp"
 #include "core/Types.hpp"
 
@@ -18,10 +20,12 @@ namespace keller {
 struct FloquetOptions {
   int count = 8;             // multipliers wanted, those of largest magnitude
   double tolerance = 1e-10;  // ARPACK's relative accuracy of the Ritz values
+  bool vectors = false;      // an eigenvector of each multiplier (unit 2-norm)
 };
 
 struct FloquetResult {
   std::vector<std::complex<double>> multipliers;  // by |mu| descending, a conjugate pair together
+  std::vector<Eigen::VectorXcd> vectors;          // FloquetOptions::vectors: one per multiplier
   int trivial = -1;                               // index of the trivial multiplier (the one nearest 1)
   int unstable = 0;                               // multipliers with |mu| > 1, the trivial one left out
   long applications = 0;                          // of M (linearised passes)

@@ -12,6 +12,8 @@ const char* to_string(PointKind k) {
     case PointKind::BranchPoint: return "bp";
     case PointKind::End: return "end";
     case PointKind::Hopf: return "hopf";
+    case PointKind::PeriodDoubling: return "pd";
+    case PointKind::NeimarkSacker: return "ns";
   }
   return "?";
 }

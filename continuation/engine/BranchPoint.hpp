@@ -19,8 +19,13 @@ enum class PointKind {
   BranchPoint = 5,  // located sign change of det of the bordered Jacobian
   End = 6,          // located end of the branch (parameter bound or stop observable)
   Hopf = 7,         // located crossing of a complex pair of eigenvalues (PointAnalysis)
+  // periodic orbits (continuation/orbits): a real Floquet multiplier through -1, a complex pair
+  // through the unit circle (a fold or branch point of orbits is Fold or BranchPoint)
+  PeriodDoubling = 8,
+  NeimarkSacker = 9,
 };
-// point, start, stop, event, fold, bp, end, hopf: the terminal's, the CSV's and the labels' names
+// point, start, stop, event, fold, bp, end, hopf, pd, ns: the terminal's, the CSV's and the
+// labels' names
 const char* to_string(PointKind k);
 
 struct BranchPoint {

@@ -16,7 +16,7 @@ namespace keller {
 
 namespace {
 
-constexpr const char* kKinds = "0 point, 1 start, 2 stop, 3 event, 4 fold, 5 bp, 6 end, 7 hopf";
+constexpr const char* kKinds = "0 point, 1 start, 2 stop, 3 event, 4 fold, 5 bp, 6 end, 7 hopf, 8 pd, 9 ns";
 
 // /branch/events: a row per located point, its monitor as an index into the monitors attribute
 // (-1: none). The writer's record and the reader's decoding of it.

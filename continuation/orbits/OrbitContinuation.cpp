@@ -1,0 +1,387 @@
+#include "continuation/orbits/OrbitContinuation.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+namespace keller {
+
+namespace {
+// the step after an accepted one: grown by this where the corrector took fewer iterations than
+// the target, shrunk where it took more; halved after a failure
+constexpr double kGrow = 1.5, kShrink = 0.7, kFailure = 0.5;
+
+std::vector<std::complex<double>> real_and_nontrivial(const std::vector<std::complex<double>>& m, int trivial,
+                                                      bool real) {
+  std::vector<std::complex<double>> out;
+  for (size_t i = 0; i < m.size(); ++i)
+    if (static_cast<int>(i) != trivial && (m[i].imag() == 0.0) == real) out.push_back(m[i]);
+  return out;
+}
+}  // namespace
+
+MultiplierCounts MultiplierCounts::of(const std::vector<std::complex<double>>& m, int trivial) {
+  MultiplierCounts c;
+  for (size_t i = 0; i < m.size(); ++i) {
+    if (static_cast<int>(i) == trivial) continue;
+    const double size = std::abs(m[i]);
+    if (size > 1.0) ++c.unstable;
+    if (m[i].imag() == 0.0) {
+      if (m[i].real() > 1.0) ++c.above_plus_one;
+      if (m[i].real() < -1.0) ++c.below_minus_one;
+    } else if (m[i].imag() > 0.0 && size > 1.0) {
+      ++c.pairs_outside;
+    }
+  }
+  return c;
+}
+
+double multiplier_test(const std::vector<std::complex<double>>& m, int trivial, PointKind kind) {
+  double best = std::numeric_limits<double>::quiet_NaN();
+  auto consider = [&](double value) {
+    if (std::isnan(best) || std::abs(value) < std::abs(best)) best = value;
+  };
+  if (kind == PointKind::NeimarkSacker) {
+    for (const auto& mu : real_and_nontrivial(m, trivial, false))
+      if (mu.imag() > 0.0) consider(std::abs(mu) - 1.0);
+    return best;
+  }
+  const double target = kind == PointKind::PeriodDoubling ? -1.0 : 1.0;
+  for (const auto& mu : real_and_nontrivial(m, trivial, true)) consider(mu.real() - target);
+  return best;
+}
+
+OrbitContinuation::OrbitContinuation(Problem& problem, int parameter, OrbitContinuationOptions options,
+                                     OrbitMultipliers* multipliers)
+    : problem_(problem),
+      parameter_(parameter),
+      options_(std::move(options)),
+      multipliers_(multipliers),
+      map_(problem, parameter, options_.shooting) {}
+
+OrbitContinuation::~OrbitContinuation() = default;
+
+std::vector<std::string> OrbitContinuation::observable_names() const {
+  std::vector<std::string> names{"period", "amplitude"};
+  for (const std::string& o : problem_.observable_names()) {
+    names.push_back(o);
+    names.push_back("amplitude:" + o);
+  }
+  return names;
+}
+
+std::vector<std::string> OrbitContinuation::analysis_columns() const {
+  std::vector<std::string> c;
+  for (int i = 1; i <= options_.multipliers; ++i) {
+    c.push_back(fmt::format("mu{}_re", i));
+    c.push_back(fmt::format("mu{}_im", i));
+  }
+  return c;
+}
+
+double OrbitContinuation::norm(const Vector& du, double dT, double dlambda) const {
+  return std::sqrt(du.squaredNorm() / static_cast<double>(du.size()) + dT * dT + dlambda * dlambda);
+}
+
+Status OrbitContinuation::analyse(OrbitPoint& p) {
+  p.multipliers.clear();
+  p.trivial = -1;
+  if (!multipliers_ || options_.multipliers <= 0) return {};
+  auto M = [this](const Vector& v, Vector& Mv) { return map_.linearised(v, 0.0, 0.0, Mv); };
+  return multipliers_->compute(problem_.size(), M, p.multipliers, p.trivial, nullptr);
+}
+
+Status OrbitContinuation::finish(OrbitPoint& p) {
+  p.flow = map_.end_rate();
+  p.states = map_.states();
+  return analyse(p);
+}
+
+Status OrbitContinuation::converge(const Vector& u0, double T, const Vector& flow, OrbitPoint& out) {
+  out = OrbitPoint{};
+  out.u0 = u0;
+  out.period = T;
+  out.lambda = problem_.parameters().value(parameter_);
+  try {
+    out.grid = record_grid(problem_, u0, T, options_.time, options_.shooting.newton, options_.shooting.lu);
+  } catch (const std::runtime_error& e) {
+    return {StatusCode::NotConverged, e.what()};
+  }
+  const Vector ref = u0;
+  const OrbitCorrection c =
+      OrbitCorrector(map_, options_.corrector).correct(out.u0, out.period, out.lambda, false, out.grid, ref, flow);
+  out.iterations = c.iterations;
+  out.krylov_iterations = c.krylov_iterations;
+  out.residual = c.residual;
+  if (!c.status.is_ok()) return c.status;
+  return finish(out);
+}
+
+Status OrbitContinuation::correct(const OrbitPoint& from, Vector u0, double T, double lambda, const Vector& du,
+                                  double dT, double dlambda, OrbitPoint& out) {
+  out = OrbitPoint{};
+  OrbitRow row;
+  row.a_u = du / static_cast<double>(du.size());
+  row.a_T = dT;
+  row.a_lambda = dlambda;
+  row.z_u = u0;
+  row.z_T = T;
+  row.z_lambda = lambda;
+  out.grid = from.grid;
+  const OrbitCorrection c =
+      OrbitCorrector(map_, options_.corrector).correct(u0, T, lambda, true, out.grid, from.u0, from.flow, row);
+  out.u0 = std::move(u0);
+  out.period = T;
+  out.lambda = lambda;
+  out.iterations = c.iterations;
+  out.krylov_iterations = c.krylov_iterations;
+  out.residual = c.residual;
+  if (!c.status.is_ok()) return c.status;
+  return finish(out);
+}
+
+Status OrbitContinuation::period_doubling_vector(const OrbitPoint& pd, Vector& v) {
+  if (!multipliers_) throw std::logic_error("period doubling: no multipliers");
+  problem_.parameters().set(parameter_, pd.lambda);
+  Status st = map_.integrate(pd.u0, pd.period, pd.grid);
+  if (!st.is_ok()) return st;
+  std::vector<std::complex<double>> values;
+  std::vector<Eigen::VectorXcd> vectors;
+  int trivial = -1;
+  auto M = [this](const Vector& x, Vector& Mx) { return map_.linearised(x, 0.0, 0.0, Mx); };
+  st = multipliers_->compute(problem_.size(), M, values, trivial, &vectors);
+  if (!st.is_ok()) return st;
+  int best = -1;
+  for (size_t i = 0; i < values.size(); ++i)
+    if (values[i].imag() == 0.0 && static_cast<int>(i) != trivial &&
+        (best < 0 || std::abs(values[i] + 1.0) < std::abs(values[static_cast<size_t>(best)] + 1.0)))
+      best = static_cast<int>(i);
+  if (best < 0 || static_cast<size_t>(best) >= vectors.size())
+    return {StatusCode::NotConverged, "period doubling: no real multiplier near -1"};
+  v = vectors[static_cast<size_t>(best)].real();
+  return {};
+}
+
+Status OrbitContinuation::switch_period_doubling(const OrbitPoint& pd, const Vector& v, double distance,
+                                                 OrbitPoint& first, OrbitPoint& second) {
+  const double rms = v.norm() / std::sqrt(static_cast<double>(v.size()));
+  if (!(rms > 0.0)) throw std::invalid_argument("period doubling switch: the eigenvector is zero");
+  const Vector dir = v / rms;
+  first = pd;
+  first.period = 2.0 * pd.period;
+  first.grid.fractions.clear();
+  for (int half = 0; half < 2; ++half)
+    for (double f : pd.grid.fractions) first.grid.fractions.push_back(0.5 * (half + f));
+  problem_.parameters().set(parameter_, pd.lambda);
+  Status st = map_.integrate(first.u0, first.period, first.grid);
+  if (st.is_ok()) st = finish(first);
+  if (!st.is_ok()) return st;
+  st = correct(first, pd.u0 + distance * dir, first.period, pd.lambda, dir, 0.0, 0.0, second);
+  if (!st.is_ok()) return st;
+  second.s = norm(second.u0 - first.u0, second.period - first.period, second.lambda - first.lambda);
+  try {
+    second.grid =
+        record_grid(problem_, second.u0, second.period, options_.time, options_.shooting.newton, options_.shooting.lu);
+  } catch (const std::runtime_error&) {
+    // keep the doubled grid
+  }
+  return {};
+}
+
+BranchPoint OrbitContinuation::to_branch_point(const OrbitPoint& p, PointKind kind, const std::string& label, int index,
+                                               const Vector& tu, double tlambda) const {
+  BranchPoint b;
+  b.tu = tu;
+  b.tlambda = tlambda;
+  b.index = index;
+  b.kind = kind;
+  b.label = label;
+  b.s = p.s;
+  b.lambda = p.lambda;
+  b.u = p.u0;
+  b.iterations = p.iterations;
+  b.residual = p.residual;
+  b.save = true;
+  // observables: period, amplitude, then each problem observable at u0 and its amplitude
+  double amplitude = 0.0;
+  if (!p.states.empty()) {
+    Vector lo = p.states.front(), hi = p.states.front();
+    for (const Vector& u : p.states) {
+      lo = lo.cwiseMin(u);
+      hi = hi.cwiseMax(u);
+    }
+    amplitude = (hi - lo).maxCoeff();
+  }
+  b.observables = {p.period, amplitude};
+  const size_t n_obs = problem_.observable_names().size();
+  if (n_obs > 0) {
+    std::vector<double> at0, v, lo, hi;
+    if (!problem_.observables(p.u0, at0).is_ok()) at0.assign(n_obs, std::numeric_limits<double>::quiet_NaN());
+    lo = hi = at0;
+    for (const Vector& u : p.states) {
+      if (!problem_.observables(u, v).is_ok()) continue;
+      for (size_t i = 0; i < n_obs; ++i) {
+        lo[i] = std::min(lo[i], v[i]);
+        hi[i] = std::max(hi[i], v[i]);
+      }
+    }
+    for (size_t i = 0; i < n_obs; ++i) {
+      b.observables.push_back(at0[i]);
+      b.observables.push_back(hi[i] - lo[i]);
+    }
+  }
+  if (options_.multipliers > 0) {
+    b.analysed = true;
+    b.analysis.assign(2 * static_cast<size_t>(options_.multipliers), std::numeric_limits<double>::quiet_NaN());
+    for (size_t i = 0; i < p.multipliers.size() && static_cast<int>(i) < options_.multipliers; ++i) {
+      b.analysis[2 * i] = p.multipliers[i].real();
+      b.analysis[2 * i + 1] = p.multipliers[i].imag();
+    }
+    b.count = MultiplierCounts::of(p.multipliers, p.trivial).unstable;
+    b.analysis_width = static_cast<int>(b.analysis.size());
+  }
+  return b;
+}
+
+bool OrbitContinuation::locate(const OrbitPoint& a, const OrbitPoint& b, PointKind kind, OrbitPoint& out) {
+  double fa = multiplier_test(a.multipliers, a.trivial, kind), fb = multiplier_test(b.multipliers, b.trivial, kind);
+  if (std::isnan(fa) || std::isnan(fb) || fa * fb > 0.0) return false;
+  const Vector du = b.u0 - a.u0;
+  const double dT = b.period - a.period, dl = b.lambda - a.lambda;
+  const double length = norm(du, dT, dl);
+  if (!(length > 0.0)) return false;
+  double sa = 0.0, sb = 1.0;
+  int side = 0;  // Illinois: the end kept twice in a row has its value halved
+  for (int it = 0; it < options_.locate_iterations; ++it) {
+    const double s = sa + (sb - sa) * fa / (fa - fb);
+    OrbitPoint p;
+    if (!correct(a, a.u0 + s * du, a.period + s * dT, a.lambda + s * dl, du / length, dT / length, dl / length, p)
+             .is_ok())
+      return false;
+    const double f = multiplier_test(p.multipliers, p.trivial, kind);
+    if (std::isnan(f)) return false;
+    p.s = a.s + s * (b.s - a.s);
+    out = std::move(p);
+    if (std::abs(f) <= options_.locate_tolerance) return true;
+    if ((f > 0.0) == (fa > 0.0)) {
+      sa = s;
+      fa = f;
+      if (side == -1) fb *= 0.5;
+      side = -1;
+    } else {
+      sb = s;
+      fb = f;
+      if (side == 1) fa *= 0.5;
+      side = 1;
+    }
+  }
+  return std::abs(multiplier_test(out.multipliers, out.trivial, kind)) <= 1e3 * options_.locate_tolerance;
+}
+
+OrbitContinuationResult OrbitContinuation::run(const OrbitPoint& first, const OrbitPoint& second,
+                                               BranchObserver& observer) {
+  const auto t0 = std::chrono::steady_clock::now();
+  auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+  OrbitContinuationResult result;
+  observer.on_start(observable_names(), {});
+  int index = 0;
+  Vector tu;  // the unit secant's state and parameter parts, reported as the tangent
+  double tl = 0.0;
+  auto report = [&](const OrbitPoint& p, PointKind kind, const std::string& label, double step) {
+    BranchPoint b = to_branch_point(p, kind, label, index++, tu, tl);
+    b.step = step;
+    b.seconds = seconds();
+    observer.on_point(b);
+    ++result.points;
+    return b;
+  };
+  OrbitPoint a = first, b = second;
+  a.s = 0.0;
+  b.s = norm(b.u0 - a.u0, b.period - a.period, b.lambda - a.lambda);
+  double ds = options_.step;
+  tu = (b.u0 - a.u0) / b.s;
+  tl = (b.lambda - a.lambda) / b.s;
+  report(a, PointKind::Start, "", ds);
+  BranchPoint last = report(b, PointKind::Regular, "", ds);
+  auto end = [&](StopCode code, std::string reason) {
+    result.code = code;
+    result.reason = std::move(reason);
+    result.last = b;
+    observer.on_finish(result.reason, last);
+    return result;
+  };
+  for (;;) {
+    if (stop_)
+      return end(StopCode::Interrupted,
+                 fmt::format("interrupted at {} = {:.10g}", problem_.parameters().info(parameter_).name, b.lambda));
+    if (result.points >= options_.max_points)
+      return end(StopCode::MaxSteps, fmt::format("{} orbits computed", result.points));
+    if (b.lambda > options_.lambda_max) return end(StopCode::UpperBound, "passed the upper bound");
+    if (b.lambda < options_.lambda_min) return end(StopCode::LowerBound, "passed the lower bound");
+    // the secant from a to b, in the arclength norm
+    Vector du = b.u0 - a.u0;
+    double dT = b.period - a.period, dl = b.lambda - a.lambda;
+    const double length = norm(du, dT, dl);
+    du /= length;
+    dT /= length;
+    dl /= length;
+    tu = du;
+    tl = dl;
+    OrbitPoint next;
+    Status st = correct(b, b.u0 + ds * du, b.period + ds * dT, b.lambda + ds * dl, du, dT, dl, next);
+    if (!st.is_ok()) {
+      observer.on_rejected(b.lambda + ds * dl, ds, st);
+      ++result.rejected;
+      ds *= kFailure;
+      if (ds < options_.min_step)
+        return end(StopCode::StepFloor, fmt::format("the step fell below {:g}: {}", options_.min_step, st.describe()));
+      continue;
+    }
+    next.s = b.s + norm(next.u0 - b.u0, next.period - b.period, next.lambda - b.lambda);
+    // the bifurcations of orbits between b and next, in order along the branch
+    if (options_.multipliers > 0) {
+      const MultiplierCounts cb = MultiplierCounts::of(b.multipliers, b.trivial),
+                             cn = MultiplierCounts::of(next.multipliers, next.trivial);
+      std::vector<std::pair<PointKind, std::string>> crossed;
+      if (cb.above_plus_one != cn.above_plus_one) {
+        const double dl_next = next.lambda - b.lambda;
+        crossed.emplace_back(dl_next * dl < 0.0 ? PointKind::Fold : PointKind::BranchPoint,
+                             dl_next * dl < 0.0 ? "fold" : "bp");
+      }
+      if (cb.below_minus_one != cn.below_minus_one) crossed.emplace_back(PointKind::PeriodDoubling, "pd");
+      if (cb.pairs_outside != cn.pairs_outside) crossed.emplace_back(PointKind::NeimarkSacker, "ns");
+      std::vector<std::pair<OrbitPoint, std::pair<PointKind, std::string>>> found;
+      for (const auto& c : crossed) {
+        OrbitPoint p;
+        const PointKind test = c.first == PointKind::BranchPoint ? PointKind::Fold : c.first;
+        if (options_.locate && locate(b, next, test, p))
+          found.emplace_back(std::move(p), c);
+        else
+          observer.on_note(fmt::format("{} between {} = {:.10g} and {:.10g}: detected, not located", c.second,
+                                       problem_.parameters().info(parameter_).name, b.lambda, next.lambda));
+      }
+      std::sort(found.begin(), found.end(), [](const auto& x, const auto& y) { return x.first.s < y.first.s; });
+      for (auto& [p, c] : found) {
+        report(p, c.first, c.second, ds);
+        result.located.push_back(std::move(p));
+      }
+    }
+    ds = std::clamp(next.iterations < options_.target_iterations   ? ds * kGrow
+                    : next.iterations > options_.target_iterations ? ds * kShrink
+                                                                   : ds,
+                    options_.min_step, options_.max_step);
+    try {
+      next.grid =
+          record_grid(problem_, next.u0, next.period, options_.time, options_.shooting.newton, options_.shooting.lu);
+    } catch (const std::runtime_error&) {
+      // keep the grid it converged on
+    }
+    a = std::move(b);
+    b = std::move(next);
+    last = report(b, PointKind::Regular, "", ds);
+  }
+}
+
+}  // namespace keller

@@ -1,0 +1,139 @@
+// Continuation of a branch of periodic orbits in one parameter lambda by pseudo-arclength on
+// (u0, T, lambda): a secant predictor, the Newton-Krylov shooting corrector (OrbitCorrector) with
+// the arclength row, the phase hyperplane through the last orbit normal to its flow, a fresh grid
+// from an adaptive run over each accepted orbit, and the step grown or shrunk by the corrector's
+// iterations. Every orbit's Floquet multipliers (from an OrbitMultipliers, which runs/ implements
+// with stability/) give its stability and the bifurcations of orbits, located between two orbits
+// by the secant method on a test function:
+//   fold of cycles / branch point of cycles: a real multiplier other than the trivial one crosses
+//     +1 (fold where lambda turns, else a branch point);
+//   period doubling: a real multiplier crosses -1;
+//   Neimark-Sacker: a complex pair crosses the unit circle (a real pair whose product is 1, a
+//     neutral saddle, is none).
+// Each orbit is reported as a BranchPoint: u = u0, its tangent the unit secant, the observables period, amplitude (the
+// largest max - min over the period of any unknown) and, per problem observable NAME, NAME at u0 and amplitude:NAME;
+// the analysis columns are the multipliers.
+#pragma once
+
+#include <complex>
+#include <functional>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "continuation/Continuation.hpp"
+#include "continuation/orbits/OrbitCorrector.hpp"
+#include "continuation/orbits/ShootingMap.hpp"
+
+namespace keller {
+
+// The Floquet multipliers of an orbit, by whatever computes eigenvalues (runs/ gives stability's).
+class OrbitMultipliers {
+ public:
+  virtual ~OrbitMultipliers() = default;
+  // The multipliers of largest magnitude of the n x n monodromy matrix applied by M, by |mu|
+  // descending, the trivial one's index, and where `vectors` is given, an eigenvector of each.
+  virtual Status compute(int n, const std::function<Status(const Vector&, Vector&)>& M,
+                         std::vector<std::complex<double>>& values, int& trivial,
+                         std::vector<Eigen::VectorXcd>* vectors) = 0;
+};
+
+// A converged orbit.
+struct OrbitPoint {
+  Vector u0;
+  double period = 0.0, lambda = 0.0;
+  OrbitGrid grid;              // the grid it was computed on
+  Vector flow;                 // du/dt at u0
+  std::vector<Vector> states;  // u_0 .. u_m over the period on the grid
+  std::vector<std::complex<double>> multipliers;
+  int trivial = -1;
+  int iterations = 0;
+  long krylov_iterations = 0;
+  double residual = 0.0;
+  double s = 0.0;  // arclength from the start
+};
+
+// The bifurcation counts of an orbit's multipliers (the trivial one left out): real ones beyond
+// +1 and -1, complex pairs outside the unit circle, and all unstable ones.
+struct MultiplierCounts {
+  int above_plus_one = 0, below_minus_one = 0, pairs_outside = 0, unstable = 0;
+  static MultiplierCounts of(const std::vector<std::complex<double>>& multipliers, int trivial);
+};
+// The test functions whose zeros are the bifurcations (of the multiplier nearest the crossing):
+// +1 crossing mu - 1 of the real multiplier nearest 1 (the trivial left out), -1 crossing mu + 1
+// of the real one nearest -1, unit circle |mu| - 1 of the complex pair nearest it; NaN where there
+// is no such multiplier. `kind`: PointKind::Fold (+1), PeriodDoubling (-1), NeimarkSacker.
+double multiplier_test(const std::vector<std::complex<double>>& multipliers, int trivial, PointKind kind);
+
+struct OrbitContinuationOptions {
+  double step = 0.05;  // arclength of the first step: |(du0, dT, dlambda)| with du0's RMS
+  double min_step = 1e-6, max_step = 0.5;
+  double lambda_min = -std::numeric_limits<double>::infinity();
+  double lambda_max = std::numeric_limits<double>::infinity();
+  int max_points = 50;
+  int target_iterations = 3;  // the step grows below, shrinks above
+  TimeOptions time;           // the grids' method and tolerance (t_end unused)
+  ShootingOptions shooting;
+  OrbitCorrectorOptions corrector;
+  int multipliers = 6;             // Floquet multipliers per orbit (0: none, no events)
+  bool locate = true;              // locate the bifurcations of orbits
+  double locate_tolerance = 1e-8;  // |test function| at a located point
+  int locate_iterations = 12;
+};
+
+struct OrbitContinuationResult {
+  StopCode code = StopCode::MaxSteps;
+  std::string reason;
+  int points = 0, rejected = 0;
+  std::vector<OrbitPoint> located;  // the located bifurcations, in order
+  OrbitPoint last;
+};
+
+class OrbitContinuation {
+ public:
+  // parameter: lambda's index in problem.parameters(); multipliers may be null (no multipliers).
+  OrbitContinuation(Problem& problem, int parameter, OrbitContinuationOptions options, OrbitMultipliers* multipliers);
+  ~OrbitContinuation();
+
+  // The orbit through a guess (u0 near the orbit, T near its period, flow: the direction of
+  // motion at u0) at the parameter's present value: a grid from an adaptive run over T from u0,
+  // then Newton at fixed lambda, then the multipliers.
+  Status converge(const Vector& u0, double T, const Vector& flow, OrbitPoint& out);
+  // The eigenvector of pd's real multiplier nearest -1 (pd a located period doubling).
+  Status period_doubling_vector(const OrbitPoint& pd, Vector& v);
+  // The start of the doubled branch at a located period doubling pd, where M v = -v: `first` is pd
+  // traversed twice (period 2T on the grid run twice), `second` the orbit of period about 2T whose
+  // component along v (RMS 1) lies `distance` from pd's, corrected on the row through it normal to
+  // v. run(first, second) then traces the doubled branch.
+  Status switch_period_doubling(const OrbitPoint& pd, const Vector& v, double distance, OrbitPoint& first,
+                                OrbitPoint& second);
+  // Traces the branch from two orbits near each other (the start, and a second giving the
+  // direction); every orbit from `first` on is reported to the observer.
+  OrbitContinuationResult run(const OrbitPoint& first, const OrbitPoint& second, BranchObserver& observer);
+  // The observables' names of the reported points, and the analysis columns (the multipliers).
+  std::vector<std::string> observable_names() const;
+  std::vector<std::string> analysis_columns() const;
+  void request_stop() { stop_ = true; }
+
+ private:
+  // Corrects a predicted orbit on the arclength row through z along d (d: unit secant); fills
+  // multipliers and observables.
+  Status correct(const OrbitPoint& from, Vector u0, double T, double lambda, const Vector& du, double dT,
+                 double dlambda, OrbitPoint& out);
+  Status finish(OrbitPoint& p);
+  Status analyse(OrbitPoint& p);
+  BranchPoint to_branch_point(const OrbitPoint& p, PointKind kind, const std::string& label, int index,
+                              const Vector& tu, double tlambda) const;
+  // the located zero of the test of `kind` between a and b (secant / Illinois in the arclength)
+  bool locate(const OrbitPoint& a, const OrbitPoint& b, PointKind kind, OrbitPoint& out);
+  double norm(const Vector& du, double dT, double dlambda) const;
+
+  Problem& problem_;
+  int parameter_;
+  OrbitContinuationOptions options_;
+  OrbitMultipliers* multipliers_;
+  ShootingMap map_;
+  bool stop_ = false;
+};
+
+}  // namespace keller

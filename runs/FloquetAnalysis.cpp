@@ -1,0 +1,17 @@
+#include "runs/FloquetAnalysis.hpp"
+
+namespace keller {
+
+Status FloquetAnalysis::compute(int n, const std::function<Status(const Vector&, Vector&)>& M,
+                                std::vector<std::complex<double>>& values, int& trivial,
+                                std::vector<Eigen::VectorXcd>* vectors) {
+  FloquetOptions o = options_;
+  o.vectors = vectors != nullptr;
+  const Status st = floquet_multipliers(n, M, o, last_);
+  values = last_.multipliers;
+  trivial = last_.trivial;
+  if (vectors) *vectors = last_.vectors;
+  return st;
+}
+
+}  // namespace keller

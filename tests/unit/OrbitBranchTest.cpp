@@ -1,0 +1,155 @@
+// Branches of periodic orbits (continuation/orbits/OrbitContinuation) with their Floquet
+// multipliers (runs/FloquetAnalysis): the adaptive-control (Lur'e) system's branch from its Hopf
+// point through its period doublings, against MatCont's published values.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "continuation/orbits/OrbitContinuation.hpp"
+#include "runs/FloquetAnalysis.hpp"
+#include "support/TestProblems.hpp"
+
+using namespace keller;
+using keller::test::FunctionProblem;
+using keller::test::RecordingObserver;
+
+namespace {
+
+// x' = y, y' = z, z' = -alpha z - y - x + x^2 (MatCont's adaptx), B du/dt = -F.
+FunctionProblem adaptive_control(double alpha) {
+  return FunctionProblem(
+      "adaptive-control", 3, {{"alpha", alpha}},
+      [](const Vector& u, const Vector& p) {
+        Vector F(3);
+        F << -u[1], -u[2], p[0] * u[2] + u[1] + u[0] - u[0] * u[0];
+        return F;
+      },
+      [](const Vector& u, const Vector& p) {
+        Eigen::MatrixXd J = Eigen::MatrixXd::Zero(3, 3);
+        J(0, 1) = -1.0;
+        J(1, 2) = -1.0;
+        J(2, 0) = 1.0 - 2.0 * u[0];
+        J(2, 1) = 1.0;
+        J(2, 2) = p[0];
+        return J;
+      },
+      [](int, const Vector& u, const Vector&) {
+        Vector d = Vector::Zero(3);
+        d[2] = u[2];
+        return d;
+      });
+}
+
+OrbitContinuationOptions options() {
+  OrbitContinuationOptions o;
+  o.time.method = TimeOptions::Method::Sdirk4;
+  o.time.relative_tolerance = 1e-9;
+  o.time.absolute_tolerance = 1e-12;
+  o.step = 0.05;
+  o.max_step = 0.2;
+  o.max_points = 200;
+  return o;
+}
+
+}  // namespace
+
+// The branch from the Hopf point at alpha = 1 down to alpha = -0.7. MatCont's manual prints the
+// period doubling at alpha = 6.303020e-1 with period 6.364071; an independent RK4 shooting code
+// gave 0.6303020062 and 6.3640713394 (docs/periodic_orbits.md). The third multiplier there is
+// -exp(-alpha T) (Liouville: tr J = -alpha), and the map (alpha, t, x, y, z) -> (-alpha, -t, 1 - x,
+// y, -z) takes the branch into itself, so a second period doubling lies at -alpha_PD. At alpha = 0
+// MatCont reports a Neimark-Sacker point; there the nontrivial multipliers are real, -16.8 and
+// -0.06 (a neutral saddle, not a bifurcation), and keller reports none.
+TEST(OrbitBranch, AdaptiveControlPeriodDoublingsAgainstMatCont) {
+  FunctionProblem p = adaptive_control(0.95);
+  FloquetAnalysis floquet;
+  OrbitContinuationOptions o = options();
+  o.lambda_min = -0.7;
+  OrbitContinuation c(p, 0, o, &floquet);
+  // the Hopf normal form's orbit at alpha = 0.95: |z| = sqrt(-g' (alpha - 1) / Re c1) = 0.118 with
+  // q = (1, i, -1), g' = -1/4, Re c1 = -0.9 (PublishedNormalForms)
+  Vector u0(3), flow(3);
+  u0 << 0.236, 0.0, -0.236;
+  flow << 0.0, -1.0, 0.0;
+  OrbitPoint a, b;
+  ASSERT_TRUE(c.converge(u0, 2.0 * std::numbers::pi, flow, a).is_ok());
+  p.parameters().set(0, 0.93);
+  ASSERT_TRUE(c.converge(a.u0, a.period, a.flow, b).is_ok());
+  RecordingObserver rec;
+  const OrbitContinuationResult r = c.run(a, b, rec);
+  EXPECT_EQ(r.code, StopCode::LowerBound) << r.reason;
+  ASSERT_EQ(r.located.size(), 2u);
+  EXPECT_TRUE(rec.notes.empty());
+  EXPECT_EQ(rec.of_kind(PointKind::PeriodDoubling).size(), 2u);
+  EXPECT_TRUE(rec.of_kind(PointKind::NeimarkSacker).empty());
+  const OrbitPoint& pd = r.located[0];
+  // MatCont's 7 printed digits; the RK4 values to the discretisation's 1e-9
+  EXPECT_NEAR(pd.lambda, 0.6303020, 5e-8);
+  EXPECT_NEAR(pd.period, 6.364071, 5e-7);
+  EXPECT_NEAR(pd.lambda, 0.6303020062, 2e-9);
+  EXPECT_NEAR(pd.period, 6.3640713394, 2e-9);
+  ASSERT_EQ(pd.multipliers.size(), 3u);
+  EXPECT_NEAR(pd.multipliers[static_cast<size_t>(pd.trivial)].real(), 1.0, 1e-8);
+  const double third = -std::exp(-pd.lambda * pd.period);
+  int at_minus_one = 0;
+  for (const auto& mu : pd.multipliers) {
+    if (std::abs(mu + 1.0) < 1e-8) ++at_minus_one;
+    if (std::abs(mu - third) < 1e-9) ++at_minus_one;
+  }
+  EXPECT_EQ(at_minus_one, 2) << "-1 and -exp(-alpha T) = " << third;
+  // the mirror image
+  EXPECT_NEAR(r.located[1].lambda, -pd.lambda, 2e-9);
+  EXPECT_NEAR(r.located[1].period, pd.period, 2e-9);
+}
+
+// Branch switching at the period doubling onto the doubled branch: its orbits lie below alpha_PD,
+// have twice the period there, and are not the single orbit run twice: half a period from u0 they
+// are |Phi_(T/2)(u0) - u0| away from u0, which grows as sqrt(alpha_PD - alpha) (a pitchfork of the
+// doubled map).
+TEST(OrbitBranch, SwitchingOntoTheDoubledBranch) {
+  FunctionProblem p = adaptive_control(0.66);
+  FloquetAnalysis floquet;
+  OrbitContinuationOptions o = options();
+  o.lambda_min = 0.6;
+  OrbitContinuation c(p, 0, o, &floquet);
+  Vector u0(3), flow(3);
+  u0 << 0.7, 0.0, -0.5;  // near the orbit at alpha = 0.66 (x max 0.75 at the doubling)
+  flow << 0.0, -1.0, 0.0;
+  OrbitPoint a, b;
+  ASSERT_TRUE(c.converge(u0, 6.36, flow, a).is_ok());
+  p.parameters().set(0, 0.65);
+  ASSERT_TRUE(c.converge(a.u0, a.period, a.flow, b).is_ok());
+  RecordingObserver single;
+  const OrbitContinuationResult r = c.run(a, b, single);
+  ASSERT_EQ(r.located.size(), 1u);
+  const OrbitPoint& pd = r.located[0];
+  Vector v;
+  ASSERT_TRUE(c.period_doubling_vector(pd, v).is_ok());
+  OrbitPoint first, second;
+  ASSERT_TRUE(c.switch_period_doubling(pd, v, 0.02, first, second).is_ok());
+  EXPECT_LT(second.lambda, pd.lambda);
+  EXPECT_NEAR(second.period, 2.0 * pd.period, 1e-2);
+  RecordingObserver doubled;
+  OrbitContinuationOptions od = o;
+  od.lambda_min = 0.58;
+  OrbitContinuation cd(p, 0, od, &floquet);
+  const OrbitContinuationResult rd = cd.run(first, second, doubled);
+  EXPECT_EQ(rd.code, StopCode::LowerBound) << rd.reason;
+  ShootingMap half(p, 0, o.shooting);
+  std::vector<double> ratios;
+  for (const BranchPoint& q : doubled.points) {
+    if (q.kind == PointKind::Start) continue;
+    EXPECT_LT(q.lambda, pd.lambda);
+    p.parameters().set(0, q.lambda);
+    const double T = q.observables[0];
+    TimeOptions t = o.time;
+    ASSERT_TRUE(half.integrate(q.u, 0.5 * T, record_grid(p, q.u, 0.5 * T, t)).is_ok());
+    const double gap = (half.end() - q.u).norm();
+    EXPECT_GT(gap, 0.05) << q.lambda;
+    ratios.push_back(gap / std::sqrt(pd.lambda - q.lambda));
+  }
+  // measured 1.66 near the doubling to 1.60 at alpha = 0.57 (the next order of the pitchfork)
+  ASSERT_GE(ratios.size(), 3u);
+  for (double x : ratios) EXPECT_NEAR(x / ratios.front(), 1.0, 0.06);
+}
