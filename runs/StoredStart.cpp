@@ -120,7 +120,7 @@ StoredPoint read_stored_start(const StoredStart& start, const LoadedScene& scene
     return event_curve ? k == static_cast<int>(PointKind::Event) || k == static_cast<int>(PointKind::End)
                        : k == static_cast<int>(start.located);
   };
-  if (start.curve && !wanted(static_cast<int>(point.kind))) {
+  if ((start.curve || start.orbit) && !wanted(static_cast<int>(point.kind))) {
     std::string located;
     const BranchTable& table = stored.table;
     const int kind = table.column("kind");

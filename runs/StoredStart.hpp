@@ -27,6 +27,7 @@ struct StoredStart {
   std::string label;  // a located point's label instead of a row (PointLabels: fold1, hopf2, end)
   bool switching = false;
   bool curve = false;  // --from: a curve starts at the point, its branch's parameter an unknown of it
+  bool orbit = false;  // --from with --orbit: an orbit branch starts at the point (a located Hopf point)
   // --from: the kind of located point the curve starts at (Fold, Hopf, or Event: an event or an end)
   PointKind located = PointKind::Fold;
   bool force = false;

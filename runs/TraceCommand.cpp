@@ -8,6 +8,7 @@
 #include "continuation/Continuation.hpp"
 #include "continuation/curves/FoldCurveProblem.hpp"
 #include "continuation/curves/HopfCurveProblem.hpp"
+#include "continuation/orbits/OrbitContinuation.hpp"
 #include "continuation/output/BranchFile.hpp"
 #include "continuation/output/ContinuedBranch.hpp"
 #include "continuation/output/ProgressPrinter.hpp"
@@ -16,6 +17,7 @@
 #include "runs/CommandRun.hpp"
 #include "runs/Interrupts.hpp"
 #include "runs/NormalFormObserver.hpp"
+#include "runs/OrbitCommand.hpp"
 #include "runs/OutputFile.hpp"
 #include "runs/RunHooks.hpp"
 #include "runs/SceneLoader.hpp"
@@ -28,6 +30,7 @@ namespace keller {
 void declare_trace_keys(SceneSchema& schema) {
   ContinuationOptions::declare(schema);
   StabilityOptions::declare(schema);
+  OrbitContinuationOptions::declare(schema);
 }
 
 std::string trace_run_record(const LoadedScene& loaded, const TraceArguments& a) {
@@ -35,6 +38,7 @@ std::string trace_run_record(const LoadedScene& loaded, const TraceArguments& a)
   if (!a.restart.empty()) start = "restart " + a.restart;
   if (!a.switch_at.empty()) start = fmt::format("switch {} {}", a.switch_at, a.switch_direction);
   if (!a.from.empty()) start = fmt::format("{} curve from {} in {}", a.curve, a.from, a.free);
+  if (a.orbit) start = fmt::format("orbits from {}", a.from);
   return loaded.scene.canonical_values() + fmt::format("start = {}\n", start);
 }
 
@@ -206,6 +210,7 @@ ContinuationResult trace_branch(Continuation& stepper, TraceStart& start, const 
 }  // namespace
 
 int run_trace(const TraceArguments& args, RunSummary* out_summary) {
+  if (args.orbit) return run_orbit_trace(args, out_summary);
   return run_command(out_summary, [&](RunSummary& summary) {
     CommandRun run(summary, kBranch);
     // 1. the scene, its options and the files of the run: nothing is written before all are right

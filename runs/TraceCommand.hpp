@@ -25,6 +25,7 @@ struct TraceArguments {
   std::string from;                    // "FILE.h5:ROW": a curve from the located point stored there
   std::string curve;                   // what --from continues: "fold", "hopf" or "event"
   std::string free;                    // the curve's second parameter (empty: continuation.parameter)
+  bool orbit = false;                  // --orbit: the branch of periodic orbits from the Hopf point of --from
   bool force = false;                  // start from a stored point that fails the compatibility checks
   bool fresh = false;                  // discard an unfinished OUT.h5.part instead of continuing it
   bool output_locked = false;          // the caller holds OUT.h5.lock (a study's task): not taken again

@@ -22,6 +22,50 @@ std::vector<std::complex<double>> real_and_nontrivial(const std::vector<std::com
 }
 }  // namespace
 
+void OrbitContinuationOptions::declare(SceneSchema& s) {
+  const OrbitContinuationOptions d;
+  s.section("orbit", "periodic orbits (keller trace --orbit); every key in docs/periodic_orbits.md");
+  s.string("orbit.method", "sdirk4",
+           "the integrator of the shooting map: sdirk4 (order 4) or bdf2 (evolve's default, order 2)",
+           {"sdirk4", "bdf2"});
+  s.real("orbit.relative_tolerance", 1e-6, "the local error per step of the grid's adaptive run (as evolve's)",
+         Range{0.0, 1.0, true, true});
+  s.real("orbit.absolute_tolerance", 1e-10, "the absolute part of its weights (below the orbit's amplitude)",
+         Range::positive());
+  s.real("orbit.tolerance", d.corrector.tolerance,
+         "Newton's tolerance: |Phi(u0) - u0|_inf and the last update, relative to max(|u0|_inf, 1)", Range::positive());
+  s.integer("orbit.multipliers", d.multipliers, "Floquet multipliers per orbit, of largest magnitude (0: none)",
+            Range{0.0, 200.0, false, false});
+  s.real("orbit.start_distance", d.start_distance,
+         "the first orbit's distance from the Hopf point in the parameter (0: 1e-2 max(|lambda_H|, 1))",
+         Range::non_negative());
+  s.integer("orbit.save_every", d.save_every, "store the states over the period of every N-th orbit",
+            Range::at_least(1));
+  s.integer("orbit.frames", d.frames, "at most this many states of a stored orbit", Range::at_least(2));
+}
+
+OrbitContinuationOptions OrbitContinuationOptions::from_scene(const Scene& sc, const ContinuationOptions& c) {
+  OrbitContinuationOptions o;
+  o.time.method = sc.string("orbit.method") == "bdf2" ? TimeOptions::Method::Bdf2 : TimeOptions::Method::Sdirk4;
+  o.time.relative_tolerance = sc.real("orbit.relative_tolerance");
+  o.time.absolute_tolerance = sc.real("orbit.absolute_tolerance");
+  o.corrector.tolerance = sc.real("orbit.tolerance");
+  o.multipliers = static_cast<int>(sc.integer("orbit.multipliers"));
+  o.start_distance = sc.real("orbit.start_distance");
+  o.save_every = static_cast<int>(sc.integer("orbit.save_every"));
+  o.frames = static_cast<int>(sc.integer("orbit.frames"));
+  o.theta = c.theta;
+  o.state_scale = c.state_scale;
+  o.step = c.step.initial;
+  o.min_step = c.step.min;
+  o.max_step = c.step.max;
+  o.lambda_min = c.stop.lower;
+  o.lambda_max = c.stop.upper;
+  o.max_points = c.stop.max_steps;
+  o.locate_tolerance = 1e-8;
+  return o;
+}
+
 MultiplierCounts MultiplierCounts::of(const std::vector<std::complex<double>>& m, int trivial) {
   MultiplierCounts c;
   for (size_t i = 0; i < m.size(); ++i) {
@@ -82,7 +126,10 @@ std::vector<std::string> OrbitContinuation::analysis_columns() const {
 }
 
 double OrbitContinuation::norm(const Vector& du, double dT, double dlambda) const {
-  return std::sqrt(du.squaredNorm() / static_cast<double>(du.size()) + dT * dT + dlambda * dlambda);
+  const double theta = options_.theta, n = static_cast<double>(du.size());
+  const double dt = dT / period_scale_;
+  return std::sqrt(theta * du.squaredNorm() / (n * state_scale_ * state_scale_) +
+                   (1.0 - theta) * (dlambda * dlambda + dt * dt));
 }
 
 Status OrbitContinuation::analyse(OrbitPoint& p) {
@@ -90,7 +137,10 @@ Status OrbitContinuation::analyse(OrbitPoint& p) {
   p.trivial = -1;
   if (!multipliers_ || options_.multipliers <= 0) return {};
   auto M = [this](const Vector& v, Vector& Mv) { return map_.linearised(v, 0.0, 0.0, Mv); };
-  return multipliers_->compute(problem_.size(), M, p.multipliers, p.trivial, nullptr);
+  const auto t0 = std::chrono::steady_clock::now();
+  const Status st = multipliers_->compute(problem_.size(), M, p.multipliers, p.trivial, nullptr);
+  multiplier_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return st;
 }
 
 Status OrbitContinuation::finish(OrbitPoint& p) {
@@ -109,12 +159,20 @@ Status OrbitContinuation::converge(const Vector& u0, double T, const Vector& flo
   } catch (const std::runtime_error& e) {
     return {StatusCode::NotConverged, e.what()};
   }
+  Vector normal = flow;
+  if (normal.size() == 0) {  // the flow at u0: the rate at the end of a period from it
+    const Status st = map_.integrate(u0, T, out.grid);
+    if (!st.is_ok()) return st;
+    normal = map_.end_rate();
+  }
   const Vector ref = u0;
   const OrbitCorrection c =
-      OrbitCorrector(map_, options_.corrector).correct(out.u0, out.period, out.lambda, false, out.grid, ref, flow);
+      OrbitCorrector(map_, options_.corrector).correct(out.u0, out.period, out.lambda, false, out.grid, ref, normal);
   out.iterations = c.iterations;
   out.krylov_iterations = c.krylov_iterations;
   out.residual = c.residual;
+  newton_ += c.iterations;
+  krylov_ += c.krylov_iterations;
   if (!c.status.is_ok()) return c.status;
   return finish(out);
 }
@@ -122,10 +180,11 @@ Status OrbitContinuation::converge(const Vector& u0, double T, const Vector& flo
 Status OrbitContinuation::correct(const OrbitPoint& from, Vector u0, double T, double lambda, const Vector& du,
                                   double dT, double dlambda, OrbitPoint& out) {
   out = OrbitPoint{};
-  OrbitRow row;
-  row.a_u = du / static_cast<double>(du.size());
-  row.a_T = dT;
-  row.a_lambda = dlambda;
+  OrbitRow row;  // the inner product of the norm with the unit direction (du, dT, dlambda)
+  const double theta = options_.theta;
+  row.a_u = (theta / (static_cast<double>(du.size()) * state_scale_ * state_scale_)) * du;
+  row.a_T = (1.0 - theta) * dT / (period_scale_ * period_scale_);
+  row.a_lambda = (1.0 - theta) * dlambda;
   row.z_u = u0;
   row.z_T = T;
   row.z_lambda = lambda;
@@ -138,6 +197,8 @@ Status OrbitContinuation::correct(const OrbitPoint& from, Vector u0, double T, d
   out.iterations = c.iterations;
   out.krylov_iterations = c.krylov_iterations;
   out.residual = c.residual;
+  newton_ += c.iterations;
+  krylov_ += c.krylov_iterations;
   if (!c.status.is_ok()) return c.status;
   return finish(out);
 }
@@ -164,11 +225,23 @@ Status OrbitContinuation::period_doubling_vector(const OrbitPoint& pd, Vector& v
   return {};
 }
 
+void OrbitContinuation::set_scales(const OrbitPoint& first) {
+  const double rms = first.u0.norm() / std::sqrt(static_cast<double>(std::max<long>(first.u0.size(), 1)));
+  set_scales(options_.state_scale > 0.0 ? options_.state_scale : rms > 0.0 ? rms : 1.0, first.period);
+}
+
+void OrbitContinuation::set_scales(double state_scale, double period_scale) {
+  state_scale_ = state_scale > 0.0 ? state_scale : 1.0;
+  period_scale_ = period_scale > 0.0 ? period_scale : 1.0;
+  scales_set_ = true;
+}
+
 Status OrbitContinuation::switch_period_doubling(const OrbitPoint& pd, const Vector& v, double distance,
                                                  OrbitPoint& first, OrbitPoint& second) {
-  const double rms = v.norm() / std::sqrt(static_cast<double>(v.size()));
-  if (!(rms > 0.0)) throw std::invalid_argument("period doubling switch: the eigenvector is zero");
-  const Vector dir = v / rms;
+  set_scales(pd);
+  const double size = norm(v, 0.0, 0.0);
+  if (!(size > 0.0)) throw std::invalid_argument("period doubling switch: the eigenvector is zero");
+  const Vector dir = v / size;
   first = pd;
   first.period = 2.0 * pd.period;
   first.grid.fractions.clear();
@@ -281,7 +354,8 @@ bool OrbitContinuation::locate(const OrbitPoint& a, const OrbitPoint& b, PointKi
 }
 
 OrbitContinuationResult OrbitContinuation::run(const OrbitPoint& first, const OrbitPoint& second,
-                                               BranchObserver& observer) {
+                                               BranchObserver& observer, const std::function<bool()>& stop,
+                                               bool report_start) {
   const auto t0 = std::chrono::steady_clock::now();
   auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
   OrbitContinuationResult result;
@@ -298,22 +372,37 @@ OrbitContinuationResult OrbitContinuation::run(const OrbitPoint& first, const Or
     return b;
   };
   OrbitPoint a = first, b = second;
-  a.s = 0.0;
-  b.s = norm(b.u0 - a.u0, b.period - a.period, b.lambda - a.lambda);
-  double ds = options_.step;
-  tu = (b.u0 - a.u0) / b.s;
-  tl = (b.lambda - a.lambda) / b.s;
-  report(a, PointKind::Start, "", ds);
-  BranchPoint last = report(b, PointKind::Regular, "", ds);
+  if (!scales_set_) set_scales(a);
+  const double ab = norm(b.u0 - a.u0, b.period - a.period, b.lambda - a.lambda);
+  if (report_start) {
+    a.s = 0.0;
+    b.s = ab;
+  }
+  double ds = report_start ? options_.step : std::clamp(ab, options_.min_step, options_.max_step);
+  tu = (b.u0 - a.u0) / ab;
+  tl = (b.lambda - a.lambda) / ab;
+  BranchPoint last;
+  if (report_start) {
+    report(a, PointKind::Start, "", ds);
+    last = report(b, PointKind::Regular, "", ds);
+  } else {
+    index = 1;  // the two are rows of the branch already: the next point is the one after them
+    last = to_branch_point(b, PointKind::Regular, "", 0, tu, tl);
+  }
   auto end = [&](StopCode code, std::string reason) {
     result.code = code;
     result.reason = std::move(reason);
     result.last = b;
+    result.counts = map_.counts();
+    result.newton_iterations = newton_;
+    result.krylov_iterations = krylov_;
+    result.multiplier_seconds = multiplier_seconds_;
+    result.seconds = seconds();
     observer.on_finish(result.reason, last);
     return result;
   };
   for (;;) {
-    if (stop_)
+    if (stop && stop())
       return end(StopCode::Interrupted,
                  fmt::format("interrupted at {} = {:.10g}", problem_.parameters().info(parameter_).name, b.lambda));
     if (result.points >= options_.max_points)

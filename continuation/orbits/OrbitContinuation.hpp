@@ -22,8 +22,10 @@
 #include <vector>
 
 #include "continuation/Continuation.hpp"
+#include "continuation/engine/ContinuationOptions.hpp"
 #include "continuation/orbits/OrbitCorrector.hpp"
 #include "continuation/orbits/ShootingMap.hpp"
+#include "core/Scene.hpp"
 
 namespace keller {
 
@@ -66,12 +68,17 @@ struct MultiplierCounts {
 double multiplier_test(const std::vector<std::complex<double>>& multipliers, int trivial, PointKind kind);
 
 struct OrbitContinuationOptions {
-  double step = 0.05;  // arclength of the first step: |(du0, dT, dlambda)| with du0's RMS
+  // Arclength norm |(du0, dT, dlambda)|^2 = theta |du0|^2 / (n s^2) + (1 - theta) (dlambda^2 +
+  // (dT / T0)^2), s the state scale (RMS of the first orbit's u0, or 1 where that is 0, as the
+  // continuation engine's), T0 the first orbit's period
+  double theta = 0.5;
+  double state_scale = 0.0;  // 0: automatic
+  double step = 0.05;        // arclength of the first step
   double min_step = 1e-6, max_step = 0.5;
   double lambda_min = -std::numeric_limits<double>::infinity();
   double lambda_max = std::numeric_limits<double>::infinity();
   int max_points = 50;
-  int target_iterations = 3;  // the step grows below, shrinks above
+  int target_iterations = 4;  // the step grows below, shrinks above
   TimeOptions time;           // the grids' method and tolerance (t_end unused)
   ShootingOptions shooting;
   OrbitCorrectorOptions corrector;
@@ -79,6 +86,17 @@ struct OrbitContinuationOptions {
   bool locate = true;              // locate the bifurcations of orbits
   double locate_tolerance = 1e-8;  // |test function| at a located point
   int locate_iterations = 12;
+  // where `keller trace --orbit` starts: the first orbit's distance from the Hopf point in the
+  // parameter (0: 1e-2 max(|lambda_H|, 1)); the stored orbits: the states of every save_every-th
+  // orbit (and of every located one), at most `frames` of them per orbit
+  double start_distance = 0.0;
+  int save_every = 1;
+  int frames = 40;
+
+  // [orbit]'s keys, and the options from them and [continuation]'s (parameter range, steps, norm,
+  // max_steps). Throws SceneError naming a key whose value it refuses.
+  static void declare(SceneSchema& schema);
+  static OrbitContinuationOptions from_scene(const Scene& scene, const ContinuationOptions& continuation);
 };
 
 struct OrbitContinuationResult {
@@ -87,6 +105,9 @@ struct OrbitContinuationResult {
   int points = 0, rejected = 0;
   std::vector<OrbitPoint> located;  // the located bifurcations, in order
   OrbitPoint last;
+  ShootingMap::Counts counts;  // of the map over the run: forward steps, linearised passes, times
+  long newton_iterations = 0, krylov_iterations = 0;
+  double multiplier_seconds = 0.0, seconds = 0.0;
 };
 
 class OrbitContinuation {
@@ -97,23 +118,32 @@ class OrbitContinuation {
 
   // The orbit through a guess (u0 near the orbit, T near its period, flow: the direction of
   // motion at u0) at the parameter's present value: a grid from an adaptive run over T from u0,
-  // then Newton at fixed lambda, then the multipliers.
+  // then Newton at fixed lambda, then the multipliers. An empty flow: the rate at the end of a
+  // period from u0 (an orbit stored without it).
   Status converge(const Vector& u0, double T, const Vector& flow, OrbitPoint& out);
   // The eigenvector of pd's real multiplier nearest -1 (pd a located period doubling).
   Status period_doubling_vector(const OrbitPoint& pd, Vector& v);
   // The start of the doubled branch at a located period doubling pd, where M v = -v: `first` is pd
   // traversed twice (period 2T on the grid run twice), `second` the orbit of period about 2T whose
-  // component along v (RMS 1) lies `distance` from pd's, corrected on the row through it normal to
+  // component along v lies `distance` (arclength norm) from pd's, corrected on the row through it normal to
   // v. run(first, second) then traces the doubled branch.
   Status switch_period_doubling(const OrbitPoint& pd, const Vector& v, double distance, OrbitPoint& first,
                                 OrbitPoint& second);
   // Traces the branch from two orbits near each other (the start, and a second giving the
   // direction); every orbit from `first` on is reported to the observer.
-  OrbitContinuationResult run(const OrbitPoint& first, const OrbitPoint& second, BranchObserver& observer);
+  // `stop` is asked between orbits (a signal): the run then ends with StopCode::Interrupted.
+  // report_start false: the two are the last rows of an unfinished branch, already written (their
+  // arclengths s as stored); the run reports only the orbits after them, numbered from 1.
+  OrbitContinuationResult run(const OrbitPoint& first, const OrbitPoint& second, BranchObserver& observer,
+                              const std::function<bool()>& stop = {}, bool report_start = true);
+  // The scales of the arclength norm: from the first orbit of the branch (run does this unless set),
+  // or given (a continued branch takes its first run's).
+  void set_scales(const OrbitPoint& first);
+  void set_scales(double state_scale, double period_scale);
+  double state_scale() const { return state_scale_; }
   // The observables' names of the reported points, and the analysis columns (the multipliers).
   std::vector<std::string> observable_names() const;
   std::vector<std::string> analysis_columns() const;
-  void request_stop() { stop_ = true; }
 
  private:
   // Corrects a predicted orbit on the arclength row through z along d (d: unit secant); fills
@@ -132,8 +162,11 @@ class OrbitContinuation {
   int parameter_;
   OrbitContinuationOptions options_;
   OrbitMultipliers* multipliers_;
+  double state_scale_ = 1.0, period_scale_ = 1.0;  // of the norm
+  bool scales_set_ = false;
+  long newton_ = 0, krylov_ = 0;  // iterations of the corrections
+  double multiplier_seconds_ = 0.0;
   ShootingMap map_;
-  bool stop_ = false;
 };
 
 }  // namespace keller
