@@ -69,6 +69,15 @@ StoredStart checked_orbit_start(const TraceArguments& args, const TraceSettings&
   return from;
 }
 
+// Whether B(u) has a nonzero entry at the parameters' present values.
+bool has_time_derivative(Problem& problem, const Vector& u) {
+  SparseMatrix B;
+  if (!problem.mass_matrix(u, B).is_ok()) return false;
+  for (Eigen::Index k = 0; k < B.nonZeros(); ++k)
+    if (B.valuePtr()[k] != 0.0) return true;
+  return false;
+}
+
 // A steady state at the parameter's present value, by Newton from `guess`.
 Vector steady_state(Problem& problem, int p, const Vector& guess, const TraceSettings& settings) {
   Vector u = guess;
@@ -204,6 +213,11 @@ int run_orbit_trace(const TraceArguments& args, RunSummary* out_summary) {
       problem.parameters().set(p, stored.point.lambda);
       if (const std::string why = time_form_refusal(problem); !why.empty())
         throw CommandFailure::bad_input(fmt::format("{}: {}", args.from, why));
+      if (!has_time_derivative(problem, stored.point.u))
+        throw CommandFailure::bad_input(fmt::format(
+            "{}: the mass matrix B is zero at the point's parameter values: this problem has no dynamics there "
+            "and no periodic orbits",
+            args.from));
       fmt::print("problem: {}\n", problem.summary());
       start = orbit_start(problem, p, from, stored, settings, options, continuation);
       continuation.set_scales(start.first);

@@ -62,8 +62,31 @@ OrbitContinuationOptions OrbitContinuationOptions::from_scene(const Scene& sc, c
   o.lambda_min = c.stop.lower;
   o.lambda_max = c.stop.upper;
   o.max_points = c.stop.max_steps;
+  o.stops = c.events.stops;
   o.locate_tolerance = 1e-8;
   return o;
+}
+
+double periodic_range(const std::vector<double>& t, const std::vector<double>& x) {
+  const size_t m = x.size() - 1;  // x[m] repeats x[0]
+  if (x.size() < 4 || t.size() != x.size()) throw std::invalid_argument("periodic_range: at least 3 samples and times");
+  const double T = t[m] - t[0];
+  auto extreme = [&](bool largest) {
+    size_t k = 0;
+    for (size_t i = 1; i < m; ++i)
+      if (largest ? x[i] > x[k] : x[i] < x[k]) k = i;
+    // neighbours round the period: before k = 0 lies x[m - 1] at t[m - 1] - T
+    const size_t before = k == 0 ? m - 1 : k - 1, after = k + 1;
+    const double ta = (k == 0 ? t[before] - T : t[before]) - t[k], tb = t[after] - t[k];
+    const double xa = x[before] - x[k], xb = x[after] - x[k];
+    // the parabola through (ta, xa), (0, 0), (tb, xb): x = c1 s + c2 s^2, its vertex value -c1^2 / (4 c2)
+    const double c2 = (xa / ta - xb / tb) / (ta - tb), c1 = xa / ta - c2 * ta;
+    if (c2 == 0.0 || (largest ? c2 > 0.0 : c2 < 0.0)) return x[k];
+    const double vertex = -c1 / (2.0 * c2);
+    if (vertex < ta || vertex > tb) return x[k];
+    return x[k] - c1 * c1 / (4.0 * c2);
+  };
+  return extreme(true) - extreme(false);
 }
 
 MultiplierCounts MultiplierCounts::of(const std::vector<std::complex<double>>& m, int trivial) {
@@ -278,31 +301,36 @@ BranchPoint OrbitContinuation::to_branch_point(const OrbitPoint& p, PointKind ki
   b.residual = p.residual;
   b.save = true;
   // observables: period, amplitude, then each problem observable at u0 and its amplitude
-  double amplitude = 0.0;
-  if (!p.states.empty()) {
+  // the times of the states, and the range over the period of the unknown that varies most and of
+  // each observable (periodic_range)
+  const size_t m = p.states.size();
+  std::vector<double> times(m, 0.0), series(m);
+  const bool sampled = m >= 4 && p.grid.fractions.size() + 1 == m;
+  for (size_t k = 1; sampled && k < m; ++k) times[k] = p.grid.fractions[k - 1] * p.period;
+  double amplitude = std::numeric_limits<double>::quiet_NaN();
+  if (sampled) {
     Vector lo = p.states.front(), hi = p.states.front();
     for (const Vector& u : p.states) {
       lo = lo.cwiseMin(u);
       hi = hi.cwiseMax(u);
     }
-    amplitude = (hi - lo).maxCoeff();
+    Eigen::Index widest = 0;
+    (hi - lo).maxCoeff(&widest);
+    for (size_t k = 0; k < m; ++k) series[k] = p.states[k][widest];
+    amplitude = periodic_range(times, series);
   }
   b.observables = {p.period, amplitude};
   const size_t n_obs = problem_.observable_names().size();
   if (n_obs > 0) {
-    std::vector<double> at0, v, lo, hi;
+    std::vector<double> at0, v;
     if (!problem_.observables(p.u0, at0).is_ok()) at0.assign(n_obs, std::numeric_limits<double>::quiet_NaN());
-    lo = hi = at0;
-    for (const Vector& u : p.states) {
-      if (!problem_.observables(u, v).is_ok()) continue;
-      for (size_t i = 0; i < n_obs; ++i) {
-        lo[i] = std::min(lo[i], v[i]);
-        hi[i] = std::max(hi[i], v[i]);
-      }
-    }
+    std::vector<std::vector<double>> values(n_obs, std::vector<double>(m, std::numeric_limits<double>::quiet_NaN()));
+    for (size_t k = 0; sampled && k < m; ++k)
+      if (problem_.observables(p.states[k], v).is_ok())
+        for (size_t i = 0; i < n_obs; ++i) values[i][k] = v[i];
     for (size_t i = 0; i < n_obs; ++i) {
       b.observables.push_back(at0[i]);
-      b.observables.push_back(hi[i] - lo[i]);
+      b.observables.push_back(sampled ? periodic_range(times, values[i]) : std::numeric_limits<double>::quiet_NaN());
     }
   }
   if (options_.multipliers > 0) {
@@ -316,6 +344,31 @@ BranchPoint OrbitContinuation::to_branch_point(const OrbitPoint& p, PointKind ki
     b.analysis_width = static_cast<int>(b.analysis.size());
   }
   return b;
+}
+
+bool OrbitContinuation::land(const OrbitPoint& a, const OrbitPoint& b, double value, OrbitPoint& out) {
+  const double t = (value - a.lambda) / (b.lambda - a.lambda);
+  OrbitRow fixed;  // lambda = value
+  fixed.z_lambda = value;
+  OrbitPoint guess;
+  guess.grid = a.grid;
+  Vector u0 = a.u0 + t * (b.u0 - a.u0);
+  double T = a.period + t * (b.period - a.period), lambda = value;
+  const OrbitCorrection c =
+      OrbitCorrector(map_, options_.corrector).correct(u0, T, lambda, true, a.grid, a.u0, a.flow, fixed);
+  newton_ += c.iterations;
+  krylov_ += c.krylov_iterations;
+  if (!c.status.is_ok()) return false;
+  out = OrbitPoint{};
+  out.u0 = std::move(u0);
+  out.period = T;
+  out.lambda = lambda;
+  out.grid = a.grid;
+  out.iterations = c.iterations;
+  out.krylov_iterations = c.krylov_iterations;
+  out.residual = c.residual;
+  out.s = a.s + t * (b.s - a.s);
+  return finish(out).is_ok();
 }
 
 bool OrbitContinuation::locate(const OrbitPoint& a, const OrbitPoint& b, PointKind kind, OrbitPoint& out) {
@@ -430,10 +483,10 @@ OrbitContinuationResult OrbitContinuation::run(const OrbitPoint& first, const Or
     }
     next.s = b.s + norm(next.u0 - b.u0, next.period - b.period, next.lambda - b.lambda);
     // the bifurcations of orbits between b and next, in order along the branch
+    std::vector<std::pair<PointKind, std::string>> crossed;
     if (options_.multipliers > 0) {
       const MultiplierCounts cb = MultiplierCounts::of(b.multipliers, b.trivial),
                              cn = MultiplierCounts::of(next.multipliers, next.trivial);
-      std::vector<std::pair<PointKind, std::string>> crossed;
       if (cb.above_plus_one != cn.above_plus_one) {
         const double dl_next = next.lambda - b.lambda;
         crossed.emplace_back(dl_next * dl < 0.0 ? PointKind::Fold : PointKind::BranchPoint,
@@ -441,6 +494,8 @@ OrbitContinuationResult OrbitContinuation::run(const OrbitPoint& first, const Or
       }
       if (cb.below_minus_one != cn.below_minus_one) crossed.emplace_back(PointKind::PeriodDoubling, "pd");
       if (cb.pairs_outside != cn.pairs_outside) crossed.emplace_back(PointKind::NeimarkSacker, "ns");
+    }
+    {
       std::vector<std::pair<OrbitPoint, std::pair<PointKind, std::string>>> found;
       for (const auto& c : crossed) {
         OrbitPoint p;
@@ -451,10 +506,19 @@ OrbitContinuationResult OrbitContinuation::run(const OrbitPoint& first, const Or
           observer.on_note(fmt::format("{} between {} = {:.10g} and {:.10g}: detected, not located", c.second,
                                        problem_.parameters().info(parameter_).name, b.lambda, next.lambda));
       }
+      for (double value : options_.stops)
+        if ((b.lambda - value) * (next.lambda - value) < 0.0) {
+          OrbitPoint p;
+          if (land(b, next, value, p))
+            found.emplace_back(std::move(p), std::make_pair(PointKind::Requested, std::string("stop")));
+          else
+            observer.on_note(fmt::format("the orbit at {} = {:.10g} was not found",
+                                         problem_.parameters().info(parameter_).name, value));
+        }
       std::sort(found.begin(), found.end(), [](const auto& x, const auto& y) { return x.first.s < y.first.s; });
       for (auto& [p, c] : found) {
         report(p, c.first, c.second, ds);
-        result.located.push_back(std::move(p));
+        if (c.first != PointKind::Requested) result.located.push_back(std::move(p));
       }
     }
     ds = std::clamp(next.iterations < options_.target_iterations   ? ds * kGrow

@@ -67,6 +67,11 @@ struct MultiplierCounts {
 // is no such multiplier. `kind`: PointKind::Fold (+1), PeriodDoubling (-1), NeimarkSacker.
 double multiplier_test(const std::vector<std::complex<double>>& multipliers, int trivial, PointKind kind);
 
+// max - min of a periodic signal sampled at times t_0 = 0 < t_1 < ... < t_m = T (x_m = x_0): each
+// extreme sample refined by the parabola through it and its neighbours (wrapping round the period),
+// so that the range of a smooth signal errs by O(h^3) instead of the samples' O(h^2).
+double periodic_range(const std::vector<double>& t, const std::vector<double>& x);
+
 struct OrbitContinuationOptions {
   // Arclength norm |(du0, dT, dlambda)|^2 = theta |du0|^2 / (n s^2) + (1 - theta) (dlambda^2 +
   // (dT / T0)^2), s the state scale (RMS of the first orbit's u0, or 1 where that is 0, as the
@@ -78,6 +83,7 @@ struct OrbitContinuationOptions {
   double lambda_min = -std::numeric_limits<double>::infinity();
   double lambda_max = std::numeric_limits<double>::infinity();
   int max_points = 50;
+  std::vector<double> stops;  // parameter values where the orbit is located and reported (kind Requested)
   int target_iterations = 4;  // the step grows below, shrinks above
   TimeOptions time;           // the grids' method and tolerance (t_end unused)
   ShootingOptions shooting;
@@ -154,6 +160,8 @@ class OrbitContinuation {
   Status analyse(OrbitPoint& p);
   BranchPoint to_branch_point(const OrbitPoint& p, PointKind kind, const std::string& label, int index,
                               const Vector& tu, double tlambda) const;
+  // the orbit at lambda = value between a and b (from their interpolation, at fixed lambda)
+  bool land(const OrbitPoint& a, const OrbitPoint& b, double value, OrbitPoint& out);
   // the located zero of the test of `kind` between a and b (secant / Illinois in the arclength)
   bool locate(const OrbitPoint& a, const OrbitPoint& b, PointKind kind, OrbitPoint& out);
   double norm(const Vector& du, double dT, double dlambda) const;

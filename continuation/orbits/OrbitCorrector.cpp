@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <stdexcept>
 
 #include "core/Gmres.hpp"
@@ -52,9 +51,6 @@ OrbitCorrection OrbitCorrector::correct(Vector& u0, double& T, double& lambda, b
     const double scale = std::max(u0.lpNorm<Eigen::Infinity>(), 1.0);
     out.residual = R.head(N).lpNorm<Eigen::Infinity>();
     const double norm = R.norm();
-    if (std::getenv("KELLER_ORBIT_DEBUG"))
-      fmt::print(stderr, "it {} R {:.3e} res {:.3e} T {:.10g} eta {:.2e} kry {}\n", it, norm, out.residual, T, eta,
-                 out.krylov_iterations);
     if (it > 0 && small_update && out.residual <= options_.tolerance * scale) return out;  // converged
     if (it == 0) first = norm;
     if (it > 0) {

@@ -1,0 +1,139 @@
+// `keller trace --from BRANCH.h5:hopf1 --orbit` through the real driver on the 1D Brusselator
+// (docs/periodic_orbits.md): its uniform orbits are the Brusselator ODE's, known from an independent
+// RK4 integration (a = 2, b = 5.5: T = 3.982851017, v from 1.3045647 to 4.8342820); near the Hopf
+// point the amplitude follows the normal form's sqrt law; a row that is not a Hopf point, a
+// problem without dynamics and --orbit without --from are refused before any work; a killed
+// branch is continued by the same command.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+#include <sstream>
+#include <string>
+
+#include "continuation/engine/BranchPoint.hpp"
+#include "continuation/output/BranchFile.hpp"
+#include "core/H5File.hpp"
+#include "support/TestSupport.hpp"
+
+using namespace keller;
+using keller::test::rows_of_kind;
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kScene = "runs/scenes/brusselator1d_hopf.toml";
+
+// The Hopf branch of the scene on 16 intervals, traced once per test binary into `dir`.
+std::string hopf_branch(const std::string& dir) {
+  const std::string out = dir + "/branch.h5";
+  if (!fs::exists(out)) {
+    const auto r = test::run_keller("trace " + test::source_path(kScene) + " --set brusselator.intervals=16 -o " + out);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+  }
+  return out;
+}
+
+std::string orbit_command(const std::string& branch, const std::string& from, const std::string& out,
+                          const std::string& extra = "") {
+  return "trace " + test::source_path(kScene) +
+         " --set brusselator.intervals=16 --set stability.enabled=false --from " + branch + ":" + from + " --orbit " +
+         extra + " -o " + out;
+}
+
+// A number of /branch/normal_forms's only row by its column name.
+double normal_form(const std::string& file, const std::string& name) {
+  H5File f(file, H5File::Mode::Read);
+  long rows = 0, cols = 0;
+  const std::vector<double> nf = f.read_matrix("/branch/normal_forms", &rows, &cols);
+  std::stringstream columns(f.read_string_attribute("/branch/normal_forms", "columns"));
+  EXPECT_EQ(rows, 1);
+  size_t k = 0;
+  for (std::string column; std::getline(columns, column, ','); ++k)
+    if (column == name) return nf[k];
+  ADD_FAILURE() << "no normal-form column " << name;
+  return 0.0;
+}
+
+}  // namespace
+
+// The stop at b = 5.5 against the ODE's orbit: SDIRK4 at the default rtol 1e-6 errs by about 1e-7
+// in the period (docs/periodic_orbits.md), and the amplitude of v, from the extreme samples refined
+// by parabolas over about 60 steps a period, by about 5e-5 relative.
+TEST(OrbitCommand, BrusselatorBranchFromItsHopfPointAgainstTheOdeOrbit) {
+  const std::string dir = test::scratch_dir("orbit_brusselator");
+  const std::string branch = hopf_branch(dir);
+  const auto r = test::run_keller(
+      orbit_command(branch, "hopf1", dir + "/orbits.h5",
+                    "--set continuation.upper=5.7 --set continuation.stops=[5.5] --set orbit.start_distance=0.005"));
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  const BranchTable t = read_branch_table(dir + "/orbits.h5");
+  const auto stops = rows_of_kind(t, PointKind::Requested);
+  ASSERT_EQ(stops.size(), 1u);
+  const long s = stops[0];
+  EXPECT_NEAR(t.rows(s, t.column("b")), 5.5, 1e-12);
+  EXPECT_NEAR(t.rows(s, t.column("period")) / 3.982851017, 1.0, 1e-6);
+  EXPECT_NEAR(t.rows(s, t.column("amplitude")) / (4.8342820 - 1.3045647), 1.0, 2e-4);
+  // a stable orbit: every multiplier but the trivial one inside the unit circle; the trivial one 1
+  // to the integrator's error (1e-5 at rtol 1e-6: docs/periodic_orbits.md)
+  EXPECT_NEAR(t.rows(s, t.column("mu1_re")), 1.0, 5e-5);
+  EXPECT_LT(std::hypot(t.rows(s, t.column("mu2_re")), t.rows(s, t.column("mu2_im"))), 1.0);
+  // the first two orbits at d = 0.005 and 0.01 past b_H = 5: amplitude (max - min of the unknown
+  // that varies most) = 2 amplitude_coefficient sqrt(d) (1 + O(d)), measured 0.2% and 0.4% off;
+  // the period 2 pi / omega + O(d)
+  const double coefficient = normal_form(branch, "amplitude_coefficient"), omega = normal_form(branch, "omega");
+  for (long row = 0; row < 2; ++row) {
+    const double d = t.rows(row, t.column("b")) - 5.0;
+    EXPECT_NEAR(d, 0.005 * (row + 1), 1e-12);
+    EXPECT_NEAR(t.rows(row, t.column("amplitude")) / (2.0 * coefficient * std::sqrt(d)), 1.0, 0.01) << d;
+    EXPECT_NEAR(t.rows(row, t.column("period")) / (2.0 * std::numbers::pi / omega), 1.0, 2.0 * d) << d;
+  }
+}
+
+TEST(OrbitCommand, BadRequestsAreRefusedBeforeAnyWork) {
+  const std::string dir = test::scratch_dir("orbit_refusals");
+  const std::string branch = hopf_branch(dir);
+  auto r = test::run_keller(orbit_command(branch, "0", dir + "/a.h5"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("row 0 is not a located Hopf point"), std::string::npos) << r.err;
+  r = test::run_keller("trace " + test::source_path(kScene) + " --orbit -o " + dir + "/b.h5");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--orbit starts at a located Hopf point"), std::string::npos) << r.err;
+  // Stokes flow (Re = 0) has B = 0: no dynamics, whatever row it starts from (--force lets a row
+  // that is not a Hopf point through to that check)
+  const std::string stokes = test::source_path("runs/scenes/channel_stokes.toml") +
+                             " --set mesh.name=\"M1\" --set continuation.parameter=\"Gamma\"";
+  r = test::run_keller("trace " + stokes + " --set continuation.max_steps=1 -o " + dir + "/stokes.h5");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = test::run_keller("trace " + stokes + " --from " + dir + "/stokes.h5:0 --orbit --force -o " + dir + "/c.h5");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("the mass matrix B is zero"), std::string::npos) << r.err;
+  r = test::run_keller(orbit_command(branch, "hopf1", dir + "/d.h5", "--curve hopf"));
+  EXPECT_EQ(r.exit_code, 2);
+  for (const char* f : {"/a.h5", "/b.h5", "/c.h5", "/d.h5"}) {
+    EXPECT_FALSE(fs::exists(dir + f)) << f;
+    EXPECT_FALSE(fs::exists(dir + f + std::string(".part"))) << f;
+  }
+}
+
+// Killed after its fourth orbit, the same command continues the branch from its last two rows and
+// ends where an uninterrupted run ends.
+TEST(OrbitCommand, AKilledBranchIsContinuedByTheSameCommand) {
+  const std::string dir = test::scratch_dir("orbit_killed");
+  const std::string branch = hopf_branch(dir);
+  const std::string command = orbit_command(branch, "hopf1", dir + "/orbits.h5", "--set continuation.upper=5.4");
+  auto r = test::run_keller(command, "KELLER_SIGNAL_AT=point:4 KELLER_SIGNAL=KILL");
+  EXPECT_EQ(r.exit_code, -1) << r.out;
+  ASSERT_TRUE(fs::exists(dir + "/orbits.h5.part"));
+  r = test::run_keller(command);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("continuing the unfinished orbit branch"), std::string::npos) << r.out;
+  const BranchTable t = read_branch_table(dir + "/orbits.h5");
+  const long last = t.rows.rows() - 1;
+  EXPECT_GT(t.rows(last, t.column("b")), 5.4);
+  for (long i = 1; i <= last; ++i) {
+    EXPECT_EQ(t.rows(i, t.column("row")), static_cast<double>(i));
+    EXPECT_GT(t.rows(i, t.column("b")), t.rows(i - 1, t.column("b"))) << "row " << i;
+  }
+}
