@@ -10,8 +10,9 @@ namespace keller {
 
 namespace {
 
-constexpr PointKind kLocated[] = {PointKind::Start,       PointKind::Requested, PointKind::Event, PointKind::Fold,
-                                  PointKind::BranchPoint, PointKind::End,       PointKind::Hopf};
+constexpr PointKind kLocated[] = {PointKind::Start, PointKind::Requested,      PointKind::Event,
+                                  PointKind::Fold,  PointKind::BranchPoint,    PointKind::End,
+                                  PointKind::Hopf,  PointKind::PeriodDoubling, PointKind::NeimarkSacker};
 
 struct Parsed {
   PointKind kind;

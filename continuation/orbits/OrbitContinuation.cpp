@@ -169,6 +169,8 @@ Status OrbitContinuation::analyse(OrbitPoint& p) {
 Status OrbitContinuation::finish(OrbitPoint& p) {
   p.flow = map_.end_rate();
   p.states = map_.states();
+  p.times.assign(1, 0.0);
+  for (double f : p.grid.fractions) p.times.push_back(f * p.period);
   return analyse(p);
 }
 
@@ -304,9 +306,9 @@ BranchPoint OrbitContinuation::to_branch_point(const OrbitPoint& p, PointKind ki
   // the times of the states, and the range over the period of the unknown that varies most and of
   // each observable (periodic_range)
   const size_t m = p.states.size();
-  std::vector<double> times(m, 0.0), series(m);
-  const bool sampled = m >= 4 && p.grid.fractions.size() + 1 == m;
-  for (size_t k = 1; sampled && k < m; ++k) times[k] = p.grid.fractions[k - 1] * p.period;
+  const std::vector<double>& times = p.times;
+  std::vector<double> series(m);
+  const bool sampled = m >= 4 && times.size() == m;
   double amplitude = std::numeric_limits<double>::quiet_NaN();
   if (sampled) {
     Vector lo = p.states.front(), hi = p.states.front();

@@ -47,6 +47,7 @@ struct OrbitPoint {
   OrbitGrid grid;              // the grid it was computed on
   Vector flow;                 // du/dt at u0
   std::vector<Vector> states;  // u_0 .. u_m over the period on the grid
+  std::vector<double> times;   // their times, 0 .. T
   std::vector<std::complex<double>> multipliers;
   int trivial = -1;
   int iterations = 0;

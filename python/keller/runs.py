@@ -43,7 +43,7 @@ class KellerError(RuntimeError):
 @dataclasses.dataclass
 class Point:
     """What a callback gets: the command ("trace" or "evolve"), the branch row or step, the kind
-    ("point", "start", "stop", "event", "fold", "bp", "end", "hopf"; "step"), a located point's
+    ("point", "start", "stop", "event", "fold", "bp", "end", "hopf", "pd", "ns"; "step"), a located point's
     label (its monitor or bound), the values by name (the parameter or t first, the observables,
     the monitors) and the state u."""
 
@@ -304,18 +304,23 @@ def solve(scene, output=None, *, set=None, problem=None, check_jacobian=False, v
 
 
 def trace(scene, output=None, *, set=None, restart=None, switch=None, direction=None, curve=None, curve_from=None,
-          free=None, fresh=False, force=False, problem=None, callback=None, verbose=True):
+          free=None, orbit_from=None, fresh=False, force=False, problem=None, callback=None, verbose=True):
     """keller trace: a branch (a keller.Branch; a keller.Curve with curve=). restart and switch
     ("FILE.h5:ROW", or (branch, row or label)) start from a stored point or switch at a branch
     point (direction: 1 or -1); curve ("fold", "hopf", "event") with curve_from continues a
-    located point in a second parameter (free); fresh discards an unfinished OUT.h5.part; force
-    starts from a stored point that differs from the scene."""
+    located point in a second parameter (free); orbit_from (a located Hopf point) traces the branch
+    of periodic orbits born there (keller trace --orbit); fresh discards an unfinished OUT.h5.part;
+    force starts from a stored point that differs from the scene."""
+    if orbit_from is not None and curve_from is not None:
+        raise ValueError("orbit_from and curve_from exclude each other")
     options = []
-    for flag, value in (("--restart", _row(restart)), ("--switch", _row(switch)), ("--from", _row(curve_from)),
+    for flag, value in (("--restart", _row(restart)), ("--switch", _row(switch)),
+                        ("--from", _row(curve_from if orbit_from is None else orbit_from)),
                         ("--curve", curve), ("--free", free),
                         ("--switch-direction", None if direction is None else str(int(direction)))):
         if value is not None:
             options += [flag, value]
+    options += ["--orbit"] if orbit_from is not None else []
     options += ["--fresh"] if fresh else []
     options += ["--force"] if force else []
     path = _run("trace", scene, output, overrides=set, options=options, problem=problem, callback=callback,

@@ -82,6 +82,11 @@ TEST(OrbitCommand, BrusselatorBranchFromItsHopfPointAgainstTheOdeOrbit) {
   // the first two orbits at d = 0.005 and 0.01 past b_H = 5: amplitude (max - min of the unknown
   // that varies most) = 2 amplitude_coefficient sqrt(d) (1 + O(d)), measured 0.2% and 0.4% off;
   // the period 2 pi / omega + O(d)
+  // every row's amplitudes (of the states and of the observables), growing along the branch
+  for (long i = 1; i < t.rows.rows(); ++i) {
+    EXPECT_GT(t.rows(i, t.column("amplitude")), t.rows(i - 1, t.column("amplitude"))) << "row " << i;
+    EXPECT_GT(t.rows(i, t.column("amplitude:u_mean")), t.rows(i - 1, t.column("amplitude:u_mean"))) << "row " << i;
+  }
   const double coefficient = normal_form(branch, "amplitude_coefficient"), omega = normal_form(branch, "omega");
   for (long row = 0; row < 2; ++row) {
     const double d = t.rows(row, t.column("b")) - 5.0;

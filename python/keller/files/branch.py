@@ -13,7 +13,7 @@ from keller.files.h5 import RunFile, names, open_h5, read_rows, text
 from keller.files.table import Table, TableView
 
 # the kind column's numbers by the names the CSV export, the terminal and the labels use
-KINDS = ("point", "start", "stop", "event", "fold", "bp", "end", "hopf")
+KINDS = ("point", "start", "stop", "event", "fold", "bp", "end", "hopf", "pd", "ns")
 # the kinds of the located points: those that have labels (runs/PointLabels.cpp)
 LOCATED = KINDS[1:]
 
