@@ -11,6 +11,7 @@
 
 #include "continuation/time/TimeIntegrator.hpp"
 #include "continuation/time/TimeStepControl.hpp"
+#include "core/Gmres.hpp"
 
 namespace keller {
 
@@ -25,6 +26,11 @@ constexpr double kMassDifferenceStep = 1e-7;
 // update is below this share of v, at most this many solves
 constexpr double kMassIterationTolerance = 1e-13;
 constexpr int kMassIterations = 30;
+// Preconditioned: A x by central differences of the solve's residual at a step 1e-6 of the state's
+// size over |x| (truncation 1e-12, rounding 1e-10 relative), and GMRES to 1e-12 of the right-hand side
+constexpr double kJacobianDifferenceStep = 1e-6;
+constexpr double kInnerTolerance = 1e-12;
+constexpr int kInnerIterations = 40;
 
 bool same_values(const SparseMatrix& a, const SparseMatrix& b) {
   if (a.nonZeros() != b.nonZeros() || a.rows() != b.rows() || a.cols() != b.cols()) return false;
@@ -92,6 +98,13 @@ struct ShootingMap::Solve {
   SparseMatrix A;
   std::optional<Eigen::PartialPivLU<Eigen::MatrixXd>> dense;
   std::unique_ptr<SparseLU> sparse;
+  int anchor = -1;  // Preconditioned: the anchor whose factorisation preconditions it
+};
+
+// Preconditioned: a solve whose matrix is factorised, kept where the memory budget allows.
+struct ShootingMap::Anchor {
+  int solve = 0;
+  std::unique_ptr<SparseLU> lu;
 };
 
 namespace {
@@ -204,11 +217,76 @@ Status ShootingMap::integrate(const Vector& u0, double period, const OrbitGrid& 
     }
     h_prev = h;
   }
-  for (Solve& s : solves_) {
-    st = assemble(s);
-    if (!st.is_ok()) return st;
+  preconditioned_ = options_.linearisation == ShootingOptions::Linearisation::Preconditioned ||
+                    (options_.linearisation == ShootingOptions::Linearisation::Auto &&
+                     problem_.size() > ShootingOptions::kFactorisedSize);
+  anchors_.clear();
+  shared_anchor_ = -1;
+  for (size_t k = 0; k < solves_.size(); ++k) {
+    Solve& s = solves_[k];
+    if (!preconditioned_) {
+      st = assemble(s);
+      if (!st.is_ok()) return st;
+      continue;
+    }
+    const bool renew =
+        anchors_.empty() ||
+        !keeps_factorisation(s.coefficient, solves_[static_cast<size_t>(anchors_.back().solve)].coefficient) ||
+        static_cast<int>(k) - anchors_.back().solve >= ShootingOptions::kAnchorSpan;
+    if (renew) anchors_.push_back({static_cast<int>(k), nullptr});
+    s.anchor = static_cast<int>(anchors_.size()) - 1;
   }
   counts_.forward_seconds += since(t0);
+  return {};
+}
+
+Status ShootingMap::solve_residual(const Solve& s, const Vector& U, Vector& G) {
+  Vector R;
+  // R(U) = rate + coefficient (U - U_s): the rate is affine in U with slope coefficient
+  Status st = problem_.time_residual(U, s.rate + s.coefficient * (U - s.U), R);
+  if (st.is_ok()) st = problem_.residual(U, G);
+  if (st.is_ok()) G += R;
+  return st;
+}
+
+Status ShootingMap::apply_mass(const Solve& s, const Vector& x, Vector& out) {
+  if (!preconditioned_) {
+    out = mass(s) * x;
+    return {};
+  }
+  return problem_.time_residual(s.U, x, out);
+}
+
+Status ShootingMap::anchor_lu(int a, SparseLU*& lu) {
+  Anchor& anchor = anchors_[static_cast<size_t>(a)];
+  if (anchor.lu) {
+    lu = anchor.lu.get();
+    return {};
+  }
+  if (shared_anchor_ == a) {
+    lu = shared_lu_.get();
+    return {};
+  }
+  Solve& s = solves_[static_cast<size_t>(anchor.solve)];
+  Status st = assemble(s);
+  if (!st.is_ok()) return st;
+  const bool keep = stored_bytes_ < options_.memory_budget;
+  std::unique_ptr<SparseLU>& target = keep ? anchor.lu : shared_lu_;
+  if (!target) target = std::make_unique<SparseLU>(options_.lu);
+  st = target->factorize(s.A);
+  ++counts_.factorisations;
+  s.A = SparseMatrix();
+  s.B = SparseMatrix();
+  if (!st.is_ok()) {
+    if (keep) anchor.lu.reset();
+    shared_anchor_ = -1;
+    return st;
+  }
+  if (keep)
+    stored_bytes_ += target->statistics().numeric_bytes;
+  else
+    shared_anchor_ = a;
+  lu = target.get();
   return {};
 }
 
@@ -244,6 +322,42 @@ Status ShootingMap::factorise(Solve& s) {
 }
 
 Status ShootingMap::solve_linearised(Solve& s, const Vector& rhs, Vector& v) {
+  if (preconditioned_) {
+    SparseLU* lu = nullptr;
+    Status st = anchor_lu(s.anchor, lu);
+    if (!st.is_ok()) return st;
+    Status failed;
+    Vector Gp, Gm;
+    const double scale = std::max(s.U.lpNorm<Eigen::Infinity>(), 1.0);
+    auto A = [&](const Vector& x) -> Vector {
+      const double xn = x.lpNorm<Eigen::Infinity>();
+      if (xn == 0.0) return Vector::Zero(x.size());
+      const double eps = kJacobianDifferenceStep * scale / xn;
+      Status e = solve_residual(s, s.U + eps * x, Gp);
+      if (e.is_ok()) e = solve_residual(s, s.U - eps * x, Gm);
+      if (!e.is_ok()) {
+        failed = e;
+        return Vector::Zero(x.size());
+      }
+      return (Gp - Gm) / (2.0 * eps);
+    };
+    auto P = [&](const Vector& x) -> Vector {
+      Vector y;
+      Status e = lu->solve(x, y, false, 0);
+      if (!e.is_ok()) {
+        failed = e;
+        return Vector::Zero(x.size());
+      }
+      return y;
+    };
+    const GmresResult g = gmres(A, P, rhs, v, kInnerTolerance, kInnerIterations);
+    counts_.inner_iterations += g.iterations;
+    if (!failed.is_ok()) return failed;
+    if (!g.converged)
+      return {StatusCode::NotConverged,
+              fmt::format("shooting: a linearised solve took more than {} GMRES iterations", kInnerIterations)};
+    return {};
+  }
   if (!s.dense && !s.sparse) {  // not factorised yet, or not kept: (re)factorised now
     Status st = factorise(s);
     if (!st.is_ok()) return st;
@@ -297,8 +411,9 @@ Status ShootingMap::linearised(const Vector& v0, double dT, double dlambda, Vect
       Vector w = s.c[1] * last;
       if (s.c[2] != 0.0) w += s.c[2] * before;
       // B (c0 dU + w) / h - B R s_T + J dU + ... = 0
-      rhs = mass(s) * (s_T * s.rate - w / h);
-      if (!(st = parameter_term(s, dlambda, rhs)).is_ok() || !(st = solve_linearised(s, rhs, v)).is_ok()) return st;
+      if (!(st = apply_mass(s, s_T * s.rate - w / h, rhs)).is_ok() || !(st = parameter_term(s, dlambda, rhs)).is_ok() ||
+          !(st = solve_linearised(s, rhs, v)).is_ok())
+        return st;
       before = std::move(last);
       last = v;
     }
@@ -316,8 +431,9 @@ Status ShootingMap::linearised(const Vector& v0, double dT, double dlambda, Vect
         Vector w = un;
         for (int j = 0; j < i; ++j) w += (h * t.a[i][j]) * dK[static_cast<size_t>(j)];
         const Vector shift = w + s_T * (s.U - u_n);
-        rhs = mass(s) * (s.coefficient * shift);
-        if (!(st = parameter_term(s, dlambda, rhs)).is_ok() || !(st = solve_linearised(s, rhs, v)).is_ok()) return st;
+        if (!(st = apply_mass(s, s.coefficient * shift, rhs)).is_ok() ||
+            !(st = parameter_term(s, dlambda, rhs)).is_ok() || !(st = solve_linearised(s, rhs, v)).is_ok())
+          return st;
         dK[static_cast<size_t>(i)] = s.coefficient * (v - shift);
       }
       un = v;

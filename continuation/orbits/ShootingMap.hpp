@@ -53,6 +53,17 @@ struct ShootingOptions {
   // this many bytes together (SparseLU's numeric size; dense LUs for problems of up to
   // kDenseSize unknowns); a step beyond it is refactorised in every pass.
   double memory_budget = 2e9;
+  // How a linearised solve A dU = rhs is done. Factorised: A assembled and factorised at every
+  // implicit solve of the period (exact; a factorisation per solve and Newton iteration, for small
+  // problems). Preconditioned: GMRES with A dU by central differences of the solve's residual
+  // (B'[dU] R included), preconditioned by factorisations of A made at a few solves of the period (a
+  // new one where the coefficient dR/dU has moved by 30% since the last, as evolve's chord does, or
+  // kAnchorSpan solves on): about as many factorisations per pass as a period of evolve makes. Auto:
+  // Factorised up to kFactorisedSize unknowns.
+  enum class Linearisation { Auto, Factorised, Preconditioned };
+  Linearisation linearisation = Linearisation::Auto;
+  static constexpr int kFactorisedSize = 2000;
+  static constexpr int kAnchorSpan = 50;
   static NewtonOptions tight_newton();
   // The sparse LU of a problem of n unknowns: UMFPACK where `asked` is Auto and n <= kUmfpackSize,
   // else `asked`. A period takes thousands of solves of small matrices, and a MUMPS call has a
@@ -92,14 +103,21 @@ class ShootingMap {
     long newton_iterations = 0;  // of the forward steps
     long factorisations = 0;     // forward (the integrator's) and linearised (the steps' own)
     long passes = 0;             // linearised passes
+    long inner_iterations = 0;   // Preconditioned: GMRES iterations of the linearised solves
     double forward_seconds = 0, linearised_seconds = 0;
   };
   const Counts& counts() const { return counts_; }
 
  private:
   struct Solve;
+  struct Anchor;
   Status assemble(Solve& solve);
   Status factorise(Solve& solve);
+  // Preconditioned: the anchors' factorisations, and the solve's residual G(U) = B(U) R(U) + F(U)
+  Status anchor_lu(int anchor, SparseLU*& lu);
+  Status solve_residual(const Solve& solve, const Vector& U, Vector& G);
+  // B(U) x at the solve's state
+  Status apply_mass(const Solve& solve, const Vector& x, Vector& out);
   // dU = A^-1 rhs for a solve (with the B' term where B varies)
   Status solve_linearised(Solve& solve, const Vector& rhs, Vector& dU);
   // the right-hand side's parameter term: -F_lambda(U) dlambda
@@ -118,6 +136,9 @@ class ShootingMap {
   std::vector<double> steps_;  // the step lengths h_k
   double stored_bytes_ = 0.0;
   std::unique_ptr<SparseLU> shared_lu_;  // for the solves whose factorisations are not kept
+  int shared_anchor_ = -1;               // Preconditioned: the anchor shared_lu_ holds
+  bool preconditioned_ = false;
+  std::vector<Anchor> anchors_;
   Counts counts_;
 };
 
