@@ -12,6 +12,8 @@ namespace {
 // the step after an accepted one: grown by this where the corrector took fewer iterations than
 // the target, shrunk where it took more; halved after a failure
 constexpr double kGrow = 1.5, kShrink = 0.7, kFailure = 0.5;
+// the backward Euler step that makes a guess consistent, as a fraction of the period
+constexpr double kConsistentStep = 1e-9;
 
 std::vector<std::complex<double>> real_and_nontrivial(const std::vector<std::complex<double>>& m, int trivial,
                                                       bool real) {
@@ -179,18 +181,35 @@ Status OrbitContinuation::converge(const Vector& u0, double T, const Vector& flo
   out.u0 = u0;
   out.period = T;
   out.lambda = problem_.parameters().value(parameter_);
+  {
+    // a guess (the normal form's orbit) need not satisfy the algebraic equations (B's zero rows, the
+    // constraints a pressure enforces): one backward Euler step of kConsistentStep T makes it do so
+    // while moving the rest by that fraction of a period; else the adaptive run's error estimate
+    // sees the inconsistency at every step length and the grid cannot start
+    class Last final : public TimeObserver {
+     public:
+      void on_step(const TimePoint& p) override { u = p.u; }
+      Vector u;
+    } last;
+    TimeOptions be;
+    be.t_end = kConsistentStep * T;
+    const TimeResult r = TimeIntegrator(problem_, be, options_.shooting.newton, options_.shooting.lu)
+                             .run_on_grid(u0, 0.0, {kConsistentStep * T}, last);
+    if (r.code != TimeStop::End) return {StatusCode::NotConverged, "orbit start: " + r.reason};
+    out.u0 = last.u;
+  }
   try {
-    out.grid = record_grid(problem_, u0, T, options_.time, options_.shooting.newton, options_.shooting.lu);
+    out.grid = record_grid(problem_, out.u0, T, options_.time, options_.shooting.newton, options_.shooting.lu);
   } catch (const std::runtime_error& e) {
     return {StatusCode::NotConverged, e.what()};
   }
   Vector normal = flow;
   if (normal.size() == 0) {  // the flow at u0: the rate at the end of a period from it
-    const Status st = map_.integrate(u0, T, out.grid);
+    const Status st = map_.integrate(out.u0, T, out.grid);
     if (!st.is_ok()) return st;
     normal = map_.end_rate();
   }
-  const Vector ref = u0;
+  const Vector ref = out.u0;
   const OrbitCorrection c =
       OrbitCorrector(map_, options_.corrector).correct(out.u0, out.period, out.lambda, false, out.grid, ref, normal);
   out.iterations = c.iterations;

@@ -15,6 +15,7 @@ namespace {
 constexpr double kEtaMax = 1e-2, kEtaMin = 1e-12, kEtaGamma = 0.9;
 // a Newton step that raises the residual above this multiple of the first one: diverged
 constexpr double kDivergence = 1e4;
+constexpr double kMaxPeriodChange = 0.5;
 }  // namespace
 
 OrbitCorrection OrbitCorrector::correct(Vector& u0, double& T, double& lambda, bool free_lambda, const OrbitGrid& grid,
@@ -105,6 +106,9 @@ OrbitCorrection OrbitCorrector::correct(Vector& u0, double& T, double& lambda, b
                     fmt::format("orbit corrector: GMRES did not converge in {} iterations", g.iterations)};
       return out;
     }
+    // a step that would change the period by more than kMaxPeriodChange of itself is cut back to
+    // that, whole (Newton's first steps from a rough guess can throw T past zero)
+    if (std::abs(dz[N]) > kMaxPeriodChange) dz *= kMaxPeriodChange / std::abs(dz[N]);
     u0 += dz.head(N);
     const double dT = T * dz[N];
     T += dT;

@@ -19,13 +19,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-// B'(u)[v] r by central differences of the time terms (linear in r, so only u is differenced), at
-// a step 1e-7 of the state's size: O(h^2) truncation, rounding eps / h relative (1e-9)
-constexpr double kMassDifferenceStep = 1e-7;
-// the iteration for B'[v] r on a step (A_k without that term as the preconditioner): until the
-// update is below this share of v, at most this many solves
-constexpr double kMassIterationTolerance = 1e-13;
-constexpr int kMassIterations = 30;
 // Preconditioned: A x by central differences of the solve's residual at a step 1e-6 of the state's
 // size over |x| (truncation 1e-12, rounding 1e-10 relative), and GMRES to 1e-12 of the right-hand side
 constexpr double kJacobianDifferenceStep = 1e-6;
@@ -63,7 +56,9 @@ OrbitGrid record_grid(Problem& problem, const Vector& u0, double period, const T
     void on_step(const TimePoint& p) override {
       if (p.step > 0) times.push_back(p.t);
     }
+    void on_rejected(double, double, const std::string& why) override { last_rejection = why; }
     std::vector<double> times;
+    std::string last_rejection;
   };
   TimeOptions o = options;
   o.t_end = period;
@@ -72,7 +67,10 @@ OrbitGrid record_grid(Problem& problem, const Vector& u0, double period, const T
   TimeIntegrator integrator(problem, o, newton, small);
   Times times;
   const TimeResult r = integrator.run(u0, 0.0, times);
-  if (r.code != TimeStop::End) throw std::runtime_error("orbit grid: the run over one period ended early: " + r.reason);
+  if (r.code != TimeStop::End)
+    throw std::runtime_error(
+        "orbit grid: the run over one period ended early: " + r.reason +
+        (times.last_rejection.empty() ? "" : " (the last rejected step: " + times.last_rejection + ")"));
   return OrbitGrid::from_times(0.0, times.times, options.method);
 }
 
@@ -322,71 +320,56 @@ Status ShootingMap::factorise(Solve& s) {
 }
 
 Status ShootingMap::solve_linearised(Solve& s, const Vector& rhs, Vector& v) {
+  // the preconditioner: an anchor's factorisation (Preconditioned), else the solve's own matrix
+  // without the B' term, factorised now where it is not kept
+  SparseLU* lu = nullptr;
   if (preconditioned_) {
-    SparseLU* lu = nullptr;
     Status st = anchor_lu(s.anchor, lu);
     if (!st.is_ok()) return st;
-    Status failed;
-    Vector Gp, Gm;
-    const double scale = std::max(s.U.lpNorm<Eigen::Infinity>(), 1.0);
-    auto A = [&](const Vector& x) -> Vector {
-      const double xn = x.lpNorm<Eigen::Infinity>();
-      if (xn == 0.0) return Vector::Zero(x.size());
-      const double eps = kJacobianDifferenceStep * scale / xn;
-      Status e = solve_residual(s, s.U + eps * x, Gp);
-      if (e.is_ok()) e = solve_residual(s, s.U - eps * x, Gm);
-      if (!e.is_ok()) {
-        failed = e;
-        return Vector::Zero(x.size());
-      }
-      return (Gp - Gm) / (2.0 * eps);
-    };
-    auto P = [&](const Vector& x) -> Vector {
-      Vector y;
-      Status e = lu->solve(x, y, false, 0);
-      if (!e.is_ok()) {
-        failed = e;
-        return Vector::Zero(x.size());
-      }
-      return y;
-    };
-    const GmresResult g = gmres(A, P, rhs, v, kInnerTolerance, kInnerIterations);
-    counts_.inner_iterations += g.iterations;
-    if (!failed.is_ok()) return failed;
-    if (!g.converged)
-      return {StatusCode::NotConverged,
-              fmt::format("shooting: a linearised solve took more than {} GMRES iterations", kInnerIterations)};
-    return {};
-  }
-  if (!s.dense && !s.sparse) {  // not factorised yet, or not kept: (re)factorised now
-    Status st = factorise(s);
-    if (!st.is_ok()) return st;
-  }
-  SparseLU* lu = s.sparse ? s.sparse.get() : shared_lu_.get();
-  auto plain = [&](const Vector& b, Vector& x) -> Status {
-    if (s.dense) {
-      x = s.dense->solve(b);
-      return {};
+  } else {
+    if (!s.dense && !s.sparse) {
+      Status st = factorise(s);
+      if (!st.is_ok()) return st;
     }
-    return lu->solve(b, x);
-  };
-  Status st = plain(rhs, v);
-  if (!st.is_ok() || !mass_varies_) return st;
-  // A v + B'[v] R = rhs: v <- A^-1 (rhs - B'[v] R) until it settles
-  Vector Rp, Rm, next;
-  for (int it = 0; it < kMassIterations; ++it) {
-    const double vn = v.lpNorm<Eigen::Infinity>();
-    if (vn == 0.0) return {};
-    const double eps = kMassDifferenceStep * std::max(s.U.lpNorm<Eigen::Infinity>(), 1.0) / vn;
-    st = problem_.time_residual(s.U + eps * v, s.rate, Rp);
-    if (st.is_ok()) st = problem_.time_residual(s.U - eps * v, s.rate, Rm);
-    if (st.is_ok()) st = plain(rhs - (Rp - Rm) / (2.0 * eps), next);
-    if (!st.is_ok()) return st;
-    const double change = (next - v).lpNorm<Eigen::Infinity>();
-    v = next;
-    if (change <= kMassIterationTolerance * vn) return {};
+    lu = s.sparse ? s.sparse.get() : shared_lu_.get();
   }
-  return {StatusCode::NotConverged, "shooting: the linearised step with B'(u) did not settle"};
+  Status failed;
+  auto P = [&](const Vector& x) -> Vector {
+    Vector y;
+    if (s.dense) return s.dense->solve(x);
+    Status e = lu->solve(x, y, false, preconditioned_ ? 0 : -1);
+    if (!e.is_ok()) {
+      failed = e;
+      return Vector::Zero(x.size());
+    }
+    return y;
+  };
+  if (!preconditioned_ && !mass_varies_) {  // the factorisation is A's: one solve
+    v = P(rhs);
+    return failed;
+  }
+  // GMRES with A x by central differences of the solve's residual (the B'[x] R term with it)
+  Vector Gp, Gm;
+  const double scale = std::max(s.U.lpNorm<Eigen::Infinity>(), 1.0);
+  auto A = [&](const Vector& x) -> Vector {
+    const double xn = x.lpNorm<Eigen::Infinity>();
+    if (xn == 0.0) return Vector::Zero(x.size());
+    const double eps = kJacobianDifferenceStep * scale / xn;
+    Status e = solve_residual(s, s.U + eps * x, Gp);
+    if (e.is_ok()) e = solve_residual(s, s.U - eps * x, Gm);
+    if (!e.is_ok()) {
+      failed = e;
+      return Vector::Zero(x.size());
+    }
+    return (Gp - Gm) / (2.0 * eps);
+  };
+  const GmresResult g = gmres(A, P, rhs, v, kInnerTolerance, kInnerIterations);
+  counts_.inner_iterations += g.iterations;
+  if (!failed.is_ok()) return failed;
+  if (!g.converged)
+    return {StatusCode::NotConverged,
+            fmt::format("shooting: a linearised solve took more than {} GMRES iterations", kInnerIterations)};
+  return {};
 }
 
 Status ShootingMap::parameter_term(const Solve& s, double dlambda, Vector& rhs) {

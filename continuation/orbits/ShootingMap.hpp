@@ -7,10 +7,10 @@
 //   BDF2:   R = (c0 U + c1 u_(k-1) + c2 u_(k-2)) / h,   SDIRK4: R = K_i = (U_i - u_n - h sum_(j<i) a_ij K_j) / (h
 //   gamma),
 // with h = T (s_k - s_(k-1)); linearised it is A dU = B(U) (d of the rest) + (dT / T) (terms of h) - F_lambda dlambda
-// with A = (dR/dU) B(U) + J(U) + B'(U)[.] R (the last term by iteration, and only where B depends
-// on u). The monodromy matrix M = dPhi/du0 is applied to a vector by one such pass; its
-// eigenvalues are the Floquet multipliers of the discrete orbit (the trivial one is 1 up to the
-// integrator's error: O(h^2) with BDF2, O(h^4) with SDIRK4).
+// with A = (dR/dU) B(U) + J(U) + B'(U)[.] R (where B depends on u, by GMRES with A's products by
+// differences, preconditioned by the rest). The monodromy matrix M = dPhi/du0 is applied to a vector by one such pass;
+// its eigenvalues are the Floquet multipliers of the discrete orbit (the trivial one is 1 up to the integrator's error:
+// O(h^2) with BDF2, O(h^4) with SDIRK4).
 #pragma once
 
 #include <array>

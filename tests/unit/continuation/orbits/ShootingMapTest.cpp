@@ -158,10 +158,11 @@ TEST(ShootingMap, LinearisedPassesAgreeWithDifferencesOfTheMap) {
         Problem& p = constant ? static_cast<Problem&>(f) : static_cast<Problem&>(curved);
         SCOPED_TRACE(p.name() + (method == TimeOptions::Method::Bdf2 ? " BDF2" : " SDIRK4") +
                      (mode == L::Factorised ? " factorised" : " preconditioned"));
-        // preconditioned: each solve's products by differences and its GMRES leave 1e-10 of it,
-        // which the period's 500 solves accumulate against a strongly contracted |M v|: measured
-        // 9e-8 at worst, where the factorised passes agree to 5e-9
-        const double tol = mode == L::Factorised ? 1e-7 : 3e-7;
+        // products by differences (preconditioned, and wherever B varies: the B'[dU] R term) leave
+        // 1e-10 of each solve, which the period's 500 solves accumulate against a strongly
+        // contracted |M v|: measured 1.2e-7 at worst, where the factorised passes with B constant
+        // agree to 5e-9
+        const double tol = mode == L::Factorised && constant ? 1e-7 : 3e-7;
         EXPECT_LT(linearisation_error(p, v, 0.0, 0.0, method, mode), tol) << "M v";
         EXPECT_LT(linearisation_error(p, Vector::Zero(2), 1.0, 0.0, method, mode), tol) << "dPhi/dT";
         EXPECT_LT(linearisation_error(p, Vector::Zero(2), 0.0, 1.0, method, mode), tol) << "dPhi/db";
