@@ -212,13 +212,7 @@ Status OrbitContinuation::converge(const Vector& u0, double T, const Vector& flo
   const Vector ref = out.u0;
   const OrbitCorrection c =
       OrbitCorrector(map_, options_.corrector).correct(out.u0, out.period, out.lambda, false, out.grid, ref, normal);
-  out.iterations = c.iterations;
-  out.krylov_iterations = c.krylov_iterations;
-  out.residual = c.residual;
-  newton_ += c.iterations;
-  krylov_ += c.krylov_iterations;
-  if (!c.status.is_ok()) return c.status;
-  return finish(out);
+  return take(c, out);
 }
 
 Status OrbitContinuation::correct(const OrbitPoint& from, Vector u0, double T, double lambda, const Vector& du,
@@ -238,13 +232,7 @@ Status OrbitContinuation::correct(const OrbitPoint& from, Vector u0, double T, d
   out.u0 = std::move(u0);
   out.period = T;
   out.lambda = lambda;
-  out.iterations = c.iterations;
-  out.krylov_iterations = c.krylov_iterations;
-  out.residual = c.residual;
-  newton_ += c.iterations;
-  krylov_ += c.krylov_iterations;
-  if (!c.status.is_ok()) return c.status;
-  return finish(out);
+  return take(c, out);
 }
 
 Status OrbitContinuation::period_doubling_vector(const OrbitPoint& pd, Vector& v) {
@@ -367,6 +355,16 @@ BranchPoint OrbitContinuation::to_branch_point(const OrbitPoint& p, PointKind ki
   return b;
 }
 
+Status OrbitContinuation::take(const OrbitCorrection& c, OrbitPoint& out) {
+  out.iterations = c.iterations;
+  out.krylov_iterations = c.krylov_iterations;
+  out.residual = c.residual;
+  newton_ += c.iterations;
+  krylov_ += c.krylov_iterations;
+  if (!c.status.is_ok()) return c.status;
+  return finish(out);
+}
+
 bool OrbitContinuation::land(const OrbitPoint& a, const OrbitPoint& b, double value, OrbitPoint& out) {
   const double t = (value - a.lambda) / (b.lambda - a.lambda);
   OrbitRow fixed;  // lambda = value
@@ -377,19 +375,13 @@ bool OrbitContinuation::land(const OrbitPoint& a, const OrbitPoint& b, double va
   double T = a.period + t * (b.period - a.period), lambda = value;
   const OrbitCorrection c =
       OrbitCorrector(map_, options_.corrector).correct(u0, T, lambda, true, a.grid, a.u0, a.flow, fixed);
-  newton_ += c.iterations;
-  krylov_ += c.krylov_iterations;
-  if (!c.status.is_ok()) return false;
   out = OrbitPoint{};
   out.u0 = std::move(u0);
   out.period = T;
   out.lambda = lambda;
   out.grid = a.grid;
-  out.iterations = c.iterations;
-  out.krylov_iterations = c.krylov_iterations;
-  out.residual = c.residual;
   out.s = a.s + t * (b.s - a.s);
-  return finish(out).is_ok();
+  return take(c, out).is_ok();
 }
 
 bool OrbitContinuation::locate(const OrbitPoint& a, const OrbitPoint& b, PointKind kind, OrbitPoint& out) {

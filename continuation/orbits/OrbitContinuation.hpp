@@ -158,6 +158,8 @@ class OrbitContinuation {
   Status correct(const OrbitPoint& from, Vector u0, double T, double lambda, const Vector& du, double dT,
                  double dlambda, OrbitPoint& out);
   Status finish(OrbitPoint& p);
+  // a correction's counts into `out` and the run's, then finish where it converged
+  Status take(const OrbitCorrection& c, OrbitPoint& out);
   Status analyse(OrbitPoint& p);
   BranchPoint to_branch_point(const OrbitPoint& p, PointKind kind, const std::string& label, int index,
                               const Vector& tu, double tlambda) const;

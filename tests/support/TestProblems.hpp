@@ -78,6 +78,10 @@ class FunctionProblem final : public Problem {
   Monitors monitors_;
 };
 
+// The Brusselator ODE x' = a - (b + 1) x + x^2 y, y' = b x - x^2 y as B du/dt = -F (B = I), with
+// parameters a, b (indices 0, 1): its Hopf point is at b = 1 + a^2, its orbits beyond it.
+FunctionProblem brusselator_ode(double a, double b);
+
 // Wraps a problem and reports an invalid state whenever the parameter lies in [a, b] (a model
 // of a region where the physics breaks down).
 class FailingBand final : public Problem {

@@ -20,28 +20,7 @@ using keller::test::FunctionProblem;
 
 namespace {
 
-FunctionProblem brusselator(double a, double b) {
-  return FunctionProblem(
-      "brusselator", 2, {{"a", a}, {"b", b}},
-      [](const Vector& u, const Vector& p) {
-        Vector F(2);
-        F << -(p[0] - (p[1] + 1.0) * u[0] + u[0] * u[0] * u[1]), -(p[1] * u[0] - u[0] * u[0] * u[1]);
-        return F;
-      },
-      [](const Vector& u, const Vector& p) {
-        Eigen::MatrixXd J(2, 2);
-        J << (p[1] + 1.0) - 2.0 * u[0] * u[1], -u[0] * u[0], -p[1] + 2.0 * u[0] * u[1], u[0] * u[0];
-        return J;
-      },
-      [](int k, const Vector& u, const Vector&) {
-        Vector d(2);
-        if (k == 0)
-          d << -1.0, 0.0;
-        else
-          d << u[0], -u[0];
-        return d;
-      });
-}
+FunctionProblem brusselator(double a, double b) { return keller::test::brusselator_ode(a, b); }
 
 class Last final : public TimeObserver {
  public:
