@@ -175,6 +175,10 @@ std::vector<char> TimeIntegrator::differential_unknowns(const SparseMatrix& B) {
 bool TimeIntegrator::solve_step(const std::array<double, 3>& c, double h, const Vector& u_n, const Vector* u_prev,
                                 Vector& u, Attempt& attempt) {
   step_problem_->set(c, h, u_n, u_prev);
+  return newton_solve(u, attempt);
+}
+
+bool TimeIntegrator::newton_solve(Vector& u, Attempt& attempt) {
   const bool kept = keeps_factorisation(step_problem_->coefficient(), factorised_coefficient_);
   const NewtonResult r = newton_->solve(u, {}, kept);
   attempt.iterations += r.iterations;
@@ -196,13 +200,7 @@ bool TimeIntegrator::sdirk_step(double h, const Vector& u_n, Vector& k_guess, Ve
     const Vector& guess_rate = i > 0 ? K[i - 1] : k_guess;
     u = guess_rate.size() == u_n.size() ? Vector(sum + hg * guess_rate) : sum;
     step_problem_->set_affine(1.0 / hg, -sum / hg);  // K_i = (U_i - sum) / (h gamma)
-    const bool kept = keeps_factorisation(step_problem_->coefficient(), factorised_coefficient_);
-    const NewtonResult r = newton_->solve(u, {}, kept);
-    attempt.iterations += r.iterations;
-    attempt.factorisations += r.factorisations;
-    if (r.factorisations > 0) factorised_coefficient_ = step_problem_->coefficient();
-    attempt.status = r.status;
-    if (!r.converged()) return false;
+    if (!newton_solve(u, attempt)) return false;
     K[i] = (u - sum) / hg;
     if (stages) stages->push_back(u);
   }

@@ -136,6 +136,9 @@ class TimeIntegrator {
   // One solve of G(u) = 0 from `u` (the predictor) for the coefficients c over step h.
   bool solve_step(const std::array<double, 3>& c, double h, const Vector& u_n, const Vector* u_prev, Vector& u,
                   Attempt& attempt);
+  // Newton on the step problem as set, from u, on the kept factorisation while its coefficient
+  // serves (the try's counts into attempt)
+  bool newton_solve(Vector& u, Attempt& attempt);
   // One SDIRK4 step of h from u_n: u (in: ignored; out: u_(n+1)), the embedded error estimate, the
   // stage states where `stages` is given; k_guess is the last stage rate of the step before (the
   // stages' predictor; empty: none), and is set to this step's.
