@@ -2,7 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <numbers>
 #include <optional>
@@ -24,6 +26,8 @@
 namespace keller {
 
 namespace {
+
+constexpr double kProgressSeconds = 10.0;
 
 const RunFileKind kOrbitBranch{"orbit branch",      "branch file",      "rows",  "orbit",
                                "/branch/exit_code", "before its range", "traced"};
@@ -183,6 +187,17 @@ int run_orbit_trace(const TraceArguments& args, RunSummary* out_summary) {
       settings = TraceSettings::from_scene(scene);
       options = OrbitContinuationOptions::from_scene(scene, settings.continuation);
     });
+    // a correction's Newton iterations, at most one line per kProgressSeconds (the long ones only)
+    const auto started = std::chrono::steady_clock::now();
+    auto last_line = started;
+    options.corrector.progress = [started, &last_line](int it, double residual, long krylov) {
+      const auto now = std::chrono::steady_clock::now();
+      if (std::chrono::duration<double>(now - last_line).count() < kProgressSeconds) return;
+      last_line = now;
+      fmt::print("  shooting Newton iteration {}: |Phi(u0) - u0| = {:.3e}, {} GMRES iterations so far ({:.0f} s)\n", it,
+                 residual, krylov, std::chrono::duration<double>(now - started).count());
+      std::fflush(stdout);
+    };
     StoredStart from;
     run.check([&](RunFiles& files) { from = checked_orbit_start(args, settings, files, run); }, args.output_locked);
     const std::string& parameter = settings.continuation.parameter;

@@ -101,14 +101,4 @@ class EigenSolver {
   std::unique_ptr<ComplexSparseLU> complex_lu_;  // made at the first complex shift
 };
 
-// The options.count eigenvalues of largest magnitude of a real linear operator on R^n given by its
-// action, op(x, y): y = OP x (a monodromy matrix applied by a linearised integration), by ARPACK's
-// regular mode (dnaupd, which = "LM", from the fixed pseudo-random start or options.start), each
-// pair's vector with unit 2-norm. The pairs come by |value| descending (a conjugate pair together,
-// positive imaginary part first). The shift and residual_tolerance are not used; residual is the
-// relative residual |OP phi - mu phi| / |mu| of one more application per pair where options.vectors.
-// count must be in [1, n - 2]; a failed application ends the run with its status.
-Status largest_eigenvalues(int n, const std::function<Status(const Vector&, Vector&)>& op, const EigenOptions& options,
-                           EigenResult& out);
-
 }  // namespace keller

@@ -1,6 +1,6 @@
 // The Floquet multipliers of a periodic orbit: the eigenvalues of largest magnitude of its
 // monodromy matrix M, given by its action on a vector (one linearised integration over a period,
-// continuation/orbits/ShootingMap), by ARPACK on the operator, or from M formed column by column
+// continuation/orbits/ShootingMap), by Arnoldi on the operator, or from M formed column by column
 // where the problem is smaller than the Arnoldi basis would be. The trivial multiplier (1 for an
 // autonomous flow, along the flow direction) is named, and the orbit's stability counted without it.
 #pragma once
@@ -18,9 +18,12 @@
 namespace keller {
 
 struct FloquetOptions {
-  int count = 8;             // multipliers wanted, those of largest magnitude
-  double tolerance = 1e-10;  // ARPACK's relative accuracy of the Ritz values
-  bool vectors = false;      // an eigenvector of each multiplier (unit 2-norm)
+  int count = 8;  // multipliers wanted, those of largest magnitude
+  // Arnoldi: every wanted pair's residual |M x - mu x| (|x| = 1) at most this times max(1, |mu_1|),
+  // an absolute accuracy on the scale of the unit circle (not relative to |mu|: the smallest wanted
+  // multipliers of a dissipative flow can lie at the linearised passes' own error)
+  double tolerance = 1e-10;
+  bool vectors = false;  // an eigenvector of each multiplier (unit 2-norm)
 };
 
 struct FloquetResult {

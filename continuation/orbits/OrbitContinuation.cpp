@@ -12,8 +12,11 @@ namespace {
 // the step after an accepted one: grown by this where the corrector took fewer iterations than
 // the target, shrunk where it took more; halved after a failure
 constexpr double kGrow = 1.5, kShrink = 0.7, kFailure = 0.5;
-// the backward Euler step that makes a guess consistent, as a fraction of the period
-constexpr double kConsistentStep = 1e-9;
+// the two steps that make a guess consistent, each this fraction of the period: long enough that
+// their matrices are not dominated by B / h (at 1e-9 T the collapsible channel's first step failed
+// to converge from the normal form's guess), short enough that the guess moves along the orbit
+// only by that fraction
+constexpr double kConsistentStep = 1e-6;
 
 }  // namespace
 
@@ -78,18 +81,20 @@ Status OrbitContinuation::converge(const Vector& u0, double T, const Vector& flo
   out.lambda = problem_.parameters().value(parameter_);
   {
     // a guess (the normal form's orbit) need not satisfy the algebraic equations (B's zero rows, the
-    // constraints a pressure enforces): one backward Euler step of kConsistentStep T makes it do so
-    // while moving the rest by that fraction of a period; else the adaptive run's error estimate
-    // sees the inconsistency at every step length and the grid cannot start
+    // constraints a pressure enforces): a backward Euler step of kConsistentStep T makes it do so,
+    // but it leaves an index-2 multiplier (a pressure) off by O(1 / h); the BDF2 step after it
+    // starts from a consistent state and sets that right. Else the adaptive run's error estimate
+    // sees the inconsistency at every step length and the grid cannot start, and Newton starts
+    // from a residual the size of that pressure error
     class Last final : public TimeObserver {
      public:
       void on_step(const TimePoint& p) override { u = p.u; }
       Vector u;
     } last;
     TimeOptions be;
-    be.t_end = kConsistentStep * T;
+    be.t_end = 2.0 * kConsistentStep * T;
     const TimeResult r = TimeIntegrator(problem_, be, options_.shooting.newton, options_.shooting.lu)
-                             .run_on_grid(u0, 0.0, {kConsistentStep * T}, last);
+                             .run_on_grid(u0, 0.0, {kConsistentStep * T, 2.0 * kConsistentStep * T}, last);
     if (r.code != TimeStop::End) return {StatusCode::NotConverged, "orbit start: " + r.reason};
     out.u0 = last.u;
   }

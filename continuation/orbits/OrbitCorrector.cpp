@@ -52,6 +52,7 @@ OrbitCorrection OrbitCorrector::correct(Vector& u0, double& T, double& lambda, b
     const double scale = std::max(u0.lpNorm<Eigen::Infinity>(), 1.0);
     out.residual = R.head(N).lpNorm<Eigen::Infinity>();
     const double norm = R.norm();
+    if (options_.progress) options_.progress(it, out.residual, out.krylov_iterations);
     if (it > 0 && small_update && out.residual <= options_.tolerance * scale) return out;  // converged
     if (it == 0) first = norm;
     if (it > 0) {

@@ -11,6 +11,7 @@
 // Navier-Stokes). The forcing term follows Eisenstat and Walker (1996, choice 2).
 #pragma once
 
+#include <functional>
 #include <string>
 
 #include "continuation/orbits/ShootingMap.hpp"
@@ -25,6 +26,9 @@ struct OrbitCorrectorOptions {
   // most that and T by at most tolerance T.
   double tolerance = 1e-9;
   int krylov_iterations = 60;  // GMRES iterations per Newton step
+  // Called after every residual: the Newton iteration, |Phi - u0|_inf, the GMRES iterations so far
+  // (a long correction's progress; empty: none).
+  std::function<void(int iteration, double residual, long krylov_iterations)> progress;
 };
 
 // The linear row that closes the system: lambda fixed (a_u = 0, a_T = 0, a_l = 1), or the

@@ -121,6 +121,13 @@ class StageRecorder final : public TimeObserver {
 };
 }  // namespace
 
+ShootingOptions::Linearisation ShootingOptions::linearisation_for(Linearisation asked, int n, bool mass_varies,
+                                                                  double bytes, long solves, double budget) {
+  if (asked != Linearisation::Auto) return asked;
+  if (n > kFactorisedSize || mass_varies) return Linearisation::Preconditioned;
+  return bytes * static_cast<double>(solves) <= budget ? Linearisation::Factorised : Linearisation::Preconditioned;
+}
+
 SparseLUOptions::Backend ShootingOptions::backend_for(SparseLUOptions::Backend asked, int n) {
   return asked == SparseLUOptions::Backend::Auto && n <= kUmfpackSize ? SparseLUOptions::Backend::Umfpack : asked;
 }
@@ -143,6 +150,19 @@ Status ShootingMap::assemble(Solve& s) {
   if (st.is_ok() && mass_varies_) st = problem_.mass_matrix(s.U, s.B);
   if (!st.is_ok()) return st;
   s.A = J + s.coefficient * mass(s);
+  return {};
+}
+
+Status ShootingMap::measure_factorisation() {
+  if (factorisation_bytes_ >= 0.0) return {};  // once, on the first solve's matrix
+  Solve& s = solves_.front();
+  Status st = assemble(s);
+  if (!st.is_ok()) return st;
+  SparseLU lu(options_.lu);
+  st = lu.factorize(s.A);
+  ++counts_.factorisations;
+  if (!st.is_ok()) return st;
+  factorisation_bytes_ = lu.statistics().numeric_bytes;
   return {};
 }
 
@@ -215,9 +235,17 @@ Status ShootingMap::integrate(const Vector& u0, double period, const OrbitGrid& 
     }
     h_prev = h;
   }
-  preconditioned_ = options_.linearisation == ShootingOptions::Linearisation::Preconditioned ||
-                    (options_.linearisation == ShootingOptions::Linearisation::Auto &&
-                     problem_.size() > ShootingOptions::kFactorisedSize);
+  using L = ShootingOptions::Linearisation;
+  const int n = problem_.size();
+  const long count = static_cast<long>(solves_.size());
+  L how =
+      ShootingOptions::linearisation_for(options_.linearisation, n, mass_varies_, -1.0, count, options_.memory_budget);
+  if (how == L::Factorised && n > kDenseSize && options_.linearisation == L::Auto) {
+    if (!(st = measure_factorisation()).is_ok()) return st;
+    how = ShootingOptions::linearisation_for(L::Auto, n, mass_varies_, factorisation_bytes_, count,
+                                             options_.memory_budget);
+  }
+  preconditioned_ = how == L::Preconditioned;
   anchors_.clear();
   shared_anchor_ = -1;
   for (size_t k = 0; k < solves_.size(); ++k) {

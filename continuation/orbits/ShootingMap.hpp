@@ -59,10 +59,20 @@ struct ShootingOptions {
   // (B'[dU] R included), preconditioned by factorisations of A made at a few solves of the period (a
   // new one where the coefficient dR/dU has moved by 30% since the last, as evolve's chord does, or
   // kAnchorSpan solves on): about as many factorisations per pass as a period of evolve makes. Auto:
-  // Factorised up to kFactorisedSize unknowns.
+  // Factorised up to kFactorisedSize unknowns where B is constant and the period's factorisations
+  // fit in memory_budget together (measured on the first), else Preconditioned. Where B varies
+  // every solve is a GMRES anyway (the B' term), and a factorisation of each solve's matrix, made
+  // again at every Newton iteration, costs more than the iterations it saves (the collapsible
+  // channel's coarse mesh, 1,944 unknowns: 3.8 inner iterations a solve against 6.6, but 1,100
+  // factorisations per iteration; a Newton iteration of 10 passes took 122 s against 40 s).
   enum class Linearisation { Auto, Factorised, Preconditioned };
   Linearisation linearisation = Linearisation::Auto;
   static constexpr int kFactorisedSize = 2000;
+  // The linearisation Auto takes (Factorised or Preconditioned; others as asked) for n unknowns,
+  // B varying or not, and `solves` factorisations of `bytes` each against the budget (bytes < 0:
+  // not measured, taken to fit).
+  static Linearisation linearisation_for(Linearisation asked, int n, bool mass_varies, double bytes, long solves,
+                                         double budget);
   static constexpr int kAnchorSpan = 50;
   static NewtonOptions tight_newton();
   // The sparse LU of a problem of n unknowns: UMFPACK where `asked` is Auto and n <= kUmfpackSize,
@@ -113,6 +123,8 @@ class ShootingMap {
   struct Anchor;
   Status assemble(Solve& solve);
   Status factorise(Solve& solve);
+  // factorisation_bytes_, from a factorisation of the first solve's matrix
+  Status measure_factorisation();
   // Preconditioned: the anchors' factorisations, and the solve's residual G(U) = B(U) R(U) + F(U)
   Status anchor_lu(int anchor, SparseLU*& lu);
   Status solve_residual(const Solve& solve, const Vector& U, Vector& G);
@@ -135,6 +147,7 @@ class ShootingMap {
   std::vector<Solve> solves_;  // in order: one per BDF2 step, kStages per SDIRK4 step
   std::vector<double> steps_;  // the step lengths h_k
   double stored_bytes_ = 0.0;
+  double factorisation_bytes_ = -1.0;    // one factorisation's numeric size (-1: not measured yet)
   std::unique_ptr<SparseLU> shared_lu_;  // for the solves whose factorisations are not kept
   int shared_anchor_ = -1;               // Preconditioned: the anchor shared_lu_ holds
   bool preconditioned_ = false;

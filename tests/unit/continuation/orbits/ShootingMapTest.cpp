@@ -151,3 +151,19 @@ TEST(ShootingMap, LinearisedPassesAgreeWithDifferencesOfTheMap) {
         EXPECT_LT(linearisation_error(p, v, 0.4, -0.2, method, mode), tol) << "all three";
       }
 }
+
+// Auto's choice of linearisation as a function: Factorised only for a constant B, at most
+// kFactorisedSize unknowns and factorisations that fit in the budget together; anything asked
+// explicitly is kept.
+TEST(ShootingMap, AutoLinearisationFactorisesOnlyConstantMassesThatFit) {
+  using L = ShootingOptions::Linearisation;
+  const int small = ShootingOptions::kFactorisedSize, large = ShootingOptions::kFactorisedSize + 1;
+  EXPECT_EQ(ShootingOptions::linearisation_for(L::Auto, small, false, 1e6, 1000, 2e9), L::Factorised);
+  EXPECT_EQ(ShootingOptions::linearisation_for(L::Auto, small, false, 1e6, 2000, 2e9), L::Factorised);  // = budget
+  EXPECT_EQ(ShootingOptions::linearisation_for(L::Auto, small, false, 1e6, 2001, 2e9), L::Preconditioned);
+  EXPECT_EQ(ShootingOptions::linearisation_for(L::Auto, small, false, -1.0, 100000, 2e9), L::Factorised);
+  EXPECT_EQ(ShootingOptions::linearisation_for(L::Auto, small, true, 1e3, 10, 2e9), L::Preconditioned);
+  EXPECT_EQ(ShootingOptions::linearisation_for(L::Auto, large, false, 1e3, 10, 2e9), L::Preconditioned);
+  EXPECT_EQ(ShootingOptions::linearisation_for(L::Factorised, large, true, 1e9, 1000, 1.0), L::Factorised);
+  EXPECT_EQ(ShootingOptions::linearisation_for(L::Preconditioned, 10, false, 1.0, 1, 2e9), L::Preconditioned);
+}
