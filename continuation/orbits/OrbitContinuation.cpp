@@ -13,7 +13,7 @@ namespace {
 // the target, shrunk where it took more; halved after a failure
 constexpr double kGrow = 1.5, kShrink = 0.7, kFailure = 0.5;
 // the two steps that make a guess consistent, each this fraction of the period: long enough that
-// their matrices are not dominated by B / h (at 1e-9 T the collapsible channel's first step failed
+// their matrices are not dominated by B / h (at 1e-9 T the first step of a moving-mesh problem failed
 // to converge from the normal form's guess), short enough that the guess moves along the orbit
 // only by that fraction
 constexpr double kConsistentStep = 1e-6;
