@@ -63,8 +63,8 @@ struct ShootingOptions {
   // fit in memory_budget together (measured on the first), else Preconditioned. Where B varies
   // every solve is a GMRES anyway (the B' term), and a factorisation of each solve's matrix, made
   // again at every Newton iteration, costs more than the iterations it saves (the collapsible
-  // collapsible-wall problem's coarse mesh, 1,944 unknowns: 3.8 inner iterations a solve against 6.6, but 1,100
-  // factorisations per iteration; a Newton iteration of 10 passes took 122 s against 40 s).
+  // docs/periodic_orbits.md's coarse moving-mesh problem, 1,944 unknowns: 3.8 inner iterations a solve against 6.6, but
+  // 1,100 factorisations per iteration; a Newton iteration of 10 passes took 122 s against 40 s).
   enum class Linearisation { Auto, Factorised, Preconditioned };
   Linearisation linearisation = Linearisation::Auto;
   static constexpr int kFactorisedSize = 2000;
