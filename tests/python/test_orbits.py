@@ -4,6 +4,9 @@ past its Hopf point at b = 5 (a = 2)."""
 
 import importlib.util
 import os
+import subprocess
+
+import numpy as np
 
 import keller
 
@@ -32,3 +35,37 @@ def test_the_orbit_branch_agrees_with_evolve_at_its_limit_cycles(tmp_path):
     orbits = keller.open(str(tmp_path / "w" / "orbits.h5"))
     assert [p.kind for p in orbits.points("stop")] == ["stop", "stop"]
     assert os.path.getsize(tmp_path / "a.png") > 10000
+
+
+def test_the_orbit_figure_classifies_stability_by_the_multipliers():
+    from keller.plot.orbits import unstable
+    mu = np.array([[1.0, 0.5, 0.1j],                # stable
+                   [0.9, 1.0 + 1e-9, -1.2],          # the trivial one is the one nearest 1; -1.2 is outside
+                   [1.1, 0.99, 0.2],                 # 0.99 is the trivial one: 1.1 makes it unstable
+                   [0.6 + 0.9j, 0.6 - 0.9j, 1.0],   # a pair of modulus 1.08: unstable
+                   [np.nan, np.nan, np.nan]])        # no multipliers: not called unstable
+    assert unstable(mu).tolist() == [False, True, True, True, False]
+
+
+def test_the_orbit_figure_draws_the_normal_forms_sqrt_law():
+    from keller.plot.orbits import normal_form_prediction
+    nf = {"amplitude:u": 0.3, "side": -1.0, "period": 3.0}
+    amp, period = normal_form_prediction(nf, 2.0, "u", [1.0, 1.75, 2.0, 2.5])
+    assert period == 3.0
+    assert np.allclose(amp[:3], [0.6, 0.3, 0.0], rtol=0, atol=1e-15)  # 2 a sqrt(|d|) on the side -1
+    assert np.isnan(amp[3])
+
+
+def test_the_orbit_figure_of_a_traced_branch(tmp_path, keller_exe):
+    scene = os.path.join(SCENES, "brusselator1d_hopf.toml")
+    small = ["--set", "brusselator.intervals=4"]
+    subprocess.run([keller_exe, "trace", scene, *small, "-o", str(tmp_path / "h.h5")], check=True, capture_output=True)
+    subprocess.run([keller_exe, "trace", scene, *small, "--from", f"{tmp_path / 'h.h5'}:hopf1", "--orbit",
+                    "--set", "stability.enabled=false", "--set", "continuation.upper=5.3", "-o",
+                    str(tmp_path / "o.h5")], check=True, capture_output=True)
+    from keller.plot.orbits import main, multipliers, unstable
+    orbits = keller.open(str(tmp_path / "o.h5"))
+    assert not unstable(multipliers(orbits.table)).any()  # the supercritical Hopf point's orbits are stable
+    main([str(tmp_path / "o.h5"), "--y", "u_mean", "--hopf", f"{tmp_path / 'h.h5'}:hopf1",
+          "-o", str(tmp_path / "o.png")])
+    assert os.path.getsize(tmp_path / "o.png") > 10000

@@ -6,6 +6,7 @@
     field        one component of a field of a stored solution over the mesh, files side by side
     flow         the mesh and the flow (speed and streamlines) of a run on a mesh
     evolve       a time series against time (with --log, the eigenvalue's rate)
+    orbits       an orbit branch: amplitude and period against the parameter, its stability, the normal form
     study        a collected study value against a varied key, a curve per value of another
     rheometry    shear and extensional viscosities of a law's homogeneous-flow branches
     interfaces   interface shapes of Gamma branches, one panel per fluid
@@ -16,5 +17,5 @@ file (keller.outputs: never over an input, under a temporary name until complete
 draw with matplotlib's Agg backend (the figures are files, no display is needed); importing the
 package leaves the backend alone, so a notebook that calls its functions keeps its inline figures."""
 
-KINDS = ("branch", "collapsible", "field", "flow", "evolve", "study", "rheometry", "interfaces", "cylinder_drag",
+KINDS = ("branch", "collapsible", "field", "flow", "evolve", "orbits", "study", "rheometry", "interfaces", "cylinder_drag",
          "cylinder_deviation")
