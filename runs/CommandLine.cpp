@@ -77,8 +77,9 @@ int run(int argc, char** argv) {  // argc and argv go on to MPI_Init under mpiru
                    "min_m1 = 0: a located event or monitor end)")
       ->check(CLI::IsMember({"fold", "hopf", "event"}));
   cmd_trace->add_flag("--orbit", trace.orbit,
-                      "trace the branch of periodic orbits born at the located Hopf point --from names (with their "
-                      "periods, amplitudes and Floquet multipliers; [orbit] keys)");
+                      "trace the branch of periodic orbits born at the located Hopf point --from names, or through "
+                      "the last state of the keller evolve run --from RUN.h5 names (with their periods, amplitudes "
+                      "and Floquet multipliers; [orbit] keys)");
   cmd_trace->add_option("--free", trace.free,
                         "the curve's second parameter, with [continuation]'s range, stops and steps (default: "
                         "continuation.parameter)");

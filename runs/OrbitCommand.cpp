@@ -16,6 +16,7 @@
 #include "core/Newton.hpp"
 #include "core/SolutionWriter.hpp"
 #include "runs/CommandRun.hpp"
+#include "runs/EvolveStart.hpp"
 #include "runs/FloquetAnalysis.hpp"
 #include "runs/Interrupts.hpp"
 #include "runs/SceneLoader.hpp"
@@ -53,16 +54,24 @@ class OrbitView final : public Problem {
   std::vector<std::string> observables_;
 };
 
-// --orbit's flags against the others; the stored Hopf point's file is declared as an input.
+// --orbit's flags against the others; the stored Hopf point's file (or the evolve run's) is
+// declared as an input. An evolve run gives an empty file name.
 StoredStart checked_orbit_start(const TraceArguments& args, const TraceSettings& settings, RunFiles& files,
                                 const CommandRun& run) {
   if (args.from.empty())
-    throw std::invalid_argument("--orbit starts at a located Hopf point: give it with --from FILE.h5:ROW (or hopf1)");
+    throw std::invalid_argument(
+        "--orbit starts at a located Hopf point (--from FILE.h5:ROW, or hopf1) or from the last state of a "
+        "keller evolve run on a limit cycle (--from RUN.h5)");
   if (!args.curve.empty() || !args.restart.empty() || !args.switch_at.empty() || !args.free.empty())
     throw std::invalid_argument("--orbit excludes --curve, --free, --restart and --switch");
   if (settings.stability.enabled)
     throw std::invalid_argument(
         "[stability] analyses steady states; an orbit branch has its Floquet multipliers ([orbit] multipliers)");
+  if (is_time_series(args.from)) {  // an evolve run: read in run_orbit_trace
+    files.input("--from file", args.from);
+    declare_run_outputs(files, run.out(), kOrbitBranch.file, run.with_fields());
+    return {};
+  }
   StoredStart from = parse_stored_start("--from", args.from);
   from.located = PointKind::Hopf;
   from.orbit = true;
@@ -144,6 +153,29 @@ OrbitStart orbit_start(Problem& problem, int p, const StoredStart& from, const S
   return s;
 }
 
+// The orbit through the last state of an evolve run at its parameter value, and the one at
+// `orbit.start_distance` (0: 1e-2 max(|lambda|, 1)) from it in `continuation.direction`: the
+// secant the run continues along.
+OrbitStart evolve_start(Problem& problem, int p, const EvolveStart& e, const OrbitContinuationOptions& options,
+                        int direction, OrbitContinuation& continuation, const std::string& file) {
+  OrbitStart s;
+  const std::string& name = problem.parameters().info(p).name;
+  fmt::print("{}: the last state (t = {:.10g}); period {:.10g} from the crossings of {}\n", file, e.t, e.period,
+             e.observable);
+  const double d = options.start_distance > 0.0 ? options.start_distance : 1e-2 * std::max(std::abs(e.parameter), 1.0);
+  for (int k = 0; k < 2; ++k) {
+    const double lambda = e.parameter + k * direction * d;
+    problem.parameters().set(p, lambda);
+    OrbitPoint& o = k == 0 ? s.first : s.second;
+    const Status c = k == 0 ? continuation.converge(e.u, e.period, {}, o)
+                            : continuation.converge(s.first.u0, s.first.period, s.first.flow, o);
+    if (!c.is_ok())
+      throw CommandFailure::numerical(fmt::format("the orbit at {} = {:.10g} from {}", name, lambda, file), c);
+    fmt::print("orbit at {} = {:.10g}: period {:.10g}, {} Newton iterations\n", name, lambda, o.period, o.iterations);
+  }
+  return s;
+}
+
 // The last two rows of an unfinished orbit branch (every row stores its u0), each corrected again
 // at its parameter value: the secant the run continues along. The norm's scales are the first
 // run's: the file's state scale and the first row's period.
@@ -210,9 +242,14 @@ int run_orbit_trace(const TraceArguments& args, RunSummary* out_summary) {
                                                     "' has no time-dependent form (no mass matrix B): it has "
                                                     "no periodic orbits to trace");
     });
+    const bool from_evolve = from.file.empty();
     TraceSource source;
+    std::optional<EvolveStart> evolve;
     checking([&] {
-      source = read_trace_source(run, trace_run_record(run.loaded(), args), args.fresh, from, problem, parameter);
+      source = read_trace_source(run, trace_run_record(run.loaded(), args), args.fresh,
+                                 from_evolve ? std::nullopt : std::optional<StoredStart>(from), problem, parameter);
+      if (from_evolve && !source.unfinished && source.left.kind != LeftRun::Kind::ended)
+        evolve = read_evolve_start(args.from, run.loaded(), problem, parameter, args.force, source.warnings);
     });
     for (const std::string& w : source.warnings) fmt::print(stderr, "keller: warning: {}\n", w);
     const int p = problem.parameters().index(parameter);
@@ -222,6 +259,10 @@ int run_orbit_trace(const TraceArguments& args, RunSummary* out_summary) {
     const std::optional<Unfinished>& unfinished = source.unfinished;
     if (unfinished) {
       start = continued_start(problem, p, *unfinished, continuation);
+    } else if (evolve) {
+      fmt::print("problem: {}\n", problem.summary());
+      start = evolve_start(problem, p, *evolve, options, settings.continuation.direction, continuation, args.from);
+      continuation.set_scales(start.first);
     } else {
       const StoredPoint& stored = *source.stored;
       use_stored_parameters(problem, stored);

@@ -1,5 +1,6 @@
 #include "continuation/orbits/OrbitMeasures.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -67,6 +68,27 @@ double multiplier_test(const std::vector<std::complex<double>>& m, int trivial, 
   const double target = kind == PointKind::PeriodDoubling ? -1.0 : 1.0;
   for (const auto& mu : real_and_nontrivial(m, trivial, true)) consider(mu.real() - target);
   return best;
+}
+
+std::optional<double> oscillation_period(const std::vector<double>& t, const std::vector<double>& y) {
+  if (t.size() != y.size() || t.size() < 4) return std::nullopt;
+  const double half = 0.5 * (t.front() + t.back());
+  size_t first = 0;
+  while (first < t.size() && t[first] < half) ++first;
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (size_t k = first; k < y.size(); ++k) {
+    lo = std::min(lo, y[k]);
+    hi = std::max(hi, y[k]);
+  }
+  if (!(hi > lo)) return std::nullopt;
+  const double level = 0.5 * (lo + hi);
+  std::vector<double> up;
+  for (size_t k = std::max<size_t>(first, 1); k < y.size(); ++k)
+    if (y[k - 1] < level && y[k] >= level)
+      up.push_back(t[k - 1] + (t[k] - t[k - 1]) * (level - y[k - 1]) / (y[k] - y[k - 1]));
+  if (up.size() < 3) return std::nullopt;
+  const size_t n = std::min<size_t>(up.size() - 1, 5);
+  return (up.back() - up[up.size() - 1 - n]) / static_cast<double>(n);
 }
 
 }  // namespace keller

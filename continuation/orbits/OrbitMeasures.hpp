@@ -4,6 +4,7 @@
 #pragma once
 
 #include <complex>
+#include <optional>
 #include <vector>
 
 #include "continuation/engine/BranchPoint.hpp"
@@ -26,5 +27,11 @@ double multiplier_test(const std::vector<std::complex<double>>& multipliers, int
 // extreme sample refined by the parabola through it and its neighbours (wrapping round the period),
 // so that the range of a smooth signal errs by O(h^3) instead of the samples' O(h^2).
 double periodic_range(const std::vector<double>& t, const std::vector<double>& x);
+
+// The period of an oscillating signal sampled at increasing times t (a time integration's
+// observable): over the samples of the second half of the time span, the mean spacing of the last
+// (at most five) upward crossings of the mid level (max + min) / 2, each crossing by linear
+// interpolation. Nothing where there are fewer than three crossings, or the signal does not vary.
+std::optional<double> oscillation_period(const std::vector<double>& t, const std::vector<double>& y);
 
 }  // namespace keller

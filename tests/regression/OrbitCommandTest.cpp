@@ -142,3 +142,44 @@ TEST(OrbitCommand, AKilledBranchIsContinuedByTheSameCommand) {
     EXPECT_GT(t.rows(i, t.column("b")), t.rows(i - 1, t.column("b"))) << "row " << i;
   }
 }
+
+// From a keller evolve run on its limit cycle (--from RUN.h5): the orbit through its last state at
+// its b, with the period estimated from the run's crossings. At b = 5.5 the uniform orbit is the
+// ODE's on any number of intervals (4 here): its period to 1e-6, as from the Hopf point. A scene
+// at another a, and a run too short to hold three periods in its second half, are refused before
+// any work, with nothing written.
+TEST(OrbitCommand, StartsFromAnEvolveRunOnItsLimitCycle) {
+  const std::string dir = test::scratch_dir("orbit_from_evolve");
+  const std::string evolve = test::source_path("runs/scenes/brusselator1d_evolve.toml");
+  const std::string common = " --set brusselator.intervals=4 --set parameters.b=5.5";
+  auto integrate = [&](const std::string& out, double t_end) {
+    const auto r = test::run_keller("evolve " + evolve + common + " --set evolve.t_end=" + std::to_string(t_end) +
+                                    " --set evolve.amplitude=1e-2 --set evolve.relative_tolerance=1e-5"
+                                    " --set evolve.method=\\\"sdirk4\\\" -o " +
+                                    out);
+    EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  };
+  integrate(dir + "/run.h5", 100.0);
+  const std::string trace = "trace " + test::source_path(kScene) + common +
+                            " --set stability.enabled=false --set continuation.upper=5.6 --orbit --from ";
+  const auto r = test::run_keller(trace + dir + "/run.h5 -o " + dir + "/orbits.h5");
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("from the crossings of"), std::string::npos) << r.out;
+  const BranchTable t = read_branch_table(dir + "/orbits.h5");
+  ASSERT_GE(t.rows.rows(), 3);
+  EXPECT_NEAR(t.rows(0, t.column("b")), 5.5, 1e-12);
+  EXPECT_NEAR(t.rows(0, t.column("period")) / 3.982851017, 1.0, 1e-6);
+  EXPECT_GT(t.rows(t.rows.rows() - 1, t.column("b")), 5.5);  // continued in the direction asked
+
+  const auto other = test::run_keller(trace + dir + "/run.h5 --set parameters.a=2.5 -o " + dir + "/other.h5");
+  EXPECT_EQ(other.exit_code, 2) << other.out << other.err;
+  EXPECT_NE(other.err.find("a = 2"), std::string::npos) << other.err;
+  EXPECT_FALSE(fs::exists(dir + "/other.h5"));
+  EXPECT_FALSE(fs::exists(dir + "/other.h5.part"));
+
+  integrate(dir + "/short.h5", 5.0);
+  const auto short_run = test::run_keller(trace + dir + "/short.h5 -o " + dir + "/short_orbits.h5");
+  EXPECT_EQ(short_run.exit_code, 2) << short_run.out << short_run.err;
+  EXPECT_NE(short_run.err.find("no observable oscillates"), std::string::npos) << short_run.err;
+  EXPECT_FALSE(fs::exists(dir + "/short_orbits.h5"));
+}
