@@ -7,6 +7,7 @@ Status FloquetAnalysis::compute(int n, const std::function<Status(const Vector&,
                                 std::vector<Eigen::VectorXcd>* vectors) {
   FloquetOptions o = options_;
   o.vectors = vectors != nullptr;
+  o.start = last_.ritz;  // the last orbit's directions: a neighbour's, on a branch
   const Status st = floquet_multipliers(n, M, o, last_);
   values = last_.multipliers;
   trivial = last_.trivial;

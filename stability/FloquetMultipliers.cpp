@@ -57,6 +57,10 @@ Status krylov_multipliers(int n, const std::function<Status(const Vector&, Vecto
   constexpr int kRestarts = 20;
   Eigen::MatrixXd V(n, m + 1), H = Eigen::MatrixXd::Zero(m + 1, m);
   Vector start = fixed_start(n), w;
+  Vector warm = Vector::Zero(n);
+  for (const Eigen::VectorXcd& x : options.start)
+    if (x.size() == n) warm += x.real() + x.imag();
+  if (warm.norm() > 0.0) start = (warm / warm.norm() + 0.1 * start).normalized();
   double worst = 0.0;
   std::vector<Ritz> ritz;
   int keep = 0, size = 0;
@@ -100,9 +104,8 @@ Status krylov_multipliers(int n, const std::function<Status(const Vector&, Vecto
   }
   for (int k = 0; k < keep; ++k) {
     out.multipliers.push_back(ritz[static_cast<size_t>(k)].value);
-    if (options.vectors)
-      out.vectors.push_back(
-          (V.leftCols(size).cast<std::complex<double>>() * ritz[static_cast<size_t>(k)].y).normalized());
+    out.ritz.push_back((V.leftCols(size).cast<std::complex<double>>() * ritz[static_cast<size_t>(k)].y).normalized());
+    if (options.vectors) out.vectors.push_back(out.ritz.back());
   }
   if (worst > options.tolerance)
     return {StatusCode::NotConverged,

@@ -24,11 +24,16 @@ struct FloquetOptions {
   // multipliers of a dissipative flow can lie at the linearised passes' own error)
   double tolerance = 1e-10;
   bool vectors = false;  // an eigenvector of each multiplier (unit 2-norm)
+  // Arnoldi's start: the sum of these vectors' real and imaginary parts (a neighbouring orbit's
+  // Ritz vectors, FloquetResult::ritz) plus the fixed pseudo-random vector at 10% of its norm, so
+  // that other directions stay in reach. Empty (or of another size): the random vector alone.
+  std::vector<Eigen::VectorXcd> start;
 };
 
 struct FloquetResult {
   std::vector<std::complex<double>> multipliers;  // by |mu| descending, a conjugate pair together
   std::vector<Eigen::VectorXcd> vectors;          // FloquetOptions::vectors: one per multiplier
+  std::vector<Eigen::VectorXcd> ritz;             // Arnoldi: the multipliers' Ritz vectors (a next start)
   int trivial = -1;                               // index of the trivial multiplier (the one nearest 1)
   int unstable = 0;                               // multipliers with |mu| > 1, the trivial one left out
   long applications = 0;                          // of M (linearised passes)
