@@ -115,6 +115,12 @@ int run(int argc, char** argv) {  // argc and argv go on to MPI_Init under mpiru
       ->required();
   cmd_export->add_option("--csv", exp.csv, "write the branch table as CSV to this file ('-': the standard output)");
   cmd_export->add_flag("--xdmf", exp.xdmf, "write the fields of the stored solutions and an XDMF file for ParaView");
+  cmd_export->add_option(
+      "--orbit", exp.orbit,
+      "an orbit branch's row (or label, e.g. stop1): the orbit over one period as fields at --frames "
+      "+ 1 times and an XDMF animation, BRANCH-orbitROW.h5 and .xdmf");
+  cmd_export->add_option("--frames", exp.frames, "frames of the --orbit animation (default 40)")
+      ->check(CLI::Range(2, 100000));
   cmd_export->footer(keller::exit_code::help);
 
   keller::InfoArguments info;

@@ -20,6 +20,7 @@
 #include "runs/EvolveCommand.hpp"
 #include "runs/ExitCode.hpp"
 #include "runs/Interrupts.hpp"
+#include "runs/OrbitExport.hpp"
 #include "runs/OutputFile.hpp"
 #include "runs/SceneLoader.hpp"
 #include "runs/TraceCommand.hpp"
@@ -169,12 +170,39 @@ int export_fields(const std::string& input, const Table& t) {
   return exit_code::ok;
 }
 
+// --orbit ROW: one orbit as an animation, its files declared and checked before any work.
+int export_orbit_run(const ExportArguments& args) {
+  if (!args.csv.empty() || args.xdmf)
+    throw CommandFailure::bad_input("--orbit writes one orbit's animation: it excludes --csv and --xdmf");
+  const std::string out = orbit_export_path(args.input, args.orbit);
+  checking([&] {
+    RunFiles files;
+    files.input("orbit branch file", args.input);
+    files.output("orbit fields file", out);
+    files.temporary("orbit fields file's temporary", PendingFile::temporary_for(out));
+    files.output("orbit XDMF file", xdmf_path_for(out));
+    files.temporary("orbit XDMF file's temporary", xdmf_path_for(out) + ".pending");
+    files.check();
+  });
+  InterruptGuard interrupts;
+  try {
+    return export_orbit(args.input, args.orbit, args.frames);
+  } catch (const std::invalid_argument& e) {
+    throw CommandFailure::bad_input(e.what());
+  } catch (const std::exception& e) {
+    if (is_io_failure(e)) throw CommandFailure::io_failure(e.what());
+    throw CommandFailure::numerical("the orbit's export", {StatusCode::NotConverged, e.what()});
+  }
+}
+
 }  // namespace
 
 int run_export(const ExportArguments& args) {
   return run_command(nullptr, [&](RunSummary&) {
+    if (!args.orbit.empty()) return export_orbit_run(args);
     if (args.csv.empty() && !args.xdmf)
-      throw CommandFailure::bad_input("export needs --csv FILE (or - for the standard output) and/or --xdmf");
+      throw CommandFailure::bad_input(
+          "export needs --csv FILE (or - for the standard output) and/or --xdmf, or --orbit ROW");
     const bool to_stdout = args.csv == "-";
     OutputLock lock;  // --xdmf rewrites the file: one run at a time
     checking([&] {

@@ -77,12 +77,9 @@ struct OrbitContinuationOptions {
   bool locate = true;              // locate the bifurcations of orbits
   double locate_tolerance = 1e-8;  // |test function| at a located point
   int locate_iterations = 12;
-  // where `keller trace --orbit` starts: the first orbit's distance from the Hopf point in the
-  // parameter (0: 1e-2 max(|lambda_H|, 1)); the stored orbits: the states of every save_every-th
-  // orbit (and of every located one), at most `frames` of them per orbit
+  // where `keller trace --orbit` starts: the first orbit's distance from the Hopf point (or the
+  // evolve run's parameter value) in the parameter (0: 1e-2 max(|lambda_H|, 1))
   double start_distance = 0.0;
-  int save_every = 1;
-  int frames = 40;
 
   // [orbit]'s keys, and the options from them and [continuation]'s (parameter range, steps, norm,
   // max_steps). Throws SceneError naming a key whose value it refuses.

@@ -19,9 +19,6 @@ void OrbitContinuationOptions::declare(SceneSchema& s) {
   s.real("orbit.start_distance", d.start_distance,
          "the first orbit's distance from the Hopf point in the parameter (0: 1e-2 max(|lambda_H|, 1))",
          Range::non_negative());
-  s.integer("orbit.save_every", d.save_every, "store the states over the period of every N-th orbit",
-            Range::at_least(1));
-  s.integer("orbit.frames", d.frames, "at most this many states of a stored orbit", Range::at_least(2));
 }
 
 OrbitContinuationOptions OrbitContinuationOptions::from_scene(const Scene& sc, const ContinuationOptions& c) {
@@ -32,8 +29,6 @@ OrbitContinuationOptions OrbitContinuationOptions::from_scene(const Scene& sc, c
   o.corrector.tolerance = sc.real("orbit.tolerance");
   o.multipliers = static_cast<int>(sc.integer("orbit.multipliers"));
   o.start_distance = sc.real("orbit.start_distance");
-  o.save_every = static_cast<int>(sc.integer("orbit.save_every"));
-  o.frames = static_cast<int>(sc.integer("orbit.frames"));
   o.theta = c.theta;
   o.state_scale = c.state_scale;
   o.step = c.step.initial;

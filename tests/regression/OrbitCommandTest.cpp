@@ -183,3 +183,45 @@ TEST(OrbitCommand, StartsFromAnEvolveRunOnItsLimitCycle) {
   EXPECT_NE(short_run.err.find("no observable oscillates"), std::string::npos) << short_run.err;
   EXPECT_FALSE(fs::exists(dir + "/short_orbits.h5"));
 }
+
+// keller export ORBITS.h5 --orbit ROW: the orbit of a row integrated again over its period, its
+// fields at frames + 1 evenly spaced times (the Brusselator's profile of x, u, v; it has no mesh,
+// so no XDMF animation, which the fields of a problem with one get). The last frame is the
+// first again: the orbit is periodic to Newton's tolerance and the new grid's error (SDIRK4 at
+// rtol 1e-6 over a period: 1e-5 of v allowed). Not an orbit branch, or a row without a stored
+// orbit, is refused with nothing written.
+TEST(OrbitCommand, ExportsAnOrbitAsAnAnimation) {
+  const std::string dir = test::scratch_dir("orbit_export");
+  const std::string branch = hopf_branch(dir);
+  const auto r = test::run_keller(orbit_command(branch, "hopf1", dir + "/orbits.h5",
+                                                "--set continuation.upper=5.3 --set continuation.stops=[5.2]"));
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  const auto e = test::run_keller("export " + dir + "/orbits.h5 --orbit stop1 --frames 12");
+  ASSERT_EQ(e.exit_code, 0) << e.out << e.err;
+  const std::string out = dir + "/orbits-orbitstop1.h5";
+  ASSERT_TRUE(fs::exists(out));
+  EXPECT_FALSE(fs::exists(dir + "/orbits-orbitstop1.xdmf"));
+  H5File f(out, H5File::Mode::Read);
+  for (int k = 0; k <= 12; ++k) EXPECT_TRUE(f.exists("/orbit/fields/" + std::to_string(k))) << k;
+  EXPECT_FALSE(f.exists("/orbit/fields/13"));
+  long n0 = 0, c0 = 0, n12 = 0, c12 = 0;
+  const std::vector<double> v0 = f.read_matrix("/orbit/fields/0/profile", &n0, &c0);
+  const std::vector<double> v12 = f.read_matrix("/orbit/fields/12/profile", &n12, &c12);
+  ASSERT_EQ(v0.size(), v12.size());
+  ASSERT_FALSE(v0.empty());
+  double diff = 0.0, size = 0.0;
+  for (size_t i = 0; i < v0.size(); ++i) {
+    diff = std::max(diff, std::abs(v12[i] - v0[i]));
+    size = std::max(size, std::abs(v0[i]));
+  }
+  EXPECT_LT(diff, 1e-5 * size);
+  const std::vector<double> v6 = f.read_matrix("/orbit/fields/6/profile", &n12, &c12);
+  double moved = 0.0;  // half a period on, the orbit is elsewhere
+  for (size_t i = 0; i < v0.size(); ++i) moved = std::max(moved, std::abs(v6[i] - v0[i]));
+  EXPECT_GT(moved, 0.1);
+
+  const auto not_orbits = test::run_keller("export " + branch + " --orbit 1");
+  EXPECT_EQ(not_orbits.exit_code, 2) << not_orbits.err;
+  EXPECT_NE(not_orbits.err.find("not an orbit branch"), std::string::npos) << not_orbits.err;
+  EXPECT_FALSE(fs::exists(dir + "/branch-orbit1.h5"));
+}
