@@ -119,7 +119,9 @@ int run(int argc, char** argv) {  // argc and argv go on to MPI_Init under mpiru
       "--orbit", exp.orbit,
       "an orbit branch's row (or label, e.g. stop1): the orbit over one period as fields at --frames "
       "+ 1 times and an XDMF animation, BRANCH-orbitROW.h5 and .xdmf");
-  cmd_export->add_option("--frames", exp.frames, "frames of the --orbit animation (default 40)")
+  cmd_export
+      ->add_option("--frames", exp.frames,
+                   "frames of the --orbit animation (default: the branch's orbit.frames, 40 unless set)")
       ->check(CLI::Range(2, 100000));
   cmd_export->footer(keller::exit_code::help);
 

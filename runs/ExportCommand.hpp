@@ -12,7 +12,7 @@ struct ExportArguments {
   std::string csv;    // write the branch table as CSV here ("-": the standard output)
   bool xdmf = false;  // write fields of the stored solutions and an XDMF file
   std::string orbit;  // an orbit branch's row (or label): its orbit over a period as an animation (runs/OrbitExport)
-  int frames = 40;    // of that animation
+  int frames = 0;     // of that animation (0: the branch's orbit.frames)
 };
 int run_export(const ExportArguments& args);
 

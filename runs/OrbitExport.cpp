@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <stdexcept>
@@ -30,13 +31,15 @@ std::string orbit_export_path(const std::string& input, const std::string& row) 
 }
 
 int export_orbit(const std::string& input, const std::string& row_text, int frames) {
-  if (frames < 2) throw std::invalid_argument(fmt::format("--frames {}: at least 2", frames));
   const BranchTable table = read_branch_table(input);
   if (std::find(table.columns.begin(), table.columns.end(), "period") == table.columns.end())
     throw std::invalid_argument(
         fmt::format("'{}' is not an orbit branch (keller trace --orbit): no column 'period'", input));
-  const bool number = !row_text.empty() && std::all_of(row_text.begin(), row_text.end(), ::isdigit);
-  const int row = number ? std::stoi(row_text) : row_of_label(table, row_text, "'" + input + "'");
+  int row = -1;
+  const char* end = row_text.data() + row_text.size();
+  const auto [at, error] = std::from_chars(row_text.data(), end, row);
+  if (row_text.empty() || error != std::errc() || at != end)  // not a number: a label
+    row = row_of_label(table, row_text, "'" + input + "'");
   if (std::find(table.saved_rows.begin(), table.saved_rows.end(), row) == table.saved_rows.end())
     throw std::invalid_argument(fmt::format("'{}': row {} holds no stored orbit", input, row_text));
   std::string scene_text;
@@ -55,6 +58,7 @@ int export_orbit(const std::string& input, const std::string& row_text, int fram
   const double T = table.rows(row, table.column("period"));
   const TraceSettings settings = TraceSettings::from_scene(loaded.scene);
   const OrbitContinuationOptions options = OrbitContinuationOptions::from_scene(loaded.scene, settings.continuation);
+  if (frames <= 0) frames = options.frames;
   // the adaptive run's steps with the frame times added: every frame an integrator state
   const ShootingOptions shooting;
   const OrbitGrid grid = record_grid(*problem, point.u, T, options.time, shooting.newton, shooting.lu);

@@ -11,7 +11,8 @@
 
 namespace keller {
 
-// ROW: a row number or a located point's label (pd1, stop1, ...). Returns the exit code; throws
+// ROW: a row number or a located point's label (pd1, stop1, ...); frames 0: the branch scene's
+// orbit.frames. Returns the exit code; throws
 // std::invalid_argument for a file that is not an orbit branch or a row without a stored orbit.
 int export_orbit(const std::string& input, const std::string& row, int frames);
 

@@ -80,6 +80,7 @@ struct OrbitContinuationOptions {
   // where `keller trace --orbit` starts: the first orbit's distance from the Hopf point (or the
   // evolve run's parameter value) in the parameter (0: 1e-2 max(|lambda_H|, 1))
   double start_distance = 0.0;
+  int frames = 40;  // of an orbit's animation (keller export --orbit)
 
   // [orbit]'s keys, and the options from them and [continuation]'s (parameter range, steps, norm,
   // max_steps). Throws SceneError naming a key whose value it refuses.

@@ -19,6 +19,11 @@ void OrbitContinuationOptions::declare(SceneSchema& s) {
   s.real("orbit.start_distance", d.start_distance,
          "the first orbit's distance from the Hopf point in the parameter (0: 1e-2 max(|lambda_H|, 1))",
          Range::non_negative());
+  s.integer("orbit.frames", d.frames, "frames of `keller export --orbit` over a period, where --frames is not given",
+            Range::at_least(2));
+  // retired: the branch files of an earlier keller hold it in their stored scenes, which must still load
+  s.integer("orbit.save_every", 1, "no effect (retired; kept so that the scenes stored in earlier orbit branches load)",
+            Range::at_least(1));
 }
 
 OrbitContinuationOptions OrbitContinuationOptions::from_scene(const Scene& sc, const ContinuationOptions& c) {
@@ -29,6 +34,7 @@ OrbitContinuationOptions OrbitContinuationOptions::from_scene(const Scene& sc, c
   o.corrector.tolerance = sc.real("orbit.tolerance");
   o.multipliers = static_cast<int>(sc.integer("orbit.multipliers"));
   o.start_distance = sc.real("orbit.start_distance");
+  o.frames = static_cast<int>(sc.integer("orbit.frames"));
   o.theta = c.theta;
   o.state_scale = c.state_scale;
   o.step = c.step.initial;

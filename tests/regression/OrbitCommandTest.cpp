@@ -220,6 +220,13 @@ TEST(OrbitCommand, ExportsAnOrbitAsAnAnimation) {
   for (size_t i = 0; i < v0.size(); ++i) moved = std::max(moved, std::abs(v6[i] - v0[i]));
   EXPECT_GT(moved, 0.1);
 
+  // without --frames, the branch scene's orbit.frames (40 by default): 41 frames
+  const auto by_scene = test::run_keller("export " + dir + "/orbits.h5 --orbit 1");
+  ASSERT_EQ(by_scene.exit_code, 0) << by_scene.err;
+  H5File g(dir + "/orbits-orbit1.h5", H5File::Mode::Read);
+  EXPECT_TRUE(g.exists("/orbit/fields/40"));
+  EXPECT_FALSE(g.exists("/orbit/fields/41"));
+
   const auto not_orbits = test::run_keller("export " + branch + " --orbit 1");
   EXPECT_EQ(not_orbits.exit_code, 2) << not_orbits.err;
   EXPECT_NE(not_orbits.err.find("not an orbit branch"), std::string::npos) << not_orbits.err;
