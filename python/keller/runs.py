@@ -309,7 +309,8 @@ def trace(scene, output=None, *, set=None, restart=None, switch=None, direction=
     ("FILE.h5:ROW", or (branch, row or label)) start from a stored point or switch at a branch
     point (direction: 1 or -1); curve ("fold", "hopf", "event") with curve_from continues a
     located point in a second parameter (free); orbit_from (a located Hopf point) traces the branch
-    of periodic orbits born there (keller trace --orbit); fresh discards an unfinished OUT.h5.part;
+    of periodic orbits born there (keller trace --orbit), or, given as the path of a keller evolve
+    run on a limit cycle, the branch through its last state; fresh discards an unfinished OUT.h5.part;
     force starts from a stored point that differs from the scene."""
     if orbit_from is not None and curve_from is not None:
         raise ValueError("orbit_from and curve_from exclude each other")

@@ -69,3 +69,18 @@ def test_the_orbit_figure_of_a_traced_branch(tmp_path, keller_exe):
     main([str(tmp_path / "o.h5"), "--y", "u_mean", "--hopf", f"{tmp_path / 'h.h5'}:hopf1",
           "-o", str(tmp_path / "o.png")])
     assert os.path.getsize(tmp_path / "o.png") > 10000
+
+
+def test_an_orbit_branch_from_an_evolve_run_in_python(tmp_path):
+    """keller.trace(orbit_from=RUN.h5): the branch through the last state of an evolve run on its
+    limit cycle; at b = 5.5 the uniform orbit is the ODE's (T = 3.982851017, to 1e-6 as in
+    OrbitCommand.StartsFromAnEvolveRunOnItsLimitCycle)."""
+    common = {"brusselator.intervals": 4, "parameters.b": 5.5}
+    run = str(tmp_path / "run.h5")
+    keller.evolve(os.path.join(SCENES, "brusselator1d_evolve.toml"), run, verbose=False,
+                  set={**common, "evolve.t_end": 100.0, "evolve.amplitude": 1e-2, "evolve.relative_tolerance": 1e-5,
+                       "evolve.method": "sdirk4"})
+    orbits = keller.trace(os.path.join(SCENES, "brusselator1d_hopf.toml"), str(tmp_path / "o.h5"), orbit_from=run,
+                          verbose=False, set={**common, "stability.enabled": False, "continuation.upper": 5.6})
+    assert abs(orbits["b"][0] - 5.5) < 1e-12
+    assert abs(orbits["period"][0] / 3.982851017 - 1) < 1e-6
