@@ -12,6 +12,7 @@
 #include "core/H5File.hpp"
 #include "runs/OutputFile.hpp"
 #include "runs/SceneLoader.hpp"
+#include "runs/StoredStart.hpp"
 
 namespace keller {
 
@@ -34,14 +35,7 @@ EvolveStart read_evolve_start(const std::string& path, const LoadedScene& scene,
     H5File f(path, H5File::Mode::Read);
     header = read_run_header(f);
   }
-  std::vector<std::string> refusals;
-  if (header.problem != problem.name())
-    refusals.push_back(fmt::format("it was made by problem '{}', this scene is '{}'", header.problem, problem.name()));
-  const std::string physics = scene.physics();
-  if (header.physics.empty())
-    refusals.push_back("it holds no record of its physics (written by an older keller)");
-  else if (!records_agree(header.physics, physics, scene.defaults()))
-    refusals.push_back("its physics differs: " + record_difference(header.physics, physics, scene.defaults()));
+  std::vector<std::string> refusals = origin_refusals(header, scene, problem);
   for (const Parameter& p : problem.parameters().list()) {
     const auto it = header.parameters.find(p.name);
     if (p.name == parameter || it == header.parameters.end()) continue;
@@ -49,10 +43,7 @@ EvolveStart read_evolve_start(const std::string& path, const LoadedScene& scene,
       refusals.push_back(
           fmt::format("it was integrated at {} = {}, this scene sets {} = {}", p.name, it->second, p.name, p.value));
   }
-  for (const std::string& r : refusals) {
-    if (!force) throw std::invalid_argument(fmt::format("{}: {}; pass --force to start from it anyway", where, r));
-    warnings.push_back(fmt::format("{}: {} (--force)", where, r));
-  }
+  refuse_unless_forced(refusals, where, force, warnings);
   EvolveStart out;
   const auto value = header.parameters.find(parameter);
   out.parameter = value != header.parameters.end() ? value->second

@@ -51,6 +51,26 @@ std::optional<double> StoredPoint::value_of(const std::string& parameter) const 
   return it->second;
 }
 
+std::vector<std::string> origin_refusals(const RunHeader& header, const LoadedScene& scene, const Problem& problem) {
+  std::vector<std::string> refusals;
+  if (header.problem != problem.name())
+    refusals.push_back(fmt::format("it was made by problem '{}', this scene is '{}'", header.problem, problem.name()));
+  if (header.physics.empty())
+    refusals.push_back("it holds no record of its physics (written by an older keller)");
+  else if (const std::string physics = scene.physics(); !records_agree(header.physics, physics, scene.defaults()))
+    refusals.push_back("its physics differs: " + record_difference(header.physics, physics, scene.defaults()));
+  return refusals;
+}
+
+void refuse_unless_forced(std::vector<std::string>& refusals, const std::string& where, bool force,
+                          std::vector<std::string>& warnings) {
+  for (const std::string& r : refusals) {
+    if (!force) throw std::invalid_argument(fmt::format("{}: {}; pass --force to start from it anyway", where, r));
+    warnings.push_back(fmt::format("{}: {} (--force)", where, r));
+  }
+  refusals.clear();
+}
+
 StoredPoint read_stored_start(const StoredStart& start, const LoadedScene& scene, const Problem& problem,
                               const std::string& parameter, std::vector<std::string>& warnings) {
   const std::string where = fmt::format("{} '{}'", start.flag, start.file);
@@ -63,23 +83,8 @@ StoredPoint read_stored_start(const StoredStart& start, const LoadedScene& scene
   const int row = start.label.empty() ? start.row : row_of_label(stored.table, start.label, where);
   stored.point = read_branch_point(start.file, row);
   const BranchPoint& point = stored.point;
-  std::vector<std::string> refusals;
-  auto refuse = [&]() {
-    for (const std::string& r : refusals) {
-      if (!start.force)
-        throw std::invalid_argument(fmt::format("{}: {}; pass --force to start from it anyway", where, r));
-      warnings.push_back(fmt::format("{}: {} (--force)", where, r));
-    }
-    refusals.clear();
-  };
-  if (stored.header.problem != problem.name())
-    refusals.push_back(
-        fmt::format("it was made by problem '{}', this scene is '{}'", stored.header.problem, problem.name()));
-  const std::string physics = scene.physics();
-  if (stored.header.physics.empty())
-    refusals.push_back("it holds no record of its physics (written by an older keller)");
-  else if (!records_agree(stored.header.physics, physics, scene.defaults()))
-    refusals.push_back("its physics differs: " + record_difference(stored.header.physics, physics, scene.defaults()));
+  std::vector<std::string> refusals = origin_refusals(stored.header, scene, problem);
+  auto refuse = [&]() { refuse_unless_forced(refusals, where, start.force, warnings); };
   for (const Parameter& p : problem.parameters().list()) {
     if (p.name == parameter) continue;  // the run's own parameter starts at the point's value
     if (start.curve && p.name == stored.table.parameter) continue;  // an unknown of the curve

@@ -46,6 +46,14 @@ struct StoredPoint {
   std::optional<double> value_of(const std::string& parameter) const;
 };
 
+// What keeps a stored file's state from being this scene's: another problem, or physics that differ
+// (or are not recorded). Shared by every start from a stored file (a point, an evolve run).
+std::vector<std::string> origin_refusals(const RunHeader& header, const LoadedScene& scene, const Problem& problem);
+// Throws std::invalid_argument "WHERE: REFUSAL; pass --force ..." for the first refusal, or with
+// `force` adds each to `warnings`; clears `refusals`.
+void refuse_unless_forced(std::vector<std::string>& refusals, const std::string& where, bool force,
+                          std::vector<std::string>& warnings);
+
 // Reads the stored point (a label's row found in the file's table) and checks it against the scene and its problem for
 // a run in `parameter` (see above); throws std::invalid_argument naming the file, the row and what differs. `warnings`
 // receives what `force` let through.
