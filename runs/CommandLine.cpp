@@ -63,7 +63,7 @@ int run(int argc, char** argv) {  // argc and argv go on to MPI_Init under mpiru
   cmd_trace->add_option(
       "--switch", trace.switch_at,
       "start a new branch at the located branch point stored in FILE.h5:ROW (or FILE.h5:bp1, ...), along the "
-      "null vector of J");
+      "null vector of J; with --orbit, the doubled branch at a period doubling of an orbit branch (ORBITS.h5:pd1)");
   cmd_trace->add_option("--switch-direction", trace.switch_direction, "side of the old branch to switch to: 1 or -1")
       ->check(CLI::IsMember({-1, 1}));
   cmd_trace->add_option(
@@ -78,7 +78,8 @@ int run(int argc, char** argv) {  // argc and argv go on to MPI_Init under mpiru
       ->check(CLI::IsMember({"fold", "hopf", "event"}));
   cmd_trace->add_flag("--orbit", trace.orbit,
                       "trace the branch of periodic orbits born at the located Hopf point --from names, or through "
-                      "the last state of the keller evolve run --from RUN.h5 names (with their periods, amplitudes "
+                      "the last state of the keller evolve run --from RUN.h5 names, or with --switch ORBITS.h5:pdK "
+                      "the doubled branch from an orbit branch's period doubling (with their periods, amplitudes "
                       "and Floquet multipliers; [orbit] keys)");
   cmd_trace->add_option("--free", trace.free,
                         "the curve's second parameter, with [continuation]'s range, stops and steps (default: "

@@ -58,15 +58,25 @@ class OrbitView final : public Problem {
 // declared as an input. An evolve run gives an empty file name.
 StoredStart checked_orbit_start(const TraceArguments& args, const TraceSettings& settings, RunFiles& files,
                                 const CommandRun& run) {
-  if (args.from.empty())
+  if (args.from.empty() == args.switch_at.empty())
     throw std::invalid_argument(
-        "--orbit starts at a located Hopf point (--from FILE.h5:ROW, or hopf1) or from the last state of a "
-        "keller evolve run on a limit cycle (--from RUN.h5)");
-  if (!args.curve.empty() || !args.restart.empty() || !args.switch_at.empty() || !args.free.empty())
-    throw std::invalid_argument("--orbit excludes --curve, --free, --restart and --switch");
+        "--orbit starts at a located Hopf point (--from FILE.h5:ROW, or hopf1), from the last state of a "
+        "keller evolve run on a limit cycle (--from RUN.h5), or at a period doubling of an orbit branch onto the "
+        "doubled branch (--switch ORBITS.h5:ROW, or pd1): one of them");
+  if (!args.curve.empty() || !args.restart.empty() || !args.free.empty())
+    throw std::invalid_argument("--orbit excludes --curve, --free and --restart");
   if (settings.stability.enabled)
     throw std::invalid_argument(
         "[stability] analyses steady states; an orbit branch has its Floquet multipliers ([orbit] multipliers)");
+  if (!args.switch_at.empty()) {
+    StoredStart at = parse_stored_start("--switch", args.switch_at);
+    at.located = PointKind::PeriodDoubling;
+    at.orbit = true;
+    at.force = args.force;
+    files.input("--switch file", at.file);
+    declare_run_outputs(files, run.out(), kOrbitBranch.file, run.with_fields());
+    return at;
+  }
   if (is_time_series(args.from)) {  // an evolve run: read in run_orbit_trace
     files.input("--from file", args.from);
     declare_run_outputs(files, run.out(), kOrbitBranch.file, run.with_fields());
@@ -150,6 +160,37 @@ OrbitStart orbit_start(Problem& problem, int p, const StoredStart& from, const S
     fmt::print("orbit at {} = {:.10g}: period {:.10g} (2 pi / omega = {:.10g}), {} Newton iterations\n",
                problem.parameters().info(p).name, lambda, o.period, s.nf.period, o.iterations);
   }
+  return s;
+}
+
+// The doubled branch from the period doubling `stored` of an orbit branch: the stored orbit
+// corrected again at its parameter value (on a grid recorded from it), the eigenvector of its
+// multiplier nearest -1, and the first two orbits of the doubled branch, twice the period, the second
+// `continuation.initial_step` (arclength) from the first along that eigenvector
+// (OrbitContinuation::switch_period_doubling). Either side gives the same branch, half a doubled
+// period apart.
+OrbitStart doubling_start(Problem& problem, int p, const StoredStart& at, const StoredPoint& stored,
+                          const OrbitContinuationOptions& options, OrbitContinuation& continuation) {
+  const BranchPoint& pd = stored.point;
+  const std::string& name = problem.parameters().info(p).name;
+  double period = 0.0;
+  checking([&] { period = stored.table.rows(pd.index, stored.table.column("period")); });
+  problem.parameters().set(p, pd.lambda);
+  OrbitStart s;
+  OrbitPoint orbit;
+  Status st = continuation.converge(pd.u, period, {}, orbit);
+  if (!st.is_ok())
+    throw CommandFailure::numerical(fmt::format("the period doubling's orbit of row {} of {}", pd.index, at.file), st);
+  Vector v;
+  if (!(st = continuation.period_doubling_vector(orbit, v)).is_ok())
+    throw CommandFailure::numerical(
+        fmt::format("the period doubling of row {} of {}: its multiplier near -1", pd.index, at.file), st);
+  if (!(st = continuation.switch_period_doubling(orbit, v, options.step, s.first, s.second)).is_ok())
+    throw CommandFailure::numerical(fmt::format("the doubled branch's first orbit from row {} of {} ({} = {:.10g})",
+                                                pd.index, at.file, name, pd.lambda),
+                                    st);
+  fmt::print("period doubling at {} = {:.10g} (period {:.10g}); the doubled orbit at {} = {:.10g}: period {:.10g}\n",
+             name, orbit.lambda, orbit.period, name, s.second.lambda, s.second.period);
   return s;
 }
 
@@ -263,6 +304,10 @@ int run_orbit_trace(const TraceArguments& args, RunSummary* out_summary) {
       fmt::print("problem: {}\n", problem.summary());
       start = evolve_start(problem, p, *evolve, options, settings.continuation.direction, continuation, args.from);
       continuation.set_scales(start.first);
+    } else if (from.switching) {
+      use_stored_parameters(problem, *source.stored);
+      fmt::print("problem: {}\n", problem.summary());
+      start = doubling_start(problem, p, from, *source.stored, options, continuation);
     } else {
       const StoredPoint& stored = *source.stored;
       use_stored_parameters(problem, stored);
@@ -290,7 +335,10 @@ int run_orbit_trace(const TraceArguments& args, RunSummary* out_summary) {
                 f.write_string("/problem/run", trace_run_record(run.loaded(), args));
                 const SolutionFields sf = problem.fields(start.first.u0);
                 if (sf.mesh) write_mesh(f, "/mesh", *sf.mesh);
-                f.set_attribute("/problem", "orbit_from", args.from);
+                if (args.switch_at.empty())
+                  f.set_attribute("/problem", "orbit_from", args.from);
+                else
+                  f.set_attribute("/problem", "orbit_switch", args.switch_at);
               },
               continuation.analysis_columns(), unfinished ? &unfinished->seed : nullptr);
         },
@@ -308,9 +356,9 @@ int run_orbit_trace(const TraceArguments& args, RunSummary* out_summary) {
     fmt::print(
         "time {:.2f} s: forward periods {:.2f} ({} steps), linearised passes {:.2f} ({}; of them multipliers {:.2f} "
         "s), "
-        "{} Newton and {} GMRES iterations, {} factorisations\n",
+        "{} Newton and {} GMRES iterations ({} inner, in the passes' solves), {} factorisations\n",
         result.seconds, k.forward_seconds, k.steps, k.linearised_seconds, k.passes, result.multiplier_seconds,
-        result.newton_iterations, result.krylov_iterations, k.factorisations);
+        result.newton_iterations, result.krylov_iterations, k.inner_iterations, k.factorisations);
     summary.reason = result.reason;
     summary.unknowns = problem.size();
     summary.points = result.points;

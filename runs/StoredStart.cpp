@@ -103,7 +103,7 @@ StoredPoint read_stored_start(const StoredStart& start, const LoadedScene& scene
   if (start.switching && stored.table.parameter != parameter)
     throw std::invalid_argument(fmt::format("{}: a branch in '{}' cannot be switched to a branch in '{}'", where,
                                             stored.table.parameter, parameter));
-  if (start.switching && point.kind != PointKind::BranchPoint) {
+  if (start.switching && !start.orbit && point.kind != PointKind::BranchPoint) {
     std::string located;
     const BranchTable& table = stored.table;
     const int kind = table.column("kind");
@@ -132,7 +132,10 @@ StoredPoint read_stored_start(const StoredStart& start, const LoadedScene& scene
     for (int r : table.saved_rows)
       if (r < table.rows.rows() && wanted(static_cast<int>(table.rows(r, kind))))
         located += (located.empty() ? "" : ", ") + std::to_string(r);
-    const std::string what = event_curve ? "event" : start.located == PointKind::Hopf ? "Hopf point" : "fold";
+    const std::string what = event_curve                                  ? "event"
+                             : start.located == PointKind::Hopf           ? "Hopf point"
+                             : start.located == PointKind::PeriodDoubling ? "period doubling"
+                                                                          : "fold";
     refusals.push_back(fmt::format("row {} is not a located {} (located {}s with a stored solution: {})", point.index,
                                    what, what, located.empty() ? "none" : located));
   }

@@ -27,8 +27,11 @@ struct StoredStart {
   std::string label;  // a located point's label instead of a row (PointLabels: fold1, hopf2, end)
   bool switching = false;
   bool curve = false;  // --from: a curve starts at the point, its branch's parameter an unknown of it
-  bool orbit = false;  // --from with --orbit: an orbit branch starts at the point (a located Hopf point)
-  // --from: the kind of located point the curve starts at (Fold, Hopf, or Event: an event or an end)
+  // with --orbit: an orbit branch starts at the point, a located Hopf point (--from) or a period
+  // doubling of an orbit branch (--switch, onto the doubled branch)
+  bool orbit = false;
+  // --from, and --switch with --orbit: the kind of located point the curve (or orbit branch) starts
+  // at (Fold, Hopf, Event: an event or an end; PeriodDoubling)
   PointKind located = PointKind::Fold;
   bool force = false;
 };

@@ -38,7 +38,8 @@ std::string trace_run_record(const LoadedScene& loaded, const TraceArguments& a)
   if (!a.restart.empty()) start = "restart " + a.restart;
   if (!a.switch_at.empty()) start = fmt::format("switch {} {}", a.switch_at, a.switch_direction);
   if (!a.from.empty()) start = fmt::format("{} curve from {} in {}", a.curve, a.from, a.free);
-  if (a.orbit) start = fmt::format("orbits from {}", a.from);
+  if (a.orbit)
+    start = a.switch_at.empty() ? fmt::format("orbits from {}", a.from) : "doubled orbits from " + a.switch_at;
   return loaded.scene.canonical_values() + fmt::format("start = {}\n", start);
 }
 

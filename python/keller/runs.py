@@ -304,24 +304,29 @@ def solve(scene, output=None, *, set=None, problem=None, check_jacobian=False, v
 
 
 def trace(scene, output=None, *, set=None, restart=None, switch=None, direction=None, curve=None, curve_from=None,
-          free=None, orbit_from=None, fresh=False, force=False, problem=None, callback=None, verbose=True):
+          free=None, orbit_from=None, orbit_switch=None, fresh=False, force=False, problem=None, callback=None,
+          verbose=True):
     """keller trace: a branch (a keller.Branch; a keller.Curve with curve=). restart and switch
     ("FILE.h5:ROW", or (branch, row or label)) start from a stored point or switch at a branch
     point (direction: 1 or -1); curve ("fold", "hopf", "event") with curve_from continues a
     located point in a second parameter (free); orbit_from (a located Hopf point) traces the branch
     of periodic orbits born there (keller trace --orbit), or, given as the path of a keller evolve
-    run on a limit cycle, the branch through its last state; fresh discards an unfinished OUT.h5.part;
-    force starts from a stored point that differs from the scene."""
+    run on a limit cycle, the branch through its last state; orbit_switch (a period doubling of an
+    orbit branch, "ORBITS.h5:pd1" or (branch, "pd1")) the doubled branch born there (keller trace
+    --orbit --switch); fresh discards an unfinished OUT.h5.part; force starts from a stored point
+    that differs from the scene."""
     if orbit_from is not None and curve_from is not None:
         raise ValueError("orbit_from and curve_from exclude each other")
+    if orbit_switch is not None and (switch is not None or orbit_from is not None):
+        raise ValueError("orbit_switch excludes switch and orbit_from")
     options = []
-    for flag, value in (("--restart", _row(restart)), ("--switch", _row(switch)),
+    for flag, value in (("--restart", _row(restart)), ("--switch", _row(switch if orbit_switch is None else orbit_switch)),
                         ("--from", _row(curve_from if orbit_from is None else orbit_from)),
                         ("--curve", curve), ("--free", free),
                         ("--switch-direction", None if direction is None else str(int(direction)))):
         if value is not None:
             options += [flag, value]
-    options += ["--orbit"] if orbit_from is not None else []
+    options += ["--orbit"] if orbit_from is not None or orbit_switch is not None else []
     options += ["--fresh"] if fresh else []
     options += ["--force"] if force else []
     path = _run("trace", scene, output, overrides=set, options=options, problem=problem, callback=callback,

@@ -2,7 +2,8 @@
 // (docs/periodic_orbits.md): its uniform orbits are the Brusselator ODE's, known from an independent
 // RK4 integration (a = 2, b = 5.5: T = 3.982851017, v from 1.3045647 to 4.8342820); near the Hopf
 // point the amplitude follows the normal form's sqrt law; a row that is not a Hopf point, a
-// problem without dynamics and --orbit without --from are refused before any work; a killed
+// problem without dynamics, --orbit without --from, and --switch at a row that is not a period
+// doubling are refused before any work (the switch itself: tests/python/test_orbits.py); a killed
 // branch is continued by the same command.
 #include <gtest/gtest.h>
 
@@ -116,7 +117,17 @@ TEST(OrbitCommand, BadRequestsAreRefusedBeforeAnyWork) {
   EXPECT_NE(r.err.find("the mass matrix B is zero"), std::string::npos) << r.err;
   r = test::run_keller(orbit_command(branch, "hopf1", dir + "/d.h5", "--curve hopf"));
   EXPECT_EQ(r.exit_code, 2);
-  for (const char* f : {"/a.h5", "/b.h5", "/c.h5", "/d.h5"}) {
+  // --switch with --orbit: a located period doubling of an orbit branch, and not with --from
+  const std::string doubled = "trace " + test::source_path(kScene) +
+                              " --set brusselator.intervals=16 --set stability.enabled=false --orbit --switch " +
+                              branch + ":hopf1 -o " + dir + "/e.h5";
+  r = test::run_keller(doubled);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("is not a located period doubling"), std::string::npos) << r.err;
+  r = test::run_keller(orbit_command(branch, "hopf1", dir + "/f.h5", "--switch " + branch + ":hopf1"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("one of them"), std::string::npos) << r.err;
+  for (const char* f : {"/a.h5", "/b.h5", "/c.h5", "/d.h5", "/e.h5", "/f.h5"}) {
     EXPECT_FALSE(fs::exists(dir + f)) << f;
     EXPECT_FALSE(fs::exists(dir + f + std::string(".part"))) << f;
   }
