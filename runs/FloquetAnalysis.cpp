@@ -1,6 +1,14 @@
 #include "runs/FloquetAnalysis.hpp"
 
+#include <algorithm>
+
 namespace keller {
+
+FloquetAnalysis FloquetAnalysis::for_branch(int multipliers) {
+  FloquetOptions o;
+  o.count = std::max(multipliers, kLeast);
+  return FloquetAnalysis(o);
+}
 
 Status FloquetAnalysis::compute(int n, const std::function<Status(const Vector&, Vector&)>& M,
                                 std::vector<std::complex<double>>& values, int& trivial,

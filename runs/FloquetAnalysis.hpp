@@ -10,6 +10,12 @@ namespace keller {
 class FloquetAnalysis final : public OrbitMultipliers {
  public:
   explicit FloquetAnalysis(FloquetOptions options = {}) : options_(options) {}
+  // The analysis of an orbit branch whose rows store `multipliers` ([orbit] multipliers): that many
+  // are computed, and at least kLeast (a period doubling's switch needs the one nearest -1 besides
+  // the trivial one).
+  static constexpr int kLeast = 2;
+  static FloquetAnalysis for_branch(int multipliers);
+  int count() const { return options_.count; }
   Status compute(int n, const std::function<Status(const Vector&, Vector&)>& M,
                  std::vector<std::complex<double>>& values, int& trivial,
                  std::vector<Eigen::VectorXcd>* vectors) override;

@@ -294,7 +294,7 @@ int run_orbit_trace(const TraceArguments& args, RunSummary* out_summary) {
     });
     for (const std::string& w : source.warnings) fmt::print(stderr, "keller: warning: {}\n", w);
     const int p = problem.parameters().index(parameter);
-    FloquetAnalysis floquet;
+    FloquetAnalysis floquet = FloquetAnalysis::for_branch(options.multipliers);
     OrbitContinuation continuation(problem, p, options, &floquet);
     OrbitStart start;
     const std::optional<Unfinished>& unfinished = source.unfinished;

@@ -18,6 +18,14 @@ constexpr double kDivergence = 1e4;
 constexpr double kMaxPeriodChange = 0.5;
 }  // namespace
 
+double OrbitCorrector::pass_tolerance(double eta) { return std::max(kPassShare * eta, ShootingMap::kTightPass); }
+
+bool OrbitCorrector::converged(double residual, double last_update, double contraction, double tolerance) {
+  if (!(residual <= tolerance)) return false;
+  if (last_update <= tolerance) return true;
+  return contraction <= kTrustedContraction && contraction * last_update <= tolerance;
+}
+
 OrbitCorrection OrbitCorrector::correct(Vector& u0, double& T, double& lambda, bool free_lambda, const OrbitGrid& grid,
                                         const Vector& u_ref, const Vector& n, const OrbitRow& row) {
   Problem& problem = map_.problem();
@@ -37,7 +45,7 @@ OrbitCorrection OrbitCorrector::correct(Vector& u0, double& T, double& lambda, b
     return v;
   };
   double eta = kEtaMax, previous = 0.0, first = 0.0;
-  bool small_update = false;  // the last Newton update was below the tolerance
+  double last_update = 0.0;  // the last Newton update: max(|du|_inf / scale, |dT| / T)
   for (int it = 0;; ++it) {
     if (free_lambda) problem.parameters().set(p, lambda);
     Status st = map_.integrate(u0, T, grid);
@@ -53,7 +61,7 @@ OrbitCorrection OrbitCorrector::correct(Vector& u0, double& T, double& lambda, b
     out.residual = R.head(N).lpNorm<Eigen::Infinity>();
     const double norm = R.norm();
     if (options_.progress) options_.progress(it, out.residual, out.krylov_iterations);
-    if (it > 0 && small_update && out.residual <= options_.tolerance * scale) return out;  // converged
+    if (it > 0 && converged(out.residual / scale, last_update, norm / previous, options_.tolerance)) return out;
     if (it == 0) first = norm;
     if (it > 0) {
       if (norm > kDivergence * std::max(first, 1e-300)) {
@@ -71,8 +79,9 @@ OrbitCorrection OrbitCorrector::correct(Vector& u0, double& T, double& lambda, b
     }
     // the columns of T (per unit relative change of T) and lambda
     Vector colT, colL;
-    st = map_.linearised(Vector::Zero(N), T, 0.0, colT);
-    if (st.is_ok() && free_lambda) st = map_.linearised(Vector::Zero(N), 0.0, 1.0, colL);
+    const double pass = pass_tolerance(eta);
+    st = map_.linearised(Vector::Zero(N), T, 0.0, colT, pass);
+    if (st.is_ok() && free_lambda) st = map_.linearised(Vector::Zero(N), 0.0, 1.0, colL, pass);
     if (!st.is_ok()) {
       out.status = st;
       return out;
@@ -80,7 +89,7 @@ OrbitCorrection OrbitCorrector::correct(Vector& u0, double& T, double& lambda, b
     Status failed;
     auto A = [&](const Vector& z) {
       Vector y(N + extra), Mv;
-      Status s = map_.linearised(z.head(N), 0.0, 0.0, Mv);
+      Status s = map_.linearised(z.head(N), 0.0, 0.0, Mv, pass);
       if (!s.is_ok()) {
         failed = s;
         Mv = Vector::Zero(N);
@@ -115,8 +124,7 @@ OrbitCorrection OrbitCorrector::correct(Vector& u0, double& T, double& lambda, b
     T += dT;
     if (free_lambda) lambda += dz[N + 1];
     out.iterations = it + 1;
-    small_update =
-        dz.head(N).lpNorm<Eigen::Infinity>() <= options_.tolerance * scale && std::abs(dT) <= options_.tolerance * T;
+    last_update = std::max(dz.head(N).lpNorm<Eigen::Infinity>() / scale, std::abs(dT) / T);
   }
 }
 

@@ -13,7 +13,9 @@ void OrbitContinuationOptions::declare(SceneSchema& s) {
   s.real("orbit.absolute_tolerance", 1e-10, "the absolute part of its weights (below the orbit's amplitude)",
          Range::positive());
   s.real("orbit.tolerance", d.corrector.tolerance,
-         "Newton's tolerance: |Phi(u0) - u0|_inf and the last update, relative to max(|u0|_inf, 1)", Range::positive());
+         "Newton's tolerance: |Phi(u0) - u0|_inf and the iterate's error (the last update, or the next one estimated "
+         "from the residuals' contraction), relative to max(|u0|_inf, 1)",
+         Range::positive());
   s.integer("orbit.multipliers", d.multipliers, "Floquet multipliers per orbit, of largest magnitude (0: none)",
             Range{0.0, 200.0, false, false});
   s.real("orbit.start_distance", d.start_distance,

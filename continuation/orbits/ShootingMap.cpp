@@ -20,9 +20,9 @@ using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 // Preconditioned: A x by central differences of the solve's residual at a step 1e-6 of the state's
-// size over |x| (truncation 1e-12, rounding 1e-10 relative), and GMRES to 1e-12 of the right-hand side
+// size over |x| (truncation 1e-12, rounding 1e-10 relative), and GMRES to the pass's tolerance
+// (kTightPass: 1e-12 of the right-hand side)
 constexpr double kJacobianDifferenceStep = 1e-6;
-constexpr double kInnerTolerance = 1e-12;
 constexpr int kInnerIterations = 40;
 
 bool same_values(const SparseMatrix& a, const SparseMatrix& b) {
@@ -347,7 +347,7 @@ Status ShootingMap::factorise(Solve& s) {
   return {};
 }
 
-Status ShootingMap::solve_linearised(Solve& s, const Vector& rhs, Vector& v) {
+Status ShootingMap::solve_linearised(Solve& s, const Vector& rhs, Vector& v, double tolerance) {
   // the preconditioner: an anchor's factorisation (Preconditioned), else the solve's own matrix
   // without the B' term, factorised now where it is not kept
   SparseLU* lu = nullptr;
@@ -391,7 +391,7 @@ Status ShootingMap::solve_linearised(Solve& s, const Vector& rhs, Vector& v) {
     }
     return (Gp - Gm) / (2.0 * eps);
   };
-  const GmresResult g = gmres(A, P, rhs, v, kInnerTolerance, kInnerIterations);
+  const GmresResult g = gmres(A, P, rhs, v, tolerance, kInnerIterations);
   counts_.inner_iterations += g.iterations;
   if (!failed.is_ok()) return failed;
   if (!g.converged)
@@ -408,9 +408,10 @@ Status ShootingMap::parameter_term(const Solve& s, double dlambda, Vector& rhs) 
   return st;
 }
 
-Status ShootingMap::linearised(const Vector& v0, double dT, double dlambda, Vector& out) {
+Status ShootingMap::linearised(const Vector& v0, double dT, double dlambda, Vector& out, double tolerance) {
   if (solves_.empty()) throw std::logic_error("shooting: linearised before integrate");
   if (dlambda != 0.0 && parameter_ < 0) throw std::logic_error("shooting: no parameter to differentiate in");
+  tolerance = std::clamp(tolerance > 0.0 ? tolerance : kTightPass, kTightPass, 1e-2);
   const auto t0 = Clock::now();
   const double s_T = dT / period_;  // dh / h of every step
   Vector rhs, v;
@@ -423,7 +424,7 @@ Status ShootingMap::linearised(const Vector& v0, double dT, double dlambda, Vect
       if (s.c[2] != 0.0) w += s.c[2] * before;
       // B (c0 dU + w) / h - B R s_T + J dU + ... = 0
       if (!(st = apply_mass(s, s_T * s.rate - w / h, rhs)).is_ok() || !(st = parameter_term(s, dlambda, rhs)).is_ok() ||
-          !(st = solve_linearised(s, rhs, v)).is_ok())
+          !(st = solve_linearised(s, rhs, v, tolerance)).is_ok())
         return st;
       before = std::move(last);
       last = v;
@@ -443,7 +444,7 @@ Status ShootingMap::linearised(const Vector& v0, double dT, double dlambda, Vect
         for (int j = 0; j < i; ++j) w += (h * t.a[i][j]) * dK[static_cast<size_t>(j)];
         const Vector shift = w + s_T * (s.U - u_n);
         if (!(st = apply_mass(s, s.coefficient * shift, rhs)).is_ok() ||
-            !(st = parameter_term(s, dlambda, rhs)).is_ok() || !(st = solve_linearised(s, rhs, v)).is_ok())
+            !(st = parameter_term(s, dlambda, rhs)).is_ok() || !(st = solve_linearised(s, rhs, v, tolerance)).is_ok())
           return st;
         dK[static_cast<size_t>(i)] = s.coefficient * (v - shift);
       }

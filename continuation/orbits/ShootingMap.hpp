@@ -106,7 +106,12 @@ class ShootingMap {
   // du/dt at the end of the period: the last solve's rate (BDF2: r_m; SDIRK4: K_5 of the last step).
   Vector end_rate() const;
   // dPhi = M v0 + (dPhi/dT) dT + (dPhi/dlambda) dlambda at the last integrate's (u0, T, lambda).
-  Status linearised(const Vector& v0, double dT, double dlambda, Vector& out);
+  // tolerance: where a solve is a GMRES (Preconditioned, or B varying), its residual relative to
+  // its right-hand side, within [kTightPass, 1e-2] (kTightPass where 0). A Newton step's GMRES asks
+  // no more than its forcing term of the products (OrbitCorrector::pass_tolerance); multipliers
+  // take the tightest. With every solve's matrix factorised and B constant a pass is exact anyway.
+  static constexpr double kTightPass = 1e-12;
+  Status linearised(const Vector& v0, double dT, double dlambda, Vector& out, double tolerance = kTightPass);
 
   struct Counts {
     long steps = 0;              // forward steps integrated
@@ -131,7 +136,7 @@ class ShootingMap {
   // B(U) x at the solve's state
   Status apply_mass(const Solve& solve, const Vector& x, Vector& out);
   // dU = A^-1 rhs for a solve (with the B' term where B varies)
-  Status solve_linearised(Solve& solve, const Vector& rhs, Vector& dU);
+  Status solve_linearised(Solve& solve, const Vector& rhs, Vector& dU, double tolerance);
   // the right-hand side's parameter term: -F_lambda(U) dlambda
   Status parameter_term(const Solve& solve, double dlambda, Vector& rhs);
   const SparseMatrix& mass(const Solve& solve) const;

@@ -264,3 +264,21 @@ TEST(PeriodicOrbit, ThePreconditionedLinearisationGivesTheSameOrbit) {
   for (size_t i = 0; i < f.floquet.multipliers.size(); ++i)
     EXPECT_NEAR(std::abs(p.floquet.multipliers[i] - f.floquet.multipliers[i]), 0.0, 2e-7) << i;
 }
+
+// The corrector's policies as functions. The passes of a Newton step take 1e-4 of its forcing
+// term, never below the tightest pass. Newton stops where the residual is within the
+// tolerance and so is the error: the last update, or the next one estimated from it by the
+// residuals' contraction where that is small enough to trust.
+TEST(OrbitCorrector, PassToleranceAndStopAsFunctions) {
+  EXPECT_DOUBLE_EQ(OrbitCorrector::pass_tolerance(1e-2), 1e-6);
+  EXPECT_DOUBLE_EQ(OrbitCorrector::pass_tolerance(1e-6), 1e-10);
+  EXPECT_DOUBLE_EQ(OrbitCorrector::pass_tolerance(1e-9), ShootingMap::kTightPass);
+  const double tol = 1e-9;
+  EXPECT_FALSE(OrbitCorrector::converged(2e-9, 1e-12, 1e-3, tol));  // residual too large
+  EXPECT_TRUE(OrbitCorrector::converged(1e-9, 1e-9, 0.9, tol));     // the last update small: the old test
+  EXPECT_TRUE(OrbitCorrector::converged(5e-11, 1e-7, 4e-3, tol));   // next update ~4e-10
+  EXPECT_FALSE(OrbitCorrector::converged(5e-11, 1e-6, 4e-3, tol));  // next update ~4e-9
+  EXPECT_FALSE(OrbitCorrector::converged(5e-11, 5e-9, 0.15, tol));  // contraction too slow to trust
+  EXPECT_TRUE(OrbitCorrector::converged(5e-11, 5e-9, 0.1, tol));
+  EXPECT_FALSE(OrbitCorrector::converged(5e-11, 5e-9, std::nan(""), tol));
+}

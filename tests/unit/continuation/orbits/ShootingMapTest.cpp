@@ -167,3 +167,42 @@ TEST(ShootingMap, AutoLinearisationFactorisesOnlyConstantMassesThatFit) {
   EXPECT_EQ(ShootingOptions::linearisation_for(L::Factorised, large, true, 1e9, 1000, 1.0), L::Factorised);
   EXPECT_EQ(ShootingOptions::linearisation_for(L::Preconditioned, 10, false, 1.0, 1, 2e9), L::Preconditioned);
 }
+
+// A pass asked for a looser tolerance (a Newton step's, OrbitCorrector::pass_tolerance) takes fewer
+// inner GMRES iterations, and its result differs from the tightest pass's by no more than the
+// tolerance times the period's solves (each solve errs by at most the tolerance of its right-hand
+// side, and the errors add up along the period: about 100 solves here, so 1e3 tolerances is a
+// bound the test can fail; measured 62 at 1e-6); a tolerance outside [kTightPass, 1e-2] is clamped.
+TEST(ShootingMap, ALooserPassCostsFewerInnerIterationsAndErrsWithinItsTolerance) {
+  CurvedMass p(brusselator(1.0, 3.0));
+  TimeOptions o;
+  o.method = TimeOptions::Method::Sdirk4;
+  o.relative_tolerance = 1e-6;
+  const double T = 3.0;
+  const OrbitGrid grid = record_grid(p, start(), T, o, ShootingOptions::tight_newton());
+  ShootingOptions so;
+  so.linearisation = ShootingOptions::Linearisation::Preconditioned;
+  ShootingMap map(p, 1, so);
+  ASSERT_TRUE(map.integrate(start(), T, grid).is_ok());
+  Vector v(2);
+  v << 0.3, -0.7;
+  auto pass = [&](double tolerance, long& inner) {
+    Vector out;
+    const long before = map.counts().inner_iterations;
+    EXPECT_TRUE(map.linearised(v, 0.2, 0.1, out, tolerance).is_ok());
+    inner = map.counts().inner_iterations - before;
+    return out;
+  };
+  long tight_inner = 0, loose_inner = 0, clamped_inner = 0, zero_inner = 0;
+  const Vector tight = pass(ShootingMap::kTightPass, tight_inner);
+  const Vector loose = pass(1e-6, loose_inner);
+  EXPECT_LT(loose_inner, tight_inner);
+
+  EXPECT_LT((loose - tight).norm(), 1e3 * 1e-6 * tight.norm());
+  const Vector zero = pass(0.0, zero_inner);  // 0: the tightest
+  EXPECT_EQ(zero_inner, tight_inner);
+  EXPECT_EQ((zero - tight).norm(), 0.0);
+  const Vector clamped = pass(0.5, clamped_inner);  // at most 1e-2
+  EXPECT_LT((clamped - tight).norm(), 1e3 * 1e-2 * tight.norm());
+  EXPECT_LE(clamped_inner, loose_inner);
+}
