@@ -61,7 +61,7 @@ class OrbitCorrector {
   // The tolerance of the linearised passes (ShootingMap::linearised) of a Newton step whose GMRES
   // is asked for a relative residual eta: kPassShare of eta, at least kTightPass. A pass's error is
   // its solves' added up over the period (62 tolerances in ShootingMapTest), and GMRES must still
-  // reach eta with it. On the collapsible channel (642 unknowns, the first two orbits) a share of
+  // reach eta with it. On docs/periodic_orbits.md's 642-unknown FSI problem (its first two orbits) a share of
   // 1e-4 took 42% fewer inner iterations and 41% less time in the passes than 1e-12 throughout,
   // with the same Newton and GMRES iterations; 1e-2 took 16 Newton iterations against 10.
   static constexpr double kPassShare = 1e-4;
@@ -71,7 +71,8 @@ class OrbitCorrector {
   // enough; else the next update, estimated as the last one times the residuals' contraction theta
   // = |R_k| / |R_(k-1)| (Deuflhard's a posteriori estimate, |x_k - x*| ~ theta |dx_(k-1)| for Newton),
   // trusted where theta <= kTrustedContraction. It saves the iteration that would only confirm a
-  // converged orbit (on the collapsible channel, one in five: a period's integration and ten passes).
+  // converged orbit (on docs/periodic_orbits.md's FSI problem, one in five: a period's integration
+  // and ten passes).
   static constexpr double kTrustedContraction = 0.1;
   static bool converged(double residual, double last_update, double contraction, double tolerance);
 
