@@ -7,14 +7,18 @@
 // branch is continued by the same command.
 #include <gtest/gtest.h>
 
+#include <fmt/format.h>
+
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <numbers>
 #include <sstream>
 #include <string>
 
 #include "continuation/engine/BranchPoint.hpp"
 #include "continuation/output/BranchFile.hpp"
+#include "continuation/output/TimeSeriesFile.hpp"
 #include "core/H5File.hpp"
 #include "support/TestSupport.hpp"
 
@@ -243,4 +247,107 @@ TEST(OrbitCommand, ExportsAnOrbitAsAnAnimation) {
   EXPECT_EQ(not_orbits.exit_code, 2) << not_orbits.err;
   EXPECT_NE(not_orbits.err.find("not an orbit branch"), std::string::npos) << not_orbits.err;
   EXPECT_FALSE(fs::exists(dir + "/branch-orbit1.h5"));
+}
+
+// The collapsible channel's self-excited oscillation on the coarse mesh (runs/scenes/
+// orbit_collapsible_newtonian.toml, docs/periodic_orbits.md): its first two orbits from the Hopf
+// point (Re_H = 99.264 at Gamma = 9e-5, supercritical), at d = Re - Re_H = 0.5 and 1.
+// - Against the normal form: the period's and gap_min amplitude's relative differences from 2 pi /
+//   omega and 2 a sqrt(d) are O(d) (measured +0.171%, +0.341% and -0.69%, -1.37%): each at most
+//   1% and 3% of d, and the second twice the first (1.7 to 2.3; measured 1.99 and 1.98). The
+//   amplitude multiplier is exp(-2 g' d T) to its next order, O(d^2) (measured 2e-4 and 5e-4; the
+//   computed multipliers of one orbit scatter by 2e-4 from run to run), so to 1e-3; the trivial
+//   one is 1 to 1e-3 (measured up to 2e-4). Both orbits stable.
+// - Against keller evolve: one period from the orbit at d = 1 (SDIRK4, rtol 1e-8) returns gap_min
+//   to its start to 1e-5 of the amplitude (the orbit's own grid errs by about 1e-6 of the period,
+//   a phase error of 2 pi 1e-6 of the amplitude), and its max - min over the period (666 samples,
+//   not refined: 1e-5) is the orbit's amplitude to 1e-4.
+// - keller export --orbit: fields at 4 + 1 frames with the XDMF animation of a problem with a mesh,
+//   the last frame the first again (the export's own grid at rtol 1e-6: 1e-4 of the largest
+//   displacement allowed, measured 3e-8).
+TEST(OrbitCommand, TheChannelsOscillationOnTheCoarseMeshAgainstItsNormalFormAndEvolve) {
+  const std::string dir = test::scratch_dir("orbit_channel");
+  const std::string scene = test::source_path("runs/scenes/orbit_collapsible_newtonian.toml");
+  auto r = test::run_keller("trace " + scene + " --set continuation.upper=100.0 --set continuation.stops=[] -o " + dir +
+                            "/hopf.h5");
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  const std::string hopf = dir + "/hopf.h5";
+  r = test::run_keller("trace " + scene + " --from " + hopf +
+                       ":hopf1 --orbit --set stability.enabled=false --set continuation.upper=100.2 "
+                       "--set continuation.stops=[] --set orbit.multipliers=2 -o " +
+                       dir + "/orbits.h5");
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  const BranchTable t = read_branch_table(dir + "/orbits.h5");
+  ASSERT_EQ(t.rows.rows(), 2);
+  const BranchTable h = read_branch_table(hopf);
+  const long hopf_row = rows_of_kind(h, PointKind::Hopf).at(0);
+  const double re_h = h.rows(hopf_row, h.column("Re"));
+  const double omega = normal_form(hopf, "omega"), g = normal_form(hopf, "growth_rate_derivative"),
+               a = normal_form(hopf, "amplitude:gap_min");
+  EXPECT_NEAR(re_h, 99.264, 1e-3);
+  double period_dev[2], amplitude_dev[2];
+  for (long row = 0; row < 2; ++row) {
+    const double d = t.rows(row, t.column("Re")) - re_h, T = t.rows(row, t.column("period"));
+    EXPECT_NEAR(d, 0.5 * (row + 1), 1e-9);
+    period_dev[row] = T / (2.0 * std::numbers::pi / omega) - 1.0;
+    amplitude_dev[row] = t.rows(row, t.column("amplitude:gap_min")) / (2.0 * a * std::sqrt(d)) - 1.0;
+    EXPECT_LT(std::abs(period_dev[row]), 0.01 * d) << d;
+    EXPECT_LT(std::abs(amplitude_dev[row]), 0.03 * d) << d;
+    const std::complex<double> mu1(t.rows(row, t.column("mu1_re")), t.rows(row, t.column("mu1_im"))),
+        mu2(t.rows(row, t.column("mu2_re")), t.rows(row, t.column("mu2_im")));
+    EXPECT_NEAR(std::abs(mu1 - 1.0), 0.0, 1e-3) << d;
+    EXPECT_NEAR(std::abs(mu2 - std::exp(-2.0 * g * d * T)), 0.0, 1e-3) << d;
+    EXPECT_LT(std::abs(mu2), 1.0) << d;
+  }
+  EXPECT_NEAR(period_dev[1] / period_dev[0], 2.0, 0.3);
+  EXPECT_NEAR(amplitude_dev[1] / amplitude_dev[0], 2.0, 0.3);
+
+  // one period of keller evolve from the orbit at d = 1
+  {
+    std::ofstream ev(dir + "/evolve.toml");
+    ev << "[problem]\ntype = \"collapsible-channel\"\n[fluid]\nmodel = \"newtonian\"\n"
+          "[mesh]\nname = \"custom\"\nnx_upstream = 5\nnx_deformable = 10\nnx_downstream = 5\nny_fluid = 4\n"
+          "ny_solid = 2\n[dynamics]\nmass_matrix = \"moving-wall\"\n"
+          "[parameters]\nRe = 0.01\nGamma = 9e-5\nt = 0.4\nPe = 0.04\n"
+          "[evolve]\nmethod = \"sdirk4\"\nrelative_tolerance = 1e-8\nabsolute_tolerance = 1e-12\n"
+          "perturbation = \"none\"\n";
+  }
+  const double T = t.rows(1, t.column("period"));
+  r = test::run_keller("evolve " + dir + "/evolve.toml --restart " + dir +
+                       "/orbits.h5:1 --set evolve.t_end=" + fmt::format("{:.17g}", T) + " -o " + dir + "/evolve.h5");
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  const TimeTable e = read_time_table(dir + "/evolve.h5");
+  ASSERT_GT(e.rows.rows(), 100);
+  const Eigen::VectorXd gap = e.rows.col(e.column("gap_min"));
+  const double amplitude = t.rows(1, t.column("amplitude:gap_min"));
+  EXPECT_NEAR(e.rows(e.rows.rows() - 1, e.column("t")), T, 1e-9 * T);
+  EXPECT_LT(std::abs(gap[gap.size() - 1] - gap[0]), 1e-5 * amplitude);
+  EXPECT_NEAR((gap.maxCoeff() - gap.minCoeff()) / amplitude, 1.0, 1e-4);
+
+  // the orbit as an animation, XDMF included
+  r = test::run_keller("export " + dir + "/orbits.h5 --orbit 1 --frames 4");
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  ASSERT_TRUE(fs::exists(dir + "/orbits-orbit1.xdmf"));
+  std::ifstream xdmf(dir + "/orbits-orbit1.xdmf");
+  const std::string text((std::istreambuf_iterator<char>(xdmf)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("CollectionType=\"Temporal\""), std::string::npos);
+  EXPECT_NE(text.find("orbits-orbit1.h5:/orbit/fields/4/xdmf/displacement_vector"), std::string::npos);
+  size_t times = 0;
+  for (size_t at = text.find("<Time "); at != std::string::npos; at = text.find("<Time ", at + 1)) ++times;
+  EXPECT_EQ(times, 5u);
+  H5File f(dir + "/orbits-orbit1.h5", H5File::Mode::Read);
+  EXPECT_FALSE(f.exists("/orbit/fields/5"));
+  long n = 0, c = 0;
+  const std::vector<double> first = f.read_matrix("/orbit/fields/0/displacement", &n, &c),
+                            last = f.read_matrix("/orbit/fields/4/displacement", &n, &c),
+                            half = f.read_matrix("/orbit/fields/2/displacement", &n, &c);
+  ASSERT_EQ(first.size(), last.size());
+  double size = 0.0, back = 0.0, moved = 0.0;
+  for (size_t i = 0; i < first.size(); ++i) {
+    size = std::max(size, std::abs(first[i]));
+    back = std::max(back, std::abs(last[i] - first[i]));
+    moved = std::max(moved, std::abs(half[i] - first[i]));
+  }
+  EXPECT_LT(back, 1e-4 * size);   // measured 3e-8 of it
+  EXPECT_GT(moved, 0.05 * size);  // half a period on the wall is elsewhere (measured 0.08)
 }
