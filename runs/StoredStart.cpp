@@ -103,39 +103,31 @@ StoredPoint read_stored_start(const StoredStart& start, const LoadedScene& scene
   if (start.switching && stored.table.parameter != parameter)
     throw std::invalid_argument(fmt::format("{}: a branch in '{}' cannot be switched to a branch in '{}'", where,
                                             stored.table.parameter, parameter));
-  if (start.switching && !start.orbit && point.kind != PointKind::BranchPoint) {
-    std::string located;
-    const BranchTable& table = stored.table;
-    const int kind = table.column("kind");
-    for (int r : table.saved_rows)
-      if (r < table.rows.rows() && static_cast<int>(table.rows(r, kind)) == static_cast<int>(PointKind::BranchPoint))
-        located += (located.empty() ? "" : ", ") + std::to_string(r);
-    refusals.push_back(
-        fmt::format("row {} is not a located branch point (located branch points with a stored "
-                    "solution: {})",
-                    point.index, located.empty() ? "none" : located));
-  }
   if (start.curve && stored.table.parameter == parameter)
     throw std::invalid_argument(
         fmt::format("{}: the curve of a point of a branch in '{}' needs another free parameter "
                     "than '{}' (--free)",
                     where, parameter, parameter));
-  const bool event_curve = start.located == PointKind::Event;
+  // the located point the start needs: a branch point (--switch), the curve's or orbit branch's kind
+  // (--from; --switch with --orbit: a period doubling)
+  const PointKind required = start.switching && !start.orbit ? PointKind::BranchPoint : start.located;
+  const bool event_curve = required == PointKind::Event;
   auto wanted = [&](int k) {
     return event_curve ? k == static_cast<int>(PointKind::Event) || k == static_cast<int>(PointKind::End)
-                       : k == static_cast<int>(start.located);
+                       : k == static_cast<int>(required);
   };
-  if ((start.curve || start.orbit) && !wanted(static_cast<int>(point.kind))) {
+  if ((start.switching || start.curve || start.orbit) && !wanted(static_cast<int>(point.kind))) {
     std::string located;
     const BranchTable& table = stored.table;
     const int kind = table.column("kind");
     for (int r : table.saved_rows)
       if (r < table.rows.rows() && wanted(static_cast<int>(table.rows(r, kind))))
         located += (located.empty() ? "" : ", ") + std::to_string(r);
-    const std::string what = event_curve                                  ? "event"
-                             : start.located == PointKind::Hopf           ? "Hopf point"
-                             : start.located == PointKind::PeriodDoubling ? "period doubling"
-                                                                          : "fold";
+    const std::string what = event_curve                             ? "event"
+                             : required == PointKind::BranchPoint    ? "branch point"
+                             : required == PointKind::Hopf           ? "Hopf point"
+                             : required == PointKind::PeriodDoubling ? "period doubling"
+                                                                     : "fold";
     refusals.push_back(fmt::format("row {} is not a located {} (located {}s with a stored solution: {})", point.index,
                                    what, what, located.empty() ? "none" : located));
   }

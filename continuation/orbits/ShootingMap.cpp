@@ -411,7 +411,7 @@ Status ShootingMap::parameter_term(const Solve& s, double dlambda, Vector& rhs) 
 Status ShootingMap::linearised(const Vector& v0, double dT, double dlambda, Vector& out, double tolerance) {
   if (solves_.empty()) throw std::logic_error("shooting: linearised before integrate");
   if (dlambda != 0.0 && parameter_ < 0) throw std::logic_error("shooting: no parameter to differentiate in");
-  tolerance = std::clamp(tolerance > 0.0 ? tolerance : kTightPass, kTightPass, 1e-2);
+  tolerance = std::clamp(tolerance, kTightPass, 1e-2);
   const auto t0 = Clock::now();
   const double s_T = dT / period_;  // dh / h of every step
   Vector rhs, v;

@@ -107,7 +107,7 @@ class ShootingMap {
   Vector end_rate() const;
   // dPhi = M v0 + (dPhi/dT) dT + (dPhi/dlambda) dlambda at the last integrate's (u0, T, lambda).
   // tolerance: where a solve is a GMRES (Preconditioned, or B varying), its residual relative to
-  // its right-hand side, within [kTightPass, 1e-2] (kTightPass where 0). A Newton step's GMRES asks
+  // its right-hand side, clamped to [kTightPass, 1e-2]. A Newton step's GMRES asks
   // no more than its forcing term of the products (OrbitCorrector::pass_tolerance); multipliers
   // take the tightest. With every solve's matrix factorised and B constant a pass is exact anyway.
   static constexpr double kTightPass = 1e-12;
