@@ -12,8 +12,9 @@ FloquetAnalysis FloquetAnalysis::for_branch(int multipliers) {
 
 Status FloquetAnalysis::compute(int n, const std::function<Status(const Vector&, Vector&)>& M,
                                 std::vector<std::complex<double>>& values, int& trivial,
-                                std::vector<Eigen::VectorXcd>* vectors) {
+                                std::vector<Eigen::VectorXcd>* vectors, double tolerance) {
   FloquetOptions o = options_;
+  if (tolerance > 0.0) o.tolerance = tolerance;
   o.vectors = vectors != nullptr;
   o.start = last_.ritz;  // the last orbit's directions: a neighbour's, on a branch
   const Status st = floquet_multipliers(n, M, o, last_);

@@ -17,8 +17,8 @@ class FloquetAnalysis final : public OrbitMultipliers {
   static FloquetAnalysis for_branch(int multipliers);
   int count() const { return options_.count; }
   Status compute(int n, const std::function<Status(const Vector&, Vector&)>& M,
-                 std::vector<std::complex<double>>& values, int& trivial,
-                 std::vector<Eigen::VectorXcd>* vectors) override;
+                 std::vector<std::complex<double>>& values, int& trivial, std::vector<Eigen::VectorXcd>* vectors,
+                 double tolerance) override;
   // Of the last compute.
   const FloquetResult& last() const { return last_; }
 

@@ -354,15 +354,17 @@ int run_orbit_trace(const TraceArguments& args, RunSummary* out_summary) {
     const ShootingMap::Counts& k = result.counts;
     fmt::print("{} orbits, {} rejected steps; {}\n", result.points, result.rejected, result.reason);
     fmt::print(
-        "time {:.2f} s: forward periods {:.2f} ({} steps), linearised passes {:.2f} ({}; of them multipliers {:.2f} "
-        "s), "
-        "{} Newton and {} GMRES iterations ({} inner, in the passes' solves), {} factorisations\n",
-        result.seconds, k.forward_seconds, k.steps, k.linearised_seconds, k.passes, result.multiplier_seconds,
-        result.newton_iterations, result.krylov_iterations, k.inner_iterations, k.factorisations);
+        "time {:.2f} s: forward periods {:.2f} ({} steps, {} Newton iterations in their solves), linearised passes "
+        "{:.2f} ({}; of them multipliers {:.2f} s), {} Newton and {} GMRES iterations ({} inner, in the passes' "
+        "solves), {} factorisations\n",
+        result.seconds, k.forward_seconds, k.steps, k.newton_iterations, k.linearised_seconds, k.passes,
+        result.multiplier_seconds, result.newton_iterations, result.krylov_iterations, k.inner_iterations,
+        k.factorisations);
     summary.reason = result.reason;
     summary.unknowns = problem.size();
     summary.points = result.points;
     summary.rejected = result.rejected;
+    summary.seconds = result.seconds;
     return run.publish(end, branch_fields(
                                 xdmf_path_for(run.out()),
                                 [&problem, p](const Vector& u, double lambda) {

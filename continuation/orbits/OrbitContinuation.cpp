@@ -30,18 +30,24 @@ OrbitContinuation::OrbitContinuation(Problem& problem, int parameter, OrbitConti
 
 OrbitContinuation::~OrbitContinuation() = default;
 
-std::vector<std::string> OrbitContinuation::observable_names() const {
+std::vector<std::string> OrbitContinuation::observable_names(const std::vector<std::string>& problem_observables) {
   std::vector<std::string> names{"period", "amplitude"};
-  for (const std::string& o : problem_.observable_names()) {
+  for (const std::string& o : problem_observables) {
     names.push_back(o);
     names.push_back("amplitude:" + o);
   }
   return names;
 }
 
-std::vector<std::string> OrbitContinuation::analysis_columns() const {
+std::vector<std::string> OrbitContinuation::observable_names() const {
+  return observable_names(problem_.observable_names());
+}
+
+std::vector<std::string> OrbitContinuation::analysis_columns() const { return analysis_columns(options_.multipliers); }
+
+std::vector<std::string> OrbitContinuation::analysis_columns(int multipliers) {
   std::vector<std::string> c;
-  for (int i = 1; i <= options_.multipliers; ++i) {
+  for (int i = 1; i <= multipliers; ++i) {
     c.push_back(fmt::format("mu{}_re", i));
     c.push_back(fmt::format("mu{}_im", i));
   }
@@ -55,13 +61,26 @@ double OrbitContinuation::norm(const Vector& du, double dT, double dlambda) cons
                    (1.0 - theta) * (dlambda * dlambda + dt * dt));
 }
 
+double OrbitContinuation::multiplier_tolerance(bool exact_passes) {
+  return exact_passes ? 0.0 : kInexactMultiplierTolerance;
+}
+
+double OrbitContinuation::multiplier_pass_tolerance(bool exact_passes) {
+  return exact_passes ? ShootingMap::kTightPass : kMultiplierPassShare * kInexactMultiplierTolerance;
+}
+
+std::function<Status(const Vector&, Vector&)> OrbitContinuation::monodromy() {
+  const double pass = multiplier_pass_tolerance(map_.exact_passes());
+  return [this, pass](const Vector& v, Vector& Mv) { return map_.linearised(v, 0.0, 0.0, Mv, pass); };
+}
+
 Status OrbitContinuation::analyse(OrbitPoint& p) {
   p.multipliers.clear();
   p.trivial = -1;
   if (!multipliers_ || options_.multipliers <= 0) return {};
-  auto M = [this](const Vector& v, Vector& Mv) { return map_.linearised(v, 0.0, 0.0, Mv); };
   const auto t0 = std::chrono::steady_clock::now();
-  const Status st = multipliers_->compute(problem_.size(), M, p.multipliers, p.trivial, nullptr);
+  const Status st = multipliers_->compute(problem_.size(), monodromy(), p.multipliers, p.trivial, nullptr,
+                                          multiplier_tolerance(map_.exact_passes()));
   multiplier_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return st;
 }
@@ -143,8 +162,8 @@ Status OrbitContinuation::period_doubling_vector(const OrbitPoint& pd, Vector& v
   std::vector<std::complex<double>> values;
   std::vector<Eigen::VectorXcd> vectors;
   int trivial = -1;
-  auto M = [this](const Vector& x, Vector& Mx) { return map_.linearised(x, 0.0, 0.0, Mx); };
-  st = multipliers_->compute(problem_.size(), M, values, trivial, &vectors);
+  st = multipliers_->compute(problem_.size(), monodromy(), values, trivial, &vectors,
+                             multiplier_tolerance(map_.exact_passes()));
   if (!st.is_ok()) return st;
   int best = -1;
   for (size_t i = 0; i < values.size(); ++i)

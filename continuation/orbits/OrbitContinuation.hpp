@@ -36,9 +36,11 @@ class OrbitMultipliers {
   virtual ~OrbitMultipliers() = default;
   // The multipliers of largest magnitude of the n x n monodromy matrix applied by M, by |mu|
   // descending, the trivial one's index, and where `vectors` is given, an eigenvector of each.
+  // tolerance: the residual |M x - mu x| (|x| = 1) each must reach, on the scale of the unit circle
+  // (<= 0: the analysis's own); M's products are accurate to about a thousandth of it.
   virtual Status compute(int n, const std::function<Status(const Vector&, Vector&)>& M,
                          std::vector<std::complex<double>>& values, int& trivial,
-                         std::vector<Eigen::VectorXcd>* vectors) = 0;
+                         std::vector<Eigen::VectorXcd>* vectors, double tolerance) = 0;
 };
 
 // A converged orbit.
@@ -133,6 +135,21 @@ class OrbitContinuation {
   // The observables' names of the reported points, and the analysis columns (the multipliers).
   std::vector<std::string> observable_names() const;
   std::vector<std::string> analysis_columns() const;
+  // The same for a problem whose observables are `problem_observables`, with `multipliers` per
+  // orbit (what a study of orbit branches checks its [collect] names against before any run).
+  static std::vector<std::string> observable_names(const std::vector<std::string>& problem_observables);
+  static std::vector<std::string> analysis_columns(int multipliers);
+
+  // The multipliers' accuracy (OrbitMultipliers::compute's tolerance; 0: the analysis's own, 1e-10)
+  // and their passes' (ShootingMap::linearised's), for exact passes (every solve's matrix
+  // factorised, B constant) or GMRES ones: exact, 1e-10 with passes at kTightPass; GMRES,
+  // kInexactMultiplierTolerance with passes at kMultiplierPassShare of it. The discrete map's
+  // multipliers differ from the flow's by the integrator's error (its rtol, 1e-6 by default)
+  // anyway, and on docs/periodic_orbits.md's FSI problem a pass at 1e-12 cost 1.8 times a Newton
+  // step's, and Arnoldi to 1e-10 took more of them.
+  static constexpr double kInexactMultiplierTolerance = 1e-6, kMultiplierPassShare = 1e-3;
+  static double multiplier_tolerance(bool exact_passes);
+  static double multiplier_pass_tolerance(bool exact_passes);
 
  private:
   // Corrects a predicted orbit on the arclength row through z along d (d: unit secant); fills
@@ -143,6 +160,7 @@ class OrbitContinuation {
   // a correction's counts into `out` and the run's, then finish where it converged
   Status take(const OrbitCorrection& c, OrbitPoint& out);
   Status analyse(OrbitPoint& p);
+  std::function<Status(const Vector&, Vector&)> monodromy();
   BranchPoint to_branch_point(const OrbitPoint& p, PointKind kind, const std::string& label, int index,
                               const Vector& tu, double tlambda) const;
   // the orbit at lambda = value between a and b (from their interpolation, at fixed lambda)

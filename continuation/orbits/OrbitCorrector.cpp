@@ -77,27 +77,20 @@ OrbitCorrection OrbitCorrector::correct(Vector& u0, double& T, double& lambda, b
                     fmt::format("orbit corrector: {} iterations, |Phi - u0| = {:.3e}", it, out.residual)};
       return out;
     }
-    // the columns of T (per unit relative change of T) and lambda
-    Vector colT, colL;
+    // one pass per product: the T and lambda columns go into the pass with the state's (a pass is
+    // linear in all three), not as two passes of their own per iteration
     const double pass = pass_tolerance(eta);
-    st = map_.linearised(Vector::Zero(N), T, 0.0, colT, pass);
-    if (st.is_ok() && free_lambda) st = map_.linearised(Vector::Zero(N), 0.0, 1.0, colL, pass);
-    if (!st.is_ok()) {
-      out.status = st;
-      return out;
-    }
     Status failed;
     auto A = [&](const Vector& z) {
       Vector y(N + extra), Mv;
-      Status s = map_.linearised(z.head(N), 0.0, 0.0, Mv, pass);
+      Status s = map_.linearised(z.head(N), T * z[N], free_lambda ? z[N + 1] : 0.0, Mv, pass);
       if (!s.is_ok()) {
-        failed = s;
+        if (failed.is_ok()) failed = s;
         Mv = Vector::Zero(N);
       }
-      y.head(N) = Mv - z.head(N) + z[N] * colT;
+      y.head(N) = Mv - z.head(N);
       y[N] = normal.dot(z.head(N));
       if (free_lambda) {
-        y.head(N) += z[N + 1] * colL;
         y[N + 1] = row.a_T * T * z[N] + row.a_lambda * z[N + 1];
         if (row.a_u.size() == N) y[N + 1] += row.a_u.dot(z.head(N));
       }

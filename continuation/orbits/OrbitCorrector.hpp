@@ -3,12 +3,12 @@
 //   Phi(u0, T, lambda) - u0 = 0                 (periodicity, ShootingMap on a frozen grid)
 //   <u0 - u_ref, n> = 0                          (phase: u0 on the hyperplane through u_ref normal to n)
 //   <a_u, u0 - z_u> + a_T (T - z_T) + a_l (lambda - z_l) = 0   (a row fixing lambda or the arclength)
-// The Newton matrix [M - I, Phi_T, Phi_l; n^T, 0, 0; a_u^T, a_T, a_l] is never formed: its columns
-// for T and lambda cost one linearised pass each per iteration, and GMRES (core/Gmres.hpp, no
-// preconditioner) applies M by one pass per iteration. M's eigenvalues are the Floquet multipliers:
-// those of strongly damped modes are near 0, so M - I clusters them at -1 and GMRES pays about one
-// iteration per multiplier away from 0 (Sanchez, Net, Garcia-Archilla and Simo 2004 for
-// Navier-Stokes). The forcing term follows Eisenstat and Walker (1996, choice 2).
+// The Newton matrix [M - I, Phi_T, Phi_l; n^T, 0, 0; a_u^T, a_T, a_l] is never formed: GMRES
+// (core/Gmres.hpp, no preconditioner) applies it by one linearised pass per iteration, the T and
+// lambda columns inside the pass with M's (a pass is linear in (v0, dT, dlambda)). M's eigenvalues
+// are the Floquet multipliers: those of strongly damped modes are near 0, so M - I clusters them at
+// -1 and GMRES pays about one iteration per multiplier away from 0 (Sanchez, Net, Garcia-Archilla
+// and Simo 2004 for Navier-Stokes). The forcing term follows Eisenstat and Walker (1996, choice 2).
 #pragma once
 
 #include <functional>

@@ -92,6 +92,7 @@ struct ShootingMap::Solve {
   std::array<double, 3> c{};  // BDF2's coefficients
   Vector U;                   // the state solved for
   Vector rate;                // R at U
+  Vector dF_lambda;           // F_lambda(U), once asked for (empty: not yet, or not kept)
   SparseMatrix B;             // B(U) (only where B varies)
   SparseMatrix A;
   std::optional<Eigen::PartialPivLU<Eigen::MatrixXd>> dense;
@@ -400,12 +401,24 @@ Status ShootingMap::solve_linearised(Solve& s, const Vector& rhs, Vector& v, dou
   return {};
 }
 
-Status ShootingMap::parameter_term(const Solve& s, double dlambda, Vector& rhs) {
+Status ShootingMap::parameter_term(Solve& s, double dlambda, Vector& rhs) {
   if (dlambda == 0.0) return {};
-  Vector dF;
-  Status st = problem_.parameter_derivative(parameter_, s.U, dF);
-  if (st.is_ok()) rhs -= dlambda * dF;
-  return st;
+  if (s.dF_lambda.size() == 0) {
+    // kept for the passes to come while the memory budget allows: every product of a Newton step's
+    // GMRES carries a lambda component
+    Vector dF;
+    Status st = problem_.parameter_derivative(parameter_, s.U, dF);
+    if (!st.is_ok()) return st;
+    const double bytes = static_cast<double>(dF.size()) * sizeof(double);
+    if (stored_bytes_ + bytes > options_.memory_budget) {
+      rhs -= dlambda * dF;
+      return {};
+    }
+    stored_bytes_ += bytes;
+    s.dF_lambda = std::move(dF);
+  }
+  rhs -= dlambda * s.dF_lambda;
+  return {};
 }
 
 Status ShootingMap::linearised(const Vector& v0, double dT, double dlambda, Vector& out, double tolerance) {

@@ -58,7 +58,7 @@ struct ShootingOptions {
   // problems). Preconditioned: GMRES with A dU by central differences of the solve's residual
   // (B'[dU] R included), preconditioned by factorisations of A made at a few solves of the period (a
   // new one where the coefficient dR/dU has moved by 30% since the last, as evolve's chord does, or
-  // kAnchorSpan solves on): about as many factorisations per pass as a period of evolve makes. Auto:
+  // kAnchorSpan solves on: two SDIRK4 steps, ten BDF2 steps). Auto:
   // Factorised up to kFactorisedSize unknowns where B is constant and the period's factorisations
   // fit in memory_budget together (measured on the first), else Preconditioned. Where B varies
   // every solve is a GMRES anyway (the B' term), and a factorisation of each solve's matrix, made
@@ -73,7 +73,11 @@ struct ShootingOptions {
   // not measured, taken to fit).
   static Linearisation linearisation_for(Linearisation asked, int n, bool mass_varies, double bytes, long solves,
                                          double budget);
-  static constexpr int kAnchorSpan = 50;
+  // On docs/periodic_orbits.md's FSI problem (1,944 unknowns, SDIRK4, 515 solves a period; the first two
+  // orbits, 61 passes): spans of 50, 20, 10 and 5 solves took 196k, 162k, 142k and 119k inner
+  // iterations for 1719, 1867, 2225 and 2786 factorisations, and 10 the least time in the passes
+  // (21% below 50's).
+  static constexpr int kAnchorSpan = 10;
   static NewtonOptions tight_newton();
   // The sparse LU of a problem of n unknowns: UMFPACK where `asked` is Auto and n <= kUmfpackSize,
   // else `asked`. A period takes thousands of solves of small matrices, and a MUMPS call has a
@@ -113,6 +117,10 @@ class ShootingMap {
   static constexpr double kTightPass = 1e-12;
   Status linearised(const Vector& v0, double dT, double dlambda, Vector& out, double tolerance = kTightPass);
 
+  // Whether the last integrate's passes are exact (every solve's matrix factorised, B constant)
+  // rather than GMRES to the tolerance asked.
+  bool exact_passes() const { return !preconditioned_ && !mass_varies_; }
+
   struct Counts {
     long steps = 0;              // forward steps integrated
     long newton_iterations = 0;  // of the forward steps
@@ -137,8 +145,8 @@ class ShootingMap {
   Status apply_mass(const Solve& solve, const Vector& x, Vector& out);
   // dU = A^-1 rhs for a solve (with the B' term where B varies)
   Status solve_linearised(Solve& solve, const Vector& rhs, Vector& dU, double tolerance);
-  // the right-hand side's parameter term: -F_lambda(U) dlambda
-  Status parameter_term(const Solve& solve, double dlambda, Vector& rhs);
+  // the right-hand side's parameter term: -F_lambda(U) dlambda (F_lambda kept within the memory budget)
+  Status parameter_term(Solve& solve, double dlambda, Vector& rhs);
   const SparseMatrix& mass(const Solve& solve) const;
 
   Problem& problem_;
