@@ -15,6 +15,7 @@
 #include <sstream>
 
 #include "continuation/engine/ContinuationOptions.hpp"
+#include "continuation/orbits/OrbitContinuation.hpp"
 #include "continuation/output/BranchFile.hpp"
 #include "core/Scene.hpp"
 #include "runs/OutputFile.hpp"
@@ -175,8 +176,8 @@ Study Study::load(const std::string& path, const std::string& folder, int only) 
     if (!text) throw error(v, fmt::format("key 'study.{}' must be a string", key));
     if (key == "scene") base = relative_to_study(*text);
     if (key == "task") {
-      if (*text != "trace" && *text != "solve")
-        throw error(v, fmt::format("key 'study.task' = \"{}\" is not one of: trace, solve", *text));
+      if (*text != "trace" && *text != "solve" && *text != "orbit")
+        throw error(v, fmt::format("key 'study.task' = \"{}\" is not one of: trace, solve, orbit", *text));
       s.kind_ = *text;
     }
     if (key == "start") start = *text;
@@ -270,9 +271,14 @@ Study Study::load(const std::string& path, const std::string& folder, int only) 
       else
         t.overrides.push_back(k + "=" + v.text);
     }
-    if (!t.start.empty() && s.kind_ != "trace")
+    if (!t.start.empty() && s.kind_ == "solve")
       throw SceneError(fmt::format("{}: task {} ({}): a start from a stored point needs task = \"trace\"", path,
                                    t.index, t.label()));
+    if (t.start.empty() && s.kind_ == "orbit")
+      throw SceneError(
+          fmt::format("{}: task {} ({}): an orbit branch starts at a located Hopf point: set study.start "
+                      "= \"BRANCH.h5:hopf1\" (or start in its case)",
+                      path, t.index, t.label()));
     if (!t.start.empty()) {
       const auto colon = t.start.rfind(':');
       if (colon != std::string::npos) t.start = relative_to_study(t.start.substr(0, colon)) + t.start.substr(colon);
@@ -363,7 +369,7 @@ void Study::check_collect() const {
       const LoadedScene loaded = scenes.load(t);
       std::optional<ContinuationOptions> o;
       StabilityOptions stability;
-      if (kind_ == "trace") {
+      if (kind_ != "solve") {
         o = ContinuationOptions::from_scene(loaded.scene);
         stop = o->stop.observable;
         stability = StabilityOptions::from_scene(loaded.scene);
@@ -371,7 +377,16 @@ void Study::check_collect() const {
       const std::unique_ptr<Problem> problem = loaded.type->build(loaded.scene);
       observables = problem->observable_names();
       monitors = problem->monitor_names();
-      if (o) {
+      if (o && kind_ == "orbit") {
+        // an orbit branch's table: period, amplitude, each observable at u0 and its amplitude, the
+        // multipliers; no monitors
+        observables = OrbitContinuation::observable_names(observables);
+        monitors.clear();
+        stop.clear();
+        columns = branch_table_columns(
+            o->parameter, observables, monitors,
+            OrbitContinuation::analysis_columns(OrbitContinuationOptions::from_scene(loaded.scene, *o).multipliers));
+      } else if (o) {
         // the run's monitors: the problem's, then the stop observable's thresholds (Continuation)
         for (const std::string& m : o->stop.threshold_monitor_names()) monitors.push_back(m);
         const std::vector<std::string> analysis =
@@ -385,6 +400,10 @@ void Study::check_collect() const {
       return std::find(v.begin(), v.end(), n) != v.end();
     };
     const auto column = [&](const std::string& n) { return has(observables, n) || has(columns, n); };
+    const auto orbit_event = [&](const std::string& n) {
+      return n == "fold" || n == "bp" || n == "branch-point" || n == "pd" || n == "period-doubling" || n == "ns" ||
+             n == "neimark-sacker";
+    };
     const auto event = [&](const std::string& n) {
       return n == "fold" || n == "bp" || n == "branch-point" || n == "hopf" || has(monitors, n) ||
              (!stop.empty() && n == stop);
@@ -397,7 +416,11 @@ void Study::check_collect() const {
                                        n, t.index, t.label(), what));
     };
     const std::string listed = fmt::format("its observables: {}", fmt::join(observables, ", "));
-    if (kind_ == "trace") {
+    if (kind_ == "orbit") {
+      check("events", collect_.events, orbit_event,
+            "an orbit branch's events are fold, branch-point, period-doubling (pd) and neimark-sacker (ns)");
+      check("stops", collect_.stops, column, listed);
+    } else if (kind_ == "trace") {
       check("events", collect_.events, event,
             fmt::format("events are fold, branch-point, hopf, a monitor ({}) or the stop observable ({})",
                         monitors.empty() ? "none" : fmt::format("{}", fmt::join(monitors, ", ")),

@@ -1,12 +1,13 @@
-// A study: a family of ordinary runs (tasks) of one kind, trace or solve, made from a base scene
+// A study: a family of ordinary runs (tasks) of one kind, trace, solve or orbit, made from a base scene
 // by overrides of any scene keys: the product of the lists in [grid], the tables of [[cases]],
 // or both (every case with every grid point), on top of [set]. Every task is validated like
 // `--set` when the study is read, before any task runs, and no two tasks may resolve to the
 // same run. Each task writes an ordinary output file under the study's folder, and a record of
 // how it ended; the study is the sum of these.
 //
-//   [study]  scene = "base.toml" (relative to the study file), task = "trace" | "solve",
-//            start = "FILE.h5:ROW" (optional: every task starts from that stored point)
+//   [study]  scene = "base.toml" (relative to the study file), task = "trace" | "solve" | "orbit",
+//            start = "FILE.h5:ROW" (optional: every task starts from that stored point; an orbit
+//            task, `keller trace --orbit`, needs one: its located Hopf point, here or in its case)
 //   [set]    "section.key" = value, ...           applied to every task
 //   [grid]   "section.key" = [v1, v2, ...], ...   one task per combination
 //   [[cases]] "section.key" = value, ...          one task per table ("scene" and "start" may vary too)
@@ -61,7 +62,7 @@ class Study {
 
   const std::string& path() const { return path_; }
   const std::string& name() const { return name_; }  // the study file's stem
-  const std::string& kind() const { return kind_; }  // "trace" or "solve"
+  const std::string& kind() const { return kind_; }  // "trace", "solve" or "orbit"
   const std::string& folder() const { return folder_; }
   // Every task, by index; for a study loaded with `only`, that task alone.
   const std::vector<StudyTask>& tasks() const { return tasks_; }

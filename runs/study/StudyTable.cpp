@@ -43,6 +43,10 @@ void collect_branch(const Study& study, const std::string& path, StudyRow& row) 
       want_kind = PointKind::BranchPoint;
     else if (name == "hopf")
       want_kind = PointKind::Hopf;
+    else if (name == "pd" || name == "period-doubling")
+      want_kind = PointKind::PeriodDoubling;
+    else if (name == "ns" || name == "neimark-sacker")
+      want_kind = PointKind::NeimarkSacker;
     // a monitor's zero is an event, or the end of the branch where the stop observable of that
     // name crossed its threshold (the engine reports such a point once, as the end; a file whose
     // end names no monitor says so in its status)
@@ -159,7 +163,7 @@ StudyRow StudyTable::row(const Study& study, const StudyTask& task) {
     StudyRow collected = row;
     if (fault.empty()) {
       try {
-        if (study.kind() == "trace")
+        if (study.kind() != "solve")
           collect_branch(study, out, collected);
         else
           collect_solution(study, out, collected);

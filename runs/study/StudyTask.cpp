@@ -97,11 +97,16 @@ TaskRecord run_study_task(const Study& study, const StudyTask& task) {
   try {
     lock = hold_task_output(study, task);
     set_aside_foreign_outputs(study, task, lock);
-    if (study.kind() == "trace") {
+    if (study.kind() != "solve") {
       TraceArguments a;
       a.scene = task.scene;
       a.output = out;
-      a.restart = task.start;
+      if (study.kind() == "orbit") {  // the orbit branch from the task's located Hopf point
+        a.from = task.start;
+        a.orbit = true;
+      } else {
+        a.restart = task.start;
+      }
       a.overrides = task.overrides;
       a.output_locked = true;
       run_trace(a, &record.summary);
@@ -227,7 +232,7 @@ std::string output_fault(const Study& study, const StudyTask& task, const std::s
   } catch (const std::exception&) {
     return "cannot be read as an HDF5 file";
   }
-  if (study.kind() == "trace") {
+  if (study.kind() != "solve") {
     try {
       const BranchTable t = read_branch_table(path);
       if (t.rows.rows() == 0) return "holds an empty branch";

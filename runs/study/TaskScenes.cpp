@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "continuation/engine/ContinuationOptions.hpp"
+#include "continuation/orbits/OrbitContinuation.hpp"
 #include "runs/OutputFile.hpp"
 #include "runs/SolveCommand.hpp"
 #include "runs/TraceCommand.hpp"
@@ -25,20 +26,36 @@ LoadedScene TaskScenes::load(const StudyTask& task) {
     it = texts_.emplace(task.scene, text.str()).first;
   }
   LoadedScene loaded = load_scene_text(it->second, task.scene, declare_trace_keys, task.overrides);
-  if (kind_ == "trace") ContinuationOptions::from_scene(loaded.scene);
+  if (kind_ != "solve") ContinuationOptions::from_scene(loaded.scene);
+  if (kind_ == "orbit") {
+    OrbitContinuationOptions::from_scene(loaded.scene, ContinuationOptions::from_scene(loaded.scene));
+    if (StabilityOptions::from_scene(loaded.scene).enabled)
+      throw SceneError(
+          "key 'stability.enabled': [stability] analyses steady states; an orbit branch has its Floquet multipliers "
+          "([orbit] multipliers): set stability.enabled = false for an orbit study");
+  }
   return loaded;
 }
 
 std::string TaskScenes::run_record(const StudyTask& task, const LoadedScene& loaded) const {
-  if (kind_ != "trace") return solve_run_record(loaded);
+  if (kind_ == "solve") return solve_run_record(loaded);
   TraceArguments a;
-  a.restart = task.start;
+  if (kind_ == "orbit") {
+    a.from = task.start;
+    a.orbit = true;
+  } else {
+    a.restart = task.start;
+  }
   return trace_run_record(loaded, a);
 }
 
 std::string TaskScenes::shape(const LoadedScene& loaded) const {
   std::string key = loaded.scene.source() + "\n" + loaded.physics();
-  if (kind_ == "trace") {
+  if (kind_ == "orbit") {
+    const ContinuationOptions o = ContinuationOptions::from_scene(loaded.scene);
+    key +=
+        fmt::format("\norbit\n{}\n{}", o.parameter, OrbitContinuationOptions::from_scene(loaded.scene, o).multipliers);
+  } else if (kind_ == "trace") {
     const ContinuationOptions o = ContinuationOptions::from_scene(loaded.scene);
     const StabilityOptions stability = StabilityOptions::from_scene(loaded.scene);
     key += fmt::format("\n{}\n{}\n{}\n{}\n{}", o.parameter, o.stop.observable, std::isfinite(o.stop.above),

@@ -13,7 +13,7 @@ namespace keller {
 
 class TaskScenes {
  public:
-  explicit TaskScenes(std::string kind) : kind_(std::move(kind)) {}  // "trace" or "solve"
+  explicit TaskScenes(std::string kind) : kind_(std::move(kind)) {}  // "trace", "solve" or "orbit"
 
   // The task's scene, validated (for a trace, its [continuation] too). Throws SceneError as
   // load_scene does.

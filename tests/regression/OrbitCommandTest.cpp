@@ -351,3 +351,57 @@ TEST(OrbitCommand, TheChannelsOscillationOnTheCoarseMeshAgainstItsNormalFormAndE
   EXPECT_LT(back, 1e-4 * size);   // measured 3e-8 of it
   EXPECT_GT(moved, 0.05 * size);  // half a period on the wall is elsewhere (measured 0.08)
 }
+
+// A study of orbit branches (task = "orbit"): one `keller trace --orbit` per case from the case's
+// located Hopf point, here the Brusselator's at a = 2 and a = 1.5 (b_H = 1 + a^2, omega = a). The
+// collected orbit at each case's stop b = b_H + 0.012 is that case's: its period 2 pi / a + O(d)
+// (the two differ by a third, so a start taken from the wrong case shows), its amplitude the normal
+// form's 2 c sqrt(d) to 1% as the command's own orbits (measured: period +0.34% and +0.18%,
+// amplitude +0.44% and +0.30%). An orbit study
+// without a start, or with [stability] on, stops before any task with the key named.
+TEST(OrbitCommand, AStudyOfOrbitBranchesFromTheHopfPointsOfItsCases) {
+  const std::string dir = test::scratch_dir("orbit_study");
+  const std::string branch2 = hopf_branch(dir), branch15 = dir + "/branch15.h5";
+  auto r = test::run_keller("trace " + test::source_path(kScene) +
+                            " --set brusselator.intervals=16 --set parameters.a=1.5 -o " + branch15);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const double d = 0.012;
+  const auto write_study = [&](const std::string& name, const std::string& extra, bool starts) {
+    std::ofstream s(dir + "/" + name + ".toml");
+    s << "[study]\nscene = \"" << test::source_path(kScene) << "\"\ntask = \"orbit\"\n"
+      << "[set]\n\"brusselator.intervals\" = 16\n\"orbit.start_distance\" = 0.005\n"
+      << extra << "\n";
+    for (const auto& [a, file] : {std::pair{2.0, branch2}, std::pair{1.5, branch15}}) {
+      s << fmt::format(
+          "[[cases]]\n\"parameters.a\" = {}\n\"continuation.upper\" = {:.17g}\n"
+          "\"continuation.stops\" = [{:.17g}]\n",
+          a, 1.0 + a * a + 2.0 * d, 1.0 + a * a + d);
+      if (starts) s << "start = \"" << file << ":hopf1\"\n";
+    }
+    s << "[collect]\nstops = [\"period\", \"amplitude\"]\n";
+    return dir + "/" + name + ".toml";
+  };
+  r = test::run_keller("study " + write_study("orbits", "\"stability.enabled\" = false", true) + " --jobs 1 -o " + dir +
+                       "/orbits");
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  const auto rows = test::read_table(dir + "/orbits/orbits.csv");
+  ASSERT_EQ(rows.size(), 2u);
+  for (const auto& row : rows) {
+    SCOPED_TRACE(row.at("name"));
+    EXPECT_EQ(row.at("status"), "done");
+    const double a = std::stod(row.at("parameters.a"));
+    const std::string at = fmt::format("@{}", 1.0 + a * a + d);  // the case's stop
+    EXPECT_NEAR(std::stod(row.at("period" + at)) / (2.0 * std::numbers::pi / a), 1.0, 2.0 * d);
+    const double c = normal_form(a == 2.0 ? branch2 : branch15, "amplitude_coefficient");
+    EXPECT_NEAR(std::stod(row.at("amplitude" + at)) / (2.0 * c * std::sqrt(d)), 1.0, 0.01);
+  }
+  r = test::run_keller("study " + write_study("no_start", "\"stability.enabled\" = false", false) + " -o " + dir +
+                       "/no_start");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("an orbit branch starts at a located Hopf point: set study.start"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir + "/no_start/tasks"));
+  r = test::run_keller("study " + write_study("stability", "", true) + " -o " + dir + "/stability");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("key 'stability.enabled'"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir + "/stability/tasks"));
+}
