@@ -62,7 +62,7 @@ OrbitGrid record_grid(Problem& problem, const Vector& u0, double period, const T
   };
   TimeOptions o = options;
   o.t_end = period;
-  SparseLUOptions small = lu;
+  SparseLUOptions small = ShootingOptions::chord_lu(lu);
   small.backend = ShootingOptions::backend_for(lu.backend, problem.size());
   TimeIntegrator integrator(problem, o, newton, small);
   Times times;
@@ -129,6 +129,11 @@ ShootingOptions::Linearisation ShootingOptions::linearisation_for(Linearisation 
   return bytes * static_cast<double>(solves) <= budget ? Linearisation::Factorised : Linearisation::Preconditioned;
 }
 
+SparseLUOptions ShootingOptions::chord_lu(SparseLUOptions lu) {
+  lu.refinement_steps = 0;
+  return lu;
+}
+
 SparseLUOptions::Backend ShootingOptions::backend_for(SparseLUOptions::Backend asked, int n) {
   return asked == SparseLUOptions::Backend::Auto && n <= kUmfpackSize ? SparseLUOptions::Backend::Umfpack : asked;
 }
@@ -183,7 +188,7 @@ Status ShootingMap::integrate(const Vector& u0, double period, const OrbitGrid& 
   TimeOptions time;
   time.method = grid.method;
   time.t_end = period;
-  TimeIntegrator integrator(problem_, time, options_.newton, options_.lu);
+  TimeIntegrator integrator(problem_, time, options_.newton, ShootingOptions::chord_lu(options_.lu));
   std::vector<std::vector<Vector>> stages;
   StageRecorder recorder(states_, stages);
   const TimeResult r = integrator.run_on_grid(u0, 0.0, times, recorder, {}, sdirk);

@@ -83,6 +83,13 @@ struct ShootingOptions {
   // else `asked`. A period takes thousands of solves of small matrices, and a MUMPS call has a
   // fixed cost of tens of microseconds (its Fortran interface), more than a small solve itself.
   static constexpr int kUmfpackSize = 2000;
+  // The forward steps' LU options (integrate, record_grid): `lu` without iterative refinement. The
+  // steps' Newton is a chord iteration on a kept factorisation, whose error is the kept matrix's
+  // age, not the solve's rounding; refinement against the kept matrix bought nothing there (the
+  // FSI problem of docs/periodic_orbits.md, its first two orbits: 42,653 chord iterations without
+  // it against 42,751 with 2 steps) and took three quarters of the forward time (27.8 s against
+  // 112.8 s). The linearised passes keep `lu`'s refinement where they solve with a solve's own matrix.
+  static SparseLUOptions chord_lu(SparseLUOptions lu);
   static SparseLUOptions::Backend backend_for(SparseLUOptions::Backend asked, int n);
 };
 

@@ -206,3 +206,18 @@ TEST(ShootingMap, ALooserPassCostsFewerInnerIterationsAndErrsWithinItsTolerance)
   EXPECT_LT((clamped - tight).norm(), 1e3 * 1e-2 * tight.norm());
   EXPECT_LE(clamped_inner, loose_inner);
 }
+
+// The forward steps' LU options as a function: the given ones without iterative refinement (the
+// steps' Newton is a chord on a kept factorisation), everything else as given; the passes keep the
+// given refinement.
+TEST(ShootingMap, TheForwardStepsSolveWithoutRefinement) {
+  SparseLUOptions lu;
+  lu.refinement_steps = 3;
+  lu.pivot_tolerance = 0.5;
+  lu.backend = SparseLUOptions::Backend::Umfpack;
+  const SparseLUOptions chord = ShootingOptions::chord_lu(lu);
+  EXPECT_EQ(chord.refinement_steps, 0);
+  EXPECT_EQ(chord.pivot_tolerance, 0.5);
+  EXPECT_EQ(chord.backend, SparseLUOptions::Backend::Umfpack);
+  EXPECT_EQ(lu.refinement_steps, 3);
+}
