@@ -26,6 +26,9 @@
 
 namespace keller {
 
+const char* const kOrbitStabilityRefusal =
+    "[stability] analyses steady states; an orbit branch has its Floquet multipliers ([orbit] multipliers)";
+
 namespace {
 
 constexpr double kProgressSeconds = 10.0;
@@ -65,9 +68,7 @@ StoredStart checked_orbit_start(const TraceArguments& args, const TraceSettings&
         "doubled branch (--switch ORBITS.h5:ROW, or pd1): one of them");
   if (!args.curve.empty() || !args.restart.empty() || !args.free.empty())
     throw std::invalid_argument("--orbit excludes --curve, --free and --restart");
-  if (settings.stability.enabled)
-    throw std::invalid_argument(
-        "[stability] analyses steady states; an orbit branch has its Floquet multipliers ([orbit] multipliers)");
+  if (settings.stability.enabled) throw std::invalid_argument(kOrbitStabilityRefusal);
   if (!args.switch_at.empty()) {
     StoredStart at = parse_stored_start("--switch", args.switch_at);
     at.located = PointKind::PeriodDoubling;

@@ -15,6 +15,8 @@
 namespace keller {
 
 // Exit codes as run_trace's.
+// Why an orbit branch refuses [stability] on (the orbit command, and a study of orbit branches).
+extern const char* const kOrbitStabilityRefusal;
 int run_orbit_trace(const TraceArguments& args, RunSummary* summary = nullptr);
 
 }  // namespace keller

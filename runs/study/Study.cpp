@@ -127,6 +127,15 @@ const std::set<std::string> special_keys = {"scene", "start"};
 
 }  // namespace
 
+std::optional<PointKind> collected_event_kind(const std::string& name) {
+  if (name == "fold") return PointKind::Fold;
+  if (name == "bp" || name == "branch-point") return PointKind::BranchPoint;
+  if (name == "hopf") return PointKind::Hopf;
+  if (name == "pd" || name == "period-doubling") return PointKind::PeriodDoubling;
+  if (name == "ns" || name == "neimark-sacker") return PointKind::NeimarkSacker;
+  return std::nullopt;
+}
+
 std::vector<std::string> Study::varied_keys() const { return varied_keys_; }
 std::string Study::task_output(const StudyTask& t) const { return folder_ + "/tasks/" + t.name + ".h5"; }
 std::string Study::task_log(const StudyTask& t) const { return folder_ + "/tasks/" + t.name + ".log"; }
@@ -401,12 +410,13 @@ void Study::check_collect() const {
     };
     const auto column = [&](const std::string& n) { return has(observables, n) || has(columns, n); };
     const auto orbit_event = [&](const std::string& n) {
-      return n == "fold" || n == "bp" || n == "branch-point" || n == "pd" || n == "period-doubling" || n == "ns" ||
-             n == "neimark-sacker";
+      const auto k = collected_event_kind(n);
+      return k && *k != PointKind::Hopf;
     };
     const auto event = [&](const std::string& n) {
-      return n == "fold" || n == "bp" || n == "branch-point" || n == "hopf" || has(monitors, n) ||
-             (!stop.empty() && n == stop);
+      const auto k = collected_event_kind(n);
+      if (k) return *k == PointKind::Fold || *k == PointKind::BranchPoint || *k == PointKind::Hopf;
+      return has(monitors, n) || (!stop.empty() && n == stop);
     };
     const auto check = [&](const char* key, const std::vector<std::string>& names, const auto& known,
                            const std::string& what) {

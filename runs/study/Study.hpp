@@ -15,8 +15,11 @@
 #pragma once
 
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
+
+#include "continuation/engine/BranchPoint.hpp"
 
 namespace keller {
 
@@ -45,6 +48,10 @@ struct StudyCollect {
   std::vector<std::string> stops;   // observables collected at every requested stop
   std::vector<std::string> end;     // observables collected at the last point
 };
+
+// The located kind a [collect] events name stands for: fold, bp or branch-point, hopf, pd or
+// period-doubling, ns or neimark-sacker; nullopt for any other name (a monitor's zero).
+std::optional<PointKind> collected_event_kind(const std::string& name);
 
 class Study {
  public:

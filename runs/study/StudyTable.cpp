@@ -36,17 +36,7 @@ void collect_branch(const Study& study, const std::string& path, StudyRow& row) 
   if (t.rows.rows() == 0) return;
   std::vector<std::string> found;
   for (const std::string& name : c.events) {
-    PointKind want_kind = PointKind::Event;
-    if (name == "fold")
-      want_kind = PointKind::Fold;
-    else if (name == "bp" || name == "branch-point")
-      want_kind = PointKind::BranchPoint;
-    else if (name == "hopf")
-      want_kind = PointKind::Hopf;
-    else if (name == "pd" || name == "period-doubling")
-      want_kind = PointKind::PeriodDoubling;
-    else if (name == "ns" || name == "neimark-sacker")
-      want_kind = PointKind::NeimarkSacker;
+    const PointKind want_kind = collected_event_kind(name).value_or(PointKind::Event);
     // a monitor's zero is an event, or the end of the branch where the stop observable of that
     // name crossed its threshold (the engine reports such a point once, as the end; a file whose
     // end names no monitor says so in its status)

@@ -8,6 +8,7 @@
 
 #include "continuation/engine/ContinuationOptions.hpp"
 #include "continuation/orbits/OrbitContinuation.hpp"
+#include "runs/OrbitCommand.hpp"
 #include "runs/OutputFile.hpp"
 #include "runs/SolveCommand.hpp"
 #include "runs/TraceCommand.hpp"
@@ -26,13 +27,13 @@ LoadedScene TaskScenes::load(const StudyTask& task) {
     it = texts_.emplace(task.scene, text.str()).first;
   }
   LoadedScene loaded = load_scene_text(it->second, task.scene, declare_trace_keys, task.overrides);
-  if (kind_ != "solve") ContinuationOptions::from_scene(loaded.scene);
+  if (kind_ == "solve") return loaded;
+  const ContinuationOptions continuation = ContinuationOptions::from_scene(loaded.scene);
   if (kind_ == "orbit") {
-    OrbitContinuationOptions::from_scene(loaded.scene, ContinuationOptions::from_scene(loaded.scene));
+    OrbitContinuationOptions::from_scene(loaded.scene, continuation);
     if (StabilityOptions::from_scene(loaded.scene).enabled)
-      throw SceneError(
-          "key 'stability.enabled': [stability] analyses steady states; an orbit branch has its Floquet multipliers "
-          "([orbit] multipliers): set stability.enabled = false for an orbit study");
+      throw SceneError(fmt::format("key 'stability.enabled': {}: set stability.enabled = false for an orbit study",
+                                   kOrbitStabilityRefusal));
   }
   return loaded;
 }
