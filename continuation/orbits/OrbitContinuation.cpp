@@ -356,8 +356,7 @@ bool OrbitContinuation::locate(const OrbitPoint& a, const OrbitPoint& b, PointKi
 OrbitContinuationResult OrbitContinuation::run(const OrbitPoint& first, const OrbitPoint& second,
                                                BranchObserver& observer, const std::function<bool()>& stop,
                                                bool report_start) {
-  const auto t0 = std::chrono::steady_clock::now();
-  auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+  auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count(); };
   OrbitContinuationResult result;
   observer.on_start(observable_names(), {});
   int index = 0;

@@ -15,6 +15,7 @@
 // the analysis columns are the multipliers.
 #pragma once
 
+#include <chrono>
 #include <complex>
 #include <functional>
 #include <limits>
@@ -177,6 +178,8 @@ class OrbitContinuation {
   bool scales_set_ = false;
   long newton_ = 0, krylov_ = 0;  // iterations of the corrections
   double multiplier_seconds_ = 0.0;
+  // from construction: the branch's seconds include its first orbits, corrected before run()
+  std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();
   ShootingMap map_;
 };
 

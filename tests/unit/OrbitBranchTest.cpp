@@ -104,6 +104,31 @@ TEST(OrbitBranch, AdaptiveControlPeriodDoublingsAgainstMatCont) {
   EXPECT_NEAR(r.located[1].period, pd.period, 2e-9);
 }
 
+// The branch's time (its seconds column and its summary) counts from the continuation's start: its
+// first two orbits, corrected before run() and reported as its first rows, included. A run that
+// ends at once (two orbits computed) took at least their integrations and passes.
+TEST(OrbitBranch, TheBranchTimeIncludesItsFirstOrbits) {
+  FunctionProblem p = adaptive_control(0.95);
+  OrbitContinuationOptions o = options();
+  o.max_points = 2;
+  OrbitContinuation c(p, 0, o, nullptr);
+  Vector u0(3), flow(3);
+  u0 << 0.236, 0.0, -0.236;
+  flow << 0.0, -1.0, 0.0;
+  OrbitPoint a, b;
+  ASSERT_TRUE(c.converge(u0, 2.0 * std::numbers::pi, flow, a).is_ok());
+  p.parameters().set(0, 0.93);
+  ASSERT_TRUE(c.converge(a.u0, a.period, a.flow, b).is_ok());
+  RecordingObserver rec;
+  const OrbitContinuationResult r = c.run(a, b, rec);
+  EXPECT_EQ(r.code, StopCode::MaxSteps) << r.reason;
+  const double counted = r.counts.forward_seconds + r.counts.linearised_seconds;
+  EXPECT_GT(counted, 0.0);
+  EXPECT_GE(r.seconds, counted);
+  ASSERT_EQ(rec.points.size(), 2u);
+  EXPECT_GE(rec.points[1].seconds, counted);
+}
+
 // Branch switching at the period doubling onto the doubled branch: its orbits lie below alpha_PD,
 // have twice the period there, and are not the single orbit run twice: half a period from u0 they
 // are |Phi_(T/2)(u0) - u0| away from u0, which grows as sqrt(alpha_PD - alpha) (a pitchfork of the
