@@ -83,7 +83,7 @@ NewtonResult NewtonSolver::solve(Vector& u, const Observer& observer, bool on_ke
       on_this_matrix = 0;
     }
     t0 = Clock::now();
-    st = lu_->solve(-F, du);
+    st = lu_->solve(-F, du, false, refinement_steps(reuse));
     it.solve_seconds = since(t0);
     if (!st.is_ok()) {
       res.status = st;

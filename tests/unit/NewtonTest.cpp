@@ -290,3 +290,11 @@ TEST(Newton, ChordReachesAReachableTolerance) {
       EXPECT_LE(res.residual_norm, tol * problem.residual_scale()) << "lambda " << lambda << ", tolerance " << tol;
     }
 }
+
+// A chord iteration solves without iterative refinement (its error is the kept matrix's age); an
+// iteration on its own Jacobian with the LU options' refinement. The chord runs above converge to
+// the Newton-only solution with it (ChordRateSavesFactorisationsInTheFinalPhase: to 1e-10).
+TEST(Newton, OnlyAnIterationOnItsOwnJacobianRefinesItsSolve) {
+  EXPECT_EQ(NewtonSolver::refinement_steps(true), 0);
+  EXPECT_EQ(NewtonSolver::refinement_steps(false), -1);  // SparseLU::solve's "the options'"
+}
