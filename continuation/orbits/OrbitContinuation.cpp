@@ -79,8 +79,10 @@ Status OrbitContinuation::analyse(OrbitPoint& p) {
   p.trivial = -1;
   if (!multipliers_ || options_.multipliers <= 0) return {};
   const auto t0 = std::chrono::steady_clock::now();
-  const Status st = multipliers_->compute(problem_.size(), monodromy(), p.multipliers, p.trivial, nullptr,
+  std::vector<Eigen::VectorXcd> vectors;
+  const Status st = multipliers_->compute(problem_.size(), monodromy(), p.multipliers, p.trivial, &vectors,
                                           multiplier_tolerance(map_.exact_passes()));
+  if (st.is_ok()) deflation_ = OrbitDeflation::from(p.multipliers, vectors, p.trivial);
   multiplier_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return st;
 }
@@ -129,8 +131,8 @@ Status OrbitContinuation::converge(const Vector& u0, double T, const Vector& flo
     normal = map_.end_rate();
   }
   const Vector ref = out.u0;
-  const OrbitCorrection c =
-      OrbitCorrector(map_, options_.corrector).correct(out.u0, out.period, out.lambda, false, out.grid, ref, normal);
+  const OrbitCorrection c = OrbitCorrector(map_, options_.corrector, &deflation_)
+                                .correct(out.u0, out.period, out.lambda, false, out.grid, ref, normal);
   return take(c, out);
 }
 
@@ -146,8 +148,8 @@ Status OrbitContinuation::correct(const OrbitPoint& from, Vector u0, double T, d
   row.z_T = T;
   row.z_lambda = lambda;
   out.grid = from.grid;
-  const OrbitCorrection c =
-      OrbitCorrector(map_, options_.corrector).correct(u0, T, lambda, true, out.grid, from.u0, from.flow, row);
+  const OrbitCorrection c = OrbitCorrector(map_, options_.corrector, &deflation_)
+                                .correct(u0, T, lambda, true, out.grid, from.u0, from.flow, row);
   out.u0 = std::move(u0);
   out.period = T;
   out.lambda = lambda;
@@ -290,7 +292,7 @@ bool OrbitContinuation::land(const OrbitPoint& a, const OrbitPoint& b, double va
   fixed.z_lambda = value;
   Vector u0 = a.u0 + t * (b.u0 - a.u0);
   double T = a.period + t * (b.period - a.period), lambda = value;
-  OrbitCorrector corrector(map_, options_.corrector);
+  OrbitCorrector corrector(map_, options_.corrector, &deflation_);
   OrbitCorrection c = corrector.correct(u0, T, lambda, true, a.grid, a.u0, a.flow, fixed);
   out = OrbitPoint{};
   out.grid = a.grid;

@@ -25,6 +25,7 @@
 #include "continuation/Continuation.hpp"
 #include "continuation/engine/ContinuationOptions.hpp"
 #include "continuation/orbits/OrbitCorrector.hpp"
+#include "continuation/orbits/OrbitDeflation.hpp"
 #include "continuation/orbits/OrbitMeasures.hpp"
 #include "continuation/orbits/ShootingMap.hpp"
 #include "core/Scene.hpp"
@@ -181,6 +182,8 @@ class OrbitContinuation {
   // from construction: the branch's seconds include its first orbits, corrected before run()
   std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();
   ShootingMap map_;
+  // from the last orbit analysed: the corrections' preconditioner (OrbitDeflation)
+  OrbitDeflation deflation_;
 };
 
 }  // namespace keller

@@ -96,9 +96,14 @@ OrbitCorrection OrbitCorrector::correct(Vector& u0, double& T, double& lambda, b
       }
       return y;
     };
-    auto identity = [](const Vector& z) { return z; };
+    auto precondition = [&](const Vector& z) {
+      if (!deflation_ || deflation_->empty()) return z;
+      Vector y = z;
+      y.head(N) = deflation_->apply(z.head(N));
+      return y;
+    };
     Vector dz;
-    const GmresResult g = gmres(A, identity, Vector(-R), dz, eta, options_.krylov_iterations);
+    const GmresResult g = gmres(A, precondition, Vector(-R), dz, eta, options_.krylov_iterations);
     out.krylov_iterations += g.iterations;
     if (!failed.is_ok()) {
       out.status = failed;

@@ -8,12 +8,14 @@
 // lambda columns inside the pass with M's (a pass is linear in (v0, dT, dlambda)). M's eigenvalues
 // are the Floquet multipliers: those of strongly damped modes are near 0, so M - I clusters them at
 // -1 and GMRES pays about one iteration per multiplier away from 0 (Sanchez, Net, Garcia-Archilla
-// and Simo 2004 for Navier-Stokes). The forcing term follows Eisenstat and Walker (1996, choice 2).
+// and Simo 2004 for Navier-Stokes); a neighbouring orbit's multipliers, where given, precondition
+// those it computed away (OrbitDeflation). The forcing term follows Eisenstat and Walker (1996, choice 2).
 #pragma once
 
 #include <functional>
 #include <string>
 
+#include "continuation/orbits/OrbitDeflation.hpp"
 #include "continuation/orbits/ShootingMap.hpp"
 #include "core/Status.hpp"
 #include "core/Types.hpp"
@@ -49,7 +51,11 @@ struct OrbitCorrection {
 
 class OrbitCorrector {
  public:
-  explicit OrbitCorrector(ShootingMap& map, OrbitCorrectorOptions options = {}) : map_(map), options_(options) {}
+  // deflation: GMRES's right preconditioner on the state (OrbitDeflation, from a neighbouring
+  // orbit's multipliers; null or empty: none)
+  explicit OrbitCorrector(ShootingMap& map, OrbitCorrectorOptions options = {},
+                          const OrbitDeflation* deflation = nullptr)
+      : map_(map), options_(options), deflation_(deflation) {}
 
   // Corrects (u0, T) in place on the grid, with the phase hyperplane through u_ref normal to n; with
   // free_lambda also lambda (the map's parameter, which must exist), closed by `row`; without it
@@ -79,6 +85,7 @@ class OrbitCorrector {
  private:
   ShootingMap& map_;
   OrbitCorrectorOptions options_;
+  const OrbitDeflation* deflation_;
 };
 
 }  // namespace keller
