@@ -53,6 +53,21 @@ OrbitContinuationOptions options() {
   return o;
 }
 
+// The adaptive control problem's first two orbits, at alpha = 0.95 and 0.93, from the Hopf normal
+// form's orbit at 0.95: |z| = sqrt(-g' (alpha - 1) / Re c1) = 0.118 with q = (1, i, -1), g' = -1/4,
+// Re c1 = -0.9 (PublishedNormalForms)
+// then the branch from them
+OrbitContinuationResult branch_from_two_orbits(FunctionProblem& p, OrbitContinuation& c, RecordingObserver& rec) {
+  Vector u0(3), flow(3);
+  u0 << 0.236, 0.0, -0.236;
+  flow << 0.0, -1.0, 0.0;
+  OrbitPoint a, b;
+  EXPECT_TRUE(c.converge(u0, 2.0 * std::numbers::pi, flow, a).is_ok());
+  p.parameters().set(0, 0.93);
+  EXPECT_TRUE(c.converge(a.u0, a.period, a.flow, b).is_ok());
+  return c.run(a, b, rec);
+}
+
 }  // namespace
 
 // The branch from the Hopf point at alpha = 1 down to alpha = -0.7. MatCont's manual prints the
@@ -68,17 +83,8 @@ TEST(OrbitBranch, AdaptiveControlPeriodDoublingsAgainstMatCont) {
   OrbitContinuationOptions o = options();
   o.lambda_min = -0.7;
   OrbitContinuation c(p, 0, o, &floquet);
-  // the Hopf normal form's orbit at alpha = 0.95: |z| = sqrt(-g' (alpha - 1) / Re c1) = 0.118 with
-  // q = (1, i, -1), g' = -1/4, Re c1 = -0.9 (PublishedNormalForms)
-  Vector u0(3), flow(3);
-  u0 << 0.236, 0.0, -0.236;
-  flow << 0.0, -1.0, 0.0;
-  OrbitPoint a, b;
-  ASSERT_TRUE(c.converge(u0, 2.0 * std::numbers::pi, flow, a).is_ok());
-  p.parameters().set(0, 0.93);
-  ASSERT_TRUE(c.converge(a.u0, a.period, a.flow, b).is_ok());
   RecordingObserver rec;
-  const OrbitContinuationResult r = c.run(a, b, rec);
+  const OrbitContinuationResult r = branch_from_two_orbits(p, c, rec);
   EXPECT_EQ(r.code, StopCode::LowerBound) << r.reason;
   ASSERT_EQ(r.located.size(), 2u);
   EXPECT_TRUE(rec.notes.empty());
@@ -112,15 +118,8 @@ TEST(OrbitBranch, TheBranchTimeIncludesItsFirstOrbits) {
   OrbitContinuationOptions o = options();
   o.max_points = 2;
   OrbitContinuation c(p, 0, o, nullptr);
-  Vector u0(3), flow(3);
-  u0 << 0.236, 0.0, -0.236;
-  flow << 0.0, -1.0, 0.0;
-  OrbitPoint a, b;
-  ASSERT_TRUE(c.converge(u0, 2.0 * std::numbers::pi, flow, a).is_ok());
-  p.parameters().set(0, 0.93);
-  ASSERT_TRUE(c.converge(a.u0, a.period, a.flow, b).is_ok());
   RecordingObserver rec;
-  const OrbitContinuationResult r = c.run(a, b, rec);
+  const OrbitContinuationResult r = branch_from_two_orbits(p, c, rec);
   EXPECT_EQ(r.code, StopCode::MaxSteps) << r.reason;
   const double counted = r.counts.forward_seconds + r.counts.linearised_seconds;
   EXPECT_GT(counted, 0.0);
