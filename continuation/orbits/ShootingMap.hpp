@@ -88,7 +88,11 @@ struct ShootingOptions {
   // age, not the solve's rounding; refinement against the kept matrix bought nothing there (the
   // FSI problem of docs/periodic_orbits.md, its first two orbits: 42,653 chord iterations without
   // it against 42,751 with 2 steps) and took three quarters of the forward time (27.8 s against
-  // 112.8 s). The linearised passes keep `lu`'s refinement where they solve with a solve's own matrix.
+  // 112.8 s). Newton now skips it on every chord iteration (NewtonSolver::refinement_steps); this
+  // also drops it on a fresh factorisation's solves, whose error the next chord iterations correct
+  // as well: the first two orbits' forward time 28.3 s with it against 32.3 s with Newton's policy
+  // alone (the two runs side by side). The linearised passes keep `lu`'s refinement where they
+  // solve with a solve's own matrix.
   static SparseLUOptions chord_lu(SparseLUOptions lu);
   static SparseLUOptions::Backend backend_for(SparseLUOptions::Backend asked, int n);
 };
