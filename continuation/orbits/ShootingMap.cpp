@@ -356,7 +356,7 @@ Status ShootingMap::factorise(Solve& s) {
   return {};
 }
 
-Status ShootingMap::solve_linearised(Solve& s, const Vector& rhs, Vector& v, double tolerance) {
+Status ShootingMap::solve_linearised(Solve& s, const Vector& rhs, Vector& v, double tolerance, const Vector& guess) {
   // the preconditioner: an anchor's factorisation (Preconditioned), else the solve's own matrix
   // without the B' term, factorised now where it is not kept
   SparseLU* lu = nullptr;
@@ -400,7 +400,23 @@ Status ShootingMap::solve_linearised(Solve& s, const Vector& rhs, Vector& v, dou
     }
     return (Gp - Gm) / (2.0 * eps);
   };
-  const GmresResult g = gmres(A, P, rhs, v, tolerance, kInnerIterations);
+  // from the guess where it leaves less to solve for: GMRES on the rest, to the same residual
+  const double target = tolerance * rhs.norm();
+  Vector rest;
+  bool guessed = false;
+  if (guess.size() == rhs.size()) {
+    rest = rhs - A(guess);
+    ++counts_.inner_iterations;
+    if (!failed.is_ok()) return failed;
+    guessed = rest.norm() < rhs.norm();
+    if (guessed && rest.norm() <= target) {
+      v = guess;
+      return {};
+    }
+  }
+  const Vector& b = guessed ? rest : rhs;
+  const GmresResult g = gmres(A, P, b, v, target / b.norm(), kInnerIterations);
+  if (guessed) v += guess;
   counts_.inner_iterations += g.iterations;
   if (!failed.is_ok()) return failed;
   if (!g.converged)
@@ -408,6 +424,15 @@ Status ShootingMap::solve_linearised(Solve& s, const Vector& rhs, Vector& v, dou
             fmt::format("shooting: a linearised solve took more than {} GMRES iterations", kInnerIterations)};
   return {};
 }
+
+namespace {
+// A solve's first guess: the rate's change as the last solve's, dU = shift + dR / coefficient
+// (empty where there was no last solve)
+Vector rate_guess(const Vector& shift, const Vector& previous, double coefficient) {
+  if (previous.size() != shift.size()) return {};
+  return shift + previous / coefficient;
+}
+}  // namespace
 
 Status ShootingMap::parameter_term(Solve& s, double dlambda, Vector& rhs) {
   if (dlambda == 0.0) return {};
@@ -439,14 +464,18 @@ Status ShootingMap::linearised(const Vector& v0, double dT, double dlambda, Vect
   Status st;
   if (method_ == TimeOptions::Method::Bdf2) {
     Vector before = v0, last = v0;  // v_(k-2), v_(k-1)
+    Vector dR;                      // the last step's dR (empty: none yet)
     for (Solve& s : solves_) {
       const double h = steps_[static_cast<size_t>(s.step)];
       Vector w = s.c[1] * last;
       if (s.c[2] != 0.0) w += s.c[2] * before;
-      // B (c0 dU + w) / h - B R s_T + J dU + ... = 0
-      if (!(st = apply_mass(s, s_T * s.rate - w / h, rhs)).is_ok() || !(st = parameter_term(s, dlambda, rhs)).is_ok() ||
-          !(st = solve_linearised(s, rhs, v, tolerance)).is_ok())
+      // dR = (c0 dU + w) / h - s_T R = coefficient (dU - shift); B dR + J dU + ... = 0
+      const Vector shift = (s_T * s.rate - w / h) / s.coefficient;
+      if (!(st = apply_mass(s, s.coefficient * shift, rhs)).is_ok() ||
+          !(st = parameter_term(s, dlambda, rhs)).is_ok() ||
+          !(st = solve_linearised(s, rhs, v, tolerance, rate_guess(shift, dR, s.coefficient))).is_ok())
         return st;
+      dR = s.coefficient * (v - shift);
       before = std::move(last);
       last = v;
     }
@@ -455,6 +484,7 @@ Status ShootingMap::linearised(const Vector& v0, double dT, double dlambda, Vect
     const SdirkTableau& t = sdirk4();
     Vector un = v0;  // du_n
     std::array<Vector, SdirkTableau::kStages> dK;
+    Vector dK_last;  // the last step's last stage's (empty: none yet)
     for (size_t first = 0; first < solves_.size(); first += SdirkTableau::kStages) {
       const double h = steps_[static_cast<size_t>(solves_[first].step)];
       const Vector& u_n = states_[static_cast<size_t>(solves_[first].step)];
@@ -464,12 +494,15 @@ Status ShootingMap::linearised(const Vector& v0, double dT, double dlambda, Vect
         Vector w = un;
         for (int j = 0; j < i; ++j) w += (h * t.a[i][j]) * dK[static_cast<size_t>(j)];
         const Vector shift = w + s_T * (s.U - u_n);
+        const Vector& previous = i > 0 ? dK[static_cast<size_t>(i - 1)] : dK_last;
         if (!(st = apply_mass(s, s.coefficient * shift, rhs)).is_ok() ||
-            !(st = parameter_term(s, dlambda, rhs)).is_ok() || !(st = solve_linearised(s, rhs, v, tolerance)).is_ok())
+            !(st = parameter_term(s, dlambda, rhs)).is_ok() ||
+            !(st = solve_linearised(s, rhs, v, tolerance, rate_guess(shift, previous, s.coefficient))).is_ok())
           return st;
         dK[static_cast<size_t>(i)] = s.coefficient * (v - shift);
       }
       un = v;
+      dK_last = dK[SdirkTableau::kStages - 1];
     }
     out = std::move(un);
   }

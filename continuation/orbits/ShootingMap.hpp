@@ -155,7 +155,8 @@ class ShootingMap {
   // B(U) x at the solve's state
   Status apply_mass(const Solve& solve, const Vector& x, Vector& out);
   // dU = A^-1 rhs for a solve (with the B' term where B varies)
-  Status solve_linearised(Solve& solve, const Vector& rhs, Vector& dU, double tolerance);
+  // guess: a first approximation of dU (empty: none), taken where it leaves less of rhs to solve for
+  Status solve_linearised(Solve& solve, const Vector& rhs, Vector& dU, double tolerance, const Vector& guess);
   // the right-hand side's parameter term: -F_lambda(U) dlambda (F_lambda kept within the memory budget)
   Status parameter_term(Solve& solve, double dlambda, Vector& rhs);
   const SparseMatrix& mass(const Solve& solve) const;
