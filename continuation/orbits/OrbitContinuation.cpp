@@ -87,9 +87,12 @@ Status OrbitContinuation::analyse(OrbitPoint& p) {
   return st;
 }
 
+bool OrbitContinuation::records_grid(double grid_error) { return !(grid_error <= 1.0); }
+
 Status OrbitContinuation::finish(OrbitPoint& p) {
   p.flow = map_.end_rate();
   p.states = map_.states();
+  p.grid_error = map_.step_error(options_.time.relative_tolerance, options_.time.absolute_tolerance);
   p.times.assign(1, 0.0);
   for (double f : p.grid.fractions) p.times.push_back(f * p.period);
   return analyse(p);
@@ -473,12 +476,12 @@ OrbitContinuationResult OrbitContinuation::run(const OrbitPoint& first, const Or
                     : next.iterations > options_.target_iterations ? ds * kShrink
                                                                    : ds,
                     options_.min_step, options_.max_step);
-    try {
-      next.grid =
-          record_grid(problem_, next.u0, next.period, options_.time, options_.shooting.newton, options_.shooting.lu);
-    } catch (const std::runtime_error&) {
-      // keep the grid it converged on
-    }
+    if (records_grid(next.grid_error)) try {
+        next.grid =
+            record_grid(problem_, next.u0, next.period, options_.time, options_.shooting.newton, options_.shooting.lu);
+      } catch (const std::runtime_error&) {
+        // keep the grid it converged on
+      }
     a = std::move(b);
     b = std::move(next);
     last = report(b, PointKind::Regular, "", ds);

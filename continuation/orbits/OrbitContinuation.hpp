@@ -59,6 +59,9 @@ struct OrbitPoint {
   long krylov_iterations = 0;
   double residual = 0.0;
   double s = 0.0;  // arclength from the start
+  // The largest local error estimate of its integration on its grid (ShootingMap::step_error:
+  // above 1, a step fails the integrator's error test on this orbit; +inf: not estimated)
+  double grid_error = std::numeric_limits<double>::infinity();
 };
 
 struct OrbitContinuationOptions {
@@ -152,6 +155,12 @@ class OrbitContinuation {
   static constexpr double kInexactMultiplierTolerance = 1e-6, kMultiplierPassShare = 1e-3;
   static double multiplier_tolerance(bool exact_passes);
   static double multiplier_pass_tolerance(bool exact_passes);
+  // Whether the branch records a new grid (an adaptive run over the period) from an orbit it has
+  // just converged, for the next: where the orbit's own integration on the grid it was computed on
+  // fails the integrator's error test somewhere (grid_error above 1, or not estimated). Else the
+  // grid already meets the tolerance on it and serves on; the run it saves costs about a period of
+  // evolve (on docs/periodic_orbits.md's channel, NN s of an orbit point's NN s).
+  static bool records_grid(double grid_error);
 
  private:
   // Corrects a predicted orbit on the arclength row through z along d (d: unit secant); fills

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <stdexcept>
 
@@ -323,6 +324,22 @@ Status ShootingMap::anchor_lu(int a, SparseLU*& lu) {
     shared_anchor_ = a;
   lu = target.get();
   return {};
+}
+
+double ShootingMap::step_error(double rtol, double atol) const {
+  if (solves_.empty()) throw std::logic_error("shooting: step_error before integrate");
+  if (method_ != TimeOptions::Method::Sdirk4) return std::numeric_limits<double>::infinity();
+  const std::vector<char> counted = TimeIntegrator::differential_unknowns(mass_);
+  const SdirkTableau& t = sdirk4();
+  double worst = 0.0;
+  for (size_t k = 0; k < steps_.size(); ++k) {
+    Vector e = Vector::Zero(states_[k].size());
+    for (int j = 0; j < SdirkTableau::kStages; ++j)
+      e += (steps_[k] * (t.b[static_cast<size_t>(j)] - t.b_hat[static_cast<size_t>(j)])) *
+           solves_[k * SdirkTableau::kStages + static_cast<size_t>(j)].rate;
+    worst = std::max(worst, TimeIntegrator::error_norm(e, states_[k], states_[k + 1], rtol, atol, counted));
+  }
+  return worst;
 }
 
 Vector ShootingMap::end_rate() const {

@@ -128,6 +128,13 @@ class ShootingMap {
   static constexpr double kTightPass = 1e-12;
   Status linearised(const Vector& v0, double dT, double dlambda, Vector& out, double tolerance = kTightPass);
 
+  // The last integrate's largest local error estimate, in the integrator's weighted norm at
+  // (rtol, atol) over its differential unknowns (continuation/time): SDIRK4's embedded estimate
+  // h sum_j (b_j - b_hat_j) K_j of every step, from the stages' rates. At most 1: every step of the
+  // grid would pass the error test an adaptive run applies, on this orbit. BDF2: +inf (no estimate
+  // kept).
+  double step_error(double rtol, double atol) const;
+
   // Whether the last integrate's passes are exact (every solve's matrix factorised, B constant)
   // rather than GMRES to the tolerance asked.
   bool exact_passes() const { return !preconditioned_ && !mass_varies_; }

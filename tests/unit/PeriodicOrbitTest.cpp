@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <complex>
+#include <limits>
 
 #include <fmt/format.h>
 
@@ -283,6 +284,16 @@ TEST(OrbitCorrector, PassToleranceAndStopAsFunctions) {
   EXPECT_FALSE(OrbitCorrector::converged(5e-11, 5e-9, 0.15, tol));  // contraction too slow to trust
   EXPECT_TRUE(OrbitCorrector::converged(5e-11, 5e-9, 0.1, tol));
   EXPECT_FALSE(OrbitCorrector::converged(5e-11, 5e-9, std::nan(""), tol));
+}
+
+// A branch records a new grid from an orbit where the orbit's integration on its grid fails the
+// integrator's error test somewhere, or was not estimated (BDF2), and keeps the grid otherwise.
+TEST(OrbitContinuation, ANewGridWhereTheOldOneFailsTheErrorTest) {
+  EXPECT_FALSE(OrbitContinuation::records_grid(0.5));
+  EXPECT_FALSE(OrbitContinuation::records_grid(1.0));
+  EXPECT_TRUE(OrbitContinuation::records_grid(1.01));
+  EXPECT_TRUE(OrbitContinuation::records_grid(std::numeric_limits<double>::infinity()));
+  EXPECT_TRUE(OrbitContinuation::records_grid(std::nan("")));
 }
 
 // The multipliers' accuracy follows their passes' (OrbitContinuation::multiplier_tolerance): exact

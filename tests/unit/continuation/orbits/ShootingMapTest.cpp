@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include "continuation/orbits/ShootingMap.hpp"
@@ -236,6 +237,35 @@ TEST(ShootingMap, AGuessedSolveKeepsItsTolerance) {
     ASSERT_TRUE(map.linearised(v, 0.2, 0.1, tight).is_ok());
     EXPECT_LT((loose - tight).norm(), 1e3 * 1e-6 * tight.norm());
   }
+}
+
+// The grid's error check (ShootingMap::step_error): on the run the grid came from, every step's
+// embedded SDIRK4 estimate is at most 1 (the adaptive run accepted each step with it; the grid
+// reproduces the run to 1e-11); over a period 1.6 times longer the same fractions make every step
+// 1.6 times longer and the O(h^4) estimate about 6.6 times larger: above 1. BDF2 keeps none: +inf.
+TEST(ShootingMap, TheStepErrorIsTheAdaptiveRunsOwnTest) {
+  FunctionProblem p = brusselator(1.0, 3.0);
+  TimeOptions o;
+  o.method = TimeOptions::Method::Sdirk4;
+  o.relative_tolerance = 1e-6;
+  o.absolute_tolerance = 1e-10;
+  const double T = 3.0;
+  const OrbitGrid grid = record_grid(p, start(), T, o, ShootingOptions::tight_newton());
+  ShootingMap map(p, 1);
+  ASSERT_TRUE(map.integrate(start(), T, grid).is_ok());
+  const double own = map.step_error(o.relative_tolerance, o.absolute_tolerance);
+  EXPECT_LE(own, 1.0);
+  EXPECT_GT(own, 0.1);  // the run's steps are as long as the test lets them be
+  ASSERT_TRUE(map.integrate(start(), 1.6 * T, grid).is_ok());
+  EXPECT_GT(map.step_error(o.relative_tolerance, o.absolute_tolerance), 2.0 * own);
+  EXPECT_GT(map.step_error(o.relative_tolerance, o.absolute_tolerance), 1.0);
+  // 100 times the tolerance: the same steps pass
+  EXPECT_LT(map.step_error(1e2 * o.relative_tolerance, 1e2 * o.absolute_tolerance), 1.0);
+
+  o.method = TimeOptions::Method::Bdf2;
+  const OrbitGrid bdf = record_grid(p, start(), T, o, ShootingOptions::tight_newton());
+  ASSERT_TRUE(map.integrate(start(), T, bdf).is_ok());
+  EXPECT_EQ(map.step_error(o.relative_tolerance, o.absolute_tolerance), std::numeric_limits<double>::infinity());
 }
 
 // The forward steps' LU options as a function: the given ones without iterative refinement (the
