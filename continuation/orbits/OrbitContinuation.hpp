@@ -159,7 +159,7 @@ class OrbitContinuation {
   // just converged, for the next: where the orbit's own integration on the grid it was computed on
   // fails the integrator's error test somewhere (grid_error above 1, or not estimated). Else the
   // grid already meets the tolerance on it and serves on; the run it saves costs about a period of
-  // evolve (on docs/periodic_orbits.md's channel, NN s of an orbit point's NN s).
+  // evolve (on docs/periodic_orbits.md's FSI problem, two orbits in five kept their grid).
   static bool records_grid(double grid_error);
 
  private:
