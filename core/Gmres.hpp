@@ -2,10 +2,10 @@
 // x = 0, matrix-free: A and P are callables on vectors. The preconditioned basis vectors P v_k are
 // kept, so that x is their combination and P is applied once per iteration, not once more at the end
 // (where P is a sparse LU's solve and the system converges in a few iterations, that last solve was
-// a fifth of the solves). Modified Gram-Schmidt applied twice (the
-// Krylov basis stays orthogonal to rounding where the space nearly closes), the small
-// least-squares problem solved by QR at each step; no restarts (the callers' systems converge in
-// tens of iterations or are given a better preconditioner).
+// a fifth of the solves; the price is a second set of basis vectors in memory). Modified Gram-Schmidt applied twice
+// (the Krylov basis stays orthogonal to rounding where the space nearly closes), the small least-squares problem solved
+// by QR at each step; no restarts (the callers' systems converge in tens of iterations or are given a better
+// preconditioner).
 #pragma once
 
 #include <Eigen/Core>

@@ -59,8 +59,9 @@ struct OrbitPoint {
   long krylov_iterations = 0;
   double residual = 0.0;
   double s = 0.0;  // arclength from the start
-  // The largest local error estimate of its integration on its grid (ShootingMap::step_error:
-  // above 1, a step fails the integrator's error test on this orbit; +inf: not estimated)
+  // The largest local error estimate of its integration on the grid it was computed on
+  // (ShootingMap::step_error: above 1, a step fails the integrator's error test on this orbit;
+  // +inf: not estimated), not on a grid recorded from it afterwards
   double grid_error = std::numeric_limits<double>::infinity();
 };
 

@@ -144,7 +144,7 @@ class ShootingMap {
     long newton_iterations = 0;  // of the forward steps
     long factorisations = 0;     // forward (the integrator's) and linearised (the steps' own)
     long passes = 0;             // linearised passes
-    long inner_iterations = 0;   // Preconditioned: GMRES iterations of the linearised solves
+    long inner_iterations = 0;   // products A x of the linearised solves' GMRES (their guesses' included)
     double forward_seconds = 0, linearised_seconds = 0;
   };
   const Counts& counts() const { return counts_; }

@@ -128,6 +128,27 @@ TEST(OrbitBranch, TheBranchTimeIncludesItsFirstOrbits) {
   EXPECT_GE(rec.points[1].seconds, counted);
 }
 
+// Each orbit carries its grid check (OrbitPoint::grid_error): its own integration's largest
+// SDIRK4 estimate on the grid it was computed on, the map's step_error there (the same computation:
+// to rounding), and a number a new grid is recorded by (finite, not the +inf of no estimate).
+TEST(OrbitBranch, AnOrbitCarriesTheErrorEstimateOfItsGrid) {
+  FunctionProblem p = adaptive_control(0.95);
+  OrbitContinuationOptions o = options();
+  OrbitContinuation c(p, 0, o, nullptr);
+  Vector u0(3), flow(3);
+  u0 << 0.236, 0.0, -0.236;
+  flow << 0.0, -1.0, 0.0;
+  OrbitPoint a;
+  ASSERT_TRUE(c.converge(u0, 2.0 * std::numbers::pi, flow, a).is_ok());
+  ShootingMap map(p, 0, o.shooting);
+  ASSERT_TRUE(map.integrate(a.u0, a.period, a.grid).is_ok());
+  const double direct = map.step_error(o.time.relative_tolerance, o.time.absolute_tolerance);
+  ASSERT_TRUE(std::isfinite(a.grid_error));
+  EXPECT_NEAR(a.grid_error, direct, 1e-9 * direct);
+  EXPECT_GT(a.grid_error, 0.0);
+  EXPECT_LT(a.grid_error, 10.0);
+}
+
 // Branch switching at the period doubling onto the doubled branch: its orbits lie below alpha_PD,
 // have twice the period there, and are not the single orbit run twice: half a period from u0 they
 // are |Phi_(T/2)(u0) - u0| away from u0, which grows as sqrt(alpha_PD - alpha) (a pitchfork of the
