@@ -476,12 +476,14 @@ OrbitContinuationResult OrbitContinuation::run(const OrbitPoint& first, const Or
                     : next.iterations > options_.target_iterations ? ds * kShrink
                                                                    : ds,
                     options_.min_step, options_.max_step);
-    if (records_grid(next.grid_error)) try {
+    if (records_grid(next.grid_error)) {
+      try {
         next.grid =
             record_grid(problem_, next.u0, next.period, options_.time, options_.shooting.newton, options_.shooting.lu);
       } catch (const std::runtime_error&) {
         // keep the grid it converged on
       }
+    }
     a = std::move(b);
     b = std::move(next);
     last = report(b, PointKind::Regular, "", ds);

@@ -267,10 +267,9 @@ double ShootingMap::step_error(double rtol, double atol) const {
   const SdirkTableau& t = sdirk4();
   double worst = 0.0;
   for (size_t k = 0; k < steps_.size(); ++k) {
-    Vector e = Vector::Zero(states_[k].size());
-    for (int j = 0; j < SdirkTableau::kStages; ++j)
-      e += (steps_[k] * (t.b[static_cast<size_t>(j)] - t.b_hat[static_cast<size_t>(j)])) *
-           solves_[k * SdirkTableau::kStages + static_cast<size_t>(j)].rate;
+    std::array<const Vector*, SdirkTableau::kStages> K;
+    for (size_t j = 0; j < K.size(); ++j) K[j] = &solves_[k * SdirkTableau::kStages + j].rate;
+    const Vector e = t.embedded_error(steps_[k], K);
     worst = std::max(worst, TimeIntegrator::error_norm(e, states_[k], states_[k + 1], rtol, atol, counted));
   }
   return worst;

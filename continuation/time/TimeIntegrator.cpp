@@ -204,8 +204,9 @@ bool TimeIntegrator::sdirk_step(double h, const Vector& u_n, Vector& k_guess, Ve
     K[i] = (u - sum) / hg;
     if (stages) stages->push_back(u);
   }
-  error = Vector::Zero(u_n.size());
-  for (int j = 0; j < SdirkTableau::kStages; ++j) error += (h * (t.b[j] - t.b_hat[j])) * K[j];
+  std::array<const Vector*, SdirkTableau::kStages> rates;
+  for (size_t j = 0; j < rates.size(); ++j) rates[j] = &K[j];
+  error = t.embedded_error(h, rates);
   k_guess = K[SdirkTableau::kStages - 1];
   return true;
 }

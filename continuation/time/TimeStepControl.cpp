@@ -6,6 +6,12 @@
 
 namespace keller {
 
+Vector SdirkTableau::embedded_error(double h, const std::array<const Vector*, kStages>& K) const {
+  Vector e = Vector::Zero(K[0]->size());
+  for (size_t j = 0; j < kStages; ++j) e += (h * (b[j] - b_hat[j])) * *K[j];
+  return e;
+}
+
 const SdirkTableau& sdirk4() {
   static const SdirkTableau t = [] {
     SdirkTableau s;

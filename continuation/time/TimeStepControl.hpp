@@ -7,6 +7,8 @@
 
 #include <array>
 
+#include "core/Types.hpp"
+
 namespace keller {
 
 // The 5-stage SDIRK method of order 4 of Hairer and Wanner (Solving ODEs II, Table IV.6.5): L-stable
@@ -20,6 +22,9 @@ struct SdirkTableau {
   double gamma = 0.0;
   std::array<std::array<double, kStages>, kStages> a{};
   std::array<double, kStages> b{}, b_hat{}, c{};
+  // The embedded method's local error estimate h sum_j (b_j - b_hat_j) K_j from the stage rates
+  // (the adaptive run's, and the shooting map's check of a frozen grid)
+  Vector embedded_error(double h, const std::array<const Vector*, kStages>& K) const;
 };
 const SdirkTableau& sdirk4();
 

@@ -4,6 +4,8 @@
 // rate, second-order convergence in the step, and an index-1 DAE (a singular B) started from an inconsistent state.
 #include <gtest/gtest.h>
 
+#include <array>
+
 #include <cmath>
 #include <random>
 
@@ -381,6 +383,20 @@ TEST(TimeStepControl, TheSdirkTableauHasTheOrdersItClaims) {
   for (size_t k = 4; k < 8; ++k) fourth = std::max(fourth, std::abs(ch[k]));
   EXPECT_GT(fourth, 1e-3);
   EXPECT_NEAR(1.0 - b.dot(A.partialPivLu().solve(Eigen::VectorXd::Ones(s))), 0.0, 1e-14);
+
+  // the embedded estimate h sum_j (b_j - b_hat_j) K_j: zero for equal rates (both weights sum to
+  // 1), h (b_j - b_hat_j) for the unit rate in stage j alone
+  std::array<Vector, SdirkTableau::kStages> K;
+  std::array<const Vector*, SdirkTableau::kStages> rates;
+  for (int j = 0; j < s; ++j) {
+    K[j] = Vector::Constant(2, 3.0);
+    rates[j] = &K[j];
+  }
+  EXPECT_LT(t.embedded_error(0.5, rates).norm(), 1e-14);
+  for (int j = 0; j < s; ++j) {
+    for (int i = 0; i < s; ++i) K[i] = Vector::Constant(2, i == j ? 1.0 : 0.0);
+    EXPECT_NEAR(t.embedded_error(0.5, rates)[1], 0.5 * (b[j] - bh[j]), 1e-15) << j;
+  }
 }
 
 // Fixed steps on the rotation: the error falls 16-fold per halving of the step (order 4) while it
