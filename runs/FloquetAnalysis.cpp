@@ -12,9 +12,10 @@ FloquetAnalysis FloquetAnalysis::for_branch(int multipliers) {
 
 Status FloquetAnalysis::compute(int n, const std::function<Status(const Vector&, Vector&)>& M,
                                 std::vector<std::complex<double>>& values, int& trivial,
-                                std::vector<Eigen::VectorXcd>* vectors, double tolerance) {
+                                std::vector<Eigen::VectorXcd>* vectors, MultiplierAccuracy accuracy) {
   FloquetOptions o = options_;
-  if (tolerance > 0.0) o.tolerance = tolerance;
+  if (accuracy.tolerance > 0.0) o.tolerance = accuracy.tolerance;
+  o.circle_share = accuracy.circle_share;
   o.vectors = vectors != nullptr;
   o.start = last_.ritz;  // the last orbit's directions: a neighbour's, on a branch
   const Status st = floquet_multipliers(n, M, o, last_);

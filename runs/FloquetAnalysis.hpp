@@ -18,7 +18,7 @@ class FloquetAnalysis final : public OrbitMultipliers {
   int count() const { return options_.count; }
   Status compute(int n, const std::function<Status(const Vector&, Vector&)>& M,
                  std::vector<std::complex<double>>& values, int& trivial, std::vector<Eigen::VectorXcd>* vectors,
-                 double tolerance) override;
+                 MultiplierAccuracy accuracy) override;
   // Of the last compute.
   const FloquetResult& last() const { return last_; }
 

@@ -23,6 +23,19 @@ struct FloquetOptions {
   // an absolute accuracy on the scale of the unit circle (not relative to |mu|: the smallest wanted
   // multipliers of a dissipative flow can lie at the linearised passes' own error)
   double tolerance = 1e-10;
+  // ... or, for a multiplier at least kFarFromCircle from the unit circle (| |mu| - 1 | >= 1/2), at
+  // most circle_share times that distance, on the same scale, where that is larger (0: the tolerance
+  // alone). What such a multiplier decides is which side of the circle it lies (stability, and the
+  // bifurcation tests, which take the multiplier nearest +1, -1 or the circle), and a Ritz value errs
+  // by its residual times its condition number: 1% leaves the side sure up to a condition number of 100.
+  // Nearer the circle the tolerance holds: there the condition numbers can be large (near a Hopf point
+  // the trivial multiplier's vector and the next one's are nearly parallel; on
+  // docs/periodic_orbits.md's FSI problem a Ritz value 0.9884 passed a residual test of 1.2e-4
+  // where the multiplier was 0.9765).
+  double circle_share = 0.0;
+  static constexpr double kFarFromCircle = 0.5;
+  // The residual a wanted multiplier mu must reach, on the scale max(1, |mu_1|)
+  double allowed_residual(std::complex<double> mu) const;
   bool vectors = false;  // an eigenvector of each multiplier (unit 2-norm)
   // Arnoldi's start: the sum of these vectors' real and imaginary parts (a neighbouring orbit's
   // Ritz vectors, FloquetResult::ritz) plus the fixed pseudo-random vector at 10% of its norm, so

@@ -61,8 +61,9 @@ double OrbitContinuation::norm(const Vector& du, double dT, double dlambda) cons
                    (1.0 - theta) * (dlambda * dlambda + dt * dt));
 }
 
-double OrbitContinuation::multiplier_tolerance(bool exact_passes) {
-  return exact_passes ? 0.0 : kInexactMultiplierTolerance;
+MultiplierAccuracy OrbitContinuation::multiplier_accuracy(bool exact_passes) {
+  if (exact_passes) return {};
+  return {kInexactMultiplierTolerance, kInexactCircleShare};
 }
 
 double OrbitContinuation::multiplier_pass_tolerance(bool exact_passes) {
@@ -81,7 +82,7 @@ Status OrbitContinuation::analyse(OrbitPoint& p) {
   const auto t0 = std::chrono::steady_clock::now();
   std::vector<Eigen::VectorXcd> vectors;
   const Status st = multipliers_->compute(problem_.size(), monodromy(), p.multipliers, p.trivial, &vectors,
-                                          multiplier_tolerance(map_.exact_passes()));
+                                          multiplier_accuracy(map_.exact_passes()));
   if (st.is_ok()) deflation_ = OrbitDeflation::from(p.multipliers, vectors, p.trivial);
   multiplier_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return st;
@@ -168,7 +169,7 @@ Status OrbitContinuation::period_doubling_vector(const OrbitPoint& pd, Vector& v
   std::vector<Eigen::VectorXcd> vectors;
   int trivial = -1;
   st = multipliers_->compute(problem_.size(), monodromy(), values, trivial, &vectors,
-                             multiplier_tolerance(map_.exact_passes()));
+                             multiplier_accuracy(map_.exact_passes()));
   if (!st.is_ok()) return st;
   int best = -1;
   for (size_t i = 0; i < values.size(); ++i)

@@ -32,17 +32,25 @@
 
 namespace keller {
 
+// What the multipliers of an orbit must resolve: each one's residual |M x - mu x| (|x| = 1), on
+// the scale of the unit circle (max(1, |mu_1|)), at most the tolerance (<= 0: the analysis's own),
+// or, for one at least 1/2 from the unit circle, circle_share times its distance from it
+// | |mu| - 1 | where that is larger (stability/FloquetMultipliers.hpp says why).
+struct MultiplierAccuracy {
+  double tolerance = 0.0;
+  double circle_share = 0.0;
+};
+
 // The Floquet multipliers of an orbit, by whatever computes eigenvalues (runs/ gives stability's).
 class OrbitMultipliers {
  public:
   virtual ~OrbitMultipliers() = default;
   // The multipliers of largest magnitude of the n x n monodromy matrix applied by M, by |mu|
-  // descending, the trivial one's index, and where `vectors` is given, an eigenvector of each.
-  // tolerance: the residual |M x - mu x| (|x| = 1) each must reach, on the scale of the unit circle
-  // (<= 0: the analysis's own); M's products are accurate to about a thousandth of it.
+  // descending, the trivial one's index, and where `vectors` is given, an eigenvector of each, to
+  // `accuracy`; M's products are accurate to about a thousandth of its tolerance.
   virtual Status compute(int n, const std::function<Status(const Vector&, Vector&)>& M,
                          std::vector<std::complex<double>>& values, int& trivial,
-                         std::vector<Eigen::VectorXcd>* vectors, double tolerance) = 0;
+                         std::vector<Eigen::VectorXcd>* vectors, MultiplierAccuracy accuracy) = 0;
 };
 
 // A converged orbit.
@@ -146,15 +154,18 @@ class OrbitContinuation {
   static std::vector<std::string> observable_names(const std::vector<std::string>& problem_observables);
   static std::vector<std::string> analysis_columns(int multipliers);
 
-  // The multipliers' accuracy (OrbitMultipliers::compute's tolerance; 0: the analysis's own, 1e-10)
+  // The multipliers' accuracy (OrbitMultipliers::compute's; tolerance 0: the analysis's own, 1e-10)
   // and their passes' (ShootingMap::linearised's), for exact passes (every solve's matrix
   // factorised, B constant) or GMRES ones: exact, 1e-10 with passes at kTightPass; GMRES,
-  // kInexactMultiplierTolerance with passes at kMultiplierPassShare of it. The discrete map's
-  // multipliers differ from the flow's by the integrator's error (its rtol, 1e-6 by default)
-  // anyway, and on docs/periodic_orbits.md's FSI problem a pass at 1e-12 cost 1.8 times a Newton
-  // step's, and Arnoldi to 1e-10 took more of them.
-  static constexpr double kInexactMultiplierTolerance = 1e-6, kMultiplierPassShare = 1e-3;
-  static double multiplier_tolerance(bool exact_passes);
+  // kInexactMultiplierTolerance, or kInexactCircleShare of the distance from the unit circle for a
+  // multiplier far inside it, with passes at kMultiplierPassShare of the tolerance. The discrete
+  // map's multipliers differ from the flow's by the integrator's error (its rtol, 1e-6 by default)
+  // anyway; on docs/periodic_orbits.md's FSI problem a pass at 1e-12 cost 1.8 times a Newton step's,
+  // and Arnoldi took 18 passes to resolve its multipliers near 0.2 to 1e-6 against 10 to 12 to 1% of
+  // their distance from the circle.
+  static constexpr double kInexactMultiplierTolerance = 1e-6, kInexactCircleShare = 1e-2;
+  static constexpr double kMultiplierPassShare = 1e-3;
+  static MultiplierAccuracy multiplier_accuracy(bool exact_passes);
   static double multiplier_pass_tolerance(bool exact_passes);
   // Whether the branch records a new grid (an adaptive run over the period) from an orbit it has
   // just converged, for the next: where the orbit's own integration on the grid it was computed on
