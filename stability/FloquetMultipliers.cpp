@@ -122,7 +122,8 @@ Status krylov_multipliers(int n, const std::function<Status(const Vector&, Vecto
 
 double FloquetOptions::allowed_residual(std::complex<double> mu) const {
   const double distance = std::abs(std::abs(mu) - 1.0);
-  return distance >= kFarFromCircle ? std::max(tolerance, circle_share * distance) : tolerance;
+  const double allowed = distance >= kFarFromCircle ? std::max(tolerance, circle_share * distance) : tolerance;
+  return std::max(allowed, 0.0);  // a negative tolerance is never met, as before the share
 }
 
 std::string FloquetResult::stability() const {

@@ -27,7 +27,8 @@ struct FloquetOptions {
   // most circle_share times that distance, on the same scale, where that is larger (0: the tolerance
   // alone). What such a multiplier decides is which side of the circle it lies (stability, and the
   // bifurcation tests, which take the multiplier nearest +1, -1 or the circle), and a Ritz value errs
-  // by its residual times its condition number: 1% leaves the side sure up to a condition number of 100.
+  // by its residual times its condition number: 1% leaves the side sure up to a condition number of
+  // 100 / max(1, |mu_1|).
   // Nearer the circle the tolerance holds: there the condition numbers can be large (near a Hopf point
   // the trivial multiplier's vector and the next one's are nearly parallel; on
   // docs/periodic_orbits.md's FSI problem a Ritz value 0.9884 passed a residual test of 1.2e-4

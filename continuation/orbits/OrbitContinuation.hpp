@@ -158,7 +158,7 @@ class OrbitContinuation {
   // and their passes' (ShootingMap::linearised's), for exact passes (every solve's matrix
   // factorised, B constant) or GMRES ones: exact, 1e-10 with passes at kTightPass; GMRES,
   // kInexactMultiplierTolerance, or kInexactCircleShare of the distance from the unit circle for a
-  // multiplier far inside it, with passes at kMultiplierPassShare of the tolerance. The discrete
+  // multiplier at least 1/2 from it, with passes at kMultiplierPassShare of the tolerance. The discrete
   // map's multipliers differ from the flow's by the integrator's error (its rtol, 1e-6 by default)
   // anyway; on docs/periodic_orbits.md's FSI problem a pass at 1e-12 cost 1.8 times a Newton step's,
   // and Arnoldi took 18 passes to resolve its multipliers near 0.2 to 1e-6 against 10 to 12 to 1% of
