@@ -116,16 +116,18 @@ TEST(PeriodicOrbit, TheTrivialMultiplierConvergesToOneWithTheTolerance) {
 
 namespace {
 
-// The fixed random basis of with_eigenvalues.
-Eigen::MatrixXd eigenvectors(int n) {
-  std::srand(3);
-  return Eigen::MatrixXd::Identity(n, n) + 0.3 * Eigen::MatrixXd::Random(n, n);
+// A fixed random basis I + spread R (R uniform in [-1, 1], from the seed).
+Eigen::MatrixXd random_basis(int n, unsigned seed, double spread) {
+  std::srand(seed);
+  return Eigen::MatrixXd::Identity(n, n) + spread * Eigen::MatrixXd::Random(n, n);
 }
 
-// A real n x n matrix with the given eigenvalues (complex ones with their conjugates next to them),
-// in a fixed random basis.
-Eigen::MatrixXd with_eigenvalues(const std::vector<std::complex<double>>& values, int n) {
-  Eigen::MatrixXd D = Eigen::MatrixXd::Zero(n, n);
+// The fixed random basis of with_eigenvalues.
+Eigen::MatrixXd eigenvectors(int n) { return random_basis(n, 3, 0.3); }
+
+// Puts the values on D's diagonal from index 0 (a complex one, with its conjugate next to it in
+// `values`, as a real 2 x 2 block [a b; -b a]); returns the next free index.
+int put_eigenvalues(Eigen::MatrixXd& D, const std::vector<std::complex<double>>& values) {
   int i = 0;
   for (size_t k = 0; k < values.size(); ++k) {
     const auto v = values[k];
@@ -140,9 +142,24 @@ Eigen::MatrixXd with_eigenvalues(const std::vector<std::complex<double>>& values
       ++k;  // the conjugate
     }
   }
-  for (; i < n; ++i) D(i, i) = 1e-3 * std::pow(0.9, i);  // the strongly damped rest
+  return i;
+}
+
+// A real n x n matrix with the given eigenvalues (complex ones with their conjugates next to them),
+// in a fixed random basis.
+Eigen::MatrixXd with_eigenvalues(const std::vector<std::complex<double>>& values, int n) {
+  Eigen::MatrixXd D = Eigen::MatrixXd::Zero(n, n);
+  for (int i = put_eigenvalues(D, values); i < n; ++i) D(i, i) = 1e-3 * std::pow(0.9, i);  // the strongly damped rest
   const Eigen::MatrixXd S = eigenvectors(n);
   return S * D * S.inverse();
+}
+
+// M as the monodromy operator floquet_multipliers takes (M must outlive it).
+std::function<Status(const Vector&, Vector&)> applying(const Eigen::MatrixXd& M) {
+  return [&M](const Vector& v, Vector& y) {
+    y = M * v;
+    return Status{};
+  };
 }
 
 // The condition number of the eigenvalue of S D S^-1 at D's index i (of a pair, the first index:
@@ -172,10 +189,7 @@ TEST(FloquetMultipliers, KnownEigenvaluesByBothPaths) {
   const std::vector<std::complex<double>> values{1.0, pair, std::conj(pair), -1.5, 0.5};
   for (int n : {12, 80}) {
     const Eigen::MatrixXd M = with_eigenvalues(values, n);
-    auto op = [&](const Vector& v, Vector& y) {
-      y = M * v;
-      return Status{};
-    };
+    const auto op = applying(M);
     FloquetOptions o;
     o.count = 5;
     FloquetResult r;
@@ -209,13 +223,9 @@ TEST(FloquetMultipliers, TinyMultipliersDoNotStallTheArnoldiIteration) {
   D(1, 1) = 0.8;
   D(2, 2) = -0.3;
   for (int i = 3; i < n; ++i) D(i, i) = 1e-13 * (1.0 + 99.0 * (i - 3) / (n - 4.0));
-  std::srand(5);
-  const Eigen::MatrixXd S = Eigen::MatrixXd::Identity(n, n) + 0.2 * Eigen::MatrixXd::Random(n, n);
+  const Eigen::MatrixXd S = random_basis(n, 5, 0.2);
   const Eigen::MatrixXd M = S * D * S.inverse();
-  auto op = [&](const Vector& v, Vector& y) {
-    y = M * v;
-    return Status{};
-  };
+  const auto op = applying(M);
   FloquetOptions o;
   o.count = 8;
   FloquetResult r;
@@ -263,24 +273,13 @@ TEST(FloquetMultipliers, ACircleShareStopsSoonerWithEachMultiplierWithinItsShare
   const std::vector<std::pair<std::complex<double>, int>> wanted{
       {1.0, 0}, {0.97, 1}, {0.27, 2}, {{-0.17, 0.03}, 3}, {{-0.17, -0.03}, 3}, {{-0.1, 0.14}, 5}, {{-0.1, -0.14}, 5}};
   Eigen::MatrixXd D = Eigen::MatrixXd::Zero(n, n);
-  D(0, 0) = 1.0;
-  D(1, 1) = 0.97;
-  D(2, 2) = 0.27;
-  auto pair = [&](int i, std::complex<double> mu) {
-    D(i, i) = D(i + 1, i + 1) = mu.real();
-    D(i, i + 1) = mu.imag();
-    D(i + 1, i) = -mu.imag();
-  };
-  pair(3, wanted[3].first);
-  pair(5, wanted[5].first);
-  for (int i = 7; i < n; ++i) D(i, i) = (i % 2 ? 0.15 : -0.15) * std::pow(0.95, i - 7);  // the cluster below
-  std::srand(7);
-  const Eigen::MatrixXd S = Eigen::MatrixXd::Identity(n, n) + 0.1 * Eigen::MatrixXd::Random(n, n);
+  std::vector<std::complex<double>> values;
+  for (const auto& w : wanted) values.push_back(w.first);
+  for (int i = put_eigenvalues(D, values); i < n; ++i)
+    D(i, i) = (i % 2 ? 0.15 : -0.15) * std::pow(0.95, i - 7);  // the cluster below
+  const Eigen::MatrixXd S = random_basis(n, 7, 0.1);
   const Eigen::MatrixXd M = S * D * S.inverse();
-  auto op = [&](const Vector& v, Vector& y) {
-    y = M * v;
-    return Status{};
-  };
+  const auto op = applying(M);
   FloquetOptions o;
   o.count = 6;
   o.tolerance = 1e-6;
@@ -311,20 +310,14 @@ TEST(FloquetMultipliers, AWarmStartFromTheLastRitzVectorsFindsTheSameMultipliers
   const Eigen::MatrixXd M0 = with_eigenvalues({1.0, pair, std::conj(pair), -0.9, 0.5}, 80);
   std::srand(11);
   const Eigen::MatrixXd M1 = M0 + 1e-3 * Eigen::MatrixXd::Random(80, 80);
-  auto op_of = [](const Eigen::MatrixXd& M) {
-    return [&M](const Vector& v, Vector& y) {
-      y = M * v;
-      return Status{};
-    };
-  };
   FloquetOptions o;
   o.count = 5;
   FloquetResult first, cold, warm;
-  ASSERT_TRUE(floquet_multipliers(80, op_of(M0), o, first).is_ok());
+  ASSERT_TRUE(floquet_multipliers(80, applying(M0), o, first).is_ok());
   ASSERT_EQ(first.ritz.size(), first.multipliers.size());
-  ASSERT_TRUE(floquet_multipliers(80, op_of(M1), o, cold).is_ok());
+  ASSERT_TRUE(floquet_multipliers(80, applying(M1), o, cold).is_ok());
   o.start = first.ritz;
-  ASSERT_TRUE(floquet_multipliers(80, op_of(M1), o, warm).is_ok());
+  ASSERT_TRUE(floquet_multipliers(80, applying(M1), o, warm).is_ok());
   ASSERT_EQ(warm.multipliers.size(), cold.multipliers.size());
   for (size_t k = 0; k < cold.multipliers.size(); ++k)
     EXPECT_NEAR(std::abs(warm.multipliers[k] - cold.multipliers[k]), 0.0, 1e-9) << k;
@@ -427,10 +420,7 @@ TEST(OrbitContinuation, TheMultipliersAccuracyFollowsThePassesAsFunctions) {
   const std::complex<double> pair(0.3, 0.5);
   const std::vector<std::complex<double>> values{1.0, 0.8, pair, std::conj(pair), -0.4};
   const Eigen::MatrixXd M = with_eigenvalues(values, 80);
-  auto op = [&](const Vector& v, Vector& y) {
-    y = M * v;
-    return Status{};
-  };
+  const auto op = applying(M);
   const std::vector<int> index{0, 1, 2, 2, 4};  // each value's in with_eigenvalues' D
   long applications[2] = {0, 0};
   for (int loose = 0; loose < 2; ++loose) {
