@@ -44,6 +44,11 @@ OrbitCorrection OrbitCorrector::correct(Vector& u0, double& T, double& lambda, b
     if (row.a_u.size() == N) v += row.a_u.dot(row.z_u.size() == N ? Vector(u - row.z_u) : u);
     return v;
   };
+  // dPhi/dlambda for the preconditioner's border: one pass a correction, at the first iterate (the
+  // preconditioner need not follow lambda's column exactly; without it the border is singular
+  // where the branch turns in lambda)
+  Vector phi_lambda;
+  static const OrbitDeflation no_deflation;
   double eta = kEtaMax, previous = 0.0, first = 0.0;
   double last_update = 0.0;  // the last Newton update: max(|du|_inf / scale, |dT| / T)
   for (int it = 0;; ++it) {
@@ -96,12 +101,27 @@ OrbitCorrection OrbitCorrector::correct(Vector& u0, double& T, double& lambda, b
       }
       return y;
     };
-    auto precondition = [&](const Vector& z) {
-      if (!deflation_ || deflation_->empty()) return z;
-      Vector y = z;
-      y.head(N) = deflation_->apply(z.head(N));
-      return y;
-    };
+    if (free_lambda && phi_lambda.size() == 0) {
+      Status s = map_.linearised(Vector::Zero(N), 0.0, 1.0, phi_lambda, pass);
+      if (!s.is_ok()) {
+        out.status = s;
+        return out;
+      }
+    }
+    // the preconditioner: the deflation with the Newton matrix's border (BorderedDeflation): the
+    // period's column T dPhi/dT = T f(Phi), lambda's, the phase row and the closing row
+    Eigen::MatrixXd C = Eigen::MatrixXd::Zero(N, extra), B = Eigen::MatrixXd::Zero(N, extra),
+                    D = Eigen::MatrixXd::Zero(extra, extra);
+    C.col(0) = T * map_.end_rate();
+    B.col(0) = normal;
+    if (free_lambda) {
+      C.col(1) = phi_lambda;
+      if (row.a_u.size() == N) B.col(1) = row.a_u;
+      D(1, 0) = row.a_T * T;
+      D(1, 1) = row.a_lambda;
+    }
+    const BorderedDeflation border(deflation_ ? *deflation_ : no_deflation, C, B, D);
+    auto precondition = [&](const Vector& z) { return border.apply(z); };
     Vector dz;
     const GmresResult g = gmres(A, precondition, Vector(-R), dz, eta, options_.krylov_iterations);
     out.krylov_iterations += g.iterations;

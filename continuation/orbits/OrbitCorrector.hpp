@@ -4,12 +4,14 @@
 //   <u0 - u_ref, n> = 0                          (phase: u0 on the hyperplane through u_ref normal to n)
 //   <a_u, u0 - z_u> + a_T (T - z_T) + a_l (lambda - z_l) = 0   (a row fixing lambda or the arclength)
 // The Newton matrix [M - I, Phi_T, Phi_l; n^T, 0, 0; a_u^T, a_T, a_l] is never formed: GMRES
-// (core/Gmres.hpp, no preconditioner) applies it by one linearised pass per iteration, the T and
-// lambda columns inside the pass with M's (a pass is linear in (v0, dT, dlambda)). M's eigenvalues
-// are the Floquet multipliers: those of strongly damped modes are near 0, so M - I clusters them at
-// -1 and GMRES pays about one iteration per multiplier away from 0 (Sanchez, Net, Garcia-Archilla
-// and Simo 2004 for Navier-Stokes); a neighbouring orbit's multipliers, where given, precondition
-// those it computed away (OrbitDeflation). The forcing term follows Eisenstat and Walker (1996, choice 2).
+// (core/Gmres.hpp) applies it by one linearised pass per iteration, the T and lambda columns inside
+// the pass with M's (a pass is linear in (v0, dT, dlambda)). M's eigenvalues are the Floquet
+// multipliers: those of strongly damped modes are near 0, so M - I clusters them at -1 and GMRES
+// pays about one iteration per multiplier away from 0 (Sanchez, Net, Garcia-Archilla and Simo 2004
+// for Navier-Stokes). Its right preconditioner (BorderedDeflation) takes away those a neighbouring
+// orbit has computed, where given (OrbitDeflation), and the border's directions: the period's
+// column T f(Phi), lambda's (one pass a correction), the phase row and the closing row, by block
+// elimination. The forcing term follows Eisenstat and Walker (1996, choice 2).
 #pragma once
 
 #include <functional>
@@ -51,8 +53,8 @@ struct OrbitCorrection {
 
 class OrbitCorrector {
  public:
-  // deflation: GMRES's right preconditioner on the state (OrbitDeflation, from a neighbouring
-  // orbit's multipliers; null or empty: none)
+  // deflation: from a neighbouring orbit's multipliers, inside GMRES's right preconditioner
+  // (BorderedDeflation; null or empty: the border alone)
   explicit OrbitCorrector(ShootingMap& map, OrbitCorrectorOptions options = {},
                           const OrbitDeflation* deflation = nullptr)
       : map_(map), options_(options), deflation_(deflation) {}

@@ -2,7 +2,9 @@
 
 #include <Eigen/QR>
 #include <Eigen/SVD>
+#include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace keller {
 
@@ -60,6 +62,37 @@ Vector OrbitDeflation::apply(const Vector& x) const {
   if (empty()) return x;
   const Vector c = Q_.transpose() * x;
   return Q_ * (shifted_.solve(c) + c) - x;
+}
+
+BorderedDeflation::BorderedDeflation(const OrbitDeflation& deflation, const Eigen::MatrixXd& C,
+                                     const Eigen::MatrixXd& B, const Eigen::MatrixXd& D)
+    : deflation_(deflation), W_(C.rows(), C.cols()), B_(B) {
+  const long k = C.cols();
+  if (B.cols() != k || D.rows() != k || D.cols() != k || B.rows() != C.rows())
+    throw std::invalid_argument("bordered deflation: C, B and D do not fit");
+  for (long j = 0; j < k; ++j) W_.col(j) = deflate(C.col(j));
+  const Eigen::MatrixXd S = D - B.transpose() * W_;
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(S);
+  const auto& s = svd.singularValues();
+  // S against the size of its terms: a cancellation to rounding is singular, whatever k
+  const double scale = D.norm() + B.norm() * W_.norm();
+  bordered_ = k > 0 && s[k - 1] > 0.0 && s[k - 1] * kMaxCondition >= std::max(s[0], scale);
+  if (bordered_) schur_.compute(S);
+}
+
+Vector BorderedDeflation::apply(const Vector& r) const {
+  const long n = W_.rows(), k = W_.cols();
+  if (r.size() != n + k) throw std::invalid_argument("bordered deflation: a vector of the wrong size");
+  Vector y = r;
+  if (!bordered_) {  // as without the border
+    y.head(n) = deflation_.apply(r.head(n));
+    return y;
+  }
+  const Vector pu = deflate(r.head(n));
+  const Vector yb = schur_.solve(Vector(r.tail(k) - B_.transpose() * pu));
+  y.head(n) = pu - W_ * yb;
+  y.tail(k) = yb;
+  return y;
 }
 
 }  // namespace keller

@@ -43,4 +43,34 @@ class OrbitDeflation {
   Eigen::PartialPivLU<Eigen::MatrixXd> shifted_;  // S - I
 };
 
+// The shooting Newton matrix's border around the deflation (OrbitCorrector): GMRES's right
+// preconditioner
+//   P_b = [P, C; B^T, D]
+// with P the deflation's (P^-1 = OrbitDeflation::apply; -I, the damped modes' M - I, without one),
+// C the columns of the border's unknowns (the period's, T dPhi/dT = T f(Phi); lambda's, dPhi/dlambda),
+// B^T its rows (the phase, and the row that closes the system), D their corner. The border is
+// exact in P_b: (M - I, C; B^T, D) P_b^-1 differs from the identity only where M - I differs from P,
+// so GMRES no longer spends iterations on the border's few directions. Block elimination on the
+// Schur complement S = D - B^T P^-1 C (k x k, k = 1 or 2): P^-1 C once, then one P^-1 per application.
+class BorderedDeflation {
+ public:
+  // Where S's smallest singular value is below 1 / kMaxCondition of its largest or of its terms'
+  // size (|D| + |B| |P^-1 C|, a cancellation), the border is left out (block-diagonal: P and I).
+  static constexpr double kMaxCondition = 1e12;
+  // deflation must outlive this object; C: N x k, B: N x k, D: k x k
+  BorderedDeflation(const OrbitDeflation& deflation, const Eigen::MatrixXd& C, const Eigen::MatrixXd& B,
+                    const Eigen::MatrixXd& D);
+  // whether the border is in (S well conditioned)
+  bool bordered() const { return bordered_; }
+  // P_b^-1 r for r of size N + k
+  Vector apply(const Vector& r) const;
+
+ private:
+  Vector deflate(const Vector& x) const { return deflation_.empty() ? Vector(-x) : deflation_.apply(x); }
+  const OrbitDeflation& deflation_;
+  Eigen::MatrixXd W_, B_;  // P^-1 C, B
+  Eigen::FullPivLU<Eigen::MatrixXd> schur_;
+  bool bordered_ = false;
+};
+
 }  // namespace keller
