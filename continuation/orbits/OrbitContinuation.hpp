@@ -203,7 +203,7 @@ class OrbitContinuation {
   // from construction: the branch's seconds include its first orbits, corrected before run()
   std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();
   ShootingMap map_;
-  // from the last orbit analysed: the corrections' preconditioner (OrbitDeflation)
+  // from the last orbit analysed: the deflation in the corrections' preconditioner (BorderedDeflation)
   OrbitDeflation deflation_;
 };
 

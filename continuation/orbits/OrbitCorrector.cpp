@@ -44,9 +44,8 @@ OrbitCorrection OrbitCorrector::correct(Vector& u0, double& T, double& lambda, b
     if (row.a_u.size() == N) v += row.a_u.dot(row.z_u.size() == N ? Vector(u - row.z_u) : u);
     return v;
   };
-  // dPhi/dlambda for the preconditioner's border: one pass a correction, at the first iterate (the
-  // preconditioner need not follow lambda's column exactly; without it the border is singular
-  // where the branch turns in lambda)
+  // dPhi/dlambda for the preconditioner's border, at the first iterate (a preconditioner need not
+  // follow it; without it the border is singular where the branch turns in lambda)
   Vector phi_lambda;
   static const OrbitDeflation no_deflation;
   double eta = kEtaMax, previous = 0.0, first = 0.0;
@@ -82,6 +81,15 @@ OrbitCorrection OrbitCorrector::correct(Vector& u0, double& T, double& lambda, b
                     fmt::format("orbit corrector: {} iterations, |Phi - u0| = {:.3e}", it, out.residual)};
       return out;
     }
+    // the border's rows and corner (the phase row; the closing row), the same in the product and
+    // in the preconditioner
+    Eigen::MatrixXd B = Eigen::MatrixXd::Zero(N, extra), D = Eigen::MatrixXd::Zero(extra, extra);
+    B.col(0) = normal;
+    if (free_lambda) {
+      if (row.a_u.size() == N) B.col(1) = row.a_u;
+      D(1, 0) = row.a_T * T;
+      D(1, 1) = row.a_lambda;
+    }
     // one pass per product: the T and lambda columns go into the pass with the state's (a pass is
     // linear in all three), not as two passes of their own per iteration
     const double pass = pass_tolerance(eta);
@@ -94,32 +102,27 @@ OrbitCorrection OrbitCorrector::correct(Vector& u0, double& T, double& lambda, b
         Mv = Vector::Zero(N);
       }
       y.head(N) = Mv - z.head(N);
-      y[N] = normal.dot(z.head(N));
-      if (free_lambda) {
-        y[N + 1] = row.a_T * T * z[N] + row.a_lambda * z[N + 1];
-        if (row.a_u.size() == N) y[N + 1] += row.a_u.dot(z.head(N));
-      }
+      y.tail(extra) = B.transpose() * z.head(N) + D * z.tail(extra);
       return y;
     };
+    // the preconditioner (BorderedDeflation): the deflation with the border; its columns are the
+    // period's, T dPhi/dT ~ T f(Phi) (ShootingMap.TheEndRate...), and lambda's, by one pass a
+    // correction where the closing row couples lambda to the rest (a fixed lambda's row does not:
+    // its component of every Krylov vector stays 0, and the column would never be used)
     if (free_lambda && phi_lambda.size() == 0) {
-      Status s = map_.linearised(Vector::Zero(N), 0.0, 1.0, phi_lambda, pass);
-      if (!s.is_ok()) {
-        out.status = s;
-        return out;
+      if (row.a_u.size() == N || row.a_T != 0.0) {
+        Status s = map_.linearised(Vector::Zero(N), 0.0, 1.0, phi_lambda, pass);
+        if (!s.is_ok()) {
+          out.status = s;
+          return out;
+        }
+      } else {
+        phi_lambda = Vector::Zero(N);
       }
     }
-    // the preconditioner: the deflation with the Newton matrix's border (BorderedDeflation): the
-    // period's column T dPhi/dT = T f(Phi), lambda's, the phase row and the closing row
-    Eigen::MatrixXd C = Eigen::MatrixXd::Zero(N, extra), B = Eigen::MatrixXd::Zero(N, extra),
-                    D = Eigen::MatrixXd::Zero(extra, extra);
+    Eigen::MatrixXd C = Eigen::MatrixXd::Zero(N, extra);
     C.col(0) = T * map_.end_rate();
-    B.col(0) = normal;
-    if (free_lambda) {
-      C.col(1) = phi_lambda;
-      if (row.a_u.size() == N) B.col(1) = row.a_u;
-      D(1, 0) = row.a_T * T;
-      D(1, 1) = row.a_lambda;
-    }
+    if (free_lambda) C.col(1) = phi_lambda;
     const BorderedDeflation border(deflation_ ? *deflation_ : no_deflation, C, B, D);
     auto precondition = [&](const Vector& z) { return border.apply(z); };
     Vector dz;

@@ -3,7 +3,8 @@
 //   Phi(u0, T, lambda) - u0 = 0                 (periodicity, ShootingMap on a frozen grid)
 //   <u0 - u_ref, n> = 0                          (phase: u0 on the hyperplane through u_ref normal to n)
 //   <a_u, u0 - z_u> + a_T (T - z_T) + a_l (lambda - z_l) = 0   (a row fixing lambda or the arclength)
-// The Newton matrix [M - I, Phi_T, Phi_l; n^T, 0, 0; a_u^T, a_T, a_l] is never formed: GMRES
+// The Newton matrix [M - I, T Phi_T, Phi_l; n^T, 0, 0; a_u^T, a_T T, a_l] (the period's unknown is
+// its relative change dT / T) is never formed: GMRES
 // (core/Gmres.hpp) applies it by one linearised pass per iteration, the T and lambda columns inside
 // the pass with M's (a pass is linear in (v0, dT, dlambda)). M's eigenvalues are the Floquet
 // multipliers: those of strongly damped modes are near 0, so M - I clusters them at -1 and GMRES
@@ -46,9 +47,11 @@ struct OrbitRow {
 
 struct OrbitCorrection {
   Status status;
-  int iterations = 0;          // Newton iterations
-  long krylov_iterations = 0;  // GMRES iterations, each a linearised pass
-  double residual = 0.0;       // |Phi - u0|_inf at the end
+  int iterations = 0;  // Newton iterations
+  // GMRES iterations, each a linearised pass (on a branch one more a correction: lambda's column in
+  // the preconditioner)
+  long krylov_iterations = 0;
+  double residual = 0.0;  // |Phi - u0|_inf at the end
 };
 
 class OrbitCorrector {

@@ -2,7 +2,6 @@
 
 #include <Eigen/QR>
 #include <Eigen/SVD>
-#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -74,9 +73,9 @@ BorderedDeflation::BorderedDeflation(const OrbitDeflation& deflation, const Eige
   const Eigen::MatrixXd S = D - B.transpose() * W_;
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(S);
   const auto& s = svd.singularValues();
-  // S against the size of its terms: a cancellation to rounding is singular, whatever k
+  // S against the size of its terms (|S| <= scale): a cancellation to rounding is singular, whatever k
   const double scale = D.norm() + B.norm() * W_.norm();
-  bordered_ = k > 0 && s[k - 1] > 0.0 && s[k - 1] * kMaxCondition >= std::max(s[0], scale);
+  bordered_ = k > 0 && s[k - 1] > 0.0 && s[k - 1] * kMaxCondition >= scale;
   if (bordered_) schur_.compute(S);
 }
 

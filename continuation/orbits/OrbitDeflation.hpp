@@ -1,8 +1,8 @@
-// A right preconditioner for the shooting Newton matrix from a neighbouring orbit's Floquet
-// multipliers (OrbitCorrector). GMRES on M - I pays about one iteration per multiplier away from 0
-// (OrbitCorrector.hpp); those a neighbouring orbit has already computed, with their vectors, give
-// M's action on their invariant subspace for free: with Q an orthonormal basis of it and
-// S = Q^T M Q (from the multipliers and vectors, no pass),
+// The shooting Newton matrix's state block preconditioned by a neighbouring orbit's Floquet
+// multipliers (OrbitCorrector; inside BorderedDeflation below, GMRES's right preconditioner). GMRES on M - I pays about
+// one iteration per multiplier away from 0 (OrbitCorrector.hpp); those a neighbouring orbit has already computed, with
+// their vectors, give M's action on their invariant subspace for free: with Q an orthonormal basis of it and S = Q^T M
+// Q (from the multipliers and vectors, no pass),
 //   P = Q (S - I) Q^T - (I - Q Q^T),   P^-1 x = Q (S - I)^-1 Q^T x - (x - Q Q^T x),
 // which is M - I on the subspace and -I (where M's damped modes put M - I) off it. Then
 // (M - I) P^-1 is the identity on the subspace up to how far the orbit has moved since, and GMRES
@@ -35,7 +35,7 @@ class OrbitDeflation {
   bool empty() const { return Q_.cols() == 0; }
   // the dimension of the deflated subspace (a pair counts two)
   int size() const { return static_cast<int>(Q_.cols()); }
-  // P^-1 x (x itself where empty)
+  // P^-1 x; where empty, x itself (not -x: BorderedDeflation takes -I for P then)
   Vector apply(const Vector& x) const;
 
  private:
@@ -54,9 +54,12 @@ class OrbitDeflation {
 // Schur complement S = D - B^T P^-1 C (k x k, k = 1 or 2): P^-1 C once, then one P^-1 per application.
 class BorderedDeflation {
  public:
-  // Where S's smallest singular value is below 1 / kMaxCondition of its largest or of its terms'
-  // size (|D| + |B| |P^-1 C|, a cancellation), the border is left out (block-diagonal: P and I).
-  static constexpr double kMaxCondition = 1e12;
+  // Where S's smallest singular value is below 1 / kMaxCondition of the size of its terms
+  // (|D| + |B| |P^-1 C|, which bounds its largest: ill-conditioned or a cancellation), the border is
+  // left out: the deflation alone on the state, the identity on the border (as without one).
+  // Beyond it the border's elimination would lose more digits than GMRES's products carry
+  // (OrbitDeflation's basis has the same bound).
+  static constexpr double kMaxCondition = 1e8;
   // deflation must outlive this object; C: N x k, B: N x k, D: k x k
   BorderedDeflation(const OrbitDeflation& deflation, const Eigen::MatrixXd& C, const Eigen::MatrixXd& B,
                     const Eigen::MatrixXd& D);

@@ -249,17 +249,17 @@ TEST(BorderedDeflation, SavesGmresTheBordersIterations) {
   EXPECT_LE(border_only, plain - 2);
 }
 
-// A singular Schur complement (the border's rows orthogonal to what P^-1 makes of its columns, and
-// a zero corner) leaves the border out: the deflation's block-diagonal preconditioner, exactly.
+// A singular Schur complement leaves the border out: the deflation's block-diagonal preconditioner,
+// exactly (and the identity on the state without a deflation, as before the border). Singular to
+// rounding with k = 1 (the border's row orthogonal to what P^-1 makes of its column, a zero
+// corner), and of rank 1 with k = 2 (two equal columns: the smallest singular value decides, not
+// the largest).
 TEST(BorderedDeflation, ASingularSchurComplementLeavesTheBorderOut) {
   const Known k = known();
   const long n = k.M.rows();
   const OrbitDeflation d = OrbitDeflation::from(k.multipliers, k.vectors, k.trivial);
-  Eigen::MatrixXd C = Eigen::MatrixXd::Zero(n, 1), B = Eigen::MatrixXd::Zero(n, 1), D = Eigen::MatrixXd::Zero(1, 1);
+  Eigen::MatrixXd C = Eigen::MatrixXd::Zero(n, 1), B(n, 1), D = Eigen::MatrixXd::Zero(1, 1);
   C(0, 0) = 1.0;
-  B(1, 0) = 1.0;
-  // S = 0 - B^T P^-1 C: zero where P^-1 C has no second component; make it so by choosing B
-  // orthogonal to P^-1 C
   const Vector w = d.apply(C.col(0));
   B.col(0) = Vector::Ones(n) - (w.dot(Vector::Ones(n)) / w.squaredNorm()) * w;
   const BorderedDeflation p(d, C, B, D);
@@ -269,6 +269,20 @@ TEST(BorderedDeflation, ASingularSchurComplementLeavesTheBorderOut) {
   const Vector y = p.apply(r);
   EXPECT_EQ(y.head(n), d.apply(r.head(n)));
   EXPECT_EQ(y[n], r[n]);
+  // without a deflation: the identity
+  const OrbitDeflation none;
+  const Vector w0 = -C.col(0);
+  B.col(0) = Vector::Ones(n) - (w0.dot(Vector::Ones(n)) / w0.squaredNorm()) * w0;
+  const BorderedDeflation q(none, C, B, D);
+  EXPECT_FALSE(q.bordered());
+  EXPECT_EQ(q.apply(r), r);
+  // k = 2, rank 1
+  const Border b = border_of(k);
+  Eigen::MatrixXd C2 = b.C;
+  C2.col(1) = C2.col(0);
+  const BorderedDeflation rank1(d, C2, b.B, Eigen::MatrixXd::Zero(2, 2));
+  EXPECT_FALSE(rank1.bordered());
+  EXPECT_TRUE(BorderedDeflation(d, b.C, b.B, Eigen::MatrixXd::Zero(2, 2)).bordered());
   EXPECT_THROW(p.apply(Vector::Zero(n)), std::invalid_argument);
   EXPECT_THROW(BorderedDeflation(d, C, Eigen::MatrixXd::Zero(n, 2), D), std::invalid_argument);
 }

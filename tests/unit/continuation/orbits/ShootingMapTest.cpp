@@ -7,8 +7,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iostream>
 #include <limits>
 #include <random>
+#include <vector>
 
 #include "continuation/orbits/ShootingMap.hpp"
 #include "support/TestProblems.hpp"
@@ -275,4 +277,37 @@ TEST(ShootingMap, TheForwardStepsSolveWithoutRefinement) {
   EXPECT_EQ(chord.pivot_tolerance, 0.5);
   EXPECT_EQ(chord.backend, SparseLUOptions::Backend::Umfpack);
   EXPECT_EQ(lu.refinement_steps, 3);
+}
+
+// The period's column of the shooting Newton matrix, T dPhi/dT on a grid of fixed fractions of T,
+// is the flow at the period's end T f(Phi) up to the integrator's error (for the flow itself
+// d/dT phi_T(u0) = f(phi_T(u0)) exactly): the corrector's preconditioner takes the second for the
+// first, without a pass (BorderedDeflation in OrbitCorrector). Their difference shrinks with the
+// grid's tolerance as a global error does under local error control: steps h ~ rtol^(1/(q+1)) for
+// an estimate of order q + 1, an error h^p, so from rtol 1e-4 to 1e-6 by 100^(2/3) = 21.5 for BDF2
+// (p = q = 2) and by 100 for SDIRK4 (p = 4, its embedded estimate O(h^4)); the test asks half of
+// each (measured 18.8 and 115) and at most 1e3 rtol (measured 140 and 0.33 rtol at 1e-6).
+TEST(ShootingMap, TheEndRateIsThePeriodsColumnToTheIntegratorsError) {
+  for (const auto method : {TimeOptions::Method::Bdf2, TimeOptions::Method::Sdirk4}) {
+    const double rate = method == TimeOptions::Method::Bdf2 ? std::pow(100.0, 2.0 / 3.0) : 100.0;
+    std::vector<double> errors;
+    for (const double rtol : {1e-4, 1e-6}) {
+      FunctionProblem p = brusselator(1.0, 3.0);
+      const double T = 3.0;
+      TimeOptions o;
+      o.method = method;
+      o.relative_tolerance = rtol;
+      const OrbitGrid grid = record_grid(p, start(), T, o, ShootingOptions::tight_newton());
+      ShootingMap map(p, 1);
+      ASSERT_TRUE(map.integrate(start(), T, grid).is_ok());
+      Vector column;
+      ASSERT_TRUE(map.linearised(Vector::Zero(2), T, 0.0, column).is_ok());
+      errors.push_back((column - T * map.end_rate()).norm() / column.norm());
+    }
+    std::cout << (method == TimeOptions::Method::Bdf2 ? "BDF2" : "SDIRK4") << ": |T dPhi/dT - T f(Phi)| / |T dPhi/dT| "
+              << errors[0] << " at rtol 1e-4, " << errors[1] << " at 1e-6\n";
+    EXPECT_LT(errors[0], 1e3 * 1e-4);
+    EXPECT_LT(errors[1], 1e3 * 1e-6);
+    EXPECT_GT(errors[0] / errors[1], 0.5 * rate);
+  }
 }
