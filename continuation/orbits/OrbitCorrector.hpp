@@ -4,9 +4,9 @@
 //   <u0 - u_ref, n> = 0                          (phase: u0 on the hyperplane through u_ref normal to n)
 //   <a_u, u0 - z_u> + a_T (T - z_T) + a_l (lambda - z_l) = 0   (a row fixing lambda or the arclength)
 // The Newton matrix [M - I, T Phi_T, Phi_l; n^T, 0, 0; a_u^T, a_T T, a_l] (the period's unknown is
-// its relative change dT / T) is never formed: GMRES
-// (core/Gmres.hpp) applies it by one linearised pass per iteration, the T and lambda columns inside
-// the pass with M's (a pass is linear in (v0, dT, dlambda)). M's eigenvalues are the Floquet
+// its relative change dT / T) is never formed: GMRES (core/Gmres.hpp) applies it by one linearised
+// pass per iteration, the T and lambda columns inside the pass with M's (a pass is linear in
+// (v0, dT, dlambda)). M's eigenvalues are the Floquet
 // multipliers: those of strongly damped modes are near 0, so M - I clusters them at -1 and GMRES
 // pays about one iteration per multiplier away from 0 (Sanchez, Net, Garcia-Archilla and Simo 2004
 // for Navier-Stokes). Its right preconditioner (BorderedDeflation) takes away those a neighbouring

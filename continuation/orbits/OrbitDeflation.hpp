@@ -1,8 +1,8 @@
-// The shooting Newton matrix's state block preconditioned by a neighbouring orbit's Floquet
-// multipliers (OrbitCorrector; inside BorderedDeflation below, GMRES's right preconditioner). GMRES on M - I pays about
-// one iteration per multiplier away from 0 (OrbitCorrector.hpp); those a neighbouring orbit has already computed, with
-// their vectors, give M's action on their invariant subspace for free: with Q an orthonormal basis of it and S = Q^T M
-// Q (from the multipliers and vectors, no pass),
+// The state block of the shooting Newton matrix's preconditioner (OrbitCorrector; inside
+// BorderedDeflation below), from a neighbouring orbit's Floquet multipliers. GMRES on M - I pays
+// about one iteration per multiplier away from 0 (OrbitCorrector.hpp); those a neighbouring orbit
+// has already computed, with their vectors, give M's action on their invariant subspace for free:
+// with Q an orthonormal basis of it and S = Q^T M Q (from the multipliers and vectors, no pass),
 //   P = Q (S - I) Q^T - (I - Q Q^T),   P^-1 x = Q (S - I)^-1 Q^T x - (x - Q Q^T x),
 // which is M - I on the subspace and -I (where M's damped modes put M - I) off it. Then
 // (M - I) P^-1 is the identity on the subspace up to how far the orbit has moved since, and GMRES
@@ -47,7 +47,7 @@ class OrbitDeflation {
 // preconditioner
 //   P_b = [P, C; B^T, D]
 // with P the deflation's (P^-1 = OrbitDeflation::apply; -I, the damped modes' M - I, without one),
-// C the columns of the border's unknowns (the period's, T dPhi/dT = T f(Phi); lambda's, dPhi/dlambda),
+// C the columns of the border's unknowns (the period's, T dPhi/dT ~ T f(Phi); lambda's, dPhi/dlambda),
 // B^T its rows (the phase, and the row that closes the system), D their corner. The border is
 // exact in P_b: (M - I, C; B^T, D) P_b^-1 differs from the identity only where M - I differs from P,
 // so GMRES no longer spends iterations on the border's few directions. Block elimination on the
