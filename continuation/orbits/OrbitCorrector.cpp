@@ -47,7 +47,6 @@ OrbitCorrection OrbitCorrector::correct(Vector& u0, double& T, double& lambda, b
   // dPhi/dlambda for the preconditioner's border, at the first iterate (a preconditioner need not
   // follow it; without it the border is singular where the branch turns in lambda)
   Vector phi_lambda;
-  static const OrbitDeflation no_deflation;
   double eta = kEtaMax, previous = 0.0, first = 0.0;
   double last_update = 0.0;  // the last Newton update: max(|du|_inf / scale, |dT| / T)
   for (int it = 0;; ++it) {
@@ -123,7 +122,7 @@ OrbitCorrection OrbitCorrector::correct(Vector& u0, double& T, double& lambda, b
     Eigen::MatrixXd C = Eigen::MatrixXd::Zero(N, extra);
     C.col(0) = T * map_.end_rate();
     if (free_lambda) C.col(1) = phi_lambda;
-    const BorderedDeflation border(deflation_ ? *deflation_ : no_deflation, C, B, D);
+    const BorderedDeflation border(deflation_, C, B, D);
     auto precondition = [&](const Vector& z) { return border.apply(z); };
     Vector dz;
     const GmresResult g = gmres(A, precondition, Vector(-R), dz, eta, options_.krylov_iterations);

@@ -63,7 +63,7 @@ Vector OrbitDeflation::apply(const Vector& x) const {
   return Q_ * (shifted_.solve(c) + c) - x;
 }
 
-BorderedDeflation::BorderedDeflation(const OrbitDeflation& deflation, const Eigen::MatrixXd& C,
+BorderedDeflation::BorderedDeflation(const OrbitDeflation* deflation, const Eigen::MatrixXd& C,
                                      const Eigen::MatrixXd& B, const Eigen::MatrixXd& D)
     : deflation_(deflation), W_(C.rows(), C.cols()), B_(B) {
   const long k = C.cols();
@@ -84,7 +84,7 @@ Vector BorderedDeflation::apply(const Vector& r) const {
   if (r.size() != n + k) throw std::invalid_argument("bordered deflation: a vector of the wrong size");
   Vector y = r;
   if (!bordered_) {  // as without the border
-    y.head(n) = deflation_.apply(r.head(n));
+    if (deflated()) y.head(n) = deflation_->apply(r.head(n));
     return y;
   }
   const Vector pu = deflate(r.head(n));

@@ -60,8 +60,8 @@ class BorderedDeflation {
   // Beyond it the border's elimination would lose more digits than GMRES's products carry
   // (OrbitDeflation's basis has the same bound).
   static constexpr double kMaxCondition = 1e8;
-  // deflation must outlive this object; C: N x k, B: N x k, D: k x k
-  BorderedDeflation(const OrbitDeflation& deflation, const Eigen::MatrixXd& C, const Eigen::MatrixXd& B,
+  // deflation (null: none, P = -I) must outlive this object; C: N x k, B: N x k, D: k x k
+  BorderedDeflation(const OrbitDeflation* deflation, const Eigen::MatrixXd& C, const Eigen::MatrixXd& B,
                     const Eigen::MatrixXd& D);
   // whether the border is in (S well conditioned)
   bool bordered() const { return bordered_; }
@@ -69,8 +69,9 @@ class BorderedDeflation {
   Vector apply(const Vector& r) const;
 
  private:
-  Vector deflate(const Vector& x) const { return deflation_.empty() ? Vector(-x) : deflation_.apply(x); }
-  const OrbitDeflation& deflation_;
+  bool deflated() const { return deflation_ && !deflation_->empty(); }
+  Vector deflate(const Vector& x) const { return deflated() ? deflation_->apply(x) : Vector(-x); }
+  const OrbitDeflation* deflation_;
   Eigen::MatrixXd W_, B_;  // P^-1 C, B
   Eigen::FullPivLU<Eigen::MatrixXd> schur_;
   bool bordered_ = false;

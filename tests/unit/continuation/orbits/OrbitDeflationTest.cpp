@@ -199,7 +199,7 @@ TEST(BorderedDeflation, IsTheInverseWhereTheDeflationIsExact) {
   const OrbitDeflation d = OrbitDeflation::from(k.multipliers, k.vectors, k.trivial);
   ASSERT_EQ(d.size(), 4);
   const Border b = border_of(known());
-  const BorderedDeflation p(d, b.C, b.B, b.D);
+  const BorderedDeflation p(&d, b.C, b.B, b.D);
   ASSERT_TRUE(p.bordered());
   const auto A = bordered_matrix(k.M, b);
   Vector r(n + 2);
@@ -236,11 +236,10 @@ TEST(BorderedDeflation, SavesGmresTheBordersIterations) {
     y.head(n) = d.apply(z.head(n));
     return y;
   });
-  const BorderedDeflation with(d, b.C, b.B, b.D);
+  const BorderedDeflation with(&d, b.C, b.B, b.D);
   ASSERT_TRUE(with.bordered());
   const int bordered = iterations([&](const Vector& z) { return with.apply(z); });
-  const OrbitDeflation none;
-  const BorderedDeflation alone(none, b.C, b.B, b.D);
+  const BorderedDeflation alone(nullptr, b.C, b.B, b.D);
   const int plain = iterations([](const Vector& z) { return z; });
   const int border_only = iterations([&](const Vector& z) { return alone.apply(z); });
   std::cout << "GMRES iterations: " << plain << " plain, " << border_only << " border only, " << diagonal
@@ -262,7 +261,7 @@ TEST(BorderedDeflation, ASingularSchurComplementLeavesTheBorderOut) {
   C(0, 0) = 1.0;
   const Vector w = d.apply(C.col(0));
   B.col(0) = Vector::Ones(n) - (w.dot(Vector::Ones(n)) / w.squaredNorm()) * w;
-  const BorderedDeflation p(d, C, B, D);
+  const BorderedDeflation p(&d, C, B, D);
   EXPECT_FALSE(p.bordered());
   Vector r(n + 1);
   for (long i = 0; i <= n; ++i) r[i] = std::sin(0.9 * static_cast<double>(i));
@@ -273,16 +272,16 @@ TEST(BorderedDeflation, ASingularSchurComplementLeavesTheBorderOut) {
   const OrbitDeflation none;
   const Vector w0 = -C.col(0);
   B.col(0) = Vector::Ones(n) - (w0.dot(Vector::Ones(n)) / w0.squaredNorm()) * w0;
-  const BorderedDeflation q(none, C, B, D);
+  const BorderedDeflation q(&none, C, B, D);
   EXPECT_FALSE(q.bordered());
   EXPECT_EQ(q.apply(r), r);
   // k = 2, rank 1
   const Border b = border_of(k);
   Eigen::MatrixXd C2 = b.C;
   C2.col(1) = C2.col(0);
-  const BorderedDeflation rank1(d, C2, b.B, Eigen::MatrixXd::Zero(2, 2));
+  const BorderedDeflation rank1(&d, C2, b.B, Eigen::MatrixXd::Zero(2, 2));
   EXPECT_FALSE(rank1.bordered());
-  EXPECT_TRUE(BorderedDeflation(d, b.C, b.B, Eigen::MatrixXd::Zero(2, 2)).bordered());
+  EXPECT_TRUE(BorderedDeflation(&d, b.C, b.B, Eigen::MatrixXd::Zero(2, 2)).bordered());
   EXPECT_THROW(p.apply(Vector::Zero(n)), std::invalid_argument);
-  EXPECT_THROW(BorderedDeflation(d, C, Eigen::MatrixXd::Zero(n, 2), D), std::invalid_argument);
+  EXPECT_THROW(BorderedDeflation(&d, C, Eigen::MatrixXd::Zero(n, 2), D), std::invalid_argument);
 }
