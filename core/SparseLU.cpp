@@ -6,6 +6,7 @@
 #include <chrono>
 #include <stdexcept>
 
+#include "core/BlasThreads.hpp"
 #include "core/LUBackend.hpp"
 #include "core/UmfpackLU.hpp"
 #ifdef KELLER_MUMPS
@@ -192,6 +193,7 @@ Status SparseLU::analyze(const SparseMatrix& A) {
   stats_.n = n;
   stats_.nnz_matrix = A.nonZeros();
   bool reused = false;
+  if (blas_thread_policy()) use_blas_threads_for(n);  // one BLAS thread for a small matrix (core/BlasThreads.hpp)
   const Status st = backend_->analyze({n, outer_.data(), inner_.data(), A.valuePtr()}, reused);
   stats_.analyze_seconds += now_seconds() - t0;
   ++(reused ? stats_.analyses_reused : stats_.analyses);

@@ -1,0 +1,32 @@
+// How many threads the dense BLAS under the sparse LU runs (OpenBLAS's kernels inside UMFPACK's and
+// MUMPS's frontal matrices). Below kThreadedBlasUnknowns unknowns the fronts are too small for a
+// second thread to buy time, while it spins between calls (docs/performance.md, "BLAS threads":
+// the same wall time with one, 0.69 of the CPU time), so where the policy is on SparseLU asks the
+// BLAS for one thread when it analyses such a matrix, and for the BLAS's own count
+// (OPENBLAS_NUM_THREADS, or the cores) otherwise. OPENBLAS_NUM_THREADS stays an upper limit: a user
+// who limits BLAS on a shared machine keeps the limit. A BLAS other than OpenBLAS is left as it is.
+// The policy is the keller program's (runs/keller.cpp turns it on): a library's user, such as the
+// Python package, whose numpy shares the process's OpenBLAS, keeps the BLAS as it is unless it turns
+// the policy on.
+#pragma once
+
+namespace keller {
+
+inline constexpr long kThreadedBlasUnknowns = 20000;
+
+// The policy, as a function: one thread below kThreadedBlasUnknowns unknowns, else `available`
+// (the BLAS's count when the process started), never fewer than one.
+int blas_threads_for_unknowns(long unknowns, int available);
+
+// Whether SparseLU applies the policy when it analyses a matrix (off until turned on).
+void set_blas_thread_policy(bool on);
+bool blas_thread_policy();
+
+// Sets the BLAS's threads for a matrix of `unknowns` unknowns by the policy (where the BLAS is
+// OpenBLAS; else nothing). Returns the threads set, or 0 where the BLAS has no such control.
+int use_blas_threads_for(long unknowns);
+
+// The BLAS's present thread count (OpenBLAS), or 0 where it cannot be asked.
+int blas_threads();
+
+}  // namespace keller
