@@ -25,7 +25,8 @@ def machine():
             memory = f"{int(f.readline().split()[1]) / 2**20:.0f}"
     except OSError:
         pass
-    blas = os.environ.get("OPENBLAS_NUM_THREADS", "default (all cores)")
+    # keller takes one BLAS thread below 20,000 unknowns and at most this above (core/BlasThreads.hpp)
+    blas = os.environ.get("OPENBLAS_NUM_THREADS", "all cores") + " (1 below 20,000 unknowns)"
     load = " ".join(f"{x:.2f}" for x in os.getloadavg())
     return f"{model}, {os.cpu_count()} cores, {memory} GiB, BLAS threads {blas}, load average {load}"
 
