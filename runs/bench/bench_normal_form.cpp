@@ -60,9 +60,8 @@ void print_machine() {
       break;
     }
   const char* threads = std::getenv("OPENBLAS_NUM_THREADS");
-  fmt::print(
-      "machine: {}, {} hardware threads, OPENBLAS_NUM_THREADS={} (keller: 1 BLAS thread below 20,000 unknowns)\n",
-      model, std::thread::hardware_concurrency(), threads ? threads : "(unset)");
+  fmt::print("machine: {}, {} hardware threads, OPENBLAS_NUM_THREADS={}\n", model, std::thread::hardware_concurrency(),
+             threads ? threads : "(unset)");
 }
 
 int usage() {

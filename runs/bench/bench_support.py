@@ -25,10 +25,11 @@ def machine():
             memory = f"{int(f.readline().split()[1]) / 2**20:.0f}"
     except OSError:
         pass
-    # keller takes one BLAS thread below 20,000 unknowns and at most this above (core/BlasThreads.hpp)
-    blas = os.environ.get("OPENBLAS_NUM_THREADS", "all cores") + " (1 below 20,000 unknowns)"
+    # the limit only: the keller program takes one BLAS thread below 20,000 unknowns by itself, the
+    # Python package leaves the BLAS as it is (core/BlasThreads.hpp)
+    blas = os.environ.get("OPENBLAS_NUM_THREADS", "unset")
     load = " ".join(f"{x:.2f}" for x in os.getloadavg())
-    return f"{model}, {os.cpu_count()} cores, {memory} GiB, BLAS threads {blas}, load average {load}"
+    return f"{model}, {os.cpu_count()} cores, {memory} GiB, OPENBLAS_NUM_THREADS {blas}, load average {load}"
 
 
 def scenes():

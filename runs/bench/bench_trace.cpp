@@ -26,7 +26,6 @@
 #include <vector>
 
 #include "continuation/Continuation.hpp"
-#include "core/BlasThreads.hpp"
 #include "core/Newton.hpp"
 #include "runs/SceneLoader.hpp"
 #include "runs/TraceCommand.hpp"
@@ -97,10 +96,9 @@ std::string machine() {
   double load[3] = {0, 0, 0};
   if (getloadavg(load, 3) < 0) load[0] = load[1] = load[2] = -1;
   const char* threads = std::getenv("OPENBLAS_NUM_THREADS");
-  // keller takes one BLAS thread below kThreadedBlasUnknowns unknowns (core/BlasThreads.hpp)
-  return fmt::format("machine: {}, {} cores, BLAS threads {} (1 below {} unknowns), load average {:.2f} {:.2f} {:.2f}",
-                     model, std::thread::hardware_concurrency(), threads ? threads : "all cores", kThreadedBlasUnknowns,
-                     load[0], load[1], load[2]);
+  return fmt::format("machine: {}, {} cores, BLAS threads {}, load average {:.2f} {:.2f} {:.2f}", model,
+                     std::thread::hardware_concurrency(), threads ? threads : "default (all cores)", load[0], load[1],
+                     load[2]);
 }
 
 void print_run(const std::string& label, const RunFigures& f) {
