@@ -32,7 +32,7 @@ struct OpenBlasControls {
   }
 };
 
-std::atomic<bool> g_policy{false};
+std::atomic<int> g_policy{-1};  // -1: not set (off), 0: off, 1: on
 
 OpenBlasControls& controls() {
   static OpenBlasControls c;
@@ -45,9 +45,14 @@ int blas_threads_for_unknowns(long unknowns, int available) {
   return unknowns < kThreadedBlasUnknowns ? 1 : std::max(1, available);
 }
 
-void set_blas_thread_policy(bool on) { g_policy = on; }
+void set_blas_thread_policy(bool on) { g_policy = on ? 1 : 0; }
 
-bool blas_thread_policy() { return g_policy; }
+bool blas_thread_policy() { return g_policy == 1; }
+
+void default_blas_thread_policy(bool on) {
+  int unset = -1;
+  g_policy.compare_exchange_strong(unset, on ? 1 : 0);
+}
 
 int use_blas_threads_for(long unknowns) {
   static std::mutex m;

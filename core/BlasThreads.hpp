@@ -5,9 +5,9 @@
 // BLAS for one thread when it analyses such a matrix, and for the BLAS's own count
 // (OPENBLAS_NUM_THREADS, or the cores) otherwise. OPENBLAS_NUM_THREADS stays an upper limit: a user
 // who limits BLAS on a shared machine keeps the limit. A BLAS other than OpenBLAS is left as it is.
-// The policy is the keller program's (runs/keller.cpp turns it on): a library's user, such as the
-// Python package, whose numpy shares the process's OpenBLAS, keeps the BLAS as it is unless it turns
-// the policy on.
+// The policy is a command-line program's: run_command_line (runs/CommandLine.hpp: the keller
+// program, a program of one's own problems) turns it on unless the program has set it. Elsewhere it
+// is off unless set: the Python package sets it off (numpy shares the process's OpenBLAS).
 #pragma once
 
 namespace keller {
@@ -18,9 +18,11 @@ inline constexpr long kThreadedBlasUnknowns = 20000;
 // (the BLAS's count when the process started), never fewer than one.
 int blas_threads_for_unknowns(long unknowns, int available);
 
-// Whether SparseLU applies the policy when it analyses a matrix (off until turned on).
+// Whether SparseLU applies the policy when it analyses a matrix: off until set.
 void set_blas_thread_policy(bool on);
 bool blas_thread_policy();
+// Sets it where nothing has (run_command_line: on).
+void default_blas_thread_policy(bool on);
 
 // Sets the BLAS's threads for a matrix of `unknowns` unknowns by the policy (where the BLAS is
 // OpenBLAS; else nothing). Returns the threads set, or 0 where the BLAS has no such control.

@@ -8,6 +8,7 @@
 #include <new>
 
 #include "continuation/engine/ContinuationOptions.hpp"
+#include "core/BlasThreads.hpp"
 #include "runs/EvolveCommand.hpp"
 #include "runs/ExitCode.hpp"
 #include "runs/ExportCommand.hpp"
@@ -211,6 +212,7 @@ namespace keller {
 
 int run_command_line(int argc, char** argv) {
   Provenance::record_command_line(argc, argv);
+  default_blas_thread_policy(true);  // one BLAS thread for small matrices (core/BlasThreads.hpp)
   try {
     return run(argc, argv);
   } catch (const std::bad_alloc&) {

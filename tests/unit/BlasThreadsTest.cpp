@@ -1,6 +1,6 @@
 // The BLAS thread policy (core/BlasThreads): as a function on sizes, and through SparseLU, which sets
-// it when it analyses a matrix where the policy is on (the keller program), and not where it is off
-// (a library's default). The suite runs with OPENBLAS_NUM_THREADS=1; tests/CMakeLists.txt
+// it when it analyses a matrix where the policy is on (a command-line program), and not where it is
+// off (the Python package). The suite runs with OPENBLAS_NUM_THREADS=1; tests/CMakeLists.txt
 // runs these tests once more with 2, where a policy that sets nothing or never gives the threads
 // back fails.
 #include <gtest/gtest.h>
@@ -71,8 +71,18 @@ TEST(BlasThreads, SparseLUSetsThePolicyWhenItAnalyses) {
   }
 }
 
+TEST(BlasThreads, TheCommandLinesDefaultLeavesAProgramsChoice) {
+  set_blas_thread_policy(false);     // as the Python package does: numpy shares the BLAS
+  default_blas_thread_policy(true);  // as run_command_line does
+  EXPECT_FALSE(blas_thread_policy());
+  set_blas_thread_policy(true);
+  default_blas_thread_policy(false);
+  EXPECT_TRUE(blas_thread_policy());
+  set_blas_thread_policy(false);
+}
+
 TEST(BlasThreads, WithThePolicyOffSparseLULeavesTheBlasAlone) {
-  ASSERT_FALSE(blas_thread_policy());  // a library's default: the Python package's numpy shares the BLAS
+  set_blas_thread_policy(false);
   const int large = use_blas_threads_for(kThreadedBlasUnknowns);
   if (large == 0) {
     GTEST_SKIP() << "the BLAS is not OpenBLAS: keller leaves its threads alone";
