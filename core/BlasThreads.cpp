@@ -10,21 +10,18 @@ namespace keller {
 
 namespace {
 
-// OpenBLAS's thread controls, looked up where it is loaded: in the global namespace (a program), or
-// by the names Debian's alternatives give it (a Python module loads its libraries locally).
+// OpenBLAS's thread controls, where the program has loaded it (a program linked with keller's
+// libraries finds them in its global scope; a library loaded locally, as a Python module is,
+// does not, and keeps the BLAS as it is).
 struct OpenBlasControls {
   void (*set)(int) = nullptr;
   int (*get)() = nullptr;
-  int initial = 0;  // the count before keller changed it: OPENBLAS_NUM_THREADS, or the cores
+  int initial = 0;  // the count at the first call: OpenBLAS's own, before keller changed it
 
   OpenBlasControls() {
-    void* scopes[] = {RTLD_DEFAULT, dlopen("libblas.so.3", RTLD_LAZY | RTLD_NOLOAD),
-                      dlopen("libopenblas.so.0", RTLD_LAZY | RTLD_NOLOAD)};
-    for (void* scope : scopes) {
-      if (!scope) continue;
-      set = reinterpret_cast<void (*)(int)>(dlsym(scope, "openblas_set_num_threads"));
-      get = reinterpret_cast<int (*)()>(dlsym(scope, "openblas_get_num_threads"));
-      if (set && get) break;
+    set = reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
+    get = reinterpret_cast<int (*)()>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
+    if (!set || !get) {
       set = nullptr;
       get = nullptr;
     }

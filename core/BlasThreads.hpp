@@ -1,13 +1,17 @@
 // How many threads the dense BLAS under the sparse LU runs (OpenBLAS's kernels inside UMFPACK's and
 // MUMPS's frontal matrices). Below kThreadedBlasUnknowns unknowns the fronts are too small for a
 // second thread to buy time, while it spins between calls (docs/performance.md, "BLAS threads":
-// the same wall time with one, 0.69 of the CPU time), so where the policy is on SparseLU asks the
-// BLAS for one thread when it analyses such a matrix, and for the BLAS's own count
-// (OPENBLAS_NUM_THREADS, or the cores) otherwise. OPENBLAS_NUM_THREADS stays an upper limit: a user
-// who limits BLAS on a shared machine keeps the limit. A BLAS other than OpenBLAS is left as it is.
+// about the same wall time with one, a third less CPU time, half the wall time where another
+// process holds the other core), so where the policy is on SparseLU asks the BLAS for one thread
+// when it factorises such a matrix, and for the BLAS's own count otherwise: the count OpenBLAS
+// reported at keller's first call (OPENBLAS_NUM_THREADS, GOTO_NUM_THREADS or OMP_NUM_THREADS, or
+// the cores the process may use), so that a limit a user set stays a limit. A BLAS other than
+// OpenBLAS is left as it is. With OpenBLAS's OpenMP build the call sets OpenMP's thread count too.
+// The count is the process's: it must not change while another thread is inside the BLAS (keller
+// factorises on one thread).
 // The policy is a command-line program's: run_command_line (runs/CommandLine.hpp: the keller
 // program, a program of one's own problems) turns it on unless the program has set it. Elsewhere it
-// is off unless set: the Python package sets it off (numpy shares the process's OpenBLAS).
+// is off unless set: the Python package sets it off (numpy may share the process's OpenBLAS).
 #pragma once
 
 namespace keller {
@@ -15,10 +19,10 @@ namespace keller {
 inline constexpr long kThreadedBlasUnknowns = 20000;
 
 // The policy, as a function: one thread below kThreadedBlasUnknowns unknowns, else `available`
-// (the BLAS's count when the process started), never fewer than one.
+// (the BLAS's own count), never fewer than one.
 int blas_threads_for_unknowns(long unknowns, int available);
 
-// Whether SparseLU applies the policy when it analyses a matrix: off until set.
+// Whether SparseLU applies the policy when it factorises a matrix: off until set.
 void set_blas_thread_policy(bool on);
 bool blas_thread_policy();
 // Sets it where nothing has (run_command_line: on).

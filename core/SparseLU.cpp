@@ -193,7 +193,6 @@ Status SparseLU::analyze(const SparseMatrix& A) {
   stats_.n = n;
   stats_.nnz_matrix = A.nonZeros();
   bool reused = false;
-  if (blas_thread_policy()) use_blas_threads_for(n);  // one BLAS thread for a small matrix (core/BlasThreads.hpp)
   const Status st = backend_->analyze({n, outer_.data(), inner_.data(), A.valuePtr()}, reused);
   stats_.analyze_seconds += now_seconds() - t0;
   ++(reused ? stats_.analyses_reused : stats_.analyses);
@@ -213,6 +212,9 @@ Status SparseLU::factorize(const SparseMatrix& A) {
     if (!st.is_ok()) return st;
   }
   values_.assign(A.valuePtr(), A.valuePtr() + A.nonZeros());
+  // one BLAS thread for a small matrix (core/BlasThreads.hpp), at every factorisation: another
+  // SparseLU of another size may have set it since
+  if (blas_thread_policy()) use_blas_threads_for(stats_.n);
   const double t0 = now_seconds();
   const Status status = backend_->factorize({stats_.n, outer_.data(), inner_.data(), values_.data()});
   stats_.factor_seconds += now_seconds() - t0;

@@ -5,6 +5,7 @@ build's python folder (ctest sets them)."""
 
 import os
 import subprocess
+import sys
 
 import h5py
 import numpy as np
@@ -178,3 +179,29 @@ def test_a_study_from_python_is_the_command_lines(tmp_path):
     # the branches' folds: 16 and 32 intervals
     np.testing.assert_array_equal(study.table["event:fold"], py_fold)
     assert len(py_fold) == 2 and np.all(np.abs(py_fold - 3.51) < 0.01)
+
+
+def test_a_run_leaves_the_blas_threads_as_numpy_has_them(tmp_path):
+    """keller's command line takes one OpenBLAS thread for small matrices (core/BlasThreads.hpp); the
+    package turns that off, since numpy may share the process's OpenBLAS. OpenBLAS is loaded into
+    the global scope first, where keller's lookup would find it, so that a package that left the
+    policy on would set one thread here."""
+    if len(os.sched_getaffinity(0)) < 2:
+        pytest.skip("one CPU: OpenBLAS starts with one thread")
+    code = f"""
+import ctypes, sys
+try:
+    blas = ctypes.CDLL("libopenblas.so.0", mode=ctypes.RTLD_GLOBAL)
+except OSError:
+    print("no OpenBLAS")
+    sys.exit(0)
+import keller
+before = blas.openblas_get_num_threads()
+keller.trace({BRATU!r}, {str(tmp_path / "b.h5")!r}, verbose=False)
+print(before, blas.openblas_get_num_threads())
+"""
+    env = dict(os.environ, OPENBLAS_NUM_THREADS="2")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, check=True)
+    if out.stdout.strip() == "no OpenBLAS":
+        pytest.skip("the BLAS is not OpenBLAS")
+    assert out.stdout.split()[-2:] == ["2", "2"], out.stdout + out.stderr
