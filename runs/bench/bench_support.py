@@ -11,8 +11,8 @@ BRANCHES = ["gamma", "thickness", "wi_low_gamma", "wi_high_gamma"]
 
 
 def machine():
-    """The machine, in one line: CPU model, cores, memory, BLAS threads and the load average (over
-    1, 5 and 15 minutes) now; a benchmark prints it first (and last, for the load after it)."""
+    """The machine, in one line: CPU model, cores, memory, OPENBLAS_NUM_THREADS and the load average
+    (over 1, 5 and 15 minutes) now; a benchmark prints it first (and last, for the load after it)."""
     model = platform.processor() or "?"
     memory = "?"
     try:

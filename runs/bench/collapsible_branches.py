@@ -13,7 +13,7 @@ the located values (requested values, events, ends) and the end of the branch.
 keller=PATH for another binary, e.g. an older build), alternating configurations branch by branch
 so that all see the same machine load: ratios between them are measured in one run. --compare checks the located and end values of every branch against a saved
 table to --relative (default 1e-8) and the total of factorisations against it.
-Prints the machine (CPU model, cores, memory, BLAS threads, load average) first."""
+Prints the machine (CPU model, cores, memory, OPENBLAS_NUM_THREADS, load average) first."""
 
 import argparse
 import json
