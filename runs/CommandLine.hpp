@@ -10,7 +10,8 @@ namespace keller {
 
 // Parses argv, runs the command and returns its exit code (runs/ExitCode.hpp: 0 done, 1 numerical
 // failure, 2 bad command line or input, 3 write failure, 4 internal error, 130 interrupted).
-// Prints every error itself; throws nothing.
+// Prints every error itself; throws nothing. Turns the BLAS thread policy on (one thread for
+// matrices below 20,000 unknowns, core/BlasThreads.hpp) unless the program has set it.
 int run_command_line(int argc, char** argv);
 
 }  // namespace keller

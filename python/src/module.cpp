@@ -19,7 +19,7 @@ namespace py = pybind11;
 PYBIND11_MODULE(_keller, m) {
   m.doc() = "keller's commands in this process (the package keller calls them: keller.trace, ...)";
   keller::python::register_python_type();
-  // numpy shares this process's OpenBLAS: its threads stay as the user has them (core/BlasThreads.hpp)
+  // numpy may share this process's OpenBLAS: its threads stay as the user has them (core/BlasThreads.hpp)
   keller::set_blas_thread_policy(false);
   m.def("run", &keller::python::run_command, py::arg("args"), py::arg("callback") = py::none(),
         py::arg("problem") = py::none(),
