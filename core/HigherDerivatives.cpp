@@ -49,7 +49,7 @@ HigherDerivatives::HigherDerivatives(Problem& problem, int parameter, Vector u0,
   exact_ = dynamic_cast<ExactDerivatives*>(&problem);
   if (exact_ && (force_differences || !exact_->offers_exact_derivatives())) exact_ = nullptr;
   method_ = exact_ ? Method::Exact : Method::Differences;
-  has_time_form_ = has_time_form(problem);
+  has_time_form_ = has_time_form(problem, u0_);
 }
 
 std::string HigherDerivatives::method_name() const {

@@ -50,15 +50,17 @@ Status Problem::mass_matrix(const Vector&, SparseMatrix&) {
   throw NoTimeForm("problem '" + name() + "' has no mass matrix (no time-dependent form)");
 }
 
-bool has_time_form(Problem& problem) {
+bool has_time_form(Problem& problem, const Vector& u) {
   SparseMatrix B;
   try {
-    (void)problem.mass_matrix(problem.initial_guess(), B);
+    (void)problem.mass_matrix(u, B);
   } catch (const NoTimeForm&) {
     return false;
   }
   return true;
 }
+
+bool has_time_form(Problem& problem) { return has_time_form(problem, problem.initial_guess()); }
 
 std::string time_form_refusal(Problem& problem) {
   if (!has_time_form(problem))

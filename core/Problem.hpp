@@ -109,8 +109,11 @@ class NoTimeForm : public std::logic_error {
   using std::logic_error::logic_error;
 };
 
-// Whether the problem has a time-dependent form: mass_matrix at its initial guess gives B instead
-// of throwing NoTimeForm (one assembly of B).
+// Whether the problem has a time-dependent form: mass_matrix gives B instead of throwing
+// NoTimeForm (one assembly of B), at the state u. Without u, at its initial guess: only where no
+// state is at hand, since a problem's initial guess need not exist at every parameter value (an
+// algebraic guess past the fold where its root turns complex).
+bool has_time_form(Problem& problem, const Vector& u);
 bool has_time_form(Problem& problem);
 
 // What a run that needs B says to refuse a problem that has none as its scene sets it up: empty

@@ -114,7 +114,7 @@ Status jacobian(Problem& problem, const Vector& u, SparseMatrix& J) {
 
 Status jacobian_and_mass(Problem& problem, const Vector& u, SparseMatrix& J, SparseMatrix& B) {
   if (Status st = jacobian(problem, u, J); !st.is_ok()) return st;
-  if (!has_time_form(problem)) {
+  if (!has_time_form(problem, u)) {
     B.resize(u.size(), u.size());
     B.setIdentity();
     return {};

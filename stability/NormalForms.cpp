@@ -30,7 +30,7 @@ Status factorised_null_vector(Problem& problem, const Vector& u, const Vector* g
 
 // <psi, B phi>, with B = I for a problem without a time-dependent form
 Status weighted(Problem& problem, const Vector& u, const Vector& psi, const Vector& phi, double& out) {
-  if (!has_time_form(problem)) {
+  if (!has_time_form(problem, u)) {
     out = psi.dot(phi);
     return {};
   }
