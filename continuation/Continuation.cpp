@@ -56,6 +56,7 @@ Continuation::Continuation(Problem& problem, ContinuationOptions options, Newton
   }
   monitor_names_ = problem_.monitor_names();
   turning_ = turning_unknowns(problem_);
+  partial_ = partial_monitors(problem_);
   for (const std::string& m : options_.stop.threshold_monitor_names()) monitor_names_.push_back(m);
   lander_.configure(stop_index_, static_cast<int>(problem_.monitor_names().size()), monitor_names_);
 }
@@ -416,8 +417,7 @@ Status Continuation::evaluate(BranchPoint& p, bool analyse_point) {
     if (std::isfinite(options_.stop.above)) p.monitors.push_back(p.observables[stop_index_] - options_.stop.above);
     if (std::isfinite(options_.stop.below)) p.monitors.push_back(p.observables[stop_index_] - options_.stop.below);
   }
-  for (double v : p.monitors)
-    if (!std::isfinite(v)) return {StatusCode::NotFinite, "a monitor is not finite"};
+  if (!monitors_usable(p.monitors, partial_)) return {StatusCode::NotFinite, "a monitor is not finite"};
   p.seconds = seconds_since(t_start_);
   return {};
 }

@@ -194,6 +194,7 @@ class Continuation {
   int stop_index_ = -1;  // index of the stop observable in the problem's observables
   std::vector<std::string> monitor_names_;
   std::vector<AugmentedProblem::NamedUnknown> turning_;  // the problem's turning unknowns
+  std::vector<int> partial_;                             // and its partial monitors
   ArclengthNorm norm_;
   Evaluator ev_;
   KeptFactorisation kept_;

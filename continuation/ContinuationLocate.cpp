@@ -287,12 +287,12 @@ void Continuation::locate_stability_change(BranchPoint& cur, BranchPoint& nxt, s
       return std::abs(l.point.lambda - p->lambda) <=
              kSameCrossing * options_.events.tolerance * (1.0 + std::abs(p->lambda));
     };
-    const bool turns = a.tlambda * b.tlambda < 0;
-    const bool fold = turns && (after == b.count && crossings == 0
-                                    ? true
-                                    : std::any_of(located.begin(), located.end(), [&](const LocatedPoint& l) {
-                                        return l.point.kind == PointKind::Fold && near_p(l);
-                                      }));
+    const bool fold =
+        turns(a.tlambda, b.tlambda, a, b) &&
+        (after == b.count && crossings == 0 ? true
+                                            : std::any_of(located.begin(), located.end(), [&](const LocatedPoint& l) {
+                                                return l.point.kind == PointKind::Fold && near_p(l);
+                                              }));
     const std::string crossing = fmt::format("{} {} -> {}", analysis_->count_name(), a.count, after);
     const PointKind kind = complex ? PointKind::Hopf : (fold ? PointKind::Fold : PointKind::BranchPoint);
     std::string label = complex ? fmt::format("omega = {:.8g}, {}", std::abs(p->critical_imag), crossing)

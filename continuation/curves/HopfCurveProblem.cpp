@@ -242,6 +242,11 @@ std::vector<std::string> HopfCurveProblem::monitor_names() const {
   return names;
 }
 
+std::vector<int> HopfCurveProblem::partial_monitors() const {
+  if (!l1_) return {};
+  return {static_cast<int>(monitor_names().size()) - 1};
+}
+
 Status HopfCurveProblem::monitors(const Vector& U, std::vector<double>& values) {
   Status st = analyse(U);
   if (!st.is_ok()) return st;

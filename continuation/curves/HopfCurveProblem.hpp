@@ -84,6 +84,8 @@ class HopfCurveProblem final : public CurveProblem {
   // Adds the monitor "bautin" (after "fold-hopf"); an empty function removes it. It changes
   // monitor_names(): call it before the curve is given to a Continuation.
   void set_lyapunov_coefficient(LyapunovCoefficient l1) { l1_ = std::move(l1); }
+  // "bautin", where it is monitored: NaN where the normal form cannot be computed.
+  std::vector<int> partial_monitors() const override;
 
  private:
   Status equations_parameter_derivative(int p, const Vector& U, Vector& d) override;

@@ -21,4 +21,9 @@ std::vector<AugmentedProblem::NamedUnknown> turning_unknowns(const Problem& prob
   return a ? a->turning_unknowns() : std::vector<AugmentedProblem::NamedUnknown>{};
 }
 
+std::vector<int> partial_monitors(const Problem& problem) {
+  const AugmentedProblem* a = augmented(problem);
+  return a ? a->partial_monitors() : std::vector<int>{};
+}
+
 }  // namespace keller

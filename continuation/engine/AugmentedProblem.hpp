@@ -36,6 +36,10 @@ class AugmentedProblem : public Problem {
     std::string name;
   };
   virtual std::vector<NamedUnknown> turning_unknowns() const = 0;
+  // Indices of monitors that are not defined everywhere (a Hopf curve's first Lyapunov coefficient,
+  // undefined where omega reaches 0 at a Bogdanov-Takens point): NaN there is their value, and no
+  // zero is sought on a step with NaN at either end. A NaN of any other monitor fails the point.
+  virtual std::vector<int> partial_monitors() const { return {}; }
 };
 
 // The problem as an augmented one; null for an ordinary problem.
@@ -47,5 +51,7 @@ const AugmentedProblem* augmented(const Problem& problem);
 int border_size(const Problem& problem);
 const SparseMatrix& inner_pattern(const Problem& problem);
 std::vector<AugmentedProblem::NamedUnknown> turning_unknowns(const Problem& problem);
+// Its partial monitors (none for an ordinary problem).
+std::vector<int> partial_monitors(const Problem& problem);
 
 }  // namespace keller

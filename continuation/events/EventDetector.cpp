@@ -7,6 +7,25 @@
 
 namespace keller {
 
+namespace {
+double tangent_scale(const BranchPoint& p) {
+  return std::max(p.tu.size() ? p.tu.cwiseAbs().maxCoeff() : 0.0, std::abs(p.tlambda));
+}
+}  // namespace
+
+bool turns(double gc, double gn, const BranchPoint& cur, const BranchPoint& nxt) {
+  return gc * gn < 0 &&
+         std::max(std::abs(gc) / tangent_scale(cur), std::abs(gn) / tangent_scale(nxt)) > kTangentRounding;
+}
+
+bool monitors_usable(const std::vector<double>& values, const std::vector<int>& partial) {
+  for (size_t k = 0; k < values.size(); ++k)
+    if (!std::isfinite(values[k]) &&
+        !(std::isnan(values[k]) && std::find(partial.begin(), partial.end(), static_cast<int>(k)) != partial.end()))
+      return false;
+  return true;
+}
+
 std::vector<Crossing> detect_crossings(const BranchPoint& cur, const BranchPoint& nxt,
                                        const std::optional<Landing>& land, const ContinuationOptions& o,
                                        const std::vector<std::string>& monitor_names, size_t problem_monitors,
@@ -59,7 +78,8 @@ std::vector<Crossing> detect_crossings(const BranchPoint& cur, const BranchPoint
         c.same_as = static_cast<int>(j);
     out.push_back(std::move(c));
   }
-  if (o.method == ContinuationOptions::Method::Arclength && o.events.folds && cur.tlambda * nxt.tlambda < 0) {
+  if (o.method == ContinuationOptions::Method::Arclength && o.events.folds &&
+      turns(cur.tlambda, nxt.tlambda, cur, nxt)) {
     Crossing c;
     c.target = {EventTarget::Fold, -1, 0.0};
     c.ga = cur.tlambda;
@@ -71,7 +91,7 @@ std::vector<Crossing> detect_crossings(const BranchPoint& cur, const BranchPoint
   if (o.method == ContinuationOptions::Method::Arclength && o.events.folds)
     for (const AugmentedProblem::NamedUnknown& t : turning_unknowns) {
       const double gc = cur.tu[t.index], gn = nxt.tu[t.index];
-      if (!(gc * gn < 0)) continue;
+      if (!turns(gc, gn, cur, nxt)) continue;
       Crossing c;
       c.target = {EventTarget::Turn, t.index, 0.0};
       c.ga = gc;

@@ -33,6 +33,22 @@ struct Crossing {
 // (arclength only), turns in the turning unknowns (arclength and folds only: events labelled
 // "<name> max" or "<name> min"). monitor_names: the problem's monitors then the stop thresholds;
 // problem_monitors: how many of them are the problem's.
+// Below this share of the tangent's largest part (its unknowns' and the parameter's), a part of the
+// tangent is rounding: one that stays below it at both ends of a step does not turn there, whatever
+// its signs (a curve along which a turning unknown stays constant, as the second parameter of a
+// normal form's Hopf curve: its part of the tangent is 1e-20 of either sign). A real turn inside
+// such a band would need a step below 1e-10 of the tangent's radius of curvature.
+inline constexpr double kTangentRounding = 1e-10;
+
+// Whether the part of the tangent g turns on the segment cur -> nxt (gc at cur, gn at nxt): a sign
+// change with either end above kTangentRounding of its tangent.
+bool turns(double gc, double gn, const BranchPoint& cur, const BranchPoint& nxt);
+
+// Whether a point's monitor values can be used: each finite, or NaN where its index is one of the
+// problem's partial monitors (AugmentedProblem::partial_monitors: undefined there). An infinite
+// value, or NaN of any other monitor, is a failed evaluation.
+bool monitors_usable(const std::vector<double>& values, const std::vector<int>& partial);
+
 std::vector<Crossing> detect_crossings(const BranchPoint& cur, const BranchPoint& nxt,
                                        const std::optional<Landing>& land, const ContinuationOptions& options,
                                        const std::vector<std::string>& monitor_names, size_t problem_monitors,

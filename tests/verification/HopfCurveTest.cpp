@@ -278,6 +278,39 @@ TEST(HopfCurve, BogdanovTakensWhereOmegaVanishes) {
   EXPECT_EQ(turns[0]->label, "max");
   EXPECT_NEAR(turns[0]->lambda, 0.0, 1e-8);
   EXPECT_NEAR(rec.points.back().u[3], -1.0, 1e-10);
+  // beta1 stays 0: its part of the tangent is rounding (1e-20 of either sign), no turn of it
+  EXPECT_TRUE(labelled(rec, PointKind::Event, "beta1 max").empty());
+  EXPECT_TRUE(labelled(rec, PointKind::Event, "beta1 min").empty());
+}
+
+// The same curve with the "bautin" monitor of a Lyapunov coefficient that cannot be computed for
+// |omega| < 0.3 (as the normal form's, whose pair merges at the Bogdanov-Takens point): the monitor
+// is NaN there (a partial monitor), every point and the Bogdanov-Takens point are still computed,
+// and no Bautin point is sought across the NaNs.
+TEST(HopfCurve, AnUndefinedLyapunovCoefficientNearOmegaZeroLeavesTheCurveWhole) {
+  test::FunctionProblem p = bogdanov_takens(0.0, -1.0);
+  HopfCurveProblem curve(p, "beta1");
+  const HopfCurveProblem::LyapunovCoefficient l1 = unit_mode_lyapunov_coefficient({});
+  curve.set_lyapunov_coefficient(
+      [&](Problem& inner, int p1, const Vector& u, double omega, const ComplexVector& mode, double& value) {
+        if (std::abs(omega) < 0.3) return Status{StatusCode::InvalidState, "no complex pair near the Hopf point"};
+        return l1(inner, p1, u, omega, mode, value);
+      });
+  ASSERT_EQ(curve.partial_monitors(), std::vector<int>{static_cast<int>(curve.monitor_names().size()) - 1});
+  Vector U = curve.state(Eigen::Vector2d(1e-3, -1e-3), 1e-3, 1.0 + 1e-3);
+  ASSERT_TRUE(curve.start(U, ComplexVector(), tight()).is_ok());
+  const auto [r, rec] = trace(curve, U, curve_options("beta2", -1.0, 0.5), &p);
+  ASSERT_EQ(r.code, StopCode::LowerBound) << r.reason;
+  int undefined = 0;
+  for (const BranchPoint& q : rec.points) {
+    EXPECT_EQ(std::isnan(q.monitors.back()), std::abs(q.u[3]) < 0.3) << "omega = " << q.u[3];
+    undefined += std::isnan(q.monitors.back());
+  }
+  EXPECT_GE(undefined, 2);
+  const auto bt = labelled(rec, PointKind::Event, "bogdanov-takens");
+  ASSERT_EQ(bt.size(), 1u);
+  EXPECT_NEAR(bt[0]->lambda, 0.0, 1e-8);
+  EXPECT_TRUE(labelled(rec, PointKind::Event, "bautin").empty());
 }
 
 // The fold-Hopf normal form: the Hopf curve beta1 = -beta2^2, omega = omega0 continued in beta2

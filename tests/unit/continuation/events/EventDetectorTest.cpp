@@ -84,3 +84,53 @@ TEST(EventDetector, LocatedPointsInOrderAndAnEndReportedOnce) {
   EXPECT_EQ(located[0].point.kind, PointKind::Requested);
   EXPECT_EQ(located[1].point.kind, PointKind::End);
 }
+
+// A part of the tangent turns where it changes sign above rounding: kTangentRounding of the
+// tangent's largest part at either end. Two parts of rounding size (1e-20 on a unit tangent: a
+// curve along which that unknown stays constant) are no turn, whatever their signs; the same pair
+// on a tangent of size 1e-12 is one (the share, not the size, decides); a fold of the parameter
+// follows the same rule.
+TEST(EventDetector, ATurnIsASignChangeAboveTheTangentsRounding) {
+  BranchPoint cur = point(0.0, 1.0, 1.0, {}), nxt = point(1.0, 2.0, -1.0, {});
+  cur.tu = Vector::Constant(3, 0.5);
+  nxt.tu = Vector::Constant(3, -0.5);
+  EXPECT_TRUE(turns(0.3, -0.2, cur, nxt));
+  EXPECT_FALSE(turns(0.3, 0.2, cur, nxt));
+  EXPECT_FALSE(turns(1e-20, -3e-21, cur, nxt));
+  EXPECT_FALSE(turns(0.99e-10, -0.99e-10, cur, nxt));
+  EXPECT_TRUE(turns(1.01e-10, -1e-30, cur, nxt));  // one end above the band: a turn
+  EXPECT_TRUE(turns(-1e-30, 1.01e-10, cur, nxt));
+  BranchPoint small_cur = cur, small_nxt = nxt;
+  small_cur.tu *= 1e-12;
+  small_nxt.tu *= 1e-12;
+  small_cur.tlambda = small_nxt.tlambda = 0.0;
+  EXPECT_TRUE(turns(1e-20, -3e-21, small_cur, small_nxt));
+  // in detect_crossings: a turning unknown (index 1) whose part is rounding is not an event, nor
+  // is a parameter part of rounding size a fold
+  ContinuationOptions o;
+  o.parameter = "p";
+  const std::vector<AugmentedProblem::NamedUnknown> turning = {{1, "q"}};
+  cur.tu[1] = 2e-21;
+  nxt.tu[1] = -4e-22;
+  cur.tlambda = 3e-21;
+  nxt.tlambda = -1e-21;
+  EXPECT_TRUE(detect_crossings(cur, nxt, std::nullopt, o, {}, 0, turning).empty());
+  cur.tu[1] = 0.1;
+  nxt.tlambda = -0.1;
+  cur.tlambda = 0.1;
+  const auto c = detect_crossings(cur, nxt, std::nullopt, o, {}, 0, turning);
+  ASSERT_EQ(c.size(), 2u);
+  EXPECT_EQ(c[0].kind, PointKind::Fold);
+  EXPECT_EQ(c[1].label, "q max");
+}
+
+// Monitors are usable where each is finite or NaN of a partial monitor; infinity never is.
+TEST(EventDetector, MonitorsAreUsableWhereFiniteOrUndefinedWhereTheyMayBe) {
+  EXPECT_TRUE(monitors_usable({0.5, -2.0, 0.0}, {}));
+  EXPECT_FALSE(monitors_usable({0.5, NAN, 0.0}, {}));
+  EXPECT_TRUE(monitors_usable({0.5, NAN, 0.0}, {1}));
+  EXPECT_FALSE(monitors_usable({0.5, NAN, 0.0}, {2}));
+  EXPECT_FALSE(monitors_usable({0.5, INFINITY, 0.0}, {1}));
+  EXPECT_FALSE(monitors_usable({0.5, 1.0, -INFINITY}, {2}));
+  EXPECT_TRUE(monitors_usable({}, {0}));
+}
