@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cctype>
 #include <mutex>
 
 namespace keller {
@@ -64,6 +65,32 @@ int use_blas_threads_for(long unknowns) {
 int blas_threads() {
   OpenBlasControls& c = controls();
   return c.get ? c.get() : 0;
+}
+
+std::string blas_core() {
+  auto corename = reinterpret_cast<char* (*)()>(dlsym(RTLD_DEFAULT, "openblas_get_corename"));
+  const char* name = corename ? corename() : nullptr;
+  return name ? std::string(name) : std::string();
+}
+
+std::string better_blas_core(const std::string& core, bool avx2_and_fma, bool avx512) {
+  std::string lower = core;
+  std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (lower != "prescott") return "";
+  if (avx512) return "SkylakeX";
+  return avx2_and_fma ? "Haswell" : "";
+}
+
+std::string better_blas_core() {
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+  __builtin_cpu_init();
+  const bool avx2_and_fma = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+  const bool avx512 = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
+                      __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512vl");
+  return better_blas_core(blas_core(), avx2_and_fma, avx512);
+#else
+  return "";
+#endif
 }
 
 }  // namespace keller

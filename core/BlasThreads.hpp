@@ -14,6 +14,8 @@
 // is off unless set: the Python package sets it off (numpy may share the process's OpenBLAS).
 #pragma once
 
+#include <string>
+
 namespace keller {
 
 inline constexpr long kThreadedBlasUnknowns = 20000;
@@ -34,5 +36,19 @@ int use_blas_threads_for(long unknowns);
 
 // The BLAS's present thread count (OpenBLAS), or 0 where it cannot be asked.
 int blas_threads();
+
+// OpenBLAS's kernels: it picks them for the CPU when it loads, and a CPU newer than its table
+// gets its generic Prescott (SSE3) kernels: OpenBLAS 0.3.21 on an Intel Xeon of model 207 with
+// AVX-512, where SkylakeX's made W3's factorisations 1.6 times and its cylinder branch 1.3 times
+// faster (docs/performance.md, "BLAS kernels"). OPENBLAS_CORETYPE, read when OpenBLAS loads,
+// chooses them (runs/CommandLine.hpp, use_native_blas_kernels).
+// The kernels' name (openblas_get_corename), or "" where the BLAS is not OpenBLAS.
+std::string blas_core();
+// The policy, as a function: the kernels to ask for instead of `core` on a CPU with these
+// features: where core is "Prescott" (case aside), "SkylakeX" with AVX-512 (F, BW, DQ and VL),
+// else "Haswell" with AVX2 and FMA; else "" (keep them).
+std::string better_blas_core(const std::string& core, bool avx2_and_fma, bool avx512);
+// better_blas_core for this process's BLAS and CPU.
+std::string better_blas_core();
 
 }  // namespace keller

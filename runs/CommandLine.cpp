@@ -4,7 +4,11 @@
 #include <CLI/CLI.hpp>
 #include <functional>
 
+#include <unistd.h>
+
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <new>
 
 #include "continuation/engine/ContinuationOptions.hpp"
@@ -36,7 +40,10 @@ int run(int argc, char** argv) {  // argc and argv go on to MPI_Init under mpiru
   CLI::App app{"keller: continuation and bifurcation toolkit for steady flows"};
   app.require_subcommand(1);
   app.footer(keller::exit_code::help);
-  app.set_version_flag("--version", keller::Provenance::current().version_text(),
+  const std::string blas = keller::blas_core();
+  app.set_version_flag("--version",
+                       keller::Provenance::current().version_text() +
+                           (blas.empty() ? std::string() : "\nBLAS: OpenBLAS, " + blas + " kernels"),
                        "print keller's version, commit, build type and linear solver, and exit");
 
   keller::SolveArguments solve;
@@ -209,6 +216,17 @@ int run(int argc, char** argv) {  // argc and argv go on to MPI_Init under mpiru
 }  // namespace
 
 namespace keller {
+
+void use_native_blas_kernels(char** argv) {
+  if (std::getenv("OPENBLAS_CORETYPE")) return;  // the user's choice, or this program run again
+  const char* keep = std::getenv("KELLER_BLAS_KERNELS");
+  if (keep && std::strcmp(keep, "keep") == 0) return;
+  const std::string better = better_blas_core();
+  if (better.empty()) return;
+  if (setenv("OPENBLAS_CORETYPE", better.c_str(), 1) != 0) return;
+  execv("/proc/self/exe", argv);
+  unsetenv("OPENBLAS_CORETYPE");  // the exec failed: go on with the kernels loaded
+}
 
 int run_command_line(int argc, char** argv) {
   Provenance::record_command_line(argc, argv);

@@ -14,4 +14,12 @@ namespace keller {
 // matrices below 20,000 unknowns, core/BlasThreads.hpp) unless the program has set it.
 int run_command_line(int argc, char** argv);
 
+// Where OpenBLAS runs its generic Prescott kernels on a CPU with AVX2 or AVX-512 (a CPU newer than
+// its table, core/BlasThreads.hpp) and OPENBLAS_CORETYPE is not set: sets it to the kernels the CPU
+// has and runs the program again (execv of /proc/self/exe with the same argv; OpenBLAS reads the
+// variable only when it loads). Call it first in main, before anything is printed or started
+// (MPI_Init included); the keller program does. Returns where nothing is to change or the exec
+// failed. KELLER_BLAS_KERNELS=keep turns it off.
+void use_native_blas_kernels(char** argv);
+
 }  // namespace keller

@@ -178,6 +178,7 @@ class Brusselator2D final : public keller::AssembledProblem {
 }  // namespace
 
 int main(int argc, char** argv) {
+  keller::use_native_blas_kernels(argv);  // OpenBLAS on the CPU's own kernels (runs/CommandLine.hpp)
   keller::ProblemType type;
   type.name = "brusselator2d";
   type.doc = "the Brusselator on a square with no-flux walls, Q2 elements (Turing patterns)";

@@ -95,6 +95,7 @@ class ChafeeInfante final : public keller::Problem {
 }  // namespace
 
 int main(int argc, char** argv) {
+  keller::use_native_blas_kernels(argv);  // OpenBLAS on the CPU's own kernels (runs/CommandLine.hpp)
   keller::ProblemType type;
   type.name = "chafee-infante";
   type.doc = "u'' + lambda (u - u^3) = 0 on (0, pi) with u = 0 at both ends, central differences";

@@ -160,6 +160,7 @@ class SwiftHohenberg final : public keller::AssembledProblem {
 }  // namespace
 
 int main(int argc, char** argv) {
+  keller::use_native_blas_kernels(argv);  // OpenBLAS on the CPU's own kernels (runs/CommandLine.hpp)
   keller::ProblemType type;
   type.name = "swift-hohenberg";
   type.doc = "the Swift-Hohenberg equation on a rectangle with no-flux walls, mixed Q2 elements (patterns)";

@@ -40,8 +40,11 @@ def status(path):
 
 
 def test_trace_from_python_is_the_command_lines_row_by_row(tmp_path):
+    # the same BLAS kernels as this process: the keller program would pick the CPU's own where
+    # OpenBLAS fell back to Prescott's (docs/performance.md, "BLAS kernels"), which round otherwise
+    same_kernels = dict(os.environ, KELLER_BLAS_KERNELS="keep")
     subprocess.run([KELLER, "trace", BRATU, "-o", str(tmp_path / "cli.h5"), "--set", "continuation.renewal_cost=3.0"],
-                   check=True, capture_output=True)
+                   check=True, capture_output=True, env=same_kernels)
     branch = keller.trace(BRATU, tmp_path / "py.h5", set=FIXED, verbose=False)
     assert isinstance(branch, keller.Branch)
     cli, py = table(tmp_path / "cli.h5"), table(tmp_path / "py.h5")

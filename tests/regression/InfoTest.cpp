@@ -156,6 +156,27 @@ TEST(Info, VersionNamesVersionCommitBuildTypeAndLinearSolver) {
   EXPECT_TRUE(std::regex_search(r.out, std::regex("\\nlinear solver: (mumps|umfpack)"))) << r.out;
 }
 
+// keller --version names OpenBLAS's kernels, and the program runs with the CPU's own where OpenBLAS
+// fell back to its generic Prescott ones (core/BlasThreads.hpp, use_native_blas_kernels): on a CPU
+// with AVX2 and FMA never Prescott, unless KELLER_BLAS_KERNELS=keep, or OPENBLAS_CORETYPE chose.
+TEST(Info, TheProgramRunsOpenBlasOnTheCpusOwnKernels) {
+  const auto r = test::run_keller("--version");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::smatch m;
+  if (!std::regex_search(r.out, m, std::regex("\\nBLAS: OpenBLAS, (\\S+) kernels"))) GTEST_SKIP() << "not OpenBLAS";
+#if defined(__x86_64__)
+  __builtin_cpu_init();
+  if (!__builtin_cpu_supports("avx2") || !__builtin_cpu_supports("fma")) GTEST_SKIP() << "a CPU without AVX2";
+#else
+  GTEST_SKIP() << "not x86-64";
+#endif
+  EXPECT_NE(m[1], "Prescott") << r.out;
+  const auto chosen = test::run_keller("--version", "OPENBLAS_CORETYPE=Haswell");
+  EXPECT_NE(chosen.out.find("\nBLAS: OpenBLAS, Haswell kernels"), std::string::npos) << chosen.out;
+  const auto kept = test::run_keller("--version", "OPENBLAS_CORETYPE=Prescott");
+  EXPECT_NE(kept.out.find("\nBLAS: OpenBLAS, Prescott kernels"), std::string::npos) << kept.out;
+}
+
 // Every output file records what made it (/provenance, as --version prints it, and the command
 // line), and info names the kind of each file.
 TEST(Info, EveryOutputFileRecordsItsProvenance) {

@@ -116,3 +116,17 @@ TEST(BlasThreadsDeathTest, TheCommandLineTurnsThePolicyOnWhereNothingSetIt) {
   GTEST_FLAG_SET(death_test_style, "threadsafe");
   EXPECT_EXIT(version_then_exit_with_the_policy(), testing::ExitedWithCode(0), "");
 }
+
+// The kernels' policy as a function: only OpenBLAS's generic Prescott fallback is replaced, by the
+// widest kernels the CPU has; a CPU without AVX2 keeps it, and every other choice of OpenBLAS's
+// (or another BLAS: "") stays.
+TEST(BlasKernels, OnlyThePrescottFallbackIsReplacedByTheCpusOwn) {
+  EXPECT_EQ(better_blas_core("Prescott", true, true), "SkylakeX");
+  EXPECT_EQ(better_blas_core("Prescott", true, false), "Haswell");
+  EXPECT_EQ(better_blas_core("PRESCOTT", true, false), "Haswell");
+  EXPECT_EQ(better_blas_core("Prescott", false, false), "");
+  EXPECT_EQ(better_blas_core("Haswell", true, true), "");
+  EXPECT_EQ(better_blas_core("Zen", true, false), "");
+  EXPECT_EQ(better_blas_core("SkylakeX", true, true), "");
+  EXPECT_EQ(better_blas_core("", true, true), "");
+}
