@@ -62,12 +62,18 @@ bool has_time_form(Problem& problem, const Vector& u) {
 
 bool has_time_form(Problem& problem) { return has_time_form(problem, problem.initial_guess()); }
 
-std::string time_form_refusal(Problem& problem) {
-  if (!has_time_form(problem))
+namespace {
+std::string refusal(Problem& problem, bool has) {
+  if (!has)
     return "problem '" + problem.name() +
            "' has no time-dependent form as this scene sets it up (no row has a time derivative)";
   return problem.why_no_time_derivative();
 }
+}  // namespace
+
+std::string time_form_refusal(Problem& problem) { return refusal(problem, has_time_form(problem)); }
+
+std::string time_form_refusal(Problem& problem, const Vector& u) { return refusal(problem, has_time_form(problem, u)); }
 
 Status Problem::time_residual(const Vector& u, const Vector& udot, Vector& R) {
   SparseMatrix B;

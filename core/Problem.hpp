@@ -120,5 +120,7 @@ bool has_time_form(Problem& problem);
 // where it has a time-dependent form with a time derivative at the parameters' present values;
 // else why (no time-dependent form at all, or why_no_time_derivative()).
 std::string time_form_refusal(Problem& problem);
+// The same at the state u (has_time_form(problem, u)).
+std::string time_form_refusal(Problem& problem, const Vector& u);
 
 }  // namespace keller

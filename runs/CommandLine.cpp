@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 #include <functional>
 
+#include <sys/auxv.h>
 #include <unistd.h>
 
 #include <cstdio>
@@ -221,6 +222,9 @@ void use_native_blas_kernels(char** argv) {
   if (std::getenv("OPENBLAS_CORETYPE")) return;  // the user's choice, or this program run again
   const char* keep = std::getenv("KELLER_BLAS_KERNELS");
   if (keep && std::strcmp(keep, "keep") == 0) return;
+  // started by the dynamic loader named on the command line (ld.so keller ...), or a static program:
+  // /proc/self/exe is not the program that argv names
+  if (getauxval(AT_BASE) == 0) return;
   const std::string better = better_blas_core();
   if (better.empty()) return;
   if (setenv("OPENBLAS_CORETYPE", better.c_str(), 1) != 0) return;

@@ -19,7 +19,9 @@ int run_command_line(int argc, char** argv);
 // has and runs the program again (execv of /proc/self/exe with the same argv; OpenBLAS reads the
 // variable only when it loads). Call it first in main, before anything is printed or started
 // (MPI_Init included); the keller program does. Returns where nothing is to change or the exec
-// failed. KELLER_BLAS_KERNELS=keep turns it off.
+// failed, or where the program was started through the dynamic loader (ld.so PROGRAM ...).
+// KELLER_BLAS_KERNELS=keep turns it off (tools that run the program under their own control, as
+// valgrind, want it off).
 void use_native_blas_kernels(char** argv);
 
 }  // namespace keller

@@ -111,7 +111,7 @@ HopfCurveProblem::LyapunovCoefficient unit_mode_lyapunov_coefficient(SparseLUOpt
 }
 
 NormalFormObserver::NormalFormObserver(BranchObserver& inner, Problem& problem, int parameter, SparseLUOptions lu)
-    : inner_(inner), problem_(problem), parameter_(parameter), forms_(lu), has_time_form_(has_time_form(problem)) {}
+    : inner_(inner), problem_(problem), parameter_(parameter), forms_(lu) {}
 
 NormalFormObserver NormalFormObserver::for_curve(BranchObserver& inner, Problem& problem, int p1, int p2,
                                                  size_t observables, SparseLUOptions lu) {
@@ -155,8 +155,9 @@ void NormalFormObserver::on_point(const BranchPoint& p) {
     pass_on(p, st, nf, curve_observables_);
     return;
   }
+  if (p.kind == PointKind::Hopf && !has_time_form_) has_time_form_ = has_time_form(problem_, p.u);
   const bool wanted =
-      p.kind == PointKind::Fold || p.kind == PointKind::BranchPoint || (p.kind == PointKind::Hopf && has_time_form_);
+      p.kind == PointKind::Fold || p.kind == PointKind::BranchPoint || (p.kind == PointKind::Hopf && *has_time_form_);
   if (!wanted) {
     inner_.on_point(p);
     return;

@@ -41,8 +41,8 @@ class NormalFormObserver final : public BranchObserver {
   Problem& problem_;
   int parameter_;
   NormalForms forms_;
-  bool has_time_form_;
-  int curve_p2_ = -1;  // a curve's p2 (for_curve), else -1
+  std::optional<bool> has_time_form_;  // asked at the first Hopf point's state
+  int curve_p2_ = -1;                  // a curve's p2 (for_curve), else -1
   size_t curve_observables_ = 0;
 };
 

@@ -313,7 +313,7 @@ int run_orbit_trace(const TraceArguments& args, RunSummary* out_summary) {
       const StoredPoint& stored = *source.stored;
       use_stored_parameters(problem, stored);
       problem.parameters().set(p, stored.point.lambda);
-      if (const std::string why = time_form_refusal(problem); !why.empty())
+      if (const std::string why = time_form_refusal(problem, stored.point.u); !why.empty())
         throw CommandFailure::bad_input(fmt::format("{}: {}", args.from, why));
       if (!has_time_derivative(problem, stored.point.u))
         throw CommandFailure::bad_input(fmt::format(

@@ -259,7 +259,7 @@ Status HopfCurveProblem::monitors(const Vector& U, std::vector<double>& values) 
     double l1 = NAN;
     // the normal form moves p1 and restores it: the analysis at U stays valid. Where it cannot be
     // computed (omega near zero at a Bogdanov-Takens point) the column is NaN and no zero is sought.
-    if (!l1_(inner_, p1(), U.head(n_), U[n_ + 1], v_, l1).is_ok()) l1 = NAN;
+    if (!l1_(inner_, p1(), U.head(n_), U[n_ + 1], v_, l1).is_ok() || !std::isfinite(l1)) l1 = NAN;
     values.push_back(l1);
   }
   return {};

@@ -59,7 +59,7 @@ std::vector<Crossing> detect_crossings(const BranchPoint& cur, const BranchPoint
     const bool landed_zero = land && land->monitor >= 0 && static_cast<size_t>(land->monitor) < nxt.monitors.size() &&
                              gc != 0.0 && gc == cur.monitors[static_cast<size_t>(land->monitor)] &&
                              gn == nxt.monitors[static_cast<size_t>(land->monitor)];
-    const bool at_next = (gn == 0.0 && gc != 0.0) || landed_zero;
+    const bool at_next = (gn == 0.0 && gc != 0.0 && std::isfinite(gc)) || landed_zero;
     if (!(gc * gn < 0) && !at_next) continue;
     const bool stop = k >= problem_monitors;
     Crossing c;

@@ -28,16 +28,13 @@ struct Crossing {
   int same_as = -1;             // the same function as an earlier crossing of this list: its zero
 };
 
-// The crossings of the segment cur -> nxt, in this order: bounds, requested values (except the
-// value landed on), monitors (problem monitors are events, the stop thresholds ends), folds
-// (arclength only), turns in the turning unknowns (arclength and folds only: events labelled
-// "<name> max" or "<name> min"). monitor_names: the problem's monitors then the stop thresholds;
-// problem_monitors: how many of them are the problem's.
 // Below this share of the tangent's largest part (its unknowns' and the parameter's), a part of the
 // tangent is rounding: one that stays below it at both ends of a step does not turn there, whatever
 // its signs (a curve along which a turning unknown stays constant, as the second parameter of a
 // normal form's Hopf curve: its part of the tangent is 1e-20 of either sign). A real turn inside
-// such a band would need a step below 1e-10 of the tangent's radius of curvature.
+// such a band would need a step below 1e-10 of the tangent's radius of curvature. The parts are
+// the tangent's own, not weighted by the arclength norm: with weights far from 1 between the state
+// and the parameter, the band is that much wider for the lighter one.
 inline constexpr double kTangentRounding = 1e-10;
 
 // Whether the part of the tangent g turns on the segment cur -> nxt (gc at cur, gn at nxt): a sign
@@ -49,6 +46,11 @@ bool turns(double gc, double gn, const BranchPoint& cur, const BranchPoint& nxt)
 // value, or NaN of any other monitor, is a failed evaluation.
 bool monitors_usable(const std::vector<double>& values, const std::vector<int>& partial);
 
+// The crossings of the segment cur -> nxt, in this order: bounds, requested values (except the
+// value landed on), monitors (problem monitors are events, the stop thresholds ends), folds
+// (arclength only), turns in the turning unknowns (arclength and folds only: events labelled
+// "<name> max" or "<name> min"). monitor_names: the problem's monitors then the stop thresholds;
+// problem_monitors: how many of them are the problem's.
 std::vector<Crossing> detect_crossings(const BranchPoint& cur, const BranchPoint& nxt,
                                        const std::optional<Landing>& land, const ContinuationOptions& options,
                                        const std::vector<std::string>& monitor_names, size_t problem_monitors,

@@ -194,6 +194,12 @@ std::optional<BranchPoint> EventLocator::locate_root(const BranchPoint& a, const
       return std::nullopt;
     }
     const double gc = target.of(pc);
+    // a partial monitor undefined inside the step (continuation/engine/AugmentedProblem.hpp): its
+    // sign change there may be no zero at all, and none is sought
+    if (target.kind == EventTarget::Monitor && !std::isfinite(gc)) {
+      note += "the monitor is undefined inside the step (NaN): no zero sought";
+      return std::nullopt;
+    }
     if (by_count && pc.count < 0) {
       note += "analysis failed while locating: " + analysis_note_();
       return std::nullopt;

@@ -6,8 +6,11 @@ keller, FEniCS, ... : --pairs of them), with the machine's load average before a
 
 The peer compiles its forms on its first run and finds them in its cache afterwards, which a
 FEniCS user pays once, as the peer's mesh generation (gmsh, cached too): so the benchmark first
-warms both (one Newton solve at Wi = 0 on the peer's mesh, whose setup time it prints: the
-compilation where the cache was cold) and times warm runs only. For each run it prints unknowns,
+warms the peer (one Newton solve at Wi = 0 on its mesh, whose setup time it prints: the
+compilation where the cache was cold) and times warm runs only. Both run the same OpenBLAS
+kernels: the peer gets OPENBLAS_CORETYPE set to those `keller --version` names (the keller
+program picks the CPU's own where OpenBLAS falls back to its generic ones, docs/performance.md),
+unless the caller set it. For each run it prints unknowns,
 the largest deviation from the published table for Wi <= 0.6, the deviation at 0.7, 0.8 and 0.9,
 the whole process's wall time (setup, mesh building included) and the solution time (keller: its
 first steady state and branch from its summary; FEniCS: its continuation from Wi = 0, setup
@@ -147,7 +150,13 @@ def main():
         sys.exit("--pairs must be at least 1")
     work = args.work or tempfile.mkdtemp(prefix="cylinder_vs_fenics_")
     os.makedirs(work, exist_ok=True)
+    version = subprocess.run([args.keller, "--version"], capture_output=True, text=True).stdout
+    kernels = re.search(r"^BLAS: OpenBLAS, (\S+) kernels$", version, re.M)
+    if kernels and "OPENBLAS_CORETYPE" not in os.environ:
+        os.environ["OPENBLAS_CORETYPE"] = kernels.group(1)  # the peer's, as keller's
     print("machine: %s" % machine())
+    print("BLAS kernels: keller %s, FEniCS %s" % (kernels.group(1) if kernels else "not OpenBLAS",
+                                                   os.environ.get("OPENBLAS_CORETYPE", "OpenBLAS's own choice")))
     print("load average at start: %s (%d cores)" % (load(), os.cpu_count()), flush=True)
     if not args.skip_fenics:
         warm = run_fenics(args, work, 0, wi_max=0.0, tag="warm_up")

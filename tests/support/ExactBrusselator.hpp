@@ -45,6 +45,8 @@ class ExactBrusselator final : public Problem, public ExactDerivatives {
 
   Status directional_derivative(const Vector& w, const std::vector<Direction>& d, Vector& out) override {
     const int n = inner_.intervals(), order = static_cast<int>(d.size());
+    if (order != 2 && order != 3)
+      return {StatusCode::InvalidState, "brusselator1d-exact: derivatives of order 2 and 3"};
     const Vector zero_u = Vector::Zero(w.size()), zero_p = Vector::Zero(inner_.parameters().size());
     auto state = [&](int k) -> const Vector& {
       return d[static_cast<size_t>(k)].u ? *d[static_cast<size_t>(k)].u : zero_u;

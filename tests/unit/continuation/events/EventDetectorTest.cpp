@@ -133,4 +133,10 @@ TEST(EventDetector, MonitorsAreUsableWhereFiniteOrUndefinedWhereTheyMayBe) {
   EXPECT_FALSE(monitors_usable({0.5, INFINITY, 0.0}, {1}));
   EXPECT_FALSE(monitors_usable({0.5, 1.0, -INFINITY}, {2}));
   EXPECT_TRUE(monitors_usable({}, {0}));
+  // a step from an undefined value to exactly 0 is no zero at its end
+  ContinuationOptions o;
+  o.parameter = "p";
+  const BranchPoint undefined = point(0.0, 1.0, 1.0, {NAN}), zero = point(1.0, 1.1, 1.0, {0.0});
+  EXPECT_TRUE(detect_crossings(undefined, zero, std::nullopt, o, {"g"}, 1).empty());
+  EXPECT_EQ(detect_crossings(point(0.0, 1.0, 1.0, {0.5}), zero, std::nullopt, o, {"g"}, 1).size(), 1u);
 }

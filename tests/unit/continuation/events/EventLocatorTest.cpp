@@ -154,3 +154,31 @@ TEST(EventLocator, APoleOfAMonitorIsNoZero) {
   ASSERT_TRUE(near) << note;
   EXPECT_NEAR(near->u[0], 0.5, 1e-10);
 }
+
+// A partial monitor (continuation/engine/AugmentedProblem.hpp) that changes sign between u = 0.7
+// and 0.3 but is undefined (NaN) for |u - 1/2| < 0.1, as a Hopf curve's l1 is where omega nears 0:
+// no zero is sought inside the undefined band, and no point is reported (a bisection onto the
+// band's edge would report a false one); the same monitor defined everywhere has its zero located.
+TEST(EventLocator, AMonitorUndefinedInsideTheStepHasNoZero) {
+  FunctionProblem problem(
+      "cubic with an undefined band", 1, {{"lambda", 0.0}},
+      [](const Vector& u, const Vector& p) { return Vector::Constant(1, u[0] * u[0] * u[0] - 3 * u[0] - p[0]); },
+      [](const Vector& u, const Vector&) { return Eigen::MatrixXd::Constant(1, 1, 3 * u[0] * u[0] - 3); },
+      [](int, const Vector&, const Vector&) { return Vector::Constant(1, -1.0); });
+  problem.set_monitors({"partial", "whole"}, [](const Vector& u) {
+    return std::vector<double>{std::abs(u[0] - 0.5) < 0.1 ? NAN : u[0] - 0.5, u[0] - 0.5};
+  });
+  EngineParts parts(problem, locator_options());
+  auto [a, b] = segment(parts.norm, 0.7, 0.3);
+  a.monitors = {0.2, 0.2};
+  b.monitors = {-0.2, -0.2};
+  std::string note;
+  EXPECT_FALSE(
+      parts.locator.locate_root(a, b, Target{EventTarget::Monitor, 0, 0.0}, a.monitors[0], b.monitors[0], note));
+  EXPECT_NE(note.find("undefined"), std::string::npos) << note;
+  note.clear();
+  const std::optional<BranchPoint> zero =
+      parts.locator.locate_root(a, b, Target{EventTarget::Monitor, 1, 0.0}, a.monitors[1], b.monitors[1], note);
+  ASSERT_TRUE(zero) << note;
+  EXPECT_NEAR(zero->u[0], 0.5, 1e-10);
+}
