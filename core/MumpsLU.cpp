@@ -1,5 +1,7 @@
 #include "core/MumpsLU.hpp"
 
+#include "core/FillOrdering.hpp"
+
 #include <dmumps_c.h>
 #include <fmt/format.h>
 
@@ -20,7 +22,7 @@ constexpr int kJobInit = -1, kJobEnd = -2, kJobAnalyse = 1, kJobFactorise = 2, k
 constexpr int kUseCommWorld = -987654;  // the Fortran MPI_COMM_WORLD of MUMPS's sequential MPI stub
 constexpr int kHostWorks = 1;           // PAR = 1: the (only) process takes part in the work
 constexpr int kUnsymmetric = 0;         // SYM = 0: general matrix, LU with threshold pivoting
-constexpr int kAmd = 0, kAmf = 2, kScotch = 3, kPord = 4, kMetis = 5, kQamd = 6;
+constexpr int kAmd = 0, kGiven = 1, kAmf = 2, kScotch = 3, kPord = 4, kMetis = 5, kQamd = 6;
 // INFO(1) < 0 codes
 constexpr int kStructurallySingular = -6, kNumericallySingular = -10;
 constexpr int kAllocationFailed = -13;
@@ -30,18 +32,19 @@ constexpr int kAllocationFailed = -13;
 // kWorkspaceRetries times (20% -> 640%), beyond which the matrix is hopeless for a direct solve.
 constexpr int kWorkspaceErrors[] = {-8, -9, -14, -15, -17, -20};
 constexpr int kWorkspaceRetries = 5;
-// `best`: the candidates, in this order, the most likely winner on the flow problems last (AMD:
-// fewest flops on the collapsible and cylinder matrices, docs/performance.md) so that it rarely
-// needs analysing twice. METIS is absent from Debian's sequential MUMPS, which then uses another
-// ordering (INFOG(7) says which), skipped when it is a candidate already tried.
-constexpr int kBestCandidates[] = {kMetis, kScotch, kPord, kAmf, kAmd};
+// `best`: MUMPS's candidates, after METIS's nested dissection given by keller where it is built
+// with METIS (core/FillOrdering). Each must earn its analysis: SCOTCH (the other nested
+// dissection MUMPS has, and its fallback for METIS) and AMF were never the fewest flops on the
+// matrices measured (M2, M4, W3, square and strip grids; docs/performance.md), SCOTCH at 1.2 to 6
+// times the winner's flops with the slowest analysis, AMF at 1.02 to 1.3 times.
+constexpr int kBestCandidates[] = {kPord, kAmd};
 // MUMPS's memory statistics are in millions of bytes.
 constexpr double kBytesPerMumpsMb = 1e6;
 
 const char* ordering_name(int used) {
   switch (used) {
     case kAmd: return "amd";
-    case 1: return "given";
+    case kGiven: return "metis";  // keller gives only METIS's nested dissection
     case kAmf: return "amf";
     case kScotch: return "scotch";
     case kPord: return "pord";
@@ -72,6 +75,7 @@ struct OrderingCache {
   SparseLUOptions::Ordering ordering{};
   SparseLUOptions::Scaling scaling{};
   int chosen = -1;
+  std::vector<int> given;  // the order where chosen is kGiven
 };
 
 OrderingCache& ordering_cache() {
@@ -79,9 +83,10 @@ OrderingCache& ordering_cache() {
   return cache;
 }
 
-class MumpsLU final : public LUBackend {
+// One MUMPS instance with keller's controls (JOB = -1 on construction, -2 on destruction).
+class Instance {
  public:
-  explicit MumpsLU(const SparseLUOptions& options) : options_(options), id_(std::make_unique<DMUMPS_STRUC_C>()) {
+  explicit Instance(const SparseLUOptions& options) : id_(std::make_unique<DMUMPS_STRUC_C>()) {
     *id_ = DMUMPS_STRUC_C{};
     id_->job = kJobInit;
     id_->par = kHostWorks;
@@ -101,124 +106,14 @@ class MumpsLU final : public LUBackend {
     // second changes nothing, but with eps itself as the goal every refined solve made them all
     cntl(2) = kRoundingBackwardError;
   }
-
-  ~MumpsLU() override {
+  ~Instance() {
     id_->job = kJobEnd;
     dmumps_c(id_.get());
   }
-  MumpsLU(const MumpsLU&) = delete;
-  MumpsLU& operator=(const MumpsLU&) = delete;
+  Instance(const Instance&) = delete;
+  Instance& operator=(const Instance&) = delete;
 
-  Status analyze(const CscView& A, bool& reused) override {
-    factorized_ = false;
-    analysed_ = false;
-    irn_.resize(static_cast<size_t>(A.nnz()));
-    jcn_.resize(static_cast<size_t>(A.nnz()));
-    for (int j = 0; j < A.n; ++j)
-      for (int k = A.outer[j]; k < A.outer[j + 1]; ++k) {
-        irn_[static_cast<size_t>(k)] = A.inner[k] + 1;
-        jcn_[static_cast<size_t>(k)] = j + 1;
-      }
-    id_->n = A.n;
-    id_->nnz = A.nnz();
-    id_->irn = irn_.data();
-    id_->jcn = jcn_.data();
-    id_->a = const_cast<double*>(A.values);  // MUMPS reads it (its interface is not const)
-    OrderingCache& cache = ordering_cache();
-    std::lock_guard<std::mutex> lock(cache.mutex);
-    reused = cache.chosen >= 0 && cache.ordering == options_.ordering && cache.scaling == options_.scaling &&
-             std::ssize(cache.outer) == A.n + 1 && std::equal(cache.outer.begin(), cache.outer.end(), A.outer) &&
-             std::ssize(cache.inner) == A.nnz() && std::equal(cache.inner.begin(), cache.inner.end(), A.inner);
-    Status st;
-    if (reused)
-      st = analyse_with(cache.chosen);
-    else if (options_.ordering == SparseLUOptions::Ordering::Best)
-      st = analyse_best();
-    else
-      st = analyse_with(options_.ordering == SparseLUOptions::Ordering::Metis ? kMetis : kAmd);
-    if (!st.is_ok()) return st;
-    analysed_ = true;
-    cache.outer.assign(A.outer, A.outer + A.n + 1);
-    cache.inner.assign(A.inner, A.inner + A.nnz());
-    cache.ordering = options_.ordering;
-    cache.scaling = options_.scaling;
-    cache.chosen = infog(7);
-    return {};
-  }
-
-  Status factorize(const CscView& A) override {
-    factorized_ = false;
-    id_->a = const_cast<double*>(A.values);
-    const int workspace = icntl(14);
-    Status st;
-    for (int attempt = 0; attempt <= kWorkspaceRetries; ++attempt) {
-      st = call(kJobFactorise, "numeric factorisation");
-      if (st.is_ok() ||
-          std::find(std::begin(kWorkspaceErrors), std::end(kWorkspaceErrors), info(1)) == std::end(kWorkspaceErrors))
-        break;
-      icntl(14) *= 2;
-    }
-    icntl(14) = workspace;
-    if (!st.is_ok()) {
-      det_sign_ = 0;
-      log_abs_det_ = -INFINITY;
-      return st;
-    }
-    factorized_ = true;
-    const double mantissa = rinfog(12);
-    det_sign_ = mantissa > 0 ? 1 : (mantissa < 0 ? -1 : 0);
-    log_abs_det_ = mantissa != 0 ? std::log(std::abs(mantissa)) + infog(34) * std::log(2.0) : -INFINITY;
-    return {};
-  }
-
-  Status solve(const CscView& A, const double* b, double* x, bool transpose, int refinement_steps) override {
-    std::copy(b, b + A.n, x);
-    id_->a = const_cast<double*>(A.values);  // refinement computes residuals with A
-    id_->rhs = x;
-    id_->nrhs = 1;
-    id_->lrhs = A.n;
-    icntl(9) = transpose ? 2 : 1;  // 1: A x = b, otherwise A^T x = b
-    icntl(10) = refinement_steps;  // > 0: at most this many steps, stopping at cntl(2)
-    icntl(20) = 0;                 // dense right-hand side
-    icntl(21) = 0;                 // the solution overwrites it
-    return call(kJobSolve, "solve");
-  }
-
-  Status solve_several(const CscView& A, const double* b, double* x, int count, bool transpose) override {
-    std::copy(b, b + static_cast<long>(count) * A.n, x);
-    id_->a = const_cast<double*>(A.values);
-    id_->rhs = x;
-    id_->nrhs = count;
-    id_->lrhs = A.n;
-    icntl(9) = transpose ? 2 : 1;
-    icntl(10) = 0;
-    icntl(20) = 0;
-    icntl(21) = 0;
-    Status st = call(kJobSolve, "solve");
-    id_->nrhs = 1;
-    return st;
-  }
-
-  bool factorized() const override { return factorized_; }
-
-  void determinant(int& sign, double& log_abs) const override {
-    sign = det_sign_;
-    log_abs = log_abs_det_;
-  }
-
-  void report(SparseLU::Statistics& s) const override {
-    s.backend = "mumps";
-    if (!analysed_) return;
-    s.ordering_used = ordering_name(infog(7));
-    s.nnz_lu = count(infog(29));
-    s.flops = rinfog(3);
-    s.numeric_bytes = count(infog(9)) * sizeof(double) + count(infog(10)) * sizeof(int);
-    // MUMPS counts its peak in whole MB (0 for a small matrix); it holds the factors at least
-    s.peak_memory_bytes = std::max(count(infog(22)) * kBytesPerMumpsMb, s.numeric_bytes);
-    s.rcond = std::numeric_limits<double>::quiet_NaN();
-  }
-
- private:
+  DMUMPS_STRUC_C* operator->() { return id_.get(); }
   // Fortran's 1-based names of MUMPS's arrays
   int& icntl(int k) { return id_->icntl[k - 1]; }
   double& cntl(int k) { return id_->cntl[k - 1]; }
@@ -238,36 +133,191 @@ class MumpsLU final : public LUBackend {
     return {StatusCode::LinearSolverError, fmt::format("{}: {}", what, codes)};
   }
 
-  Status analyse_with(int ordering) {
-    icntl(7) = ordering;
-    return call(kJobAnalyse, "symbolic analysis");
+ private:
+  std::unique_ptr<DMUMPS_STRUC_C> id_;
+};
+
+class MumpsLU final : public LUBackend {
+ public:
+  explicit MumpsLU(const SparseLUOptions& options) : options_(options), id_(std::make_unique<Instance>(options)) {}
+
+  Status analyze(const CscView& A, bool& reused) override {
+    factorized_ = false;
+    analysed_ = false;
+    trials_.clear();
+    irn_.resize(static_cast<size_t>(A.nnz()));
+    jcn_.resize(static_cast<size_t>(A.nnz()));
+    for (int j = 0; j < A.n; ++j)
+      for (int k = A.outer[j]; k < A.outer[j + 1]; ++k) {
+        irn_[static_cast<size_t>(k)] = A.inner[k] + 1;
+        jcn_[static_cast<size_t>(k)] = j + 1;
+      }
+    OrderingCache& cache = ordering_cache();
+    std::lock_guard<std::mutex> lock(cache.mutex);
+    reused = cache.chosen >= 0 && cache.ordering == options_.ordering && cache.scaling == options_.scaling &&
+             std::ssize(cache.outer) == A.n + 1 && std::equal(cache.outer.begin(), cache.outer.end(), A.outer) &&
+             std::ssize(cache.inner) == A.nnz() && std::equal(cache.inner.begin(), cache.inner.end(), A.inner);
+    Status st;
+    if (reused) {
+      given_ = cache.given;
+      st = analyse_with(*id_, A, cache.chosen);
+    } else if (options_.ordering == SparseLUOptions::Ordering::Best) {
+      st = analyse_best(A);
+    } else if (options_.ordering == SparseLUOptions::Ordering::Metis && nested_dissection_available()) {
+      st = order_by_nested_dissection(A);
+      if (st.is_ok()) st = analyse_with(*id_, A, kGiven);
+    } else {
+      // MUMPS's own METIS, where this MUMPS has it; Debian's falls back to SCOTCH (INFOG(7) says)
+      st = analyse_with(*id_, A, options_.ordering == SparseLUOptions::Ordering::Metis ? kMetis : kAmd);
+    }
+    if (!st.is_ok()) return st;
+    analysed_ = true;
+    cache.outer.assign(A.outer, A.outer + A.n + 1);
+    cache.inner.assign(A.inner, A.inner + A.nnz());
+    cache.ordering = options_.ordering;
+    cache.scaling = options_.scaling;
+    cache.chosen = id_->infog(7);
+    cache.given = cache.chosen == kGiven ? given_ : std::vector<int>{};
+    return {};
   }
 
-  // Analyses with each candidate ordering and keeps the one with the fewest estimated flops of
-  // the factorisation (RINFOG(1)): flops, not fill, set the time on these matrices (on M2 AMD
-  // has 18% fewer entries than SCOTCH and 33% fewer flops).
-  Status analyse_best() {
-    std::vector<int> tried;
-    int best = -1, last = -1;
-    double best_flops = INFINITY;
-    for (int candidate : kBestCandidates) {
-      if (std::find(tried.begin(), tried.end(), candidate) != tried.end()) continue;
-      const Status st = analyse_with(candidate);
-      if (!st.is_ok()) continue;
-      last = infog(7);
-      tried.push_back(last);
-      if (rinfog(1) < best_flops) {
-        best_flops = rinfog(1);
-        best = last;
+  Status factorize(const CscView& A) override {
+    factorized_ = false;
+    Instance& m = *id_;
+    m->a = const_cast<double*>(A.values);
+    const int workspace = m.icntl(14);
+    Status st;
+    for (int attempt = 0; attempt <= kWorkspaceRetries; ++attempt) {
+      st = m.call(kJobFactorise, "numeric factorisation");
+      if (st.is_ok() ||
+          std::find(std::begin(kWorkspaceErrors), std::end(kWorkspaceErrors), m.info(1)) == std::end(kWorkspaceErrors))
+        break;
+      m.icntl(14) *= 2;
+    }
+    m.icntl(14) = workspace;
+    if (!st.is_ok()) {
+      det_sign_ = 0;
+      log_abs_det_ = -INFINITY;
+      return st;
+    }
+    factorized_ = true;
+    const double mantissa = m.rinfog(12);
+    det_sign_ = mantissa > 0 ? 1 : (mantissa < 0 ? -1 : 0);
+    log_abs_det_ = mantissa != 0 ? std::log(std::abs(mantissa)) + m.infog(34) * std::log(2.0) : -INFINITY;
+    return {};
+  }
+
+  Status solve(const CscView& A, const double* b, double* x, bool transpose, int refinement_steps) override {
+    std::copy(b, b + A.n, x);
+    return solve_in_place(A, x, 1, transpose, refinement_steps);
+  }
+
+  Status solve_several(const CscView& A, const double* b, double* x, int count, bool transpose) override {
+    std::copy(b, b + static_cast<long>(count) * A.n, x);
+    return solve_in_place(A, x, count, transpose, 0);
+  }
+
+  bool factorized() const override { return factorized_; }
+
+  void determinant(int& sign, double& log_abs) const override {
+    sign = det_sign_;
+    log_abs = log_abs_det_;
+  }
+
+  void report(SparseLU::Statistics& s) const override {
+    s.backend = "mumps";
+    if (!analysed_) return;
+    const Instance& m = *id_;
+    s.ordering_used = ordering_name(m.infog(7));
+    s.ordering_trials = trials_;
+    s.nnz_lu = count(m.infog(29));
+    s.flops = m.rinfog(3);
+    s.numeric_bytes = count(m.infog(9)) * sizeof(double) + count(m.infog(10)) * sizeof(int);
+    // MUMPS counts its peak in whole MB (0 for a small matrix); it holds the factors at least
+    s.peak_memory_bytes = std::max(count(m.infog(22)) * kBytesPerMumpsMb, s.numeric_bytes);
+    s.rcond = std::numeric_limits<double>::quiet_NaN();
+  }
+
+ private:
+  static std::vector<int> one_based(std::vector<int> position) {
+    for (int& p : position) ++p;
+    return position;
+  }
+
+  Status solve_in_place(const CscView& A, double* x, int count, bool transpose, int refinement_steps) {
+    Instance& m = *id_;
+    m->a = const_cast<double*>(A.values);  // refinement computes residuals with A
+    m->rhs = x;
+    m->nrhs = count;
+    m->lrhs = A.n;
+    m.icntl(9) = transpose ? 2 : 1;  // 1: A x = b, otherwise A^T x = b
+    m.icntl(10) = refinement_steps;  // > 0: at most this many steps, stopping at cntl(2)
+    m.icntl(20) = 0;                 // dense right-hand side
+    m.icntl(21) = 0;                 // the solution overwrites it
+    Status st = m.call(kJobSolve, "solve");
+    m->nrhs = 1;
+    return st;
+  }
+
+  // given_ = METIS's nested dissection of A's pattern.
+  Status order_by_nested_dissection(const CscView& A) {
+    try {
+      given_ = one_based(nested_dissection_order(A.n, A.outer, A.inner));
+    } catch (const std::runtime_error& e) {
+      return {StatusCode::LinearSolverError, fmt::format("symbolic analysis: {}", e.what())};
+    }
+    return {};
+  }
+
+  // The symbolic analysis of A by `m` with ICNTL(7) = ordering (kGiven: the order in given_).
+  Status analyse_with(Instance& m, const CscView& A, int ordering) {
+    m->n = A.n;
+    m->nnz = A.nnz();
+    m->irn = irn_.data();
+    m->jcn = jcn_.data();
+    m->a = const_cast<double*>(A.values);  // MUMPS reads it (its interface is not const)
+    m->perm_in = ordering == kGiven ? given_.data() : nullptr;
+    m.icntl(7) = ordering;
+    return m.call(kJobAnalyse, "symbolic analysis");
+  }
+
+  // Analyses with each candidate ordering, each in an instance of its own, and keeps the instance
+  // of the fewest estimated flops of the factorisation (RINFOG(1), fewest_flops), so the winner
+  // needs no second analysis.
+  Status analyse_best(const CscView& A) {
+    std::vector<int> orderings;
+    if (nested_dissection_available()) orderings.push_back(kGiven);
+    orderings.insert(orderings.end(), std::begin(kBestCandidates), std::end(kBestCandidates));
+    std::unique_ptr<Instance> best;
+    std::vector<int> best_given;
+    Status first_failure;
+    for (int ordering : orderings) {
+      auto candidate = std::make_unique<Instance>(options_);
+      Status st = ordering == kGiven ? order_by_nested_dissection(A) : Status{};
+      if (st.is_ok()) st = analyse_with(*candidate, A, ordering);
+      const double flops = st.is_ok() ? candidate->rinfog(1) : std::numeric_limits<double>::quiet_NaN();
+      trials_.push_back({ordering_name(ordering), flops});
+      if (!st.is_ok()) {
+        if (first_failure.is_ok()) first_failure = st;
+        continue;
+      }
+      if (fewest_flops(trials_) == std::ssize(trials_) - 1) {
+        best = std::move(candidate);
+        best_given = ordering == kGiven ? given_ : std::vector<int>{};
       }
     }
-    if (best < 0) return analyse_with(kAmd);  // every candidate failed: AMD's status says why
-    return best == last ? Status{} : analyse_with(best);
+    if (!best) return first_failure;  // every candidate failed: the first one's status says why
+    id_ = std::move(best);
+    given_ = std::move(best_given);
+    (*id_)->perm_in = given_.empty() ? nullptr : given_.data();
+    return {};
   }
 
   SparseLUOptions options_;
-  std::unique_ptr<DMUMPS_STRUC_C> id_;
+  std::unique_ptr<Instance> id_;
   std::vector<int> irn_, jcn_;  // 1-based triplets of the analysed pattern
+  std::vector<int> given_;      // the given ordering's pivot positions (1-based, MUMPS's PERM_IN)
+  std::vector<OrderingTrial> trials_;
   bool analysed_ = false, factorized_ = false;
   int det_sign_ = 0;
   double log_abs_det_ = 0.0;

@@ -114,9 +114,9 @@ void declare_linear_solver_keys(SceneSchema& s) {
            "has: strategy other than auto, ordering cholmod)",
            {"auto", "umfpack", "mumps"});
   s.string("linear_solver.ordering", "amd",
-           "fill-reducing ordering: amd, metis (MUMPS without METIS uses another and says which), cholmod (UMFPACK "
-           "only), best (UMFPACK: the least fill of AMD/COLAMD, METIS, NESDIS; MUMPS: the fewest flops of METIS, "
-           "SCOTCH, PORD, AMF, AMD)",
+           "fill-reducing ordering: amd, metis (nested dissection; with MUMPS keller's METIS, or where built "
+           "without it MUMPS's fallback, which runs name), cholmod (UMFPACK only), best (UMFPACK: the least fill of "
+           "AMD/COLAMD, METIS, NESDIS; MUMPS: the fewest flops of METIS, PORD, AMD)",
            {"amd", "metis", "cholmod", "best"});
   s.string("linear_solver.scaling", "sum",
            "scaling before factorisation: none, sum (UMFPACK: rows by their sums; MUMPS: its automatic row and "

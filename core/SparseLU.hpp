@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "core/FillOrdering.hpp"
 #include "core/Scene.hpp"
 #include "core/Status.hpp"
 #include "core/Types.hpp"
@@ -73,6 +74,9 @@ class SparseLU {
     // with the ordering the earlier one chose, skipping the search of `best`)
     long analyses_reused = 0;
     std::string ordering_used;
+    // the candidates `best` analysed with MUMPS, in turn, with their estimated flops (empty
+    // otherwise: one ordering, UMFPACK's search, or an analysis taken from an earlier one)
+    std::vector<OrderingTrial> ordering_trials;
   };
 
   explicit SparseLU(SparseLUOptions options = {});  // throws std::invalid_argument as resolved_backend

@@ -24,7 +24,8 @@ struct StepTiming {
   int unknowns = 0;
   long nnz = 0;
   double nnz_lu = 0;
-  double residual = 0, assembly = 0, analysis = 0, factor = 0, solve = 0;  // seconds
+  // seconds; solve with the LU's refinement steps (at most 2), plain_solve without (the continuation's)
+  double residual = 0, assembly = 0, analysis = 0, factor = 0, solve = 0, plain_solve = 0;
   double lu_mb = 0, rss_mb = 0;
   double gflop = 0;  // of one numeric factorisation
 };
@@ -61,6 +62,7 @@ inline StepTiming time_newton_step(Problem& p, const Vector& u, const SparseLUOp
   s.assembly = median_time(repeat, [&] { p.jacobian(u, F, J); });
   s.factor = median_time(repeat, [&] { lu.factorize(J); });
   s.solve = median_time(repeat, [&] { lu.solve(F, x); });
+  s.plain_solve = median_time(std::max(repeat, 5), [&] { lu.solve(F, x, false, 0); });
   s.backend = lu.statistics().backend;
   s.ordering = lu.statistics().ordering_used;
   s.unknowns = p.size();
@@ -74,20 +76,52 @@ inline StepTiming time_newton_step(Problem& p, const Vector& u, const SparseLUOp
   return s;
 }
 
+// The machine's memory read bandwidth for one thread, bytes per second: the best of 5 sums over
+// 512 MB, far beyond any cache (a plain solve reads each entry of L and U once, from memory).
+inline double read_bandwidth() {
+  static const double measured = [] {
+    constexpr size_t kDoubles = size_t{64} << 20;
+    std::vector<double> a(kDoubles, 1.0);
+    double best = 0, sink = 0;
+    for (int r = 0; r < 5; ++r) {
+      const auto t0 = std::chrono::steady_clock::now();
+      double s0 = 0, s1 = 0, s2 = 0, s3 = 0;
+      for (size_t i = 0; i < kDoubles; i += 4) {
+        s0 += a[i];
+        s1 += a[i + 1];
+        s2 += a[i + 2];
+        s3 += a[i + 3];
+      }
+      const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      sink += s0 + s1 + s2 + s3;
+      best = std::max(best, static_cast<double>(kDoubles * sizeof(double)) / t);
+    }
+    return sink > 0 ? best : 0.0;
+  }();
+  return measured;
+}
+
+// The memory-bandwidth floor of a plain solve (docs/performance.md): nnz(L+U) x 16 bytes at the
+// measured read bandwidth.
+inline double solve_floor_seconds(double nnz_lu) { return nnz_lu * 16.0 / read_bandwidth(); }
+
 inline void print_header() {
+  fmt::print("memory read bandwidth (one thread): {:.1f} GB/s; floor = nnz(L+U) x 16 B at it\n",
+             read_bandwidth() * 1e-9);
   fmt::print(
-      "{:>6} {:>6} {:>8} {:>9} {:>7} {:>10} {:>10} {:>6} {:>9} {:>9} {:>8} {:>9} {:>9} {:>7} {:>8} {:>8} {:>6} {:>7}\n",
+      "{:>6} {:>6} {:>8} {:>9} {:>7} {:>10} {:>10} {:>6} {:>9} {:>9} {:>8} {:>9} {:>9} {:>8} {:>8} {:>7} {:>8} "
+      "{:>8} {:>6} {:>7}\n",
       "mesh", "elems", "unknowns", "nnz(J)", "backend", "ordering", "nnz(L+U)", "fill", "resid ms", "assem ms",
-      "analy ms", "factor ms", "solve ms", "assem/f", "LU MB", "RSS MB", "GFlop", "GFlop/s");
+      "analy ms", "factor ms", "solve ms", "plain ms", "floor ms", "assem/f", "LU MB", "RSS MB", "GFlop", "GFlop/s");
 }
 
 inline void print_row(const std::string& mesh, int elements, const StepTiming& s) {
   fmt::print(
-      "{:>6} {:>6} {:>8} {:>9} {:>7} {:>10} {:>10.0f} {:>6.2f} {:>9.2f} {:>9.2f} {:>8.1f} {:>9.2f} {:>9.2f} {:>7.2f} "
-      "{:>8.1f} {:>8.1f} {:>6.2f} {:>7.2f}\n",
+      "{:>6} {:>6} {:>8} {:>9} {:>7} {:>10} {:>10.0f} {:>6.2f} {:>9.2f} {:>9.2f} {:>8.1f} {:>9.2f} {:>9.2f} {:>8.2f} "
+      "{:>8.2f} {:>7.2f} {:>8.1f} {:>8.1f} {:>6.2f} {:>7.2f}\n",
       mesh, elements, s.unknowns, s.nnz, s.backend, s.ordering, s.nnz_lu, s.nnz_lu / static_cast<double>(s.nnz),
-      1e3 * s.residual, 1e3 * s.assembly, 1e3 * s.analysis, 1e3 * s.factor, 1e3 * s.solve, s.assembly / s.factor,
-      s.lu_mb, s.rss_mb, s.gflop, s.gflop / s.factor);
+      1e3 * s.residual, 1e3 * s.assembly, 1e3 * s.analysis, 1e3 * s.factor, 1e3 * s.solve, 1e3 * s.plain_solve,
+      1e3 * solve_floor_seconds(s.nnz_lu), s.assembly / s.factor, s.lu_mb, s.rss_mb, s.gflop, s.gflop / s.factor);
   std::fflush(stdout);
 }
 
