@@ -27,7 +27,8 @@ struct StepTiming {
   // seconds; solve with the LU's refinement steps (at most 2), plain_solve without (the continuation's)
   double residual = 0, assembly = 0, analysis = 0, factor = 0, solve = 0, plain_solve = 0;
   double lu_mb = 0, rss_mb = 0;
-  double gflop = 0;  // of one numeric factorisation
+  double gflop = 0;                   // of one numeric factorisation
+  std::vector<OrderingTrial> trials;  // the candidates of ordering `best` (MUMPS)
 };
 
 // Writes J at u as a Matrix Market file (coordinate, real, general), for factorising the same
@@ -65,6 +66,7 @@ inline StepTiming time_newton_step(Problem& p, const Vector& u, const SparseLUOp
   s.plain_solve = median_time(std::max(repeat, 5), [&] { lu.solve(F, x, false, 0); });
   s.backend = lu.statistics().backend;
   s.ordering = lu.statistics().ordering_used;
+  s.trials = lu.statistics().ordering_trials;
   s.unknowns = p.size();
   s.nnz = J.nonZeros();
   s.nnz_lu = lu.statistics().nnz_lu;
@@ -122,6 +124,11 @@ inline void print_row(const std::string& mesh, int elements, const StepTiming& s
       mesh, elements, s.unknowns, s.nnz, s.backend, s.ordering, s.nnz_lu, s.nnz_lu / static_cast<double>(s.nnz),
       1e3 * s.residual, 1e3 * s.assembly, 1e3 * s.analysis, 1e3 * s.factor, 1e3 * s.solve, 1e3 * s.plain_solve,
       1e3 * solve_floor_seconds(s.nnz_lu), s.assembly / s.factor, s.lu_mb, s.rss_mb, s.gflop, s.gflop / s.factor);
+  if (!s.trials.empty()) {
+    fmt::print("{:>6} best's estimated GFlop:", "");
+    for (const OrderingTrial& t : s.trials) fmt::print(" {} {:.2f}", t.name, t.flops * 1e-9);
+    fmt::print("\n");
+  }
   std::fflush(stdout);
 }
 

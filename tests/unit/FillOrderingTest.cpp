@@ -12,6 +12,7 @@
 
 #include "core/FillOrdering.hpp"
 #include "core/SparseLU.hpp"
+#include "tests/support/ModelGrid.hpp"
 
 using namespace keller;
 
@@ -19,27 +20,8 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// The nx x ny grid Laplacian, 5-point (or 9-point) stencil, nonsingular (diagonally dominant);
-// with upper_only, only the entries on and above the diagonal (an unsymmetric pattern).
 SparseMatrix grid(int nx, int ny, bool nine_point = false, bool upper_only = false) {
-  std::vector<Eigen::Triplet<double, int>> t;
-  for (int j = 0; j < ny; ++j)
-    for (int i = 0; i < nx; ++i) {
-      const int k = i + nx * j;
-      t.emplace_back(k, k, 9.0);
-      for (int dj = -1; dj <= 1; ++dj)
-        for (int di = -1; di <= 1; ++di) {
-          const int a = i + di, b = j + dj, m = a + nx * b;
-          if ((di == 0 && dj == 0) || a < 0 || a >= nx || b < 0 || b >= ny) continue;
-          if (!nine_point && di != 0 && dj != 0) continue;
-          if (upper_only && m < k) continue;
-          t.emplace_back(k, m, di != 0 && dj != 0 ? -0.5 : -1.0 - 0.01 * di);
-        }
-    }
-  SparseMatrix A(nx * ny, nx * ny);
-  A.setFromTriplets(t.begin(), t.end());
-  A.makeCompressed();
-  return A;
+  return test::model_grid(nx, ny, nine_point, upper_only);
 }
 
 std::vector<int> order_of(const SparseMatrix& A) {
