@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <csignal>
 #include <functional>
+#include <limits>
 #include <stdexcept>
 
 #ifdef KELLER_METIS
@@ -32,7 +34,7 @@ std::vector<int> nested_dissection_order(int n, const int* outer, const int* inn
   // them so); a pattern without gets a sorted copy
   std::vector<int> sorted_outer, sorted_inner;
   for (int j = 0; j < n; ++j)
-    if (!std::is_sorted(inner + outer[j], inner + outer[j + 1], std::less_equal<int>{})) {
+    if (std::adjacent_find(inner + outer[j], inner + outer[j + 1], std::greater_equal<int>{}) != inner + outer[j + 1]) {
       sorted_outer.assign(outer, outer + n + 1);
       sorted_inner.assign(inner, inner + outer[n]);
       sorted_outer[0] = 0;
@@ -76,19 +78,32 @@ std::vector<int> nested_dissection_order(int n, const int* outer, const int* inn
       }
       if (w != v) adjncy.push_back(w);
     }
+    if (adjncy.size() > static_cast<size_t>(std::numeric_limits<idx_t>::max()))
+      throw std::runtime_error("the graph of A + A^T has more edges than METIS's 32-bit indices hold");
     xadj[static_cast<size_t>(v) + 1] = static_cast<idx_t>(adjncy.size());
   }
   row_cols = {};
+  // METIS fails on a graph without edges (CHOLMOD avoids it too); any order is as good there
+  if (adjncy.empty()) {
+    std::vector<int> identity(N);
+    for (int i = 0; i < n; ++i) identity[static_cast<size_t>(i)] = i;
+    return identity;
+  }
   idx_t options[METIS_NOPTIONS];
   METIS_SetDefaultOptions(options);
   options[METIS_OPTION_NUMBERING] = 0;
   idx_t vertices = n;
   std::vector<idx_t> perm(N), iperm(N);
-  if (adjncy.empty()) adjncy.push_back(0);  // METIS reads adjncy[0] of a graph without edges
+  // METIS traps SIGTERM (and SIGABRT) for the length of the call to unwind its own errors, and a
+  // SIGTERM that arrives then comes back as METIS_ERROR: it is raised again once METIS has put the
+  // process's handlers back, so that an interrupt of the run (runs/Interrupts) is not lost. (A
+  // signal delivered to another thread of the process inside that window reaches METIS's handler
+  // there; keller's factorisations run on one thread unless OpenBLAS has more.)
   const int rc = METIS_NodeND(&vertices, xadj.data(), adjncy.data(), nullptr, options, perm.data(), iperm.data());
+  if (rc == METIS_ERROR) std::raise(SIGTERM);
   if (rc != METIS_OK)
     throw std::runtime_error(rc == METIS_ERROR_MEMORY ? "METIS's nested dissection ran out of memory"
-                                                      : "METIS's nested dissection failed");
+                                                      : "METIS's nested dissection failed or was interrupted");
   // METIS: row i of the permuted matrix is row perm[i] of A, so iperm[i] is i's pivot position
   return std::vector<int>(iperm.begin(), iperm.end());
 #else

@@ -38,6 +38,8 @@ constexpr int kWorkspaceRetries = 5;
 // matrices measured (M2, M4, W3, square and strip grids; docs/performance.md), SCOTCH at 1.2 to 6
 // times the winner's flops with the slowest analysis, AMF at 1.02 to 1.3 times.
 constexpr int kBestCandidates[] = {kPord, kAmd};
+// The estimated flops of a candidate whose analysis failed (fewest_flops skips it).
+constexpr double kNoFlops = std::numeric_limits<double>::quiet_NaN();
 // MUMPS's memory statistics are in millions of bytes.
 constexpr double kBytesPerMumpsMb = 1e6;
 
@@ -152,6 +154,8 @@ class MumpsLU final : public LUBackend {
         irn_[static_cast<size_t>(k)] = A.inner[k] + 1;
         jcn_[static_cast<size_t>(k)] = j + 1;
       }
+    // (held through the search of `best`, about 1.6 s on W3: another object analysing the same
+    // pattern meanwhile waits and then takes the ordering chosen instead of searching again)
     OrderingCache& cache = ordering_cache();
     std::lock_guard<std::mutex> lock(cache.mutex);
     reused = cache.chosen >= 0 && cache.ordering == options_.ordering && cache.scaling == options_.scaling &&
@@ -183,6 +187,7 @@ class MumpsLU final : public LUBackend {
 
   Status factorize(const CscView& A) override {
     factorized_ = false;
+    if (!analysed_) return {StatusCode::LinearSolverError, "numeric factorisation: the symbolic analysis failed"};
     Instance& m = *id_;
     m->a = const_cast<double*>(A.values);
     const int workspace = m.icntl(14);
@@ -263,7 +268,7 @@ class MumpsLU final : public LUBackend {
   Status order_by_nested_dissection(const CscView& A) {
     try {
       given_ = one_based(nested_dissection_order(A.n, A.outer, A.inner));
-    } catch (const std::runtime_error& e) {
+    } catch (const std::exception& e) {  // METIS's failure, or memory for its graph
       return {StatusCode::LinearSolverError, fmt::format("symbolic analysis: {}", e.what())};
     }
     return {};
@@ -289,16 +294,26 @@ class MumpsLU final : public LUBackend {
     if (nested_dissection_available()) orderings.push_back(kGiven);
     orderings.insert(orderings.end(), std::begin(kBestCandidates), std::end(kBestCandidates));
     std::unique_ptr<Instance> best;
-    std::vector<int> best_given;
-    Status first_failure;
+    std::vector<int> best_given, used;
+    Status failure;
     for (int ordering : orderings) {
-      auto candidate = std::make_unique<Instance>(options_);
+      std::unique_ptr<Instance> candidate;
+      try {
+        candidate = std::make_unique<Instance>(options_);
+      } catch (const std::exception& e) {
+        return {StatusCode::LinearSolverError, fmt::format("symbolic analysis: {}", e.what())};
+      }
       Status st = ordering == kGiven ? order_by_nested_dissection(A) : Status{};
       if (st.is_ok()) st = analyse_with(*candidate, A, ordering);
-      const double flops = st.is_ok() ? candidate->rinfog(1) : std::numeric_limits<double>::quiet_NaN();
-      trials_.push_back({ordering_name(ordering), flops});
+      // (named by the ordering MUMPS used, which a build without one substitutes; one it has
+      // tried already is not counted again)
+      const int got = st.is_ok() ? candidate->infog(7) : ordering;
+      if (std::find(used.begin(), used.end(), got) != used.end()) continue;
+      used.push_back(got);
+      trials_.push_back({ordering_name(got), st.is_ok() ? candidate->rinfog(1) : kNoFlops});
       if (!st.is_ok()) {
-        if (first_failure.is_ok()) first_failure = st;
+        // a singular matrix says so whichever candidate found it (callers fall back on it)
+        if (failure.is_ok() || st.code() == StatusCode::SingularMatrix) failure = st;
         continue;
       }
       if (fewest_flops(trials_) == std::ssize(trials_) - 1) {
@@ -306,7 +321,7 @@ class MumpsLU final : public LUBackend {
         best_given = ordering == kGiven ? given_ : std::vector<int>{};
       }
     }
-    if (!best) return first_failure;  // every candidate failed: the first one's status says why
+    if (!best) return failure;  // every candidate failed
     id_ = std::move(best);
     given_ = std::move(best_given);
     (*id_)->perm_in = given_.empty() ? nullptr : given_.data();

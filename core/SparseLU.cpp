@@ -114,9 +114,10 @@ void declare_linear_solver_keys(SceneSchema& s) {
            "has: strategy other than auto, ordering cholmod)",
            {"auto", "umfpack", "mumps"});
   s.string("linear_solver.ordering", "amd",
-           "fill-reducing ordering: amd, metis (nested dissection; with MUMPS keller's METIS, or where built "
-           "without it MUMPS's fallback, which runs name), cholmod (UMFPACK only), best (UMFPACK: the least fill of "
-           "AMD/COLAMD, METIS, NESDIS; MUMPS: the fewest flops of METIS, PORD, AMD)",
+           "fill-reducing ordering: amd, metis (nested dissection; with MUMPS keller gives it METIS's, and in a build "
+           "without METIS MUMPS falls back to SCOTCH, which the run's LU line names), cholmod (UMFPACK only), best "
+           "(UMFPACK: the least fill of AMD/COLAMD, METIS, NESDIS; MUMPS: the fewest flops of METIS where built with "
+           "it, PORD, AMD)",
            {"amd", "metis", "cholmod", "best"});
   s.string("linear_solver.scaling", "sum",
            "scaling before factorisation: none, sum (UMFPACK: rows by their sums; MUMPS: its automatic row and "

@@ -107,8 +107,9 @@ static std::vector<ProblemType>& registry() {
          return std::make_unique<CollapsibleChannelProblem>(CollapsibleOptions::from_scene(s));
        },
        {{"linear_solver.ordering", "best",
-         "AMD/COLAMD, METIS and NESDIS tried, the least fill kept: METIS halves AMD's fill here and best cuts "
-         "another 19% on M2 (docs/performance.md)"}}},
+         "orderings tried, the best kept (MUMPS: the fewest flops of METIS, PORD, AMD; UMFPACK: the least fill "
+         "of AMD/COLAMD, METIS, NESDIS, where METIS halves AMD's fill and best cuts another 19% on M2; "
+         "docs/orderings.md)"}}},
       {"cylinder",
        "confined-cylinder benchmark (radius 1, channel half-width 2)",
        CylinderOptions::declare,
@@ -116,8 +117,8 @@ static std::vector<ProblemType>& registry() {
          return std::make_unique<CylinderProblem>(CylinderOptions::from_scene(s));
        },
        {{"linear_solver.ordering", "best",
-         "the least fill of AMD/COLAMD, METIS and NESDIS: METIS alone cuts AMD's fill by 35% on C3 "
-         "(docs/performance.md)"}}},
+         "orderings tried, the best kept (MUMPS: PORD on W3; UMFPACK: METIS, which cuts AMD's fill by 35% on "
+         "C3; docs/orderings.md)"}}},
       {"flow",
        "steady flow of any fluid in a 2D geometry from Gmsh, with a condition on every named boundary (docs/flow.md)",
        FlowOptions::declare,
@@ -125,8 +126,8 @@ static std::vector<ProblemType>& registry() {
          return std::make_unique<FlowProblem>(FlowOptions::from_scene(s));
        },
        {{"linear_solver.ordering", "best",
-         "the least fill of AMD/COLAMD, METIS and NESDIS: the fill of a mesh the user made is not known in "
-         "advance (docs/performance.md)"}}},
+         "orderings tried, the best kept: the fill of a mesh the user made is not known in advance "
+         "(docs/orderings.md)"}}},
       {"wall", "the neo-Hookean wall of the collapsible channel alone, under follower pressures", WallOptions::declare,
        [](const Scene& s) -> std::unique_ptr<Problem> {
          return std::make_unique<WallProblem>(WallOptions::from_scene(s));

@@ -215,7 +215,7 @@ Vector CylinderProblem::initial_guess() {
   // relaxed conformation, as FlowProblem starts: from the inflow profile continued past the
   // cylinder, whose velocity there is wrong by O(1), Newton needed a second factorisation on
   // W3 (its chord steps from the profile's Jacobian stalled at |F| ~ 1e-5); from the Stokes flow
-  // one factorisation converges (Wi = 1e-4: first state 8.3 s -> 6.0 s, docs/cylinder.md).
+  // one factorisation converges (W3 at Wi = 1e-4: first state 6.5 s -> 4.0 s, docs/cylinder.md).
   Vector u = Vector::Zero(size());
   if (!flow_->stokes_state(u).is_ok()) {
     u.setZero();

@@ -103,8 +103,9 @@ inline double read_bandwidth() {
   return measured;
 }
 
-// The memory-bandwidth floor of a plain solve (docs/performance.md): nnz(L+U) x 16 bytes at the
-// measured read bandwidth.
+// The memory-bandwidth floor of a plain solve as issue 38 put it: nnz(L+U) x 16 bytes (a value
+// and its index) at the measured read bandwidth. MUMPS's factors are dense front blocks, 8 bytes
+// an entry, so its solves can take half of it (docs/orderings.md).
 inline double solve_floor_seconds(double nnz_lu) { return nnz_lu * 16.0 / read_bandwidth(); }
 
 inline void print_header() {

@@ -4,7 +4,7 @@
 //
 // Usage: bench_orderings [--grid NXxNY] [--stencil 5|9] [--matrix FILE.mtx] [--repeat N]
 //
-// A grid is tests/support/ModelGrid's: the Laplacian-like pattern of an NX x NY grid of points
+// A grid is runs/bench/ModelGrid's: the Laplacian-like pattern of an NX x NY grid of points
 // with the 5- or 9-point stencil (nonsingular, unsymmetric values), as the ordering tests use it. Prints, per ordering
 // (amd, metis, best), the ordering used, nnz(L+U), MUMPS's flop count, the analysis and the median factorisation time.
 #include <fmt/format.h>
@@ -18,8 +18,8 @@
 
 #include "core/FillOrdering.hpp"
 #include "core/SparseLU.hpp"
+#include "runs/bench/ModelGrid.hpp"
 #include "runs/bench/NewtonStepTiming.hpp"
-#include "tests/support/ModelGrid.hpp"
 
 using namespace keller;
 
@@ -65,7 +65,7 @@ int main(int argc, char** argv) {
     A.makeCompressed();
     fmt::print("{}: {} unknowns, {} entries\n", matrix, A.rows(), A.nonZeros());
   } else {
-    A = test::model_grid(nx, ny, stencil == 9);
+    A = bench::model_grid(nx, ny, stencil == 9);
     fmt::print("{} x {} grid, {}-point stencil: {} unknowns, {} entries\n", nx, ny, stencil == 9 ? 9 : 5, A.rows(),
                A.nonZeros());
   }

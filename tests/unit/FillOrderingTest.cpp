@@ -12,7 +12,7 @@
 
 #include "core/FillOrdering.hpp"
 #include "core/SparseLU.hpp"
-#include "tests/support/ModelGrid.hpp"
+#include "runs/bench/ModelGrid.hpp"
 
 using namespace keller;
 
@@ -21,7 +21,7 @@ namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 SparseMatrix grid(int nx, int ny, bool nine_point = false, bool upper_only = false) {
-  return test::model_grid(nx, ny, nine_point, upper_only);
+  return bench::model_grid(nx, ny, nine_point, upper_only);
 }
 
 std::vector<int> order_of(const SparseMatrix& A) {
@@ -70,8 +70,9 @@ TEST(FewestFlops, SkipsFailedAnalysesAndSaysWhenAllFailed) {
 
 // Nested dissection orders a separator of the graph last: on the 40 x 40 grid, removing the
 // vertices of the last pivots splits the rest into two parts of at least a quarter each after at
-// most 60 of them (the grid's smallest balanced separator has 40). The natural order's last 60
-// (a row and a half) do not disconnect the grid at all: the test tells the two apart.
+// most 60 of them (a straight cut has 40; a diagonal one cutting off a corner of a quarter, 29).
+// The natural order's last 60 (a row and a half) do not disconnect the grid at all: the test
+// tells the two apart.
 TEST(NestedDissection, OrdersABalancedSeparatorLast) {
   if (!nested_dissection_available()) GTEST_SKIP() << "built without METIS";
   constexpr int kSide = 40, kMostSeparator = 60;
@@ -98,7 +99,6 @@ TEST(NestedDissection, OrdersABalancedSeparatorLast) {
   };
   const int separator = split_after(position);
   EXPECT_GT(separator, 0) << "METIS's last 60 pivots do not split the grid into balanced parts";
-  EXPECT_GE(separator, kSide);  // no balanced separator of the grid is smaller
   EXPECT_EQ(split_after(identity), -1);
 }
 
@@ -107,6 +107,25 @@ TEST(NestedDissection, OrdersThePatternOfAPlusATranspose) {
   if (!nested_dissection_available()) GTEST_SKIP() << "built without METIS";
   EXPECT_EQ(order_of(grid(30, 20, true, true)), order_of(grid(30, 20, true)));
   EXPECT_TRUE(order_of(SparseMatrix(0, 0)).empty());
+}
+
+// A pattern without off-diagonal entries has no graph for METIS (which fails on one): any order
+// is as good, and the identity comes back; MUMPS's `metis` then factorises the diagonal.
+TEST(NestedDissection, ADiagonalPatternGetsTheIdentity) {
+  if (!nested_dissection_available()) GTEST_SKIP() << "built without METIS";
+  SparseMatrix D(5, 5);
+  for (int i = 0; i < 5; ++i) D.insert(i, i) = 2.0 + i;
+  D.makeCompressed();
+  EXPECT_EQ(order_of(D), (std::vector<int>{0, 1, 2, 3, 4}));
+  if (!mumps_available()) return;
+  SparseLUOptions o;
+  o.backend = SparseLUOptions::Backend::Mumps;
+  o.ordering = SparseLUOptions::Ordering::Metis;
+  SparseLU lu(o);
+  ASSERT_TRUE(lu.factorize(D).is_ok());
+  Vector x;
+  ASSERT_TRUE(lu.solve(Vector::Ones(5), x).is_ok());
+  EXPECT_NEAR(x[4], 1.0 / 6.0, 1e-15);
 }
 
 // MUMPS's `best` analyses each candidate and keeps the fewest estimated flops: the ordering it
@@ -140,8 +159,27 @@ TEST(BestOrdering, KeepsTheCandidateOfFewestFlopsAndItDependsOnThePattern) {
     EXPECT_LT((A * x - b).norm() / b.norm(), 1e-13);
     winners.push_back(s.ordering_used);
   }
-  EXPECT_EQ(winners[0], "amd");
-  EXPECT_EQ(winners[1], "pord");
+  EXPECT_NE(winners[0], winners[1]);
+  EXPECT_EQ(winners[0], "amd");  // by a factor 1.7 in flops: not a close call
+}
+
+// A new pattern analysed by `best` in a fresh instance (here a structurally singular one, an empty
+// row and column) is factorised on the kept winner, not on the earlier pattern's analysis: the
+// singular status the callers fall back on, and no factors.
+TEST(BestOrdering, ANewSingularPatternEndsInTheSingularStatus) {
+  if (!mumps_available()) GTEST_SKIP() << "built without MUMPS";
+  SparseLUOptions o;
+  o.backend = SparseLUOptions::Backend::Mumps;
+  o.ordering = SparseLUOptions::Ordering::Best;
+  SparseLU lu(o);
+  ASSERT_TRUE(lu.factorize(grid(6, 5)).is_ok());
+  SparseMatrix S = grid(6, 5);
+  S.prune([](int i, int j, double) { return i != 7 && j != 7; });
+  S.makeCompressed();
+  const Status st = lu.factorize(S);
+  EXPECT_FALSE(st.is_ok());
+  EXPECT_EQ(st.code(), StatusCode::SingularMatrix) << st.message();
+  EXPECT_FALSE(lu.factorized());
 }
 
 // `ordering = "metis"` with MUMPS is METIS's nested dissection (not MUMPS's fallback to SCOTCH),

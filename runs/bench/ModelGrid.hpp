@@ -1,5 +1,5 @@
-// A model sparse pattern shared by the ordering tests and bench_orderings: the Laplacian-like
-// matrix of an nx x ny grid of points with the 5-point (or 9-point) stencil, diagonally dominant
+// A model sparse pattern shared by bench_orderings and the ordering tests (tests/unit/FillOrderingTest): the
+// Laplacian-like matrix of an nx x ny grid of points with the 5-point (or 9-point) stencil, diagonally dominant
 // (nonsingular) with slightly unsymmetric values; with upper_only, only the entries on and above
 // the diagonal (an unsymmetric pattern).
 #pragma once
@@ -8,7 +8,7 @@
 
 #include "core/Types.hpp"
 
-namespace keller::test {
+namespace keller::bench {
 
 inline SparseMatrix model_grid(int nx, int ny, bool nine_point = false, bool upper_only = false) {
   std::vector<Eigen::Triplet<double, int>> t;
@@ -31,4 +31,4 @@ inline SparseMatrix model_grid(int nx, int ny, bool nine_point = false, bool upp
   return A;
 }
 
-}  // namespace keller::test
+}  // namespace keller::bench
