@@ -30,26 +30,11 @@ std::vector<int> nested_dissection_order(int n, const int* outer, const int* inn
   // order), then each vertex's column and row lists merged. No sort: on W3 (12M entries)
   // sorting the doubled lists took longer than METIS itself.
   const size_t N = static_cast<size_t>(n);
-  // the merge needs each column's rows strictly increasing (Eigen's compressed matrices have
-  // them so); a pattern without gets a sorted copy
-  std::vector<int> sorted_outer, sorted_inner;
+  // the merge needs each column's rows strictly increasing, as Eigen's compressed matrices have
+  // them and UMFPACK requires of every matrix keller factorises
   for (int j = 0; j < n; ++j)
-    if (std::adjacent_find(inner + outer[j], inner + outer[j + 1], std::greater_equal<int>{}) != inner + outer[j + 1]) {
-      sorted_outer.assign(outer, outer + n + 1);
-      sorted_inner.assign(inner, inner + outer[n]);
-      sorted_outer[0] = 0;
-      int kept = 0;
-      for (int c = 0; c < n; ++c) {
-        const auto first = sorted_inner.begin() + outer[c], last = sorted_inner.begin() + outer[c + 1];
-        std::sort(first, last);
-        for (auto it = first, end = std::unique(first, last); it != end; ++it)
-          sorted_inner[static_cast<size_t>(kept++)] = *it;
-        sorted_outer[static_cast<size_t>(c) + 1] = kept;
-      }
-      outer = sorted_outer.data();
-      inner = sorted_inner.data();
-      break;
-    }
+    if (std::adjacent_find(inner + outer[j], inner + outer[j + 1], std::greater_equal<int>{}) != inner + outer[j + 1])
+      throw std::invalid_argument("nested_dissection_order: the rows of a column are not strictly increasing");
   std::vector<int> row_start(N + 1, 0), row_cols(static_cast<size_t>(outer[n]));
   for (int k = 0; k < outer[n]; ++k) ++row_start[static_cast<size_t>(inner[k]) + 1];
   for (size_t i = 0; i < N; ++i) row_start[i + 1] += row_start[i];

@@ -15,9 +15,10 @@ namespace keller {
 bool nested_dissection_available();
 
 // METIS's nested-dissection ordering of the n x n pattern given in compressed columns (0-based
-// `outer`, n + 1 column starts, and `inner`, the row of each entry; the diagonal and the values
-// play no part): position[i] is the place of variable i in the pivot order, 0-based. Empty where
-// METIS is missing. Throws std::runtime_error where METIS fails (out of memory).
+// `outer`, n + 1 column starts, and `inner`, the row of each entry, strictly increasing within a
+// column; the diagonal and the values play no part): position[i] is the place of variable i in
+// the pivot order, 0-based. Empty where METIS is missing. Throws std::invalid_argument for rows
+// out of order or repeated, std::runtime_error where METIS fails (out of memory, interrupted).
 std::vector<int> nested_dissection_order(int n, const int* outer, const int* inner);
 
 // One candidate ordering a symbolic analysis tried: its name and the factorisation's estimated

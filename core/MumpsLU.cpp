@@ -35,7 +35,7 @@ constexpr int kWorkspaceRetries = 5;
 // `best`: MUMPS's candidates, after METIS's nested dissection given by keller where it is built
 // with METIS (core/FillOrdering). Each must earn its analysis: SCOTCH (the other nested
 // dissection MUMPS has, and its fallback for METIS) and AMF were never the fewest flops on the
-// matrices measured (M2, M4, W3, square and strip grids; docs/performance.md), SCOTCH at 1.2 to 6
+// matrices measured (M2, M4, W3, square and strip grids; docs/orderings.md), SCOTCH at 1.2 to 6
 // times the winner's flops with the slowest analysis, AMF at 1.02 to 1.3 times.
 constexpr int kBestCandidates[] = {kPord, kAmd};
 // The estimated flops of a candidate whose analysis failed (fewest_flops skips it).

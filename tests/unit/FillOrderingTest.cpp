@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <stdexcept>
 #include <vector>
 
 #include "core/FillOrdering.hpp"
@@ -206,18 +207,23 @@ TEST(BestOrdering, MetisIsGivenToMumpsAndReused) {
   EXPECT_LT((B * x - b).norm() / b.norm(), 1e-13);
 }
 
-// A pattern given with unsorted and repeated rows in its columns (not Eigen's compressed form)
-// is ordered as the same pattern sorted: the graph is built alike.
-TEST(NestedDissection, TakesColumnsWithUnsortedAndRepeatedRows) {
+// The graph is merged from sorted columns: a pattern whose rows are out of order or repeated in a
+// column (not Eigen's compressed form, and refused by UMFPACK too) is refused, not ordered wrongly.
+TEST(NestedDissection, RefusesColumnsWithUnsortedOrRepeatedRows) {
   if (!nested_dissection_available()) GTEST_SKIP() << "built without METIS";
   const SparseMatrix A = grid(25, 17, true);
-  std::vector<int> outer{0}, inner;
-  for (int j = 0; j < A.cols(); ++j) {
-    std::vector<int> rows(A.innerIndexPtr() + A.outerIndexPtr()[j], A.innerIndexPtr() + A.outerIndexPtr()[j + 1]);
-    std::reverse(rows.begin(), rows.end());
-    rows.push_back(rows.front());  // a repeated entry
-    inner.insert(inner.end(), rows.begin(), rows.end());
-    outer.push_back(static_cast<int>(inner.size()));
+  for (const bool repeat : {false, true}) {
+    std::vector<int> outer{0}, inner;
+    for (int j = 0; j < A.cols(); ++j) {
+      std::vector<int> rows(A.innerIndexPtr() + A.outerIndexPtr()[j], A.innerIndexPtr() + A.outerIndexPtr()[j + 1]);
+      if (repeat)
+        rows.push_back(rows.back());
+      else
+        std::reverse(rows.begin(), rows.end());
+      inner.insert(inner.end(), rows.begin(), rows.end());
+      outer.push_back(static_cast<int>(inner.size()));
+    }
+    EXPECT_THROW(nested_dissection_order(static_cast<int>(A.rows()), outer.data(), inner.data()), std::invalid_argument)
+        << (repeat ? "repeated" : "unsorted");
   }
-  EXPECT_EQ(nested_dissection_order(static_cast<int>(A.rows()), outer.data(), inner.data()), order_of(A));
 }

@@ -150,6 +150,30 @@ TEST(FlowEquations, ConformationEigenvaluesInFullyDevelopedFlow) {
   EXPECT_EQ(mon[0], obs[4]);
 }
 
+namespace {
+
+// u with the Dirichlet values of the cylinder's own initial guess `guess` (the boundary values).
+Vector with_boundary_values(CylinderProblem& p, Vector u, const Vector& guess) {
+  for (const auto& t : p.assembler().terms())
+    if (t->name() == "dirichlet")
+      for (int k = 0; k < t->num_items(); ++k) {
+        int d = 0;
+        t->item_dofs(k, &d);
+        u[d] = guess[d];
+      }
+  return u;
+}
+
+// The inflow profile continued downstream (FlowEquations::initial_guess), the cylinder's guess
+// before it started from the Stokes flow, with the boundary values.
+Vector profile_guess(CylinderProblem& p) {
+  Vector profile = Vector::Zero(p.size());
+  p.flow().initial_guess(profile);
+  return with_boundary_values(p, profile, p.initial_guess());
+}
+
+}  // namespace
+
 // Newton from the Stokes start (FlowEquations::stokes_state) reaches the confined cylinder's
 // Oldroyd-B steady state at Wi = 0.5 on mesh C1 (conformation form), where from the inflow profile
 // continued downstream (FlowEquations::initial_guess) its line search fails (measured: from rest it
@@ -164,27 +188,15 @@ TEST(FlowEquations, NewtonConvergesFromTheStokesStart) {
   o.fluid.Wi = 0.5;
   CylinderProblem p(o);
   const Vector guess = p.initial_guess();
-  auto with_boundary_values = [&](Vector u) {
-    for (const auto& t : p.assembler().terms())  // the boundary values, as the problem's guess has them
-      if (t->name() == "dirichlet")
-        for (int k = 0; k < t->num_items(); ++k) {
-          int d = 0;
-          t->item_dofs(k, &d);
-          u[d] = guess[d];
-        }
-    return u;
-  };
   Vector u = Vector::Zero(p.size());
   ASSERT_TRUE(p.flow().stokes_state(u).is_ok());
-  u = with_boundary_values(u);
+  u = with_boundary_values(p, u, guess);
   EXPECT_LE((u - guess).lpNorm<Eigen::Infinity>(), 1e-12 * guess.lpNorm<Eigen::Infinity>());
   NewtonSolver newton(p);
   const NewtonResult r = newton.solve(u);
   ASSERT_TRUE(r.converged()) << r.status.message();
   EXPECT_NEAR(p.drag(u), 118.83, 0.01 * 118.83);
-  Vector profile = Vector::Zero(p.size());
-  p.flow().initial_guess(profile);
-  profile = with_boundary_values(profile);
+  Vector profile = profile_guess(p);
   EXPECT_FALSE(NewtonSolver(p).solve(profile).converged());
 }
 
@@ -204,16 +216,7 @@ TEST(FlowEquations, TheCylindersFirstStateTakesOneFactorisation) {
   const NewtonResult from_stokes = NewtonSolver(p).solve(u);
   ASSERT_TRUE(from_stokes.converged()) << from_stokes.status.message();
   EXPECT_EQ(from_stokes.factorisations, 1);
-  const Vector guess = p.initial_guess();
-  Vector profile = Vector::Zero(p.size());
-  p.flow().initial_guess(profile);
-  for (const auto& t : p.assembler().terms())
-    if (t->name() == "dirichlet")
-      for (int k = 0; k < t->num_items(); ++k) {
-        int d = 0;
-        t->item_dofs(k, &d);
-        profile[d] = guess[d];
-      }
+  Vector profile = profile_guess(p);
   const NewtonResult from_profile = NewtonSolver(p).solve(profile);
   ASSERT_TRUE(from_profile.converged()) << from_profile.status.message();
   EXPECT_GE(from_profile.factorisations, 2);
