@@ -274,7 +274,7 @@ ContinuationResult Continuation::trace(BranchPoint start, BranchObserver& observ
       if (step.zero_at_start) continue;  // (the same step again, without landing)
       // a turn sharper than the angle limit even at short steps (a fold sharper than the
       // branch's scale) is passed at the step floor, not taken for the branch's end
-      ds = step.turned ? steps_.after_turn(ds) : steps_.after_failure(ds);
+      ds = step.turned ? steps_.after_turn(ds, step.angle) : steps_.after_failure(ds);
       if (steps_.below_floor(ds))
         return finish(StopCode::StepFloor,
                       fmt::format("step size fell below min_step = {} at {} = {:.10g}: {}", steps_.min(),
@@ -322,6 +322,11 @@ Continuation::Step Continuation::attempt(const BranchPoint& cur, const BranchPoi
   nxt.u = std::move(pr.u);
   nxt.lambda = pr.lambda;
   const long factorisations = kept_.count();
+  // a step that ends the branch on a bound makes its factorisation at its first correction: the sign
+  // of det at the branch's end (branch points) comes from it, where a probe after the step would
+  // factorise at the point besides
+  if (landed && pr.land->end && arclength && options_.events.branch_points && options_.corrector.kept())
+    kept_.record(ReuseEvent::SignWanted);
   const double floor = corrector_.residual_floor(cur.residual, prev ? prev->residual : 0.0);
   const CorrectorResult r = corrector_.correct(nxt.u, nxt.lambda, pr.constraint, Corrector::Kind::Step, floor);
   Status st = r.status;
@@ -392,6 +397,7 @@ Continuation::Step Continuation::attempt(const BranchPoint& cur, const BranchPoi
     else if (turn != TurnVerdict::Passed)
       st = {StatusCode::NotConverged, fmt::format("tangent turned by {:.1f} degrees", angle * 180.0 / M_PI)};
     s.turned = turn == TurnVerdict::Shorter;
+    s.angle = angle;
   }
   if (st.is_ok()) st = evaluate(nxt, analyse_now);
   s.status = st;

@@ -132,6 +132,7 @@ class Continuation {
     bool sampled = false;        // J was factorised during the step (its determinant sign is known)
     bool zero_at_start = false;  // it landed on the zero it starts on (tried again without landing)
     bool turned = false;         // arclength step rejected only because the tangent turned by more than the angle limit
+    double angle = 0.0;          // the turn of the tangent over the step (radians), where it was measured
   };
   struct Finish {
     StopCode code;

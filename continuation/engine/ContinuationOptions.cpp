@@ -75,7 +75,8 @@ void ContinuationOptions::declare(SceneSchema& s) {
   s.real_list("continuation.stops", {}, "parameter values where solutions are located and saved");
   s.boolean("continuation.land_on_values", true,
             "arclength: shorten a step whose predictor crosses a stop or a bound so that it lands on it (one "
-            "correction instead of two, no step beyond a bound); false: locate such points after the step");
+            "correction instead of two, no step beyond a bound), or stretch one that falls short of it by at most a "
+            "quarter (one step instead of two); false: locate such points after the step");
   s.boolean("continuation.land_on_zeros", true,
             "arclength: a step whose linear prediction of the stop observable crosses its threshold (where the problem "
             "gives the observable's gradient) lands on that zero; false: locate it after the step");

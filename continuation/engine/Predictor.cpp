@@ -33,9 +33,13 @@ std::optional<Landing> plan_landing(const LandingQuery& q, const std::vector<dou
   // sense: +1 only crossing upwards (the upper bound, left from inside), -1 only downwards (the
   // lower bound), 0 either way (stops)
   auto consider = [&](double v, int sense, PointKind kind, std::string label, std::optional<StopCode> end) {
-    if (!std::isfinite(v) || v == q.lambda || !((q.lambda - v) * (predicted - v) <= 0)) return;
+    if (!std::isfinite(v) || v == q.lambda || predicted == q.lambda) return;
     if (sense * (v - q.lambda) < 0) return;
+    // ahead within the step, or a little beyond it (a step stretched onto the value instead of a
+    // short one after it)
     const double fraction = (v - q.lambda) / (predicted - q.lambda);
+    if (!(fraction > 0) || fraction > kLandingReach) return;
+    if (fraction > 1 && fraction * q.step > q.max_step) return;
     if (fraction * q.step > kFoldDistanceFraction * to_fold) return;
     if (!best || fraction < best->fraction) best = Landing{v, fraction, kind, std::move(label), end};
   };
@@ -83,6 +87,7 @@ Prediction Predictor::predict(const BranchPoint& cur, const BranchPoint* prev, c
       q.previous_tlambda = prev->tlambda;
     }
     q.step = ds;
+    q.max_step = options_.step.max;
     q.direction = dl;
     p.land = plan_landing(q, options_.events.stops, options_.stop.lower, options_.stop.upper, options_.parameter);
   }

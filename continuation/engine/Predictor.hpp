@@ -4,6 +4,7 @@
 // and then corrected at that parameter value.
 #pragma once
 
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -30,15 +31,19 @@ struct LandingQuery {
   double lambda = 0.0, s = 0.0, tlambda = 0.0;  // the current point
   bool has_previous = false;                    // with a tangent
   double previous_s = 0.0, previous_tlambda = 0.0;
-  double step = 0.0;       // the planned step
-  double direction = 0.0;  // the parameter part of the step's direction
+  double step = 0.0;                                          // the planned step
+  double max_step = std::numeric_limits<double>::infinity();  // the largest step allowed
+  double direction = 0.0;                                     // the parameter part of the step's direction
 };
 
-// The nearest stop or bound the planned step would cross, if it may land on it: not within half
+// The nearest stop or bound the planned step would cross, or would fall short of by at most
+// kLandingReach - 1 of its parameter change (the step is then stretched onto it, within the largest
+// step: one step instead of a second, short one), if it may land on it: not within half
 // the distance at which the parameter part of the tangent, extrapolated linearly from the last two
 // points, vanishes (near a fold the correction at a fixed parameter is ill-posed and the value may
 // lie beyond the fold), nor right after a fold. Bounds only when left from inside (the upper one
 // upwards, the lower one downwards). Stops are labelled "<parameter> = <value>".
+inline constexpr double kLandingReach = 1.25;
 std::optional<Landing> plan_landing(const LandingQuery& q, const std::vector<double>& stops, double lower, double upper,
                                     const std::string& parameter);
 

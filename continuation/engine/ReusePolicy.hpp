@@ -18,8 +18,9 @@ enum class ReuseEvent {
                   // belong to an iterate far off the branch
   Accepted,       // a point of the branch (the start) took it under its own row
   TangentFailed,  // a step's tangent failed on it: the step is rejected and tried again shorter
-  SignWanted,     // the branch ends on this step, which made no factorisation: the next correction
-                  // makes one (the sign of det at the branch's end, for branch points)
+  SignWanted,     // the branch ends on this step (it lands on a bound, or on a zero without having
+                  // factorised): the next correction makes one (the sign of det at the branch's
+                  // end, for branch points)
 };
 
 class ReusePolicy {

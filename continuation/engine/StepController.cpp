@@ -29,6 +29,13 @@ double StepController::after_accepted(double ds, const StepOutcome& o) const {
   return std::clamp(next, options_.min, options_.max);
 }
 
+double StepController::after_turn(double ds, double angle) const {
+  const double limit = options_.max_angle_degrees * M_PI / 180.0;
+  // (an angle at or below the limit, or not a number, is not a turn rejection: the failure's factor)
+  const double factor = angle > limit ? kTurnRetry * limit / angle : options_.shrink;
+  return std::max(ds * factor, options_.min);
+}
+
 TurnVerdict StepController::judge_turn(double angle, double ds, double distance, bool arclength) const {
   const double limit = options_.max_angle_degrees * M_PI / 180.0;
   if (!(angle > limit)) return TurnVerdict::Passed;

@@ -32,6 +32,9 @@ enum class TurnVerdict {
   Far,      // an arclength step at the floor turned too sharply to a point far away: a failed step
 };
 
+// A step retried after a sharp turn aims at this fraction of the angle limit.
+inline constexpr double kTurnRetry = 0.75;
+
 class StepController {
  public:
   StepController(const StepOptions& options, int target_iterations);
@@ -41,9 +44,11 @@ class StepController {
   double after_accepted(double ds, const StepOutcome& outcome) const;
   // The step after a failed one of size ds (below min(): the branch ends).
   double after_failure(double ds) const { return ds * options_.shrink; }
-  // The step after one rejected only for turning by more than the angle limit: shrunk, but not
-  // below the floor, where the angle is not judged (a sharp fold is passed there).
-  double after_turn(double ds) const { return std::max(ds * options_.shrink, options_.min); }
+  // The step after one rejected only for turning by angle (radians), more than the angle limit:
+  // shrunk to turn by kTurnRetry of the limit at the curvature the step showed (the turn grows
+  // with the step: ds kTurnRetry limit / angle), but not below the floor, where the angle is not
+  // judged (a sharp fold is passed there).
+  double after_turn(double ds, double angle) const;
   // A step of size ds whose unit tangents at its ends are angle radians apart and whose point lies
   // distance from the last (arclength norm); arclength: pseudo-arclength, else natural steps.
   TurnVerdict judge_turn(double angle, double ds, double distance, bool arclength) const;

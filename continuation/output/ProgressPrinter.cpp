@@ -37,8 +37,8 @@ void ProgressPrinter::on_point(const BranchPoint& p) {
 }
 
 void ProgressPrinter::on_rejected(double lambda, double step, const Status& why) {
-  fmt::print("         step rejected near {} = {:.8g} (step {:.3e}): {}; halving\n", parameter_, lambda, step,
-             why.describe());
+  fmt::print("         step rejected near {} = {:.8g} (step {:.3e}): {}; tried again shorter\n", parameter_, lambda,
+             step, why.describe());
   std::fflush(stdout);
 }
 

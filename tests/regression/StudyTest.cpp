@@ -46,11 +46,14 @@ TEST(Study, TheSameTableUnderEveryExecutor) {
     EXPECT_NEAR(std::stod(row.at("event:fold")), 3.513830719125, 2 * h * h) << row.at("name");
     EXPECT_EQ(row.at("event:u_mid"), row.at("end_parameter")) << row.at("name");
     EXPECT_NEAR(std::stod(row.at("end:u_mid")), std::stod(row.at("continuation.stop_above")), 1e-8);
-    // the cost of the linear algebra: J (tridiagonal, n - 1 unknowns) factorised on its own by
-    // the block elimination, without fill: nnz(L + U) = nnz(J) = 3 (n - 1) - 2; a solve per
-    // corrector iteration at least
+    // the cost of the linear algebra: J (tridiagonal, m = n - 1 unknowns) factorised on its own by
+    // the block elimination: nnz(L + U) = nnz(J) = 3 m - 2, plus the few entries row exchanges
+    // add where MUMPS pivots off the diagonal (J indefinite past the fold: 2 in the 32-interval
+    // branch whose last factorisation lies there, 93 for 91), far below the bordered matrix's,
+    // whose dense row and column would add 2 m; a solve per corrector iteration at least
     const double m = std::stod(row.at("bratu.intervals")) - 1;
-    EXPECT_EQ(std::stod(row.at("nnz_lu")), 3 * m - 2) << row.at("name");
+    EXPECT_GE(std::stod(row.at("nnz_lu")), 3 * m - 2) << row.at("name");
+    EXPECT_LE(std::stod(row.at("nnz_lu")), 3 * m - 2 + 4) << row.at("name");
     EXPECT_GE(std::stod(row.at("solves")), std::stod(row.at("points"))) << row.at("name");
     EXPECT_GT(std::stod(row.at("lu_peak_mb")), 0.0) << row.at("name");
   }

@@ -314,3 +314,24 @@ TEST(Continuation, BranchPointsAreFoundOnAKeptFactorisation) {
   EXPECT_GT(rk.tangent_iterations, 0);
   EXPECT_LT(2 * rk.factorisations, re.factorisations);
 }
+
+// A branch that lands on its bound learns the sign of det at its end from the last step's own
+// factorisation (made at its first correction), not from a probe after it: on the trivial pitchfork
+// branch below its first branch point the chord never renews, so the start and the last step are
+// the only factorisations, and no probe is made.
+TEST(Continuation, ABranchEndingOnABoundTakesItsLastSignFromItsLastStep) {
+  Pitchfork1DProblem p(50, 1.0);
+  ContinuationOptions o = test::pitchfork_trivial_options();
+  o.stop.upper = 0.5 * Pitchfork1DProblem::branch_point(1, 50);
+  Continuation cont(p, o);
+  RecordingObserver rec;
+  const ContinuationResult r = cont.run(p.initial_guess(), rec);
+  ASSERT_EQ(r.code, StopCode::UpperBound) << r.reason;
+  ASSERT_GE(rec.points.size(), 4u);
+  EXPECT_EQ(rec.points.back().lambda, o.stop.upper);
+  EXPECT_EQ(r.probes, 0);
+  EXPECT_EQ(r.factorisations, 2);
+  EXPECT_EQ(rec.points.back().bordered_det_sign, rec.points.front().bordered_det_sign);
+  EXPECT_NE(rec.points.back().bordered_det_sign, 0);
+  EXPECT_TRUE(rec.of_kind(PointKind::BranchPoint).empty());
+}

@@ -9,8 +9,9 @@
 
 using namespace keller;
 
-// The landing plan: the nearest stop or bound the predicted step crosses, with its fraction of the
-// step; bounds only when left from inside; none near an extrapolated fold or right after one.
+// The landing plan: the nearest stop or bound the predicted step crosses or falls a little short of,
+// with its fraction of the step; bounds only when left from inside; none near an extrapolated fold
+// or right after one.
 TEST(Predictor, TheLandingPlanFromStopsAndAPredictedStep) {
   LandingQuery q;
   q.lambda = 0.5;
@@ -32,8 +33,23 @@ TEST(Predictor, TheLandingPlanFromStopsAndAPredictedStep) {
   EXPECT_EQ(land->end, StopCode::UpperBound);
   // a lower bound crossed upwards (the branch starts below it) is not landed on
   EXPECT_FALSE(plan_landing(q, {}, 0.75, INFINITY, "p"));
-  // no value within reach of the step
+  // a value a little beyond the step (1.25 of it at most, within the largest step) is landed on
+  // by a longer step: 3 lies 2.5 ahead of 0.5, 1.25 times the predicted 2
+  land = plan_landing(q, {3.0}, -INFINITY, INFINITY, "p");
+  ASSERT_TRUE(land);
+  EXPECT_DOUBLE_EQ(land->fraction, 1.25);
+  land = plan_landing(q, {3.0}, -INFINITY, 2.9, "p");  // the upper bound comes first: the branch ends there
+  ASSERT_TRUE(land);
+  EXPECT_EQ(land->end, StopCode::UpperBound);
+  EXPECT_DOUBLE_EQ(land->fraction, 1.2);
+  // no value within reach of the step: 1.3 of it, or a stretched step longer than the largest
+  EXPECT_FALSE(plan_landing(q, {3.1}, -INFINITY, INFINITY, "p"));
+  q.max_step = 2.4;
   EXPECT_FALSE(plan_landing(q, {3.0}, -INFINITY, INFINITY, "p"));
+  EXPECT_TRUE(plan_landing(q, {2.5}, -INFINITY, INFINITY, "p"));  // (not stretched: the predicted value itself)
+  q.max_step = INFINITY;
+  // nor one behind the step's start
+  EXPECT_FALSE(plan_landing(q, {0.25}, -INFINITY, INFINITY, "p"));
   // the tangent's parameter part falls from 1.25 to 1 over s = 0.5: it vanishes 2 further on, so a
   // stop at a fraction 0.25 of a step of 2 (0.5 along) is within half of that; one at 0.75 is not
   q.has_previous = true;

@@ -39,11 +39,18 @@ TEST(StepController, FromASequenceOfOutcomes) {
   }
   EXPECT_DOUBLE_EQ(c.after_accepted(0.45, {1, false, false}), 0.5);      // capped at max
   EXPECT_DOUBLE_EQ(c.after_accepted(1.2e-3, {30, false, false}), 1e-3);  // floored at min
-  // a step rejected for its turn alone shrinks to the floor, never below it
-  EXPECT_DOUBLE_EQ(c.after_turn(0.1), 0.05);
-  EXPECT_DOUBLE_EQ(c.after_turn(1.5e-3), 1e-3);
-  EXPECT_DOUBLE_EQ(c.after_turn(1e-3), 1e-3);
-  EXPECT_FALSE(c.below_floor(c.after_turn(1e-3)));
+  // a step rejected for its turn alone shrinks so that, at the curvature it showed, it would turn
+  // by 3/4 of the limit (20 degrees): 25 degrees -> 0.6 of it, 60 degrees -> 0.25; to the floor,
+  // never below it
+  const double deg = M_PI / 180.0;
+  EXPECT_DOUBLE_EQ(c.after_turn(0.1, 25 * deg), 0.1 * 0.6);
+  EXPECT_DOUBLE_EQ(c.after_turn(0.1, 60 * deg), 0.1 * 0.25);
+  EXPECT_DOUBLE_EQ(c.after_turn(0.1, 21 * deg) / 0.1, 15.0 / 21.0);
+  EXPECT_DOUBLE_EQ(c.after_turn(1.5e-3, 25 * deg), 1e-3);
+  EXPECT_DOUBLE_EQ(c.after_turn(1e-3, 25 * deg), 1e-3);
+  EXPECT_FALSE(c.below_floor(c.after_turn(1e-3, 90 * deg)));
+  // (an angle within the limit is no turn rejection: the failure's factor)
+  EXPECT_DOUBLE_EQ(c.after_turn(0.1, 10 * deg), 0.05);
   double failed = 0.1;
   int failures = 0;
   while (!c.below_floor(failed)) {
