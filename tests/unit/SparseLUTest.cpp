@@ -340,6 +340,47 @@ TEST_P(SparseLUBackend, PivotsOffAZeroDiagonalOnAReusedAnalysis) {
   EXPECT_NEAR(lu.log_abs_determinant(), std::log(std::abs(D.determinant())), 1e-10);
 }
 
+// Pivoting the analysis did not plan, on a 2D pattern (a 30 x 30 grid, five points, random
+// off-diagonal values): analysed with a dominant diagonal, factorised with a zero one, so that
+// every planned pivot is zero and is delayed up the elimination tree. MUMPS's fronts then outgrow
+// the workspace its analysis estimated (INFO(1) = -9, twice here), which keller provides and grows
+// until the factorisation fits; the solution matches dense LU.
+TEST_P(SparseLUBackend, PivotsBeyondTheAnalysisWorkspaceEstimate) {
+  constexpr int kGrid = 30, kN = kGrid * kGrid;
+  std::vector<Eigen::Triplet<double, int>> t;
+  unsigned seed = 12345;
+  auto value = [&]() {
+    seed = seed * 1103515245u + 12345u;
+    return static_cast<double>((seed >> 8) % 1000) / 500.0 - 1.0;
+  };
+  for (int i = 0; i < kGrid; ++i)
+    for (int j = 0; j < kGrid; ++j) {
+      const int r = i * kGrid + j;
+      t.emplace_back(r, r, 0.0);
+      if (i > 0) t.emplace_back(r, r - kGrid, value());
+      if (i < kGrid - 1) t.emplace_back(r, r + kGrid, value());
+      if (j > 0) t.emplace_back(r, r - 1, value());
+      if (j < kGrid - 1) t.emplace_back(r, r + 1, value());
+    }
+  SparseMatrix zero_diagonal(kN, kN);
+  zero_diagonal.setFromTriplets(t.begin(), t.end());
+  zero_diagonal.makeCompressed();
+  SparseMatrix dominant = zero_diagonal;
+  for (int i = 0; i < kN; ++i) dominant.coeffRef(i, i) += 10.0;
+  SparseLU lu(options());
+  ASSERT_TRUE(lu.factorize(dominant).is_ok());
+  const Status st = lu.factorize(zero_diagonal);
+  ASSERT_TRUE(st.is_ok()) << st.describe();
+  EXPECT_EQ(lu.statistics().analyses, 1);
+  const Eigen::MatrixXd D(zero_diagonal);
+  const Vector b = Vector::LinSpaced(kN, -1, 2);
+  Vector x;
+  ASSERT_TRUE(lu.solve(b, x).is_ok());
+  const Eigen::PartialPivLU<Eigen::MatrixXd> dense(D);
+  EXPECT_LT((x - dense.solve(b)).norm() / x.norm(), 1e-10);
+  EXPECT_EQ(lu.determinant_sign(), dense.determinant() > 0 ? 1 : -1);
+}
+
 // A matrix without a single entry in one column is singular by its pattern alone (MUMPS finds
 // it in the analysis, UMFPACK in the factorisation): a status as for a numerically singular one.
 TEST_P(SparseLUBackend, StructurallySingularMatrixIsAStatus) {
