@@ -304,6 +304,19 @@ TEST_P(SparseLUBackend, OrderingsAgree) {
   }
 }
 
+namespace {
+// zero_diagonal with shift added to its diagonal factorised (the analysis plans its pivots on the
+// diagonal), then zero_diagonal itself on that same analysis.
+void factorise_on_a_dominant_analysis(SparseLU& lu, const SparseMatrix& zero_diagonal, double shift) {
+  SparseMatrix dominant = zero_diagonal;
+  for (int i = 0; i < dominant.rows(); ++i) dominant.coeffRef(i, i) += shift;
+  ASSERT_TRUE(lu.factorize(dominant).is_ok());
+  const Status st = lu.factorize(zero_diagonal);
+  ASSERT_TRUE(st.is_ok()) << st.describe();
+  EXPECT_EQ(lu.statistics().analyses, 1);
+}
+}  // namespace
+
 // A pattern analysed on values with a dominant diagonal, then factorised with values whose
 // diagonal is zero wherever the permutation of permuted_dominant moves a row: the pivots the
 // analysis planned are zero, and the numeric factorisation has to pivot elsewhere (UMFPACK: rows
@@ -319,16 +332,11 @@ TEST_P(SparseLUBackend, PivotsOffAZeroDiagonalOnAReusedAnalysis) {
   SparseMatrix zero_diagonal(kN, kN);
   zero_diagonal.setFromTriplets(t.begin(), t.end());
   zero_diagonal.makeCompressed();
-  SparseMatrix dominant = zero_diagonal;
-  for (int i = 0; i < kN; ++i) dominant.coeffRef(i, i) += 10.0 * kN;
   int zero_pivots = 0;
   for (int i = 0; i < kN; ++i) zero_pivots += zero_diagonal.coeff(i, i) == 0.0;
   ASSERT_GT(zero_pivots, kN / 2) << "the construction: most planned pivots are zero";
   SparseLU lu(options());
-  ASSERT_TRUE(lu.factorize(dominant).is_ok());
-  const Status st = lu.factorize(zero_diagonal);
-  ASSERT_TRUE(st.is_ok()) << st.describe();
-  EXPECT_EQ(lu.statistics().analyses, 1);
+  ASSERT_NO_FATAL_FAILURE(factorise_on_a_dominant_analysis(lu, zero_diagonal, 10.0 * kN));
   const Eigen::MatrixXd D(zero_diagonal);
   const Vector b = Vector::LinSpaced(kN, -1, 2);
   Vector x, xt;
@@ -365,13 +373,8 @@ TEST_P(SparseLUBackend, PivotsBeyondTheAnalysisWorkspaceEstimate) {
   SparseMatrix zero_diagonal(kN, kN);
   zero_diagonal.setFromTriplets(t.begin(), t.end());
   zero_diagonal.makeCompressed();
-  SparseMatrix dominant = zero_diagonal;
-  for (int i = 0; i < kN; ++i) dominant.coeffRef(i, i) += 10.0;
   SparseLU lu(options());
-  ASSERT_TRUE(lu.factorize(dominant).is_ok());
-  const Status st = lu.factorize(zero_diagonal);
-  ASSERT_TRUE(st.is_ok()) << st.describe();
-  EXPECT_EQ(lu.statistics().analyses, 1);
+  ASSERT_NO_FATAL_FAILURE(factorise_on_a_dominant_analysis(lu, zero_diagonal, 10.0));
   const Eigen::MatrixXd D(zero_diagonal);
   const Vector b = Vector::LinSpaced(kN, -1, 2);
   Vector x;
