@@ -29,15 +29,17 @@ double StepController::after_accepted(double ds, const StepOutcome& o) const {
   return std::clamp(next, options_.min, options_.max);
 }
 
+double StepController::angle_limit() const { return options_.max_angle_degrees * M_PI / 180.0; }
+
 double StepController::after_turn(double ds, double angle) const {
-  const double limit = options_.max_angle_degrees * M_PI / 180.0;
+  const double limit = angle_limit();
   // (an angle at or below the limit, or not a number, is not a turn rejection: the failure's factor)
   const double factor = angle > limit ? kTurnRetry * limit / angle : options_.shrink;
   return std::max(ds * factor, options_.min);
 }
 
 TurnVerdict StepController::judge_turn(double angle, double ds, double distance, bool arclength) const {
-  const double limit = options_.max_angle_degrees * M_PI / 180.0;
+  const double limit = angle_limit();
   if (!(angle > limit)) return TurnVerdict::Passed;
   if (ds > options_.min) return arclength ? TurnVerdict::Shorter : TurnVerdict::Jumped;
   // at the floor a turn is passed where the point is the step's own, not one far away

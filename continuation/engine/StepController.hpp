@@ -57,6 +57,7 @@ class StepController {
   int target_iterations() const { return target_; }
 
  private:
+  double angle_limit() const;  // max_angle_degrees in radians
   StepOptions options_;
   int target_;
 };
