@@ -67,3 +67,22 @@ TEST(ReferenceElement, EdgeTablesLieOnTheirEdges) {
     }
   }
 }
+
+// The tables are computed by the compiler, with the Gauss abscissa written out: it must be the
+// double std::sqrt(0.6) gives, and the tables must be the shape functions at the points they name,
+// to rounding: a run-time evaluation may fuse a product and a sum (-march=native contracts
+// 1 - x * x into one rounding) where the compiler's constant evaluation rounds twice, 1 ulp apart.
+TEST(ReferenceElement, GaussAbscissaIsTheSquareRootOfThreeFifths) {
+  EXPECT_EQ(ref::kGauss3, std::sqrt(0.6));
+  static_assert(ref::tables().w[4] == (8.0 / 9.0) * (8.0 / 9.0), "the tables are a compile-time constant");
+  const ref::Tables& tb = ref::tables();
+  for (int q = 0; q < ref::kQp; ++q) {
+    double N[9], dN[9][2];
+    ref::q2_shape(tb.s[q], tb.t[q], N, dN);
+    for (int a = 0; a < 9; ++a) {
+      EXPECT_NEAR(tb.N2[q][a], N[a], 1e-15);
+      EXPECT_NEAR(tb.dN2[q][a][0], dN[a][0], 1e-15);
+      EXPECT_NEAR(tb.dN2[q][a][1], dN[a][1], 1e-15);
+    }
+  }
+}
