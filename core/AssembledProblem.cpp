@@ -36,6 +36,15 @@ Status AssembledProblem::time_residual(const Vector& u, const Vector& udot, Vect
   return assembler().time_residual(u, udot, R);
 }
 
+Status AssembledProblem::time_dependent_residual(const Vector& u, const Vector& udot, Vector& G) {
+  if (time_form_ != TimeForm::None) return assembler().time_dependent_residual(u, udot, G);
+  Vector R;
+  Status st = time_residual(u, udot, R);  // throws NoTimeForm, as for a problem without dynamics
+  if (st.is_ok()) st = residual(u, G);
+  if (st.is_ok()) G += R;
+  return st;
+}
+
 Status AssembledProblem::directional_derivative(const Vector& u, const std::vector<Direction>& directions,
                                                 Vector& out) {
   std::vector<const Vector*> du, dp;

@@ -33,6 +33,9 @@ class AssembledProblem : public Problem, public ExactDerivatives {
   // with TimeForm::None.
   Status mass_matrix(const Vector& u, SparseMatrix& B) final;
   Status time_residual(const Vector& u, const Vector& udot, Vector& R) final;
+  // F(u) + B(u) udot in one pass over the terms (Assembler::time_dependent_residual), what the free
+  // time_dependent_residual (core/Problem.hpp) takes for an assembled problem.
+  Status time_dependent_residual(const Vector& u, const Vector& udot, Vector& G);
 
   // Exact, by nested dual numbers through the terms, where every term offers them (kernel terms
   // do; core/ExactDerivatives.hpp).

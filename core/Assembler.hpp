@@ -50,6 +50,10 @@ class Assembler {
   // The time terms B(u) udot, assembled like the residual (redirects included) from each term's
   // rate(): no matrix is formed.
   Status time_residual(const Vector& u, const Vector& udot, Vector& R) const;
+  // G = F(u) + B(u) udot in one pass over the items: residual_with_rate of the terms with time
+  // terms (a kernel may share what its residual and its rate both compute), residual of the rest.
+  // Equal to residual + time_residual up to the order of the sums.
+  Status time_dependent_residual(const Vector& u, const Vector& udot, Vector& G) const;
 
   // D^k F[d_1, ..., d_k] (k = du.size(), 2 or 3) from the terms' directional derivatives (every
   // term must offer them: has_directional_derivatives()); du[j] over the unknowns, dp[j] over the
@@ -66,7 +70,7 @@ class Assembler {
   bool row_owned(int r) const { return owned_[r] >= 0; }
 
  private:
-  int destination(const Term& t, int dof) const { return t.owns_rows() ? dof : target_[dof]; }
+  int destination(bool owns_rows, int dof) const { return owns_rows ? dof : target_[dof]; }
   using LocalVector = std::function<Status(const Term&, int item, const double* u_local, double* r_local)>;
   // Sums a per-item local vector (residual, dF/dp) into out.
   Status assemble_vector(const Vector& u, Vector& out, const LocalVector& local) const;

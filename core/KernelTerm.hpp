@@ -17,6 +17,7 @@
 // r = B(u) udot (kRows), from which the local block of B in B du/dt = -F (row-major kRows x kSize)
 // is taken exactly by dual numbers (Dual<kSize>, the rates the variables); or the block itself,
 //   Status mass(int item, const double* u, const double* params, double* B) const;
+// and optionally both parts of the time-dependent residual at once (residual_with_rate below).
 // evaluate is instantiated with (double, double) for residuals, (Dual<kSize>, double) for the
 // Jacobian, (Dual<1>, Dual<1>) for dF/dp and (HyperDual<K>, HyperDual<K>) for second and third
 // directional derivatives, so kernels must only mix T with P and double in ways that give T, and
@@ -120,6 +121,19 @@ class KernelTerm final : public Term {
       return kernel_.template rate<double>(item, u, udot, params_->values(), r);
     else
       return Term::rate(item, u, udot, r);
+  }
+
+  // A kernel may evaluate its residual and its time terms together,
+  //   Status evaluate_with_rate(int item, const double* u, const double* udot, const double* params, double* r) const;
+  // r = F + B(u) udot (kRows), sharing what both compute (a moving element's geometry).
+  static constexpr bool kHasFused = requires(const Kernel& k, const double* x, double* y) {
+    k.evaluate_with_rate(0, x, x, x, y);
+  };
+  Status residual_with_rate(int item, const double* u, const double* udot, double* r) const override {
+    if constexpr (kHasFused)
+      return kernel_.evaluate_with_rate(item, u, udot, params_->values(), r);
+    else
+      return Term::residual_with_rate(item, u, udot, r);
   }
 
   const Kernel& kernel() const { return kernel_; }

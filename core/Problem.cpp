@@ -7,6 +7,8 @@
 
 #include <fmt/format.h>
 
+#include "core/AssembledProblem.hpp"
+
 namespace keller {
 
 Status Problem::jacobian(const Vector& u, Vector& F, SparseMatrix& J) {
@@ -81,6 +83,16 @@ Status Problem::time_residual(const Vector& u, const Vector& udot, Vector& R) {
   if (!st.is_ok()) return st;
   R = B * udot;
   return {};
+}
+
+Status time_dependent_residual(Problem& problem, const Vector& u, const Vector& udot, Vector& G) {
+  if (auto* assembled = dynamic_cast<AssembledProblem*>(&problem))
+    return assembled->time_dependent_residual(u, udot, G);
+  Vector R;
+  Status st = problem.time_residual(u, udot, R);
+  if (st.is_ok()) st = problem.residual(u, G);
+  if (st.is_ok()) G += R;
+  return st;
 }
 
 Status Problem::observables(const Vector&, std::vector<double>& values) {

@@ -116,6 +116,13 @@ class NoTimeForm : public std::logic_error {
 bool has_time_form(Problem& problem, const Vector& u);
 bool has_time_form(Problem& problem);
 
+// G = F(u) + B(u) udot, the time-dependent residual at the rate udot (every chord iteration of a
+// time step, two in every product of the shooting map's linearised passes): residual plus
+// time_residual, or for a problem assembled from terms (AssembledProblem) both in one pass over
+// its elements, which shares what the two compute alike (a moving element's geometry). Throws
+// NoTimeForm where the problem has no time-dependent form.
+Status time_dependent_residual(Problem& problem, const Vector& u, const Vector& udot, Vector& G);
+
 // What a run that needs B says to refuse a problem that has none as its scene sets it up: empty
 // where it has a time-dependent form with a time derivative at the parameters' present values;
 // else why (no time-dependent form at all, or why_no_time_derivative()).

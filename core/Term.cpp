@@ -17,6 +17,15 @@ Status Term::rate(int item, const double* u, const double* udot, double* r) cons
   return {};
 }
 
+Status Term::residual_with_rate(int item, const double* u, const double* udot, double* r) const {
+  Status st = residual(item, u, r);
+  if (!st.is_ok() || !has_mass()) return st;
+  std::vector<double> time(static_cast<size_t>(local_rows()));
+  st = rate(item, u, udot, time.data());
+  for (size_t i = 0; i < time.size(); ++i) r[i] += time[i];
+  return st;
+}
+
 Status Term::directional_derivative(int, const double*, int, const double* const*, const double* const*,
                                     double*) const {
   throw std::logic_error("term '" + name() + "' offers no exact directional derivatives");

@@ -37,6 +37,10 @@ class Term {
   // time-dependent residual B du/dt + F that holds the time derivatives. The default multiplies
   // mass() out; a term that writes them directly (KernelTerm) evaluates them without forming B.
   virtual Status rate(int item, const double* u, const double* udot, double* r) const;
+  // r = residual + rate at once: the item's rows of the time-dependent residual B(u) udot + F(u)
+  // (Assembler::time_dependent_residual). The default calls the two; a KernelTerm whose kernel
+  // evaluates both together (sharing a moving element's geometry) takes that.
+  virtual Status residual_with_rate(int item, const double* u, const double* udot, double* r) const;
   // The order-th directional derivative of r (order 2 or 3), D^k r[d_1, ..., d_k] (local_rows()),
   // each direction d_j a change du[j] of the item's unknowns (local_size()) and dp[j] of the
   // problem's parameters (its ParameterSet's size; null: none), for normal forms

@@ -211,12 +211,8 @@ Status ShootingMap::integrate(const Vector& u0, double period, const OrbitGrid& 
 }
 
 Status ShootingMap::solve_residual(const Solve& s, const Vector& U, Vector& G) {
-  Vector R;
   // R(U) = rate + coefficient (U - U_s): the rate is affine in U with slope coefficient
-  Status st = problem_.time_residual(U, s.rate + s.coefficient * (U - s.U), R);
-  if (st.is_ok()) st = problem_.residual(U, G);
-  if (st.is_ok()) G += R;
-  return st;
+  return time_dependent_residual(problem_, U, s.rate + s.coefficient * (U - s.U), G);
 }
 
 Status ShootingMap::apply_mass(const Solve& s, const Vector& x, Vector& out) {

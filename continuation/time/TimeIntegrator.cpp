@@ -104,11 +104,7 @@ class TimeIntegrator::StepProblem final : public Problem {
   SolutionFields fields(const Vector& u) const override { return inner_.fields(u); }
 
   Status residual(const Vector& u, Vector& G) override {
-    Status st = inner_.residual(u, G);
-    if (st.is_ok()) st = inner_.time_residual(u, coefficient_ * u + w_, R_);
-    if (!st.is_ok()) return st;
-    G += R_;
-    return {};
+    return time_dependent_residual(inner_, u, coefficient_ * u + w_, G);
   }
   Status jacobian(const Vector& u, Vector& G, SparseMatrix& M) override {
     Status st = inner_.jacobian(u, G, M);
@@ -131,7 +127,7 @@ class TimeIntegrator::StepProblem final : public Problem {
  private:
   Problem& inner_;
   double coefficient_ = 0.0;
-  Vector w_, R_;
+  Vector w_;
   SparseMatrix B_;
 };
 

@@ -87,8 +87,33 @@ class NewtonianFlowKernel {
     return {};
   }
 
+  // The residual and the time terms together, r = F + B(u) udot: the moving element's geometry and
+  // each Gauss point's velocity gradient computed once for both (KernelTerm::residual_with_rate).
+  Status evaluate_with_rate(int item, const double* u, const double* udot, const double* params, double* r) const {
+    const double rho = flow_density(p_, params, inertia_);
+    auto time_terms = [&](int q, const QpGeometry<double>& g, const VelocityAt<double>& s) {
+      double xdot[2] = {0.0, 0.0};
+      if constexpr (Moving)
+        if (ale_) mesh_velocity(q, udot + kRows, xdot);
+      add_velocity_rate(q, rho * g.wdetJ, udot, s.K, ale_ ? xdot : nullptr, r);
+    };
+    return on_geometry(item, u, r, [&](const auto& geo, const auto& centre) {
+      return evaluate_on(u, params, r, geo, centre, time_terms);
+    });
+  }
+
   template <class T, class P>
   Status evaluate(int item, const T* u, const P* params, T* r) const {
+    return on_geometry(item, u, r,
+                       [&](const auto& geo, const auto& centre) { return evaluate_on(u, params, r, geo, centre); });
+  }
+
+ private:
+  // on(geo, centre) with the element's Gauss-point geometry and centre node: on a moving mesh
+  // computed from the position unknowns in their scalar T (an inverted element: r zero and a
+  // status), on a fixed one the cached geometry.
+  template <class T, class On>
+  Status on_geometry(int item, const T* u, T* r, On on) const {
     if constexpr (Moving) {
       T xy[9][2];
       std::array<QpGeometry<T>, ref::kQp> geo;
@@ -96,24 +121,28 @@ class NewtonianFlowKernel {
         for (int i = 0; i < kRows; ++i) r[i] = 0.0;
         return inverted(item);
       }
-      return evaluate_on(u, params, r, geo, xy[4]);
+      return on(geo, xy[4]);
     } else {
       const auto& c = mesh_->node(mesh_->element(elements_[item])[4]);
       const double centre[2] = {c[0], c[1]};
-      return evaluate_on(u, params, r, (*geometry_)[item], centre);
+      return on((*geometry_)[item], centre);
     }
   }
 
- private:
   Status inverted(int item) const {
     return {StatusCode::InvalidState, "fluid element " + std::to_string(elements_[item]) + " is inverted (det J <= 0)"};
   }
 
   // The residual on an element with Gauss-point geometry geo (scalar G: double on a fixed mesh,
-  // T on a moving one) and centre node position centre.
-  template <class T, class P, class G>
+  // T on a moving one) and centre node position centre; at each Gauss point q, after its
+  // residual, also(q, geometry, velocity) (evaluate_with_rate's time terms).
+  struct Nothing {
+    template <class... A>
+    void operator()(const A&...) const {}
+  };
+  template <class T, class P, class G, class Also = Nothing>
   Status evaluate_on(const T* u, const P* params, T* r, const std::array<QpGeometry<G>, ref::kQp>& geo,
-                     const G (&centre)[2]) const {
+                     const G (&centre)[2], Also also = {}) const {
     const P beta = solvent_viscosity(p_, params);
     const P rho = flow_density(p_, params, inertia_);
     const T* vx = u;
@@ -128,6 +157,7 @@ class NewtonianFlowKernel {
       T load[2];
       momentum_load(s, inertia_, rho, force_.get(), g.x, load);
       add_momentum_continuity(q, g, psi, s, load, viscous_stress(beta, s.K), pressure_at(pc, psi), r);
+      also(q, g, s);
     }
     return {};
   }

@@ -9,9 +9,12 @@
 #include <iostream>
 #include <random>
 
+#include "core/KernelTerm.hpp"
 #include "core/Newton.hpp"
 #include "core/RateConstraintTerm.hpp"
+#include "problems/analytic/Brusselator1DProblem.hpp"
 #include "problems/channel/CollapsibleChannelProblem.hpp"
+#include "problems/kernels/NewtonianFlowKernel.hpp"
 #include "support/TestSupport.hpp"
 
 using namespace keller;
@@ -368,4 +371,63 @@ TEST(MovingWallMass, WallInertiaNeedsTheMovingWallFormAndFluidInertia) {
       EXPECT_NE(std::string(e.what()).find("dynamics.wall_density_ratio"), std::string::npos) << e.what();
     }
   }
+}
+
+// The time-dependent residual G = F(u) + B(u) udot that time steps and the shooting map's products
+// evaluate (time_dependent_residual, core/Problem.hpp) in one pass over the terms: the Newtonian
+// moving-mesh kernel shares the element's geometry between its residual and its rate
+// (evaluate_with_rate), the other kernels and the wall's inertia term take the default (the two
+// calls). Against residual + time_residual, which differ only in the order of the sums: rounding,
+// 1e-13 of the largest of F and B udot. A plain Problem (the Brusselator) takes the same two
+// calls exactly.
+TEST(MovingWallMass, TheTimeDependentResidualIsTheResidualPlusTheTimeTermsInOnePass) {
+  static_assert(KernelTerm<NewtonianFlowKernel<true>>::kHasFused, "the Newtonian kernel evaluates both at once");
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> U(-1, 1);
+  for (const Fluid& f : kFluids) {
+    for (int variant = 0; variant < 3; ++variant) {  // a fixed wall, a moving one, a moving one with inertia
+      SCOPED_TRACE(std::string(f.name) + " variant " + std::to_string(variant));
+      CollapsibleChannelProblem problem(variant == 2 ? with_wall_inertia(f, 3.0) : coarse(f, variant == 1));
+      const Vector u = perturbed_state(problem, f);
+      Vector udot(problem.size());
+      for (long i = 0; i < udot.size(); ++i) udot[i] = U(rng);
+      Vector F, R, G;
+      ASSERT_TRUE(problem.residual(u, F).is_ok());
+      ASSERT_TRUE(problem.time_residual(u, udot, R).is_ok());
+      ASSERT_TRUE(time_dependent_residual(problem, u, udot, G).is_ok());
+      const double scale = std::max(F.lpNorm<Eigen::Infinity>(), R.lpNorm<Eigen::Infinity>());
+      EXPECT_GT(R.lpNorm<Eigen::Infinity>(), 1e-3 * scale);  // the time terms are not negligible
+      EXPECT_LE((G - (F + R)).lpNorm<Eigen::Infinity>(), 1e-13 * scale);
+    }
+  }
+  Brusselator1DOptions options;
+  options.intervals = 8;
+  Brusselator1DProblem brusselator(options);
+  const Vector u = brusselator.initial_guess() + 0.1 * Vector::Ones(brusselator.size());
+  const Vector udot = Vector::LinSpaced(brusselator.size(), -1.0, 2.0);
+  Vector F, R, G;
+  ASSERT_TRUE(time_dependent_residual(brusselator, u, udot, G).is_ok());
+  ASSERT_TRUE(brusselator.residual(u, F).is_ok());
+  ASSERT_TRUE(brusselator.time_residual(u, udot, R).is_ok());
+  EXPECT_EQ((G - (F + R)).lpNorm<Eigen::Infinity>(), 0.0);
+}
+
+// An inverted fluid element fails the fused evaluation as it fails the residual: a status naming
+// the element, not a value.
+TEST(MovingWallMass, TheTimeDependentResidualOfAnInvertedElementIsAStatus) {
+  CollapsibleChannelProblem problem(coarse(kFluids[0], true));
+  Vector u = problem.initial_guess();
+  const DofMap& d = problem.dofs();
+  const int fx = d.field_index("position");
+  const auto& element = problem.mesh().element(0);  // upstream: a fluid element
+  // the element's centre node pushed past its corner: det J < 0 at Gauss points
+  const int centre = d.node_dof(fx, element[4], 0), corner = d.node_dof(fx, element[8], 0);
+  u[centre] = u[corner] + 1.0;
+  Vector F, G;
+  const Status expected = problem.residual(u, F);
+  ASSERT_FALSE(expected.is_ok());
+  const Status st = time_dependent_residual(problem, u, Vector::Zero(problem.size()), G);
+  EXPECT_EQ(st.code(), expected.code());
+  EXPECT_EQ(st.message(), expected.message());
+  EXPECT_NE(st.message().find("inverted"), std::string::npos) << st.message();
 }
