@@ -8,8 +8,11 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
+#include <fstream>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <unsupported/Eigen/SparseExtra>
@@ -80,6 +83,23 @@ inline StepTiming time_newton_step(Problem& p, const Vector& u, const SparseLUOp
 
 // The machine's memory read bandwidth for one thread, bytes per second: the best of 5 sums over
 // 512 MB, far beyond any cache (a plain solve reads each entry of L and U once, from memory).
+// The machine a benchmark ran on: CPU model, cores, BLAS threads, load average (one line).
+inline std::string machine() {
+  std::string model = "?";
+  std::ifstream cpu("/proc/cpuinfo");
+  for (std::string line; std::getline(cpu, line);)
+    if (line.rfind("model name", 0) == 0) {
+      model = line.substr(line.find(':') + 2);
+      break;
+    }
+  double load[3] = {0, 0, 0};
+  if (getloadavg(load, 3) < 0) load[0] = load[1] = load[2] = -1;
+  const char* threads = std::getenv("OPENBLAS_NUM_THREADS");
+  return fmt::format("machine: {}, {} cores, BLAS threads {}, load average {:.2f} {:.2f} {:.2f}", model,
+                     std::thread::hardware_concurrency(), threads ? threads : "default (all cores)", load[0], load[1],
+                     load[2]);
+}
+
 inline double read_bandwidth() {
   static const double measured = [] {
     constexpr size_t kDoubles = size_t{64} << 20;

@@ -29,9 +29,11 @@
 #include "core/Newton.hpp"
 #include "runs/SceneLoader.hpp"
 #include "runs/TraceCommand.hpp"
+#include "runs/bench/NewtonStepTiming.hpp"
 #include "stability/StabilityAnalysis.hpp"
 
 using namespace keller;
+using keller::bench::machine;
 
 namespace {
 
@@ -84,22 +86,6 @@ const std::vector<std::string> kTunedKeys = {"continuation.bordered=\"block\"",
                                              "continuation.anderson_depth=5",
                                              "continuation.detect_branch_points=false",
                                              "newton.chord_rate=0.25"};
-
-std::string machine() {
-  std::string model = "?";
-  std::ifstream cpu("/proc/cpuinfo");
-  for (std::string line; std::getline(cpu, line);)
-    if (line.rfind("model name", 0) == 0) {
-      model = line.substr(line.find(':') + 2);
-      break;
-    }
-  double load[3] = {0, 0, 0};
-  if (getloadavg(load, 3) < 0) load[0] = load[1] = load[2] = -1;
-  const char* threads = std::getenv("OPENBLAS_NUM_THREADS");
-  return fmt::format("machine: {}, {} cores, BLAS threads {}, load average {:.2f} {:.2f} {:.2f}", model,
-                     std::thread::hardware_concurrency(), threads ? threads : "default (all cores)", load[0], load[1],
-                     load[2]);
-}
 
 void print_run(const std::string& label, const RunFigures& f) {
   const ContinuationTimings& t = f.result.timings;
