@@ -20,7 +20,9 @@ Status Term::rate(int item, const double* u, const double* udot, double* r) cons
 Status Term::residual_with_rate(int item, const double* u, const double* udot, double* r) const {
   Status st = residual(item, u, r);
   if (!st.is_ok() || !has_mass()) return st;
-  std::vector<double> time(static_cast<size_t>(local_rows()));
+  // one buffer per thread, not an allocation per item of every assembly
+  thread_local std::vector<double> time;
+  time.resize(static_cast<size_t>(local_rows()));
   st = rate(item, u, udot, time.data());
   for (size_t i = 0; i < time.size(); ++i) r[i] += time[i];
   return st;
