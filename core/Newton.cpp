@@ -46,7 +46,12 @@ NewtonResult NewtonSolver::solve(Vector& u, const Observer& observer, bool on_ke
   int on_this_matrix = 0;      // iterations made with the present factorisation
   // the next iteration solves with the last factorisation (RenewalPolicy)
   bool reuse = on_kept && lu_->factorized();
-  if (reuse) test.problem_floor = floor_;
+  // Below the problem's own rounding floor a chord that falls slower than its rate is rounding, not
+  // an old matrix: no new Jacobian for it (the convergence test stops it once it stalls). A
+  // tolerance under the floor (the shooting map's forward steps: 1e-13 of the residual scale on the
+  // collapsible channel, whose floor is 60 times that) made a factorisation of every step there.
+  // Not the floor level's band of 1e3 tolerances: there a reachable tolerance's slow chord renews.
+  if (reuse) test.problem_floor = renewal.floor_level = floor_;
   for (int k = 0;; ++k) {
     if (normF <= test.tolerance) break;
     if (k >= options_.max_iterations) {
@@ -70,7 +75,7 @@ NewtonResult NewtonSolver::solve(Vector& u, const Observer& observer, bool on_ke
         break;
       }
       floor_ = rounding_floor(J_, u);
-      test.problem_floor = floor_;
+      test.problem_floor = renewal.floor_level = floor_;
       t0 = Clock::now();
       st = lu_->factorize(J_);
       it.factor_seconds = since(t0);

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <limits>
 
 #include "core/ConvergenceTest.hpp"
 #include "core/Newton.hpp"
@@ -269,6 +270,64 @@ TEST(Newton, ChordStopsAtTheRoundingFloorWithoutANewJacobian) {
   ASSERT_FALSE(res.history.empty());
   EXPECT_TRUE(res.history.back().chord);  // the last iteration solved on a kept factorisation
   EXPECT_LT(res.factorisations, res.iterations);
+}
+
+// Below the problem's rounding floor (eps max_i sum_j |J_ij| |u_j|, ConvergenceTest) a chord that
+// falls slower than chord_rate is rounding, not an old matrix: it goes on without a new Jacobian.
+// The problem: F = (1e3 (u1 - 1), 1e7 (u2 - 1)) with u2 at its root exactly, so the second row's
+// 1e7 sets an estimated floor of 2.2e-9 that the first row's own rounding (1e-13) lies far below;
+// the Jacobian reported is 1/0.6 of the true one, so every iteration, on its own Jacobian or a
+// kept one, cuts |F| by 0.4 exactly, slower than the rate 0.25. Above the floor each iteration
+// renews; below it, none does (each renewed while the floor was not passed to the renewal policy,
+// which made a factorisation of every step of the shooting map's forward runs).
+TEST(Newton, ASlowChordBelowTheRoundingFloorKeepsItsFactorisation) {
+  test::FunctionProblem problem(
+      "floored", 2, {},
+      [](const Vector& u, const Vector&) {
+        Vector F(2);
+        F << 1e3 * (u[0] - 1.0), 1e7 * (u[1] - 1.0);
+        return F;
+      },
+      [](const Vector&, const Vector&) {
+        Eigen::MatrixXd J = Eigen::MatrixXd::Zero(2, 2);
+        J(0, 0) = 1e3 / 0.6;
+        J(1, 1) = 1e7;
+        return J;
+      },
+      nullptr);
+  Vector u(2);
+  u << 1.0 - 1e-8, 1.0;
+  Vector F;
+  SparseMatrix J;
+  ASSERT_TRUE(problem.jacobian(u, F, J).is_ok());
+  const double floor = rounding_floor(J, u);
+  ASSERT_NEAR(floor, 1e7 * std::numeric_limits<double>::epsilon(), 1e-3 * floor);
+  NewtonOptions o;
+  o.residual_tolerance = 1e-18;  // below the floor
+  o.update_tolerance = 0.0;
+  o.chord_rate = 0.25;
+  o.line_search = false;
+  o.max_iterations = 40;
+  NewtonSolver newton(problem, o);
+  const NewtonResult r = newton.solve(u);
+  ASSERT_TRUE(r.converged()) << r.status.describe();
+  EXPECT_LE(r.residual_norm, 1e-12);
+  EXPECT_LT(std::abs(u[0] - 1.0), 1e-14);
+  int above = 0, below = 0;
+  for (size_t k = 1; k < r.history.size(); ++k) {
+    const NewtonIteration& it = r.history[k];
+    if (it.residual_norm > floor) {  // the residual the renewal was decided on
+      ++above;
+      EXPECT_FALSE(it.chord) << "iteration " << it.iteration << " after a fall of 0.4 above the floor";
+    } else {
+      ++below;
+      EXPECT_TRUE(it.chord) << "iteration " << it.iteration << " at |F| = " << it.residual_norm << " below the floor "
+                            << floor;
+    }
+  }
+  EXPECT_GE(above, 5);  // 1e-5 to 2.2e-9 at 0.4 an iteration
+  EXPECT_GE(below, 5);  // 2.2e-9 to the first row's rounding, about 1e-13
+  EXPECT_EQ(r.factorisations, above + 1);
 }
 
 // With chord_rate a reachable tolerance is reached: a chord that slows down within 1e3 of the
