@@ -190,7 +190,8 @@ Status ShootingMap::integrate(const Vector& u0, double period, const OrbitGrid& 
                                              options_.memory_budget);
   }
   preconditioned_ = how == L::Preconditioned;
-  anchors_.clear();
+  std::vector<Anchor> kept = reusable_anchors(u0, period, grid);
+  auto next_kept = kept.begin();
   shared_anchor_ = -1;
   for (size_t k = 0; k < solves_.size(); ++k) {
     Solve& s = solves_[k];
@@ -203,10 +204,31 @@ Status ShootingMap::integrate(const Vector& u0, double period, const OrbitGrid& 
         anchors_.empty() ||
         !keeps_factorisation(s.coefficient, solves_[static_cast<size_t>(anchors_.back().solve)].coefficient) ||
         static_cast<int>(k) - anchors_.back().solve >= ShootingOptions::kAnchorSpan;
-    if (renew) anchors_.push_back({static_cast<int>(k), nullptr});
+    if (renew) {
+      anchors_.push_back({static_cast<int>(k), nullptr});
+      while (next_kept != kept.end() && next_kept->solve < static_cast<int>(k)) ++next_kept;
+      if (next_kept != kept.end() && next_kept->solve == static_cast<int>(k) && next_kept->lu) {
+        stored_bytes_ += next_kept->lu->statistics().numeric_bytes;
+        anchors_.back().lu = std::move(next_kept->lu);
+      }
+    }
     s.anchor = static_cast<int>(anchors_.size()) - 1;
   }
   counts_.forward_seconds += since(t0);
+  return {};
+}
+
+std::vector<ShootingMap::Anchor> ShootingMap::reusable_anchors(const Vector& u0, double period, const OrbitGrid& grid) {
+  std::vector<Anchor> old = std::move(anchors_);
+  anchors_.clear();
+  std::vector<double> scalars{period};
+  const ParameterSet& p = problem_.parameters();
+  for (int i = 0; i < p.size(); ++i) scalars.push_back(p.value(i));
+  AnchorOrigin& o = anchor_origin_;
+  if (preconditioned_ && !old.empty() && o.method == grid.method && o.fractions == grid.fractions &&
+      ShootingOptions::keeps_anchors(ShootingOptions::anchor_drift(o.u0, u0, o.scalars, scalars)))
+    return old;
+  o = {u0, std::move(scalars), grid.fractions, grid.method};
   return {};
 }
 

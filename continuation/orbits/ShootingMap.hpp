@@ -78,6 +78,19 @@ struct ShootingOptions {
   // iterations for 1719, 1867, 2225 and 2786 factorisations, and 10 the least time in the passes
   // (21% below 50's).
   static constexpr int kAnchorSpan = 10;
+  // Preconditioned: the anchors' factorisations serve on from one integrate to the next on the same
+  // grid (method and fractions) while the start u0, the period and the parameters have each moved by
+  // at most kAnchorDrift of their size (anchor_drift) since the anchors were factorised; the Newton
+  // iterations of one correction move them far less. They only precondition: a staler anchor costs
+  // GMRES iterations, never accuracy. On docs/periodic_orbits.md's FSI problem (four orbits): 1,030 of
+  // 4,505 factorisations saved for the same inner iterations (316,859 against 316,015); at 1e-2 the
+  // anchors served on from one orbit to the next (the parameter 0.5% on) and cost 13% more inner iterations.
+  static constexpr double kAnchorDrift = 1e-3;
+  // The largest of |b - a|_inf / max(1, |a|_inf) over the pairs (a, b): u0, the period, the
+  // parameters. Infinite where the sizes differ.
+  static double anchor_drift(const Vector& u0_then, const Vector& u0_now, const std::vector<double>& then,
+                             const std::vector<double>& now);
+  static bool keeps_anchors(double drift) { return drift <= kAnchorDrift; }
   static NewtonOptions tight_newton();
   // The sparse LU of a problem of n unknowns: UMFPACK where `asked` is Auto and n <= kUmfpackSize,
   // else `asked`. A period takes thousands of solves of small matrices, and a MUMPS call has a
@@ -184,6 +197,16 @@ class ShootingMap {
   int shared_anchor_ = -1;               // Preconditioned: the anchor shared_lu_ holds
   bool preconditioned_ = false;
   std::vector<Anchor> anchors_;
+  // where the anchors were factorised: u0, then the period and the parameters, and the grid
+  struct AnchorOrigin {
+    Vector u0;
+    std::vector<double> scalars;
+    std::vector<double> fractions;
+    TimeOptions::Method method = TimeOptions::Method::Bdf2;
+  } anchor_origin_;
+  // the last integrate's anchors where they serve on at (u0, period) on grid (else none), and
+  // anchor_origin_ renewed
+  std::vector<Anchor> reusable_anchors(const Vector& u0, double period, const OrbitGrid& grid);
   Counts counts_;
 };
 

@@ -2,6 +2,9 @@
 // declared in ShootingMap.hpp.
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "continuation/orbits/ShootingMap.hpp"
@@ -64,6 +67,19 @@ ShootingOptions::Linearisation ShootingOptions::linearisation_for(Linearisation 
   if (asked != Linearisation::Auto) return asked;
   if (n > kFactorisedSize || mass_varies) return Linearisation::Preconditioned;
   return bytes * static_cast<double>(solves) <= budget ? Linearisation::Factorised : Linearisation::Preconditioned;
+}
+
+double ShootingOptions::anchor_drift(const Vector& u0_then, const Vector& u0_now, const std::vector<double>& then,
+                                     const std::vector<double>& now) {
+  if (u0_then.size() != u0_now.size() || then.size() != now.size()) return std::numeric_limits<double>::infinity();
+  double drift = 0.0;
+  auto take = [&drift](double change, double size) {
+    const double d = change / std::max(1.0, size);
+    drift = d <= drift ? drift : d;  // a NaN, not <=, wins
+  };
+  if (u0_then.size() > 0) take((u0_now - u0_then).lpNorm<Eigen::Infinity>(), u0_then.lpNorm<Eigen::Infinity>());
+  for (size_t i = 0; i < then.size(); ++i) take(std::abs(now[i] - then[i]), std::abs(then[i]));
+  return std::isnan(drift) ? std::numeric_limits<double>::infinity() : drift;
 }
 
 SparseLUOptions ShootingOptions::chord_lu(SparseLUOptions lu) {
