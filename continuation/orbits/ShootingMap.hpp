@@ -171,6 +171,9 @@ class ShootingMap {
   Status measure_factorisation();
   // Preconditioned: the anchors' factorisations, and the solve's residual G(U) = B(U) R(U) + F(U)
   Status anchor_lu(int anchor, SparseLU*& lu);
+  // the last integrate's anchors where they serve on at (u0, period) on grid (else none, and
+  // anchor_origin_ renewed)
+  std::vector<Anchor> reusable_anchors(const Vector& u0, double period, const OrbitGrid& grid);
   Status solve_residual(const Solve& solve, const Vector& U, Vector& G);
   // B(U) x at the solve's state
   Status apply_mass(const Solve& solve, const Vector& x, Vector& out);
@@ -204,9 +207,6 @@ class ShootingMap {
     std::vector<double> fractions;
     TimeOptions::Method method = TimeOptions::Method::Bdf2;
   } anchor_origin_;
-  // the last integrate's anchors where they serve on at (u0, period) on grid (else none), and
-  // anchor_origin_ renewed
-  std::vector<Anchor> reusable_anchors(const Vector& u0, double period, const OrbitGrid& grid);
   Counts counts_;
 };
 

@@ -127,6 +127,21 @@ double linearisation_error(Problem& p, const Vector& v, double dT, double dl, Ti
   return (fd - exact).norm() / exact.norm();
 }
 
+// The grid of an adaptive run over T from start() at rtol 1e-6, and the options of a map whose
+// solves are GMRES on a few anchors' factorisations.
+OrbitGrid grid_at_rtol_1e6(Problem& p, double T, TimeOptions::Method method) {
+  TimeOptions o;
+  o.method = method;
+  o.relative_tolerance = 1e-6;
+  return record_grid(p, start(), T, o, ShootingOptions::tight_newton());
+}
+
+ShootingOptions preconditioned() {
+  ShootingOptions so;
+  so.linearisation = ShootingOptions::Linearisation::Preconditioned;
+  return so;
+}
+
 }  // namespace
 
 // The reference: central differences of the map at 1e-3 and 2e-3, extrapolated. Their error is
@@ -188,14 +203,9 @@ TEST(ShootingMap, ALooserPassCostsFewerInnerIterationsAndErrsWithinItsTolerance)
   for (auto method : {TimeOptions::Method::Bdf2, TimeOptions::Method::Sdirk4}) {
     SCOPED_TRACE(method == TimeOptions::Method::Bdf2 ? "BDF2" : "SDIRK4");
     CurvedMass p(brusselator(1.0, 3.0));
-    TimeOptions o;
-    o.method = method;
-    o.relative_tolerance = 1e-6;
     const double T = 3.0;
-    const OrbitGrid grid = record_grid(p, start(), T, o, ShootingOptions::tight_newton());
-    ShootingOptions so;
-    so.linearisation = ShootingOptions::Linearisation::Preconditioned;
-    ShootingMap map(p, 1, so);
+    const OrbitGrid grid = grid_at_rtol_1e6(p, T, method);
+    ShootingMap map(p, 1, preconditioned());
     ASSERT_TRUE(map.integrate(start(), T, grid).is_ok());
     Vector v(2);
     v << 0.3, -0.7;
@@ -314,7 +324,7 @@ TEST(ShootingMap, TheEndRateIsThePeriodsColumnToTheIntegratorsError) {
 
 // The anchors' drift as a function: the largest change of u0 (infinity norm), the period and each
 // parameter, relative to max(1, the old size); infinite where the sizes differ or a value is not a
-// number. The anchors serve on up to kAnchorDrift (1%) and are renewed beyond it.
+// number. The anchors serve on up to kAnchorDrift (1e-3) and are renewed beyond it.
 TEST(ShootingMap, TheAnchorsDriftAndTheirRenewalAsFunctions) {
   Vector a(3), b(3);
   a << 4.0, -2.0, 0.5;
@@ -342,13 +352,9 @@ TEST(ShootingMap, TheAnchorsDriftAndTheirRenewalAsFunctions) {
 // many inner iterations (measured 526 against 521).
 TEST(ShootingMap, TheAnchorsServeOnWhileTheOrbitStaysNear) {
   CurvedMass p(brusselator(1.0, 3.0));
-  TimeOptions o;
-  o.method = TimeOptions::Method::Sdirk4;
-  o.relative_tolerance = 1e-6;
   const double T = 3.0;
-  const OrbitGrid grid = record_grid(p, start(), T, o, ShootingOptions::tight_newton());
-  ShootingOptions so;
-  so.linearisation = ShootingOptions::Linearisation::Preconditioned;
+  const OrbitGrid grid = grid_at_rtol_1e6(p, T, TimeOptions::Method::Sdirk4);
+  const ShootingOptions so = preconditioned();
   ShootingMap map(p, 1, so);
   Vector v(2);
   v << 0.3, -0.7;
